@@ -1,0 +1,122 @@
+#include "ssLightFrame.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace ss
+{
+namespace
+{
+bool Finite(const glm::dvec3& v)
+{
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+std::string Str(const glm::dvec3& v)
+{
+  std::ostringstream o;
+  o << "[" << v.x << ", " << v.y << ", " << v.z << "]";
+  return o.str();
+}
+}
+
+bool LightFrame::IsSoft() const
+{
+  if (type == LightType::Rect)
+  {
+    return width > 0.0 && height > 0.0;
+  }
+  if (type == LightType::Directional)
+  {
+    return angularDiameter > 0.0;
+  }
+  return false;
+}
+
+glm::dvec3 FallbackUp(const glm::dvec3& n)
+{
+  const glm::dvec3 a = glm::abs(n);
+  glm::dvec3 axis(0, 0, 1);
+  if (a.x <= a.y && a.x <= a.z)
+  {
+    axis = glm::dvec3(1, 0, 0);
+  }
+  else if (a.y <= a.x && a.y <= a.z)
+  {
+    axis = glm::dvec3(0, 1, 0);
+  }
+  return glm::normalize(axis - glm::dot(axis, n) * n);
+}
+
+LightFrame MakeRectLightFrame(
+  const glm::dvec3& center, const glm::dvec3& normal, const glm::dvec3& up, const glm::dvec2& size)
+{
+  if (!Finite(center))
+  {
+    throw std::invalid_argument("light centre is not finite: " + Str(center));
+  }
+  const double len = glm::length(normal);
+  if (!Finite(normal) || !(len > 0.0))
+  {
+    throw std::invalid_argument("light normal must be a finite non-zero vector, got " + Str(normal));
+  }
+  if (!std::isfinite(size.x) || !std::isfinite(size.y) || size.x < 0.0 || size.y < 0.0)
+  {
+    throw std::invalid_argument("light size must be two finite non-negative numbers");
+  }
+  LightFrame f;
+  f.type = LightType::Rect;
+  f.center = center;
+  f.n = normal / len;
+  // Gram-Schmidt: the part of `up` orthogonal to the normal gives the height edge.
+  glm::dvec3 v = Finite(up) ? up - glm::dot(up, f.n) * f.n : glm::dvec3(0.0);
+  const double vl = glm::length(v);
+  const double ul = Finite(up) ? glm::length(up) : 0.0;
+  f.v = (vl > 1e-9 * std::max(ul, 1e-300) && vl > 0.0) ? v / vl : FallbackUp(f.n);
+  f.u = glm::normalize(glm::cross(f.v, f.n));
+  f.width = size.x;
+  f.height = size.y;
+  return f;
+}
+
+LightFrame MakePointLightFrame(const glm::dvec3& position)
+{
+  if (!Finite(position))
+  {
+    throw std::invalid_argument("light position is not finite: " + Str(position));
+  }
+  LightFrame f;
+  f.type = LightType::Point;
+  f.center = position;
+  return f;
+}
+
+LightFrame MakeDirectionalLightFrame(const glm::dvec3& direction, double angularDiameterRadians)
+{
+  const double len = glm::length(direction);
+  if (!Finite(direction) || !(len > 0.0))
+  {
+    throw std::invalid_argument(
+      "directional light needs a finite non-zero direction, got " + Str(direction));
+  }
+  if (!std::isfinite(angularDiameterRadians) || angularDiameterRadians < 0.0)
+  {
+    throw std::invalid_argument("angular diameter must be finite and non-negative");
+  }
+  LightFrame f;
+  f.type = LightType::Directional;
+  f.n = direction / len;
+  f.v = FallbackUp(f.n);
+  f.u = glm::normalize(glm::cross(f.v, f.n));
+  f.angularDiameter = angularDiameterRadians;
+  return f;
+}
+
+glm::dvec3 RegularLightSample(const LightFrame& light, int i, int j, int k)
+{
+  const double s = (i + 0.5) / k - 0.5;
+  const double t = (j + 0.5) / k - 0.5;
+  return light.center + s * light.width * light.u + t * light.height * light.v;
+}
+}

@@ -1,0 +1,39 @@
+#ifndef ssLightFrame_h
+#define ssLightFrame_h
+
+#include <glm/glm.hpp>
+
+namespace ss
+{
+enum class LightType
+{
+  Rect,
+  Point,
+  Directional
+};
+
+/// A light's geometry. DESIGN.md scene format: `n` is the direction the light
+/// faces, `v` its height edge ("up" made orthogonal to n), `u` its width edge
+/// normalize(cross(up, n)).
+struct LightFrame
+{
+  LightType type = LightType::Point;
+  glm::dvec3 center{ 0.0 };
+  glm::dvec3 u{ 1, 0, 0 }, v{ 0, 1, 0 };
+  glm::dvec3 n{ 0, 0, -1 };
+  double width = 0, height = 0;  // rect size (world units)
+  double angularDiameter = 0;    // directional: radians
+  bool IsSoft() const;
+};
+
+LightFrame MakeRectLightFrame(
+  const glm::dvec3& center, const glm::dvec3& normal, const glm::dvec3& up, const glm::dvec2& size);
+LightFrame MakePointLightFrame(const glm::dvec3& position);
+LightFrame MakeDirectionalLightFrame(const glm::dvec3& direction, double angularDiameterRadians);
+/// The world axis least aligned with n, made orthogonal to n.
+glm::dvec3 FallbackUp(const glm::dvec3& n);
+/// Centre of cell (i, j) of a regular k x k grid on a rect light.
+glm::dvec3 RegularLightSample(const LightFrame& light, int i, int j, int k);
+}
+
+#endif

@@ -1,0 +1,212 @@
+#include "ssShadowView.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ss
+{
+namespace
+{
+// Largest |X| = tan(angle) a single perspective view covers: tan(76 deg) ~ 4.
+constexpr double kMaxTan = 4.0;
+
+void ExpandRect(Rect& r, double margin, double pad)
+{
+  const double mx = (r.x1 - r.x0) * margin + pad;
+  const double my = (r.y1 - r.y0) * margin + pad;
+  r.x0 -= mx;
+  r.x1 += mx;
+  r.y0 -= my;
+  r.y1 += my;
+}
+
+void MakeNonDegenerate(Rect& r)
+{
+  // A view must have a positive size even for a flat or point-like box.
+  const double w = r.x1 - r.x0, h = r.y1 - r.y0;
+  const double s = std::max({ w, h, 1e-6 });
+  if (w < 1e-3 * s)
+  {
+    r.x0 -= 0.5e-3 * s;
+    r.x1 += 0.5e-3 * s;
+  }
+  if (h < 1e-3 * s)
+  {
+    r.y0 -= 0.5e-3 * s;
+    r.y1 += 0.5e-3 * s;
+  }
+}
+}
+
+bool FitPerspectiveExtent(
+  const ShadowView& view, const Box& box, double zMin, double tMax, double margin, Rect& out, bool& clamped)
+{
+  clamped = false;
+  if (box.Empty())
+  {
+    return false;
+  }
+  glm::dvec3 c[8];
+  for (int i = 0; i < 8; ++i)
+  {
+    c[i] = view.ToLightSpace(box.Corner(i));
+  }
+  Rect r{ 1e300, 1e300, -1e300, -1e300 };
+  bool any = false;
+  auto add = [&](const glm::dvec3& p) {
+    glm::dvec2 X(p.x / p.z, p.y / p.z);
+    r.x0 = std::min(r.x0, X.x);
+    r.y0 = std::min(r.y0, X.y);
+    r.x1 = std::max(r.x1, X.x);
+    r.y1 = std::max(r.y1, X.y);
+    any = true;
+  };
+  for (const auto& p : c)
+  {
+    if (p.z > zMin)
+    {
+      add(p);
+    }
+  }
+  // Box edges crossing the plane z = zMin: the clipped polyhedron's new vertices.
+  for (int i = 0; i < 8; ++i)
+  {
+    for (int bit = 1; bit < 8; bit <<= 1)
+    {
+      const int j = i | bit;
+      if (j == i)
+      {
+        continue;
+      }
+      const glm::dvec3 &a = c[i], &b = c[j];
+      if ((a.z > zMin) != (b.z > zMin))
+      {
+        const double t = (zMin - a.z) / (b.z - a.z);
+        glm::dvec3 p = a + t * (b - a);
+        p.z = zMin;
+        add(p);
+      }
+    }
+  }
+  if (!any)
+  {
+    return false;
+  }
+  ExpandRect(r, margin, 0.0);
+  if (r.x0 < -tMax || r.y0 < -tMax || r.x1 > tMax || r.y1 > tMax)
+  {
+    clamped = true;
+    r.x0 = std::max(r.x0, -tMax);
+    r.y0 = std::max(r.y0, -tMax);
+    r.x1 = std::min(r.x1, tMax);
+    r.y1 = std::min(r.y1, tMax);
+  }
+  MakeNonDegenerate(r);
+  out = r;
+  return true;
+}
+
+Rect FitOrthographicExtent(const ShadowView& view, const Box& box, double margin, double pad)
+{
+  Rect r{ 1e300, 1e300, -1e300, -1e300 };
+  for (int i = 0; i < 8; ++i)
+  {
+    const glm::dvec3 p = view.ToLightSpace(box.Corner(i));
+    r.x0 = std::min(r.x0, p.x);
+    r.y0 = std::min(r.y0, p.y);
+    r.x1 = std::max(r.x1, p.x);
+    r.y1 = std::max(r.y1, p.y);
+  }
+  ExpandRect(r, margin, pad);
+  MakeNonDegenerate(r);
+  return r;
+}
+
+std::vector<ShadowView> MakeCubeViews(const glm::dvec3& origin)
+{
+  const glm::dvec3 axes[6] = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 },
+    { 0, 0, -1 } };
+  std::vector<ShadowView> views;
+  for (const auto& n : axes)
+  {
+    ShadowView v;
+    v.origin = origin;
+    v.n = n;
+    v.v = FallbackUp(n);
+    v.u = glm::normalize(glm::cross(v.v, n));
+    v.extent = Rect{ -1.02, -1.02, 1.02, 1.02 };
+    views.push_back(v);
+  }
+  return views;
+}
+
+std::vector<ShadowView> MakeLightViews(
+  const LightFrame& light, const Box& receivers, const Box& casters, LightViewInfo& info)
+{
+  info = LightViewInfo{};
+  std::vector<ShadowView> views;
+  Box all = receivers;
+  all.Add(casters);
+  const double diag = std::max(all.Diagonal(), 1e-12);
+
+  if (light.type == LightType::Directional)
+  {
+    ShadowView v;
+    v.orthographic = true;
+    v.n = light.n;
+    v.v = FallbackUp(light.n);
+    v.u = glm::normalize(glm::cross(v.v, v.n));
+    v.origin = all.Center() - light.n * diag;
+    // Kernels reach at most diag * tan(angle/2) beyond a receiver.
+    const double pad = diag * std::tan(0.5 * light.angularDiameter);
+    v.extent = FitOrthographicExtent(v, receivers.Empty() ? all : receivers, 0.02, pad);
+    views.push_back(v);
+    return views;
+  }
+
+  ShadowView v;
+  v.origin = light.center;
+  if (light.type == LightType::Rect)
+  {
+    v.u = light.u;
+    v.v = light.v;
+    v.n = light.n;
+  }
+  else
+  {
+    glm::dvec3 dir = receivers.Center() - light.center;
+    if (receivers.Empty() || glm::length(dir) < 1e-12 * diag || receivers.Contains(light.center))
+    {
+      info.cube = true;
+      return MakeCubeViews(light.center);
+    }
+    v.n = glm::normalize(dir);
+    v.v = FallbackUp(v.n);
+    v.u = glm::normalize(glm::cross(v.v, v.n));
+  }
+  const double zMin = 1e-6 * diag;
+  Rect r;
+  bool clamped = false;
+  if (!FitPerspectiveExtent(v, receivers, zMin, kMaxTan, 0.05, r, clamped))
+  {
+    if (light.type == LightType::Rect)
+    {
+      info.nothingInFront = true;
+      v.extent = Rect{ -1, -1, 1, 1 };
+      views.push_back(v);
+      return views;
+    }
+    info.cube = true;
+    return MakeCubeViews(light.center);
+  }
+  if (clamped && light.type == LightType::Point)
+  {
+    info.cube = true;
+    return MakeCubeViews(light.center);
+  }
+  info.clamped = clamped;
+  v.extent = r;
+  views.push_back(v);
+  return views;
+}
+}

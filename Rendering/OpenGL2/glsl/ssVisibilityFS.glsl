@@ -1,0 +1,259 @@
+//VTK::System::Dec
+// Visibility V(x,y) of one light for every G-buffer pixel: hard, PCF or PCSS.
+// The math mirrors Rendering/Core (ssPCSS.h, ssCoverage.h), where it is unit-tested.
+uniform sampler2D gPosition; // xyz: world position - frame origin, w: prop id (0 = background)
+uniform sampler2D gNormal;   // xyz: world normal
+uniform sampler3D shadowMaps; // one layer per view, linear light-space depth
+uniform int firstLayer;
+uniform int numViews;
+uniform vec3 viewU[6];
+uniform vec3 viewV[6];
+uniform vec3 viewN[6];
+uniform vec4 viewExtent[6];
+uniform vec3 lightCenter;  // relative to the frame origin (orthographic: a point behind the scene)
+uniform int orthographic;
+uniform int oneSided;      // rect lights light only the half-space in front of them
+uniform vec2 lightHalfSize; // rect: half width/height (world); directional: tan(angle/2) twice
+uniform int method;         // 1 hard, 2 pcf, 3 pcss
+uniform float mapSize;
+uniform float searchDepth;  // nearest caster depth: PCSS blocker-search plane
+uniform int searchSamples;
+uniform int maxQuads;
+uniform float pcfRadius;
+uniform float constantBias;
+uniform float slopeBias;
+in vec2 texCoord; // from VTK's full-screen quad
+//VTK::Output::Dec
+
+struct View
+{
+  int index;
+  vec3 p;   // light-space position (x, y, z)
+  vec3 n;   // light-space normal
+  vec2 T;   // continuous texel coordinates
+  float texelWorld; // world size of one texel at the receiver
+  vec2 texelPerUnit; // texels per projected unit
+};
+
+vec2 project(vec3 p)
+{
+  return (orthographic != 0) ? p.xy : p.xy / p.z;
+}
+
+float fetchDepth(int layer, ivec2 t)
+{
+  ivec2 s = ivec2(int(mapSize));
+  if (t.x < 0 || t.y < 0 || t.x >= s.x || t.y >= s.y)
+  {
+    return 3.0e38; // outside the map: nothing there, lit
+  }
+  return texelFetch(shadowMaps, ivec3(t, layer), 0).r;
+}
+
+// Ssee ss::ReceiverPlaneDepth: depth of the receiver's tangent plane along
+// the projection ray through unit-plane position X, clamped.
+float planeDepth(View w, vec2 X, float maxDelta)
+{
+  float z;
+  if (orthographic != 0)
+  {
+    z = (abs(w.n.z) > 1e-6) ? w.p.z - (w.n.x * (X.x - w.p.x) + w.n.y * (X.y - w.p.y)) / w.n.z
+                            : w.p.z;
+  }
+  else
+  {
+    float den = dot(w.n, vec3(X, 1.0));
+    z = (abs(den) > 1e-12) ? dot(w.n, w.p) / den : w.p.z;
+  }
+  if (!(z == z))
+  {
+    z = w.p.z;
+  }
+  return clamp(z, w.p.z - maxDelta, w.p.z + maxDelta);
+}
+
+vec2 texelToProjected(View w, vec2 T)
+{
+  vec4 e = viewExtent[w.index];
+  return e.xy + T / w.texelPerUnit;
+}
+
+// PVSM §4.1 eq. 2 with texel quads of `stride` texels: each quad contributes
+// its overlap with the kernel box times its shadow test, divided by the box area.
+float coverageFilter(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
+{
+  float area = (k1.x - k0.x) * (k1.y - k0.y);
+  if (area <= 0.0)
+  {
+    vec2 c = 0.5 * (k0 + k1);
+    float d = fetchDepth(firstLayer + w.index, ivec2(floor(c)));
+    return (planeDepth(w, texelToProjected(w, floor(c) + 0.5), maxDelta) - bias <= d) ? 1.0 : 0.0;
+  }
+  float extent = max(k1.x - k0.x, k1.y - k0.y);
+  int stride = 1;
+  while (extent / float(stride) > float(maxQuads))
+  {
+    stride *= 2;
+  }
+  float s = float(stride);
+  ivec2 q0 = ivec2(floor(k0 / s));
+  ivec2 q1 = ivec2(floor(k1 / s));
+  float lit = 0.0;
+  for (int qy = q0.y; qy <= q1.y; ++qy)
+  {
+    float a0 = float(qy) * s;
+    float oy = max(0.0, min(a0 + s, k1.y) - max(a0, k0.y));
+    if (oy <= 0.0)
+    {
+      continue;
+    }
+    for (int qx = q0.x; qx <= q1.x; ++qx)
+    {
+      float b0 = float(qx) * s;
+      float ox = max(0.0, min(b0 + s, k1.x) - max(b0, k0.x));
+      if (ox <= 0.0)
+      {
+        continue;
+      }
+      // the quad's depth is the one of its centre texel
+      ivec2 t = ivec2(qx * stride + stride / 2, qy * stride + stride / 2);
+      float d = fetchDepth(firstLayer + w.index, t);
+      float zr = planeDepth(w, texelToProjected(w, vec2(t) + 0.5), maxDelta);
+      if (zr - bias <= d)
+      {
+        lit += ox * oy;
+      }
+    }
+  }
+  return clamp(lit / area, 0.0, 1.0);
+}
+
+void main()
+{
+  ivec2 pix = ivec2(floor(texCoord * vec2(textureSize(gPosition, 0))));
+  vec4 g = texelFetch(gPosition, pix, 0);
+  if (g.w <= 0.0)
+  {
+    gl_FragData[0] = vec4(-1.0); // background: NaN on download
+    return;
+  }
+  vec3 nrm = texelFetch(gNormal, pix, 0).xyz;
+  vec3 d = g.xyz - lightCenter;
+
+  View w;
+  w.index = -1;
+  for (int i = 0; i < numViews; ++i)
+  {
+    vec3 p = vec3(dot(d, viewU[i]), dot(d, viewV[i]), dot(d, viewN[i]));
+    if (orthographic == 0 && p.z <= 0.0)
+    {
+      continue;
+    }
+    vec2 X = project(p);
+    vec4 e = viewExtent[i];
+    if (X.x >= e.x && X.x <= e.z && X.y >= e.y && X.y <= e.w)
+    {
+      w.index = i;
+      w.p = p;
+      w.n = vec3(dot(nrm, viewU[i]), dot(nrm, viewV[i]), dot(nrm, viewN[i]));
+      w.texelPerUnit = vec2(mapSize) / (e.zw - e.xy);
+      w.T = (X - e.xy) * w.texelPerUnit;
+      float unitTexel = (e.z - e.x) / mapSize;
+      w.texelWorld = (orthographic != 0) ? unitTexel : unitTexel * p.z;
+      break;
+    }
+  }
+  if (w.index < 0)
+  {
+    // Behind a one-sided light: no light arrives. Outside every view
+    // (beyond the widest angle a view covers): unshadowed.
+    bool behind = (oneSided != 0) && (dot(d, viewN[0]) <= 0.0);
+    gl_FragData[0] = vec4(behind ? 0.0 : 1.0);
+    return;
+  }
+
+  // Direction to the light and the slope of the receiver (ss::SlopeScaledBias).
+  vec3 toLight = (orthographic != 0) ? -viewN[w.index] : normalize(-d);
+  float cosTheta = dot(normalize(nrm), toLight);
+  float tanTheta = (cosTheta > 1e-4) ? min(sqrt(max(0.0, 1.0 - cosTheta * cosTheta)) / cosTheta, 10.0) : 10.0;
+  float slopeScaled = w.texelWorld * (constantBias + slopeBias * tanTheta);
+
+  float V = 1.0;
+  if (method == 1)
+  {
+    // hard: one texel, slope-scaled bias
+    float dz = fetchDepth(firstLayer + w.index, ivec2(floor(w.T)));
+    V = (w.p.z - slopeScaled <= dz) ? 1.0 : 0.0;
+  }
+  else
+  {
+    float bias = w.texelWorld * constantBias;
+    if (method == 2)
+    {
+      vec2 r = vec2(pcfRadius);
+      V = coverageFilter(w, w.T - r, w.T + r, bias, 8.0 * pcfRadius * w.texelWorld * 10.0);
+    }
+    else
+    {
+      // PCSS step 1: blocker search over the light's footprint on the plane of
+      // the nearest caster (Fernando 2005; PVSM §4 eq. 1 scale).
+      vec2 searchHalf;
+      if (orthographic != 0)
+      {
+        searchHalf = lightHalfSize * max(w.p.z - searchDepth, 0.0);
+      }
+      else
+      {
+        float zb = min(searchDepth, w.p.z);
+        searchHalf = lightHalfSize * max(w.p.z - zb, 0.0) / max(w.p.z * zb, 1e-30);
+      }
+      vec2 searchTex = min(searchHalf * w.texelPerUnit, vec2(mapSize * 0.25));
+      searchTex = max(searchTex, vec2(1.0));
+      float maxDelta = max(searchTex.x, searchTex.y) * w.texelWorld * 10.0;
+      float sum = 0.0;
+      float count = 0.0;
+      for (int j = 0; j < searchSamples; ++j)
+      {
+        for (int i = 0; i < searchSamples; ++i)
+        {
+          vec2 o = (vec2(i, j) + 0.5) / float(searchSamples) * 2.0 - 1.0;
+          vec2 T = w.T + o * searchTex;
+          ivec2 t = ivec2(floor(T));
+          float dz = fetchDepth(firstLayer + w.index, t);
+          float zr = planeDepth(w, texelToProjected(w, vec2(t) + 0.5), maxDelta);
+          if (dz < zr - bias)
+          {
+            sum += dz;
+            count += 1.0;
+          }
+        }
+      }
+      if (count == 0.0)
+      {
+        V = 1.0; // fully lit: no blocker in the search region
+      }
+      else
+      {
+        float zAvg = sum / count;
+        // PCSS step 2: penumbra by parallel planes, PVSM §4 eq. 1:
+        // alpha = (z_r - z_o) / (z_r z_o) maps the light onto the unit plane.
+        vec2 kHalf;
+        if (orthographic != 0)
+        {
+          kHalf = lightHalfSize * max(w.p.z - zAvg, 0.0);
+        }
+        else
+        {
+          kHalf = lightHalfSize * max(w.p.z - zAvg, 0.0) / max(w.p.z * zAvg, 1e-30);
+        }
+        vec2 kTex = kHalf * w.texelPerUnit;
+        // PCSS step 3: filter with the texel-as-quad coverage integral (§4.1).
+        // Below half a texel the kernel becomes an antialiased hard edge.
+        kTex = max(kTex, vec2(0.5));
+        float md = max(kTex.x, kTex.y) * w.texelWorld * 10.0;
+        V = coverageFilter(w, w.T - kTex, w.T + kTex, bias, md);
+      }
+    }
+  }
+  gl_FragData[0] = vec4(V, 0.0, 0.0, 1.0);
+}

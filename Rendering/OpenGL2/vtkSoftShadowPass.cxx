@@ -1,0 +1,1463 @@
+#include "vtkSoftShadowPass.h"
+
+#include "vtkSoftShadowLight.h"
+
+#include "vtkActor.h"
+#include "vtkAssemblyNode.h"
+#include "vtkAssemblyPath.h"
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationIntegerKey.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMapper.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLBufferObject.h"
+#include "vtkOpenGLError.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLPolyDataMapper.h"
+#include "vtkOpenGLQuadHelper.h"
+#include "vtkOpenGLRenderUtilities.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLRenderer.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
+#include "vtkOpenGLVertexArrayObject.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkProp.h"
+#include "vtkPropCollection.h"
+#include "vtkProperty.h"
+#include "vtkRenderState.h"
+#include "vtkShaderProgram.h"
+#include "vtkTextureObject.h"
+#include "vtkWeakPointer.h"
+#include "vtk_glew.h"
+#include "vtkMath.h"
+#include "vtkSmartPointer.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "ssEffectPlanner.h"
+#include "ssLightFrame.h"
+#include "ssShadowView.h"
+
+#include "ssCasterFS.h"
+#include "ssCasterVS.h"
+#include "ssVisibilityFS.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <tuple>
+#include <vector>
+
+vtkStandardNewMacro(vtkSoftShadowPass);
+vtkInformationKeyMacro(vtkSoftShadowPass, CASTS_SHADOWS, Integer);
+vtkInformationKeyMacro(vtkSoftShadowPass, RECEIVES_SHADOWS, Integer);
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+enum class Stage
+{
+  Idle,
+  GBuffer,
+  Shade
+};
+
+// One light of the renderer, in the order VTK numbers lightColorN.
+struct ShadowLight
+{
+  vtkLight* Light = nullptr;
+  int ShaderIndex = -1; // N of lightColorN
+  int Layer = -1;       // layer in the visibility texture, -1: no shadows
+  ss::PlannerLight Planner;
+  ss::LightFrame Frame; // relative to the frame origin
+  std::vector<ss::ShadowView> Views;
+  ss::LightViewInfo ViewInfo;
+  ss::Method Method = ss::Method::None;
+  double SearchDepth = 0.0;
+};
+
+// What the caster set was built from: rebuilt when any entry changes.
+using CasterKey = std::tuple<void*, void*, vtkMTimeType, vtkMTimeType, vtkMTimeType>;
+
+double Seconds(Clock::time_point a, Clock::time_point b)
+{
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// vtkOpenGLFramebufferObject does not re-attach the same texture with another
+// z-slice: detach first so each layer of a 3-D texture really is the target.
+void AttachLayer(vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex, int layer)
+{
+  fbo->RemoveColorAttachments(1);
+  fbo->AddColorAttachment(0, tex, static_cast<unsigned int>(layer));
+}
+
+bool Finite3(const double p[3])
+{
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+}
+
+class vtkSoftShadowPass::vtkInternals
+{
+public:
+  // --- GPU resources (all released by ReleaseGraphicsResources)
+  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
+  vtkSmartPointer<vtkTextureObject> GPosition; // RGBA32F: position - origin, prop id
+  vtkSmartPointer<vtkTextureObject> GNormal;   // RGBA32F: world normal, receives
+  vtkSmartPointer<vtkTextureObject> GDepth;
+  vtkSmartPointer<vtkTextureObject> ShadowMaps; // R32F 3D: one layer per view
+  vtkSmartPointer<vtkTextureObject> Visibility; // R32F 3D: one layer per shadow light
+  vtkSmartPointer<vtkOpenGLBufferObject> CasterVBO;
+  vtkSmartPointer<vtkOpenGLVertexArrayObject> CasterVAO;
+  vtkShaderProgram* CasterProgram = nullptr; // owned by the window's shader cache
+  std::unique_ptr<vtkOpenGLQuadHelper> VisibilityQuad;
+  vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+
+  // --- per-frame state
+  Stage CurrentStage = Stage::Idle;
+  vtkTimeStamp StageTime;
+  bool ShadowsThisFrame = false;
+  int Width = 0, Height = 0;
+  int ViewportOrigin[2] = { 0, 0 };
+  glm::dvec3 Origin{ 0.0 };
+  std::map<vtkProp*, int> PropIds;
+  std::vector<ShadowLight> Lights;
+  ss::EffectPlan Plan;
+  ss::Box Receivers; // absolute bounds of the receiving props
+  std::map<std::string, double> Timings;
+  std::string LastSignature;
+  bool HaveResults = false;
+  float VCToWC[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  float VCToRelOffset[3] = { 0, 0, 0 };
+  float DCToVC[16] = { 0 };
+
+  // --- caster set (world triangles relative to CasterOrigin)
+  std::vector<CasterKey> CasterKeys;
+  std::vector<float> CasterTriangles; // 9 floats per triangle
+  glm::dvec3 CasterOrigin{ 0.0 };
+  ss::Box CasterBox; // absolute
+  bool CasterUploaded = false;
+  bool TranslucentCasters = false;
+  std::size_t SkippedTriangles = 0;
+  unsigned long CasterVersion = 0;
+
+  std::size_t NumberOfTriangles() const { return this->CasterTriangles.size() / 9; }
+
+  int CountResources() const
+  {
+    int n = 0;
+    auto tex = [&](vtkTextureObject* t) { n += (t && t->GetHandle() != 0) ? 1 : 0; };
+    tex(this->GPosition);
+    tex(this->GNormal);
+    tex(this->GDepth);
+    tex(this->ShadowMaps);
+    tex(this->Visibility);
+    n += (this->FBO && this->FBO->GetFBOIndex() != 0) ? 1 : 0;
+    n += (this->CasterVBO && this->CasterVBO->GetHandle() != 0) ? 1 : 0;
+    n += this->VisibilityQuad ? 1 : 0;
+    return n;
+  }
+
+  long long MemoryBytes() const
+  {
+    long long b = 0;
+    auto tex = [&](vtkTextureObject* t, int bpp) {
+      if (t && t->GetHandle() != 0)
+      {
+        b += static_cast<long long>(t->GetWidth()) * t->GetHeight() * std::max(1u, t->GetDepth()) * bpp;
+      }
+    };
+    tex(this->GPosition, 16);
+    tex(this->GNormal, 16);
+    tex(this->GDepth, 4);
+    tex(this->ShadowMaps, 4);
+    tex(this->Visibility, 4);
+    if (this->CasterUploaded)
+    {
+      b += static_cast<long long>(this->CasterTriangles.size()) * 4;
+    }
+    return b;
+  }
+
+  void Release(vtkWindow* w)
+  {
+    for (auto* t : { this->GPosition.Get(), this->GNormal.Get(), this->GDepth.Get(),
+           this->ShadowMaps.Get(), this->Visibility.Get() })
+    {
+      if (t)
+      {
+        t->ReleaseGraphicsResources(w);
+      }
+    }
+    this->GPosition = nullptr;
+    this->GNormal = nullptr;
+    this->GDepth = nullptr;
+    this->ShadowMaps = nullptr;
+    this->Visibility = nullptr;
+    if (this->FBO)
+    {
+      this->FBO->ReleaseGraphicsResources(w);
+      this->FBO = nullptr;
+    }
+    if (this->CasterVAO)
+    {
+      this->CasterVAO->ReleaseGraphicsResources();
+      this->CasterVAO = nullptr;
+    }
+    if (this->CasterVBO)
+    {
+      this->CasterVBO->ReleaseGraphicsResources();
+      this->CasterVBO = nullptr;
+    }
+    if (this->VisibilityQuad)
+    {
+      this->VisibilityQuad->ReleaseGraphicsResources(w);
+      this->VisibilityQuad.reset();
+    }
+    this->CasterProgram = nullptr;
+    this->CasterUploaded = false;
+    this->HaveResults = false;
+    this->LastSignature.clear();
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkSoftShadowPass::vtkSoftShadowPass()
+  : Internals(new vtkInternals)
+{
+}
+
+vtkSoftShadowPass::~vtkSoftShadowPass()
+{
+  this->SetDelegatePass(nullptr);
+}
+
+vtkCxxSetObjectMacro(vtkSoftShadowPass, DelegatePass, vtkRenderPass);
+
+//------------------------------------------------------------------------------
+bool vtkSoftShadowPass::SetMethodByName(const char* name)
+{
+  ss::Method m;
+  if (!name || !ss::MethodFromName(name, m))
+  {
+    return false;
+  }
+  this->SetMethod(static_cast<int>(m));
+  return true;
+}
+
+const char* vtkSoftShadowPass::GetMethodName(int method)
+{
+  return ss::MethodName(static_cast<ss::Method>(method));
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+vtkInformation* Keys(vtkProp* prop)
+{
+  if (!prop->GetPropertyKeys())
+  {
+    vtkNew<vtkInformation> info;
+    prop->SetPropertyKeys(info);
+  }
+  return prop->GetPropertyKeys();
+}
+
+bool GetFlag(vtkProp* prop, vtkInformationIntegerKey* key)
+{
+  if (prop && prop->GetPropertyKeys() && prop->GetPropertyKeys()->Has(key))
+  {
+    return prop->GetPropertyKeys()->Get(key) != 0;
+  }
+  return true;
+}
+}
+
+void vtkSoftShadowPass::SetCastsShadows(vtkProp* prop, bool casts)
+{
+  if (prop)
+  {
+    Keys(prop)->Set(CASTS_SHADOWS(), casts ? 1 : 0);
+    prop->Modified();
+  }
+}
+
+bool vtkSoftShadowPass::GetCastsShadows(vtkProp* prop)
+{
+  return GetFlag(prop, CASTS_SHADOWS());
+}
+
+void vtkSoftShadowPass::SetReceivesShadows(vtkProp* prop, bool receives)
+{
+  if (prop)
+  {
+    Keys(prop)->Set(RECEIVES_SHADOWS(), receives ? 1 : 0);
+    prop->Modified();
+  }
+}
+
+bool vtkSoftShadowPass::GetReceivesShadows(vtkProp* prop)
+{
+  return GetFlag(prop, RECEIVES_SHADOWS());
+}
+
+//------------------------------------------------------------------------------
+// Caster set: the world-space triangles of every visible, shadow-casting actor.
+namespace
+{
+void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, std::vector<glm::dvec3>& tris, std::size_t& skipped)
+{
+  vtkPoints* pts = pd->GetPoints();
+  if (!pts || pts->GetNumberOfPoints() == 0)
+  {
+    return;
+  }
+  const vtkIdType np = pts->GetNumberOfPoints();
+  std::vector<glm::dvec3> world(static_cast<std::size_t>(np));
+  std::vector<char> finite(static_cast<std::size_t>(np));
+  for (vtkIdType i = 0; i < np; ++i)
+  {
+    double p[3];
+    pts->GetPoint(i, p);
+    double in[4] = { p[0], p[1], p[2], 1.0 }, out[4];
+    m->MultiplyPoint(in, out);
+    const double w = (out[3] != 0.0) ? out[3] : 1.0;
+    world[i] = glm::dvec3(out[0] / w, out[1] / w, out[2] / w);
+    finite[i] = std::isfinite(world[i].x) && std::isfinite(world[i].y) && std::isfinite(world[i].z);
+  }
+  auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
+    if (a < 0 || b < 0 || c < 0 || a >= np || b >= np || c >= np || !finite[a] || !finite[b] ||
+      !finite[c])
+    {
+      ++skipped;
+      return;
+    }
+    const glm::dvec3 e = glm::cross(world[b] - world[a], world[c] - world[a]);
+    if (!(glm::dot(e, e) > 0.0))
+    {
+      ++skipped; // zero-area triangles cast nothing
+      return;
+    }
+    tris.push_back(world[a]);
+    tris.push_back(world[b]);
+    tris.push_back(world[c]);
+  };
+  auto polys = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
+  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    polys->GetCurrentCell(n, ids);
+    for (vtkIdType k = 1; k + 1 < n; ++k)
+    {
+      emit(ids[0], ids[k], ids[k + 1]);
+    }
+  }
+  auto strips = vtk::TakeSmartPointer(pd->GetStrips()->NewIterator());
+  for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    strips->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k + 2 < n; ++k)
+    {
+      if (k % 2 == 0)
+      {
+        emit(ids[k], ids[k + 1], ids[k + 2]);
+      }
+      else
+      {
+        emit(ids[k + 1], ids[k], ids[k + 2]);
+      }
+    }
+  }
+}
+
+// Leaves of a prop (assemblies included) with their world matrices.
+template <typename F>
+void ForEachActor(vtkRenderer* ren, F&& f)
+{
+  vtkPropCollection* props = ren->GetViewProps();
+  vtkCollectionSimpleIterator pit;
+  props->InitTraversal(pit);
+  while (vtkProp* prop = props->GetNextProp(pit))
+  {
+    if (!prop->GetVisibility())
+    {
+      continue;
+    }
+    prop->InitPathTraversal();
+    while (vtkAssemblyPath* path = prop->GetNextPath())
+    {
+      vtkAssemblyNode* node = path->GetLastNode();
+      vtkActor* actor = vtkActor::SafeDownCast(node->GetViewProp());
+      if (!actor || !actor->GetVisibility() || !actor->GetMapper())
+      {
+        continue;
+      }
+      vtkMatrix4x4* m = node->GetMatrix() ? node->GetMatrix() : actor->GetMatrix();
+      f(actor, m);
+    }
+  }
+}
+
+template <typename F>
+void ForEachPolyData(vtkDataObject* data, F&& f)
+{
+  if (auto* pd = vtkPolyData::SafeDownCast(data))
+  {
+    f(pd);
+  }
+  else if (auto* cd = vtkCompositeDataSet::SafeDownCast(data))
+  {
+    auto it = vtk::TakeSmartPointer(cd->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
+      {
+        f(leaf);
+      }
+    }
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::Render(const vtkRenderState* s)
+{
+  vtkOpenGLClearErrorMacro();
+  this->NumberOfRenderedProps = 0;
+  auto& in = *this->Internals;
+  const auto tFrame = Clock::now();
+  in.Timings.clear();
+
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!win)
+  {
+    vtkErrorMacro("vtkSoftShadowPass needs an OpenGL render window.");
+    return;
+  }
+  win->MakeCurrent();
+  in.Window = win;
+  vtkOpenGLState* ostate = win->GetState();
+
+  if (!ren->IsActiveCameraCreated())
+  {
+    ren->GetActiveCamera();
+    ren->ResetCamera();
+  }
+
+  // Viewport, scissor and clear as vtkCameraPass does, so the pass works both
+  // installed directly on a renderer and as the delegate of a camera pass.
+  int w, h, x0 = 0, y0 = 0;
+  if (auto* fbo = vtkOpenGLFramebufferObject::SafeDownCast(s->GetFrameBuffer()))
+  {
+    int size[2];
+    fbo->GetLastSize(size);
+    w = size[0];
+    h = size[1];
+  }
+  else
+  {
+    ren->GetTiledSizeAndOrigin(&w, &h, &x0, &y0);
+  }
+  vtkOpenGLState::ScopedglViewport vsaver(ostate);
+  vtkOpenGLState::ScopedglScissor ssaver(ostate);
+  vtkOpenGLState::ScopedglEnableDisable stsaver(ostate, GL_SCISSOR_TEST);
+  if (w <= 0 || h <= 0)
+  {
+    return;
+  }
+  in.Width = w;
+  in.Height = h;
+  in.ViewportOrigin[0] = x0;
+  in.ViewportOrigin[1] = y0;
+
+  // Lights first: their transformed positions and VTK's light numbering.
+  this->ClearLights(ren);
+  this->UpdateLightGeometry(ren);
+  this->UpdateLights(ren);
+
+  // Frame origin: positions and all float math are relative to it.
+  vtkCamera* cam = ren->GetActiveCamera();
+  if (this->AutomaticPositionsOrigin)
+  {
+    const double* fp = cam->GetFocalPoint();
+    in.Origin = glm::dvec3(fp[0], fp[1], fp[2]);
+  }
+  else
+  {
+    in.Origin = glm::dvec3(this->PositionsOrigin[0], this->PositionsOrigin[1], this->PositionsOrigin[2]);
+  }
+
+  // --- caster set, rebuilt only when a prop, its data or its transform changed
+  auto tStage = Clock::now();
+  std::vector<CasterKey> keys;
+  ss::Box receivers;
+  std::size_t receiverProps = 0;
+  ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
+    vtkMapper* mapper = actor->GetMapper();
+    if (GetReceivesShadows(actor))
+    {
+      double b[6];
+      actor->GetBounds(b);
+      if (vtkMath::AreBoundsInitialized(b) && Finite3(b) && Finite3(b + 3))
+      {
+        receivers.Add(glm::dvec3(b[0], b[2], b[4]));
+        receivers.Add(glm::dvec3(b[1], b[3], b[5]));
+        ++receiverProps;
+      }
+    }
+    if (!GetCastsShadows(actor))
+    {
+      return;
+    }
+    mapper->Update();
+    vtkDataObject* data = mapper->GetInputDataObject(0, 0);
+    keys.emplace_back(actor, data, data ? data->GetMTime() : 0, m->GetMTime(),
+      std::max(mapper->GetMTime(), actor->GetProperty()->GetMTime()));
+  });
+  if (keys != in.CasterKeys)
+  {
+    std::vector<glm::dvec3> tris;
+    std::size_t skipped = 0;
+    bool translucent = false;
+    ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
+      if (!GetCastsShadows(actor))
+      {
+        return;
+      }
+      translucent = translucent || actor->GetProperty()->GetOpacity() < 1.0;
+      ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0),
+        [&](vtkPolyData* pd) { AppendPolyData(pd, m, tris, skipped); });
+    });
+    if (skipped > 0 && skipped != in.SkippedTriangles)
+    {
+      vtkWarningMacro("Caster set: skipped " << skipped
+                                             << " zero-area, degenerate or non-finite triangles.");
+    }
+    in.SkippedTriangles = skipped;
+    in.TranslucentCasters = translucent;
+    in.CasterBox = ss::Box{};
+    for (const auto& p : tris)
+    {
+      in.CasterBox.Add(p);
+    }
+    in.CasterOrigin = in.CasterBox.Empty() ? glm::dvec3(0.0) : in.CasterBox.Center();
+    in.CasterTriangles.resize(tris.size() * 3);
+    for (std::size_t i = 0; i < tris.size(); ++i)
+    {
+      const glm::dvec3 r = tris[i] - in.CasterOrigin;
+      in.CasterTriangles[3 * i + 0] = static_cast<float>(r.x);
+      in.CasterTriangles[3 * i + 1] = static_cast<float>(r.y);
+      in.CasterTriangles[3 * i + 2] = static_cast<float>(r.z);
+    }
+    in.CasterKeys = keys;
+    in.CasterUploaded = false;
+    ++in.CasterVersion;
+  }
+  in.Timings["caster_set"] = Seconds(tStage, Clock::now());
+
+  // --- lights and the effect plan
+  in.Lights.clear();
+  {
+    vtkLightCollection* lc = ren->GetLights();
+    vtkCollectionSimpleIterator lit;
+    int shaderIndex = 0;
+    for (lc->InitTraversal(lit); vtkLight* light = lc->GetNextLight(lit);)
+    {
+      if (light->GetSwitch() <= 0)
+      {
+        continue;
+      }
+      ShadowLight sl;
+      sl.Light = light;
+      sl.ShaderIndex = shaderIndex++;
+      sl.Planner.headlight = light->LightTypeIsHeadlight() != 0;
+      sl.Planner.castsShadows = vtkSoftShadowLight::GetCastsShadows(light);
+      double pos[3], fp[3];
+      light->GetTransformedPosition(pos);
+      light->GetTransformedFocalPoint(fp);
+      try
+      {
+        const glm::dvec3 p(pos[0], pos[1], pos[2]);
+        const glm::dvec3 f(fp[0], fp[1], fp[2]);
+        if (light->GetPositional())
+        {
+          double size[2];
+          vtkSoftShadowLight::GetAreaSize(light, size);
+          if (size[0] > 0.0 || size[1] > 0.0)
+          {
+            double up[3] = { 0, 0, 0 };
+            vtkSoftShadowLight::GetAreaUp(light, up);
+            sl.Frame = ss::MakeRectLightFrame(
+              p - in.Origin, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
+          }
+          else
+          {
+            sl.Frame = ss::MakePointLightFrame(p - in.Origin);
+          }
+        }
+        else
+        {
+          const double angle = vtkSoftShadowLight::GetAngularDiameter(light);
+          sl.Frame = ss::MakeDirectionalLightFrame(f - p, angle * M_PI / 180.0);
+        }
+      }
+      catch (const std::exception& e)
+      {
+        sl.Planner.valid = false;
+        sl.Planner.invalidReason = e.what();
+      }
+      sl.Planner.frame = sl.Frame;
+      in.Lights.push_back(sl);
+    }
+  }
+
+  ss::PlannerInput pin;
+  pin.requested = static_cast<ss::Method>(this->Method);
+  pin.casterTriangles = in.NumberOfTriangles();
+  pin.receiverProps = receiverProps;
+  pin.translucentCasters = in.TranslucentCasters;
+  for (const auto& l : in.Lights)
+  {
+    pin.lights.push_back(l.Planner);
+  }
+
+  // Nothing changed since the last frame: the visibility is still valid.
+  std::ostringstream sig;
+  {
+    double vm[16];
+    vtkMatrix4x4::DeepCopy(vm, cam->GetModelViewTransformMatrix());
+    sig.precision(17);
+    for (double v : vm)
+    {
+      sig << v << ',';
+    }
+    sig << cam->GetViewAngle() << ',' << cam->GetParallelProjection() << ','
+        << cam->GetParallelScale() << ',' << ren->GetTiledAspectRatio() << ',' << w << 'x' << h
+        << ',' << in.CasterVersion << ',' << this->GetMTime() << ',' << in.Origin.x << ','
+        << in.Origin.y << ',' << in.Origin.z;
+    for (const auto& l : in.Lights)
+    {
+      sig << ',' << l.Light << ':' << l.Light->GetMTime();
+    }
+    for (const auto& k : keys)
+    {
+      sig << ',' << std::get<0>(k) << ':' << std::get<3>(k) << ':' << std::get<4>(k);
+    }
+  }
+  pin.unchangedSinceLastFrame = in.HaveResults && sig.str() == in.LastSignature;
+  in.Plan = ss::MakeEffectPlan(pin);
+
+  int layers = 0;
+  for (std::size_t i = 0; i < in.Lights.size(); ++i)
+  {
+    in.Lights[i].Method = in.Plan.lights[i].method;
+    if (in.Lights[i].Method != ss::Method::None)
+    {
+      in.Lights[i].Layer = layers++;
+    }
+  }
+  in.ShadowsThisFrame = in.Plan.shadowWork && layers > 0;
+
+  if (in.ShadowsThisFrame && !in.Plan.reuse)
+  {
+    this->RenderGBuffer(s);
+    in.Receivers = receivers;
+    this->SolveVisibility(s);
+    in.LastSignature = sig.str();
+    in.HaveResults = true;
+  }
+  else if (!in.ShadowsThisFrame)
+  {
+    in.HaveResults = false;
+    in.LastSignature.clear();
+  }
+
+  // --- shading: VTK's own lighting, each light multiplied by its visibility
+  tStage = Clock::now();
+  ostate->vtkglViewport(x0, y0, w, h);
+  ostate->vtkglEnable(GL_SCISSOR_TEST);
+  ostate->vtkglScissor(x0, y0, w, h);
+  if (ren->GetRenderWindow()->GetErase() && ren->GetErase())
+  {
+    ren->Clear();
+  }
+  if (in.CurrentStage != Stage::Shade)
+  {
+    in.CurrentStage = Stage::Shade;
+    in.StageTime.Modified();
+  }
+  if (in.ShadowsThisFrame)
+  {
+    in.Visibility->Activate();
+    in.GPosition->Activate();
+  }
+  this->PreRender(s);
+  if (this->DelegatePass)
+  {
+    this->DelegatePass->Render(s);
+    this->NumberOfRenderedProps += this->DelegatePass->GetNumberOfRenderedProps();
+  }
+  else
+  {
+    this->UpdateGeometry(ren, s->GetFrameBuffer());
+  }
+  this->PostRender(s);
+  if (in.ShadowsThisFrame)
+  {
+    in.GPosition->Deactivate();
+    in.Visibility->Deactivate();
+  }
+  if (this->MeasureTimings)
+  {
+    glFinish();
+  }
+  in.Timings["shading"] = Seconds(tStage, Clock::now());
+  in.Timings["pass_total"] = Seconds(tFrame, Clock::now());
+  vtkOpenGLCheckErrorMacro("failed after vtkSoftShadowPass::Render");
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::RenderGBuffer(const vtkRenderState* s)
+{
+  auto& in = *this->Internals;
+  const auto t0 = Clock::now();
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
+  vtkOpenGLState* ostate = win->GetState();
+  const int w = in.Width, h = in.Height;
+
+  auto makeTex = [&](vtkSmartPointer<vtkTextureObject>& t, int comps) {
+    if (!t)
+    {
+      t = vtkSmartPointer<vtkTextureObject>::New();
+      t->SetContext(win);
+      t->SetFormat(comps == 4 ? GL_RGBA : GL_RED);
+      t->SetInternalFormat(comps == 4 ? GL_RGBA32F : GL_R32F);
+      t->SetDataType(GL_FLOAT);
+      t->SetMinificationFilter(vtkTextureObject::Nearest);
+      t->SetMagnificationFilter(vtkTextureObject::Nearest);
+      t->SetWrapS(vtkTextureObject::ClampToEdge);
+      t->SetWrapT(vtkTextureObject::ClampToEdge);
+      t->Allocate2D(w, h, comps, VTK_FLOAT);
+    }
+    else if (static_cast<int>(t->GetWidth()) != w || static_cast<int>(t->GetHeight()) != h)
+    {
+      t->Resize(w, h);
+    }
+  };
+  makeTex(in.GPosition, 4);
+  makeTex(in.GNormal, 4);
+  if (!in.GDepth)
+  {
+    in.GDepth = vtkSmartPointer<vtkTextureObject>::New();
+    in.GDepth->SetContext(win);
+    in.GDepth->AllocateDepth(w, h, vtkTextureObject::Float32);
+  }
+  else if (static_cast<int>(in.GDepth->GetWidth()) != w || static_cast<int>(in.GDepth->GetHeight()) != h)
+  {
+    in.GDepth->Resize(w, h);
+  }
+  if (!in.FBO)
+  {
+    in.FBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+    in.FBO->SetContext(win);
+  }
+
+  // Camera matrices in double: VC -> world relative to the frame origin.
+  vtkCamera* cam = ren->GetActiveCamera();
+  vtkMatrix4x4* view = cam->GetModelViewTransformMatrix(); // WC -> VC, row-major
+  glm::dmat3 R;
+  glm::dvec3 t;
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      R[c][r] = view->GetElement(r, c); // glm is column-major: R[col][row]
+    }
+    t[r] = view->GetElement(r, 3);
+  }
+  const glm::dmat3 Rt = glm::transpose(R);
+  const glm::dvec3 off = -(Rt * t) - in.Origin;
+  for (int c = 0; c < 3; ++c)
+  {
+    for (int r = 0; r < 3; ++r)
+    {
+      in.VCToWC[c * 3 + r] = static_cast<float>(Rt[c][r]);
+    }
+    in.VCToRelOffset[c] = static_cast<float>(off[c]);
+  }
+  vtkNew<vtkMatrix4x4> proj;
+  proj->DeepCopy(cam->GetProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1));
+  proj->Invert();
+  for (int c = 0; c < 4; ++c)
+  {
+    for (int r = 0; r < 4; ++r)
+    {
+      in.DCToVC[c * 4 + r] = static_cast<float>(proj->GetElement(r, c));
+    }
+  }
+
+  ostate->PushFramebufferBindings();
+  in.FBO->Bind();
+  in.FBO->AddColorAttachment(0, in.GPosition);
+  in.FBO->AddColorAttachment(1, in.GNormal);
+  in.FBO->AddDepthAttachment(in.GDepth);
+  in.FBO->ActivateDrawBuffers(2);
+  ostate->vtkglViewport(0, 0, w, h);
+  ostate->vtkglScissor(0, 0, w, h);
+  ostate->vtkglDisable(GL_BLEND);
+  ostate->vtkglEnable(GL_DEPTH_TEST);
+  ostate->vtkglDepthMask(GL_TRUE);
+  ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
+  ostate->vtkglClearDepth(1.0);
+  ostate->vtkglClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+  if (in.CurrentStage != Stage::GBuffer)
+  {
+    in.CurrentStage = Stage::GBuffer;
+    in.StageTime.Modified();
+  }
+  this->PreRender(s);
+  vtkRenderer* r = s->GetRenderer();
+  for (int i = 0; i < s->GetPropArrayCount(); ++i)
+  {
+    vtkProp* prop = s->GetPropArray()[i];
+    if (prop->GetVisibility() && prop->HasOpaqueGeometry())
+    {
+      this->NumberOfRenderedProps += prop->RenderOpaqueGeometry(r);
+    }
+  }
+  this->PostRender(s);
+  in.FBO->RemoveColorAttachments(2);
+  in.FBO->RemoveDepthAttachment();
+  ostate->PopFramebufferBindings();
+  if (this->MeasureTimings)
+  {
+    glFinish();
+  }
+  in.Timings["gbuffer"] = Seconds(t0, Clock::now());
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
+{
+  auto& in = *this->Internals;
+  const ss::Box& receiversAbs = in.Receivers;
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
+  vtkOpenGLState* ostate = win->GetState();
+  const int S = this->ShadowMapSize;
+
+  // Views of every light, fitted to the receivers (relative coordinates).
+  ss::Box receivers, casters;
+  if (!receiversAbs.Empty())
+  {
+    receivers.Add(receiversAbs.min - in.Origin);
+    receivers.Add(receiversAbs.max - in.Origin);
+  }
+  if (!in.CasterBox.Empty())
+  {
+    casters.Add(in.CasterBox.min - in.Origin);
+    casters.Add(in.CasterBox.max - in.Origin);
+  }
+  int totalViews = 0, numShadowLights = 0;
+  for (auto& l : in.Lights)
+  {
+    if (l.Layer < 0)
+    {
+      continue;
+    }
+    l.Views = ss::MakeLightViews(l.Frame, receivers, casters, l.ViewInfo);
+    totalViews += static_cast<int>(l.Views.size());
+    ++numShadowLights;
+    // PCSS blocker-search plane: the nearest caster in front of the light.
+    const ss::ShadowView& v0 = l.Views.front();
+    double zMin = std::numeric_limits<double>::max();
+    const glm::dvec3 co = in.CasterOrigin - in.Origin;
+    for (std::size_t i = 0; i < in.CasterTriangles.size(); i += 3)
+    {
+      const glm::dvec3 p = co +
+        glm::dvec3(in.CasterTriangles[i], in.CasterTriangles[i + 1], in.CasterTriangles[i + 2]);
+      const double z = v0.ToLightSpace(p).z;
+      if (z > 0.0 && z < zMin)
+      {
+        zMin = z;
+      }
+    }
+    const double diag = std::max(casters.Diagonal(), receivers.Diagonal());
+    l.SearchDepth = (zMin == std::numeric_limits<double>::max()) ? diag : std::max(zMin, 1e-4 * diag);
+  }
+
+  // --- shadow maps: the caster set drawn by our own small program
+  auto tStage = Clock::now();
+  if (!in.ShadowMaps || static_cast<int>(in.ShadowMaps->GetWidth()) != S ||
+    static_cast<int>(in.ShadowMaps->GetDepth()) != totalViews)
+  {
+    if (in.ShadowMaps)
+    {
+      in.ShadowMaps->ReleaseGraphicsResources(win);
+    }
+    in.ShadowMaps = vtkSmartPointer<vtkTextureObject>::New();
+    in.ShadowMaps->SetContext(win);
+    in.ShadowMaps->SetFormat(GL_RED);
+    in.ShadowMaps->SetInternalFormat(GL_R32F);
+    in.ShadowMaps->SetDataType(GL_FLOAT);
+    in.ShadowMaps->SetMinificationFilter(vtkTextureObject::Nearest);
+    in.ShadowMaps->SetMagnificationFilter(vtkTextureObject::Nearest);
+    in.ShadowMaps->Allocate3D(S, S, totalViews, 1, VTK_FLOAT);
+  }
+  if (!in.CasterVBO)
+  {
+    in.CasterVBO = vtkSmartPointer<vtkOpenGLBufferObject>::New();
+    in.CasterVBO->SetType(vtkOpenGLBufferObject::ArrayBuffer);
+    in.CasterVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
+  }
+  in.CasterProgram = win->GetShaderCache()->ReadyShaderProgram(ssCasterVS, ssCasterFS, "");
+  if (!in.CasterProgram)
+  {
+    vtkErrorMacro("Could not build the caster shadow-map program.");
+    return;
+  }
+  if (!in.CasterUploaded)
+  {
+    in.CasterVBO->Upload(in.CasterTriangles, vtkOpenGLBufferObject::ArrayBuffer);
+    in.CasterVAO->Bind();
+    in.CasterVAO->RemoveAttributeArray("vertexRel");
+    if (!in.CasterVAO->AddAttributeArray(
+          in.CasterProgram, in.CasterVBO, "vertexRel", 0, 3 * sizeof(float), VTK_FLOAT, 3, false))
+    {
+      vtkErrorMacro("Could not bind the caster vertex buffer.");
+    }
+    in.CasterVAO->Release();
+    in.CasterUploaded = true;
+  }
+
+  ostate->PushFramebufferBindings();
+  in.FBO->Bind();
+  in.FBO->RemoveDepthAttachment();
+  ostate->vtkglViewport(0, 0, S, S);
+  ostate->vtkglScissor(0, 0, S, S);
+  ostate->vtkglDisable(GL_DEPTH_TEST);
+  ostate->vtkglDisable(GL_CULL_FACE);
+  ostate->vtkglEnable(GL_BLEND);
+  ostate->vtkglBlendEquation(GL_MIN);
+  ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+  ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
+  const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
+  int layer = 0;
+  for (auto& l : in.Lights)
+  {
+    if (l.Layer < 0)
+    {
+      continue;
+    }
+    for (const auto& v : l.Views)
+    {
+      AttachLayer(in.FBO, in.ShadowMaps, layer);
+      in.FBO->ActivateDrawBuffers(1);
+      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+      if (!in.CasterTriangles.empty())
+      {
+        vtkShaderProgram* p = in.CasterProgram;
+        p->SetUniform3f("casterOffset", glm::value_ptr(glm::vec3(casterOffset)));
+        p->SetUniform3f("viewOrigin", glm::value_ptr(glm::vec3(v.origin)));
+        p->SetUniform3f("axisU", glm::value_ptr(glm::vec3(v.u)));
+        p->SetUniform3f("axisV", glm::value_ptr(glm::vec3(v.v)));
+        p->SetUniform3f("axisN", glm::value_ptr(glm::vec3(v.n)));
+        const float e[4] = { static_cast<float>(v.extent.x0), static_cast<float>(v.extent.y0),
+          static_cast<float>(v.extent.x1), static_cast<float>(v.extent.y1) };
+        p->SetUniform4f("extent", e);
+        p->SetUniformi("orthographic", v.orthographic ? 1 : 0);
+        in.CasterVAO->Bind();
+        glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(in.CasterTriangles.size() / 3));
+        in.CasterVAO->Release();
+      }
+      ++layer;
+    }
+  }
+  ostate->vtkglBlendEquation(GL_FUNC_ADD);
+  ostate->vtkglDisable(GL_BLEND);
+  if (this->MeasureTimings)
+  {
+    glFinish();
+  }
+  in.Timings["shadow_maps"] = Seconds(tStage, Clock::now());
+
+  // --- visibility: one full-screen pass per light into its layer
+  tStage = Clock::now();
+  if (!in.Visibility || static_cast<int>(in.Visibility->GetWidth()) != in.Width ||
+    static_cast<int>(in.Visibility->GetHeight()) != in.Height ||
+    static_cast<int>(in.Visibility->GetDepth()) != numShadowLights)
+  {
+    if (in.Visibility)
+    {
+      in.Visibility->ReleaseGraphicsResources(win);
+    }
+    in.Visibility = vtkSmartPointer<vtkTextureObject>::New();
+    in.Visibility->SetContext(win);
+    in.Visibility->SetFormat(GL_RED);
+    in.Visibility->SetInternalFormat(GL_R32F);
+    in.Visibility->SetDataType(GL_FLOAT);
+    in.Visibility->SetMinificationFilter(vtkTextureObject::Nearest);
+    in.Visibility->SetMagnificationFilter(vtkTextureObject::Nearest);
+    in.Visibility->Allocate3D(in.Width, in.Height, numShadowLights, 1, VTK_FLOAT);
+  }
+  if (!in.VisibilityQuad)
+  {
+    in.VisibilityQuad.reset(new vtkOpenGLQuadHelper(
+      win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), ssVisibilityFS, ""));
+  }
+  else
+  {
+    win->GetShaderCache()->ReadyShaderProgram(in.VisibilityQuad->Program);
+  }
+  vtkShaderProgram* prog = in.VisibilityQuad->Program;
+  if (!prog || !prog->GetCompiled())
+  {
+    vtkErrorMacro("Could not build the visibility program.");
+    ostate->PopFramebufferBindings();
+    return;
+  }
+  in.GPosition->Activate();
+  in.GNormal->Activate();
+  in.ShadowMaps->Activate();
+  prog->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
+  prog->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
+  prog->SetUniformi("shadowMaps", in.ShadowMaps->GetTextureUnit());
+  prog->SetUniformf("mapSize", static_cast<float>(S));
+  prog->SetUniformi("searchSamples", this->BlockerSearchSamples);
+  prog->SetUniformi("maxQuads", this->FilterMaxQuads);
+  prog->SetUniformf("pcfRadius", static_cast<float>(this->PCFRadius));
+  prog->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
+  prog->SetUniformf("slopeBias", static_cast<float>(this->SlopeBias));
+  ostate->vtkglViewport(0, 0, in.Width, in.Height);
+  ostate->vtkglScissor(0, 0, in.Width, in.Height);
+  int firstLayer = 0;
+  for (auto& l : in.Lights)
+  {
+    if (l.Layer < 0)
+    {
+      continue;
+    }
+    const int nv = static_cast<int>(l.Views.size());
+    float U[6][3] = {}, Vv[6][3] = {}, N[6][3] = {}, E[6][4] = {};
+    for (int i = 0; i < nv; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        U[i][c] = static_cast<float>(l.Views[i].u[c]);
+        Vv[i][c] = static_cast<float>(l.Views[i].v[c]);
+        N[i][c] = static_cast<float>(l.Views[i].n[c]);
+      }
+      E[i][0] = static_cast<float>(l.Views[i].extent.x0);
+      E[i][1] = static_cast<float>(l.Views[i].extent.y0);
+      E[i][2] = static_cast<float>(l.Views[i].extent.x1);
+      E[i][3] = static_cast<float>(l.Views[i].extent.y1);
+    }
+    prog->SetUniformi("firstLayer", firstLayer);
+    prog->SetUniformi("numViews", nv);
+    prog->SetUniform3fv("viewU", nv, U);
+    prog->SetUniform3fv("viewV", nv, Vv);
+    prog->SetUniform3fv("viewN", nv, N);
+    prog->SetUniform4fv("viewExtent", nv, E);
+    const glm::vec3 c(l.Views.front().origin);
+    prog->SetUniform3f("lightCenter", glm::value_ptr(c));
+    const bool ortho = l.Frame.type == ss::LightType::Directional;
+    prog->SetUniformi("orthographic", ortho ? 1 : 0);
+    prog->SetUniformi("oneSided", l.Frame.type == ss::LightType::Rect ? 1 : 0);
+    float half[2] = { 0.f, 0.f };
+    if (l.Frame.type == ss::LightType::Rect)
+    {
+      half[0] = static_cast<float>(0.5 * l.Frame.width);
+      half[1] = static_cast<float>(0.5 * l.Frame.height);
+    }
+    else if (ortho)
+    {
+      half[0] = half[1] = static_cast<float>(std::tan(0.5 * l.Frame.angularDiameter));
+    }
+    prog->SetUniform2f("lightHalfSize", half);
+    prog->SetUniformi("method", static_cast<int>(l.Method));
+    prog->SetUniformf("searchDepth", static_cast<float>(l.SearchDepth));
+    AttachLayer(in.FBO, in.Visibility, l.Layer);
+    in.FBO->ActivateDrawBuffers(1);
+    in.VisibilityQuad->Render();
+    firstLayer += nv;
+  }
+  in.ShadowMaps->Deactivate();
+  in.GNormal->Deactivate();
+  in.GPosition->Deactivate();
+  in.FBO->RemoveColorAttachments(1);
+  ostate->PopFramebufferBindings();
+  if (this->MeasureTimings)
+  {
+    glFinish();
+  }
+  in.Timings["visibility"] = Seconds(tStage, Clock::now());
+}
+
+//------------------------------------------------------------------------------
+bool vtkSoftShadowPass::PreReplaceShaderValues(std::string&, std::string&, std::string&,
+  vtkAbstractMapper*, vtkProp*)
+{
+  return true;
+}
+
+bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader,
+  std::string& geometryShader, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
+{
+  (void)vertexShader;
+  (void)geometryShader;
+  if (!vtkOpenGLPolyDataMapper::SafeDownCast(mapper))
+  {
+    return true;
+  }
+  auto& in = *this->Internals;
+  const std::size_t mainPos = fragmentShader.find("void main");
+  const std::size_t endPos = fragmentShader.rfind('}');
+  if (mainPos == std::string::npos || endPos == std::string::npos)
+  {
+    vtkErrorMacro("Unexpected fragment shader layout: no main().");
+    return false;
+  }
+
+  if (in.CurrentStage == Stage::GBuffer)
+  {
+    const bool haveVC = fragmentShader.find("vec4 vertexVC") != std::string::npos;
+    const bool haveN = fragmentShader.find("normalVCVSOutput") != std::string::npos;
+    std::string impl = "  {\n";
+    if (haveVC)
+    {
+      impl += "    vec3 ssVC = vertexVC.xyz;\n";
+    }
+    else
+    {
+      impl += "    vec4 ssNDC = vec4(2.0 * (gl_FragCoord.xy / ssViewportSize) - 1.0,"
+              " 2.0 * gl_FragCoord.z - 1.0, 1.0);\n"
+              "    vec4 ssVC4 = ssDCToVC * ssNDC;\n"
+              "    vec3 ssVC = ssVC4.xyz / ssVC4.w;\n";
+    }
+    impl += "    gl_FragData[0] = vec4(ssVCToWC * ssVC + ssVCToRelOffset, ssPropId);\n";
+    impl += haveN ? "    gl_FragData[1] = vec4(normalize(ssVCToWC * normalVCVSOutput), 1.0);\n"
+                  : "    gl_FragData[1] = vec4(0.0);\n";
+    impl += "  }\n";
+    fragmentShader.insert(endPos, impl);
+    fragmentShader.insert(mainPos,
+      "uniform mat3 ssVCToWC;\n"
+      "uniform vec3 ssVCToRelOffset;\n"
+      "uniform mat4 ssDCToVC;\n"
+      "uniform vec2 ssViewportSize;\n"
+      "uniform float ssPropId;\n");
+    return true;
+  }
+
+  if (in.CurrentStage != Stage::Shade)
+  {
+    return true;
+  }
+  // Shading: multiply each light's terms by its visibility. The exact lines
+  // differ with the lighting complexity (vtkOpenGLPolyDataMapper): count the
+  // hits and fail loudly if VTK's lighting code changed under us.
+  int lightsInShader = 0;
+  while (fragmentShader.find("lightColor" + std::to_string(lightsInShader)) != std::string::npos)
+  {
+    ++lightsInShader;
+  }
+  const bool headlightOnly = fragmentShader.find("vec3 diffuse = df * diffuseColor * lightColor0;") !=
+    std::string::npos;
+  if (lightsInShader == 0 || headlightOnly)
+  {
+    return true; // unlit, or a headlight (which never casts shadows)
+  }
+  int hits = 0;
+  for (int i = 0; i < lightsInShader; ++i)
+  {
+    const std::string n = std::to_string(i);
+    const std::string vis = "ssVisibility(ssLightLayer" + n + ")";
+    const std::pair<std::string, std::string> subs[] = {
+      { "diffuse += (df * lightColor" + n + ");", "diffuse += (df * lightColor" + n + " * " + vis + ");" },
+      { "specular += (sf * lightColor" + n + ");", "specular += (sf * lightColor" + n + " * " + vis + ");" },
+      { "radiance = lightColor" + n + ";", "radiance = lightColor" + n + " * " + vis + ";" },
+      { "radiance = lightColor" + n + " * attenuation;",
+        "radiance = lightColor" + n + " * attenuation * " + vis + ";" },
+    };
+    for (const auto& sub : subs)
+    {
+      hits += vtkShaderProgram::Substitute(fragmentShader, sub.first, sub.second, false) ? 1 : 0;
+    }
+  }
+  if (hits < lightsInShader)
+  {
+    vtkErrorMacro("vtkSoftShadowPass: could not find the light terms of "
+      << lightsInShader - hits << " light(s) in the shader of " << (prop ? prop->GetClassName() : "?")
+      << "; shadows would be silently missing.");
+    return false;
+  }
+  std::string decl = "uniform sampler2D ssGPosition;\n"
+                     "uniform sampler3D ssVisTex;\n"
+                     "uniform vec2 ssViewportOrigin;\n"
+                     "uniform float ssPropId;\n"
+                     "uniform int ssUseVis;\n";
+  for (int i = 0; i < lightsInShader; ++i)
+  {
+    decl += "uniform int ssLightLayer" + std::to_string(i) + ";\n";
+  }
+  decl += "float ssVisibility(int layer)\n"
+          "{\n"
+          "  if (ssUseVis == 0 || layer < 0) { return 1.0; }\n"
+          "  ivec2 pix = ivec2(gl_FragCoord.xy - ssViewportOrigin);\n"
+          "  vec4 g = texelFetch(ssGPosition, pix, 0);\n"
+          "  // only the surface that is in the G-buffer (not translucent props)\n"
+          "  if (abs(g.w - ssPropId) > 0.5) { return 1.0; }\n"
+          "  return clamp(texelFetch(ssVisTex, ivec3(pix, layer), 0).r, 0.0, 1.0);\n"
+          "}\n";
+  fragmentShader.insert(fragmentShader.find("void main"), decl);
+  return true;
+}
+
+bool vtkSoftShadowPass::SetShaderParameters(
+  vtkShaderProgram* program, vtkAbstractMapper* mapper, vtkProp* prop, vtkOpenGLVertexArrayObject*)
+{
+  auto& in = *this->Internals;
+  const bool polyMapper = vtkOpenGLPolyDataMapper::SafeDownCast(mapper) != nullptr;
+  if (in.CurrentStage == Stage::GBuffer)
+  {
+    in.FBO->ActivateDrawBuffers(polyMapper ? 2 : 1);
+    if (!polyMapper)
+    {
+      return true;
+    }
+    auto it = in.PropIds.find(prop);
+    if (it == in.PropIds.end())
+    {
+      it = in.PropIds.emplace(prop, static_cast<int>(in.PropIds.size()) + 1).first;
+    }
+    program->SetUniformMatrix3x3("ssVCToWC", in.VCToWC);
+    program->SetUniform3f("ssVCToRelOffset", in.VCToRelOffset);
+    program->SetUniformMatrix4x4("ssDCToVC", in.DCToVC);
+    const float vs[2] = { static_cast<float>(in.Width), static_cast<float>(in.Height) };
+    program->SetUniform2f("ssViewportSize", vs);
+    program->SetUniformf("ssPropId", static_cast<float>(it->second));
+    return true;
+  }
+  if (in.CurrentStage != Stage::Shade || !polyMapper || !program->IsUniformUsed("ssUseVis"))
+  {
+    return true;
+  }
+  const auto it = in.PropIds.find(prop);
+  const bool use = in.ShadowsThisFrame && it != in.PropIds.end() && GetReceivesShadows(prop);
+  program->SetUniformi("ssUseVis", use ? 1 : 0);
+  if (use)
+  {
+    program->SetUniformi("ssGPosition", in.GPosition->GetTextureUnit());
+    program->SetUniformi("ssVisTex", in.Visibility->GetTextureUnit());
+    const float vo[2] = { static_cast<float>(in.ViewportOrigin[0]),
+      static_cast<float>(in.ViewportOrigin[1]) };
+    program->SetUniform2f("ssViewportOrigin", vo);
+    program->SetUniformf("ssPropId", static_cast<float>(it->second));
+  }
+  for (const auto& l : in.Lights)
+  {
+    const std::string name = "ssLightLayer" + std::to_string(l.ShaderIndex);
+    if (program->IsUniformUsed(name.c_str()))
+    {
+      program->SetUniformi(name.c_str(), use ? l.Layer : -1);
+    }
+  }
+  return true;
+}
+
+vtkMTimeType vtkSoftShadowPass::GetShaderStageMTime()
+{
+  return this->Internals->StageTime.GetMTime();
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::ReleaseGraphicsResources(vtkWindow* w)
+{
+  this->Internals->Release(w);
+  if (this->DelegatePass)
+  {
+    this->DelegatePass->ReleaseGraphicsResources(w);
+  }
+}
+
+int vtkSoftShadowPass::GetNumberOfGraphicsResources()
+{
+  return this->Internals->CountResources();
+}
+
+//------------------------------------------------------------------------------
+int vtkSoftShadowPass::GetNumberOfShadowLights()
+{
+  int n = 0;
+  if (this->Internals->HaveResults)
+  {
+    for (const auto& l : this->Internals->Lights)
+    {
+      n += l.Layer >= 0 ? 1 : 0;
+    }
+  }
+  return n;
+}
+
+namespace
+{
+bool ReadLayer(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex,
+  int layer, int w, int h, int comps, std::vector<float>& out)
+{
+  win->MakeCurrent();
+  vtkOpenGLState* ostate = win->GetState();
+  ostate->PushFramebufferBindings();
+  fbo->Bind();
+  AttachLayer(fbo, tex, layer);
+  fbo->ActivateReadBuffer(0);
+  out.resize(static_cast<std::size_t>(w) * h * comps);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, comps == 4 ? GL_RGBA : GL_RED, GL_FLOAT, out.data());
+  fbo->RemoveColorAttachments(1);
+  ostate->PopFramebufferBindings();
+  return glGetError() == GL_NO_ERROR;
+}
+}
+
+bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
+{
+  auto& in = *this->Internals;
+  if (!out || !in.HaveResults || !in.Window || shadowLight < 0 ||
+    shadowLight >= this->GetNumberOfShadowLights())
+  {
+    return false;
+  }
+  std::vector<float> v;
+  if (!ReadLayer(in.Window, in.FBO, in.Visibility, shadowLight, in.Width, in.Height, 1, v))
+  {
+    return false;
+  }
+  out->SetNumberOfComponents(1);
+  out->SetNumberOfTuples(static_cast<vtkIdType>(v.size()));
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t i = 0; i < v.size(); ++i)
+  {
+    out->SetValue(static_cast<vtkIdType>(i), v[i] < 0.0f ? nan : v[i]);
+  }
+  return true;
+}
+
+bool vtkSoftShadowPass::GetPositionsImage(vtkFloatArray* out)
+{
+  auto& in = *this->Internals;
+  if (!out || !in.HaveResults || !in.Window)
+  {
+    return false;
+  }
+  std::vector<float> v;
+  if (!ReadLayer(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, v))
+  {
+    return false;
+  }
+  const std::size_t n = v.size() / 4;
+  out->SetNumberOfComponents(3);
+  out->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const bool fg = v[4 * i + 3] > 0.0f;
+    for (int c = 0; c < 3; ++c)
+    {
+      out->SetComponent(static_cast<vtkIdType>(i), c, fg ? v[4 * i + c] : nan);
+    }
+  }
+  return true;
+}
+
+int vtkSoftShadowPass::GetLastWidth()
+{
+  return this->Internals->Width;
+}
+
+int vtkSoftShadowPass::GetLastHeight()
+{
+  return this->Internals->Height;
+}
+
+void vtkSoftShadowPass::GetLastPositionsOrigin(double origin[3])
+{
+  for (int i = 0; i < 3; ++i)
+  {
+    origin[i] = this->Internals->Origin[i];
+  }
+}
+
+int vtkSoftShadowPass::GetLastNumberOfCasterTriangles()
+{
+  return static_cast<int>(this->Internals->NumberOfTriangles());
+}
+
+std::string vtkSoftShadowPass::GetPlanDescription()
+{
+  return this->Internals->Plan.ToText();
+}
+
+std::string vtkSoftShadowPass::GetStatsJSON()
+{
+  auto& in = *this->Internals;
+  std::ostringstream o;
+  o.precision(17);
+  o << "{\"plan\": " << in.Plan.ToJSON() << ", \"timings_ms\": {";
+  bool first = true;
+  for (const auto& t : in.Timings)
+  {
+    o << (first ? "" : ", ") << '"' << t.first << "\": " << t.second;
+    first = false;
+  }
+  o << "}, \"memory_bytes\": " << in.MemoryBytes() << ", \"caster_triangles\": "
+    << in.NumberOfTriangles() << ", \"skipped_triangles\": " << in.SkippedTriangles
+    << ", \"shadow_map_size\": " << this->ShadowMapSize << ", \"lights\": [";
+  first = true;
+  for (const auto& l : in.Lights)
+  {
+    o << (first ? "" : ", ") << "{\"shader_index\": " << l.ShaderIndex
+      << ", \"method\": \"" << ss::MethodName(l.Method) << "\", \"views\": " << l.Views.size()
+      << ", \"cube\": " << (l.ViewInfo.cube ? "true" : "false")
+      << ", \"clamped\": " << (l.ViewInfo.clamped ? "true" : "false") << "}";
+    first = false;
+  }
+  o << "]}";
+  return o.str();
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Method: " << GetMethodName(this->Method) << "\n";
+  os << indent << "ShadowMapSize: " << this->ShadowMapSize << "\n";
+  os << indent << "PCFRadius: " << this->PCFRadius << "\n";
+  os << indent << "BlockerSearchSamples: " << this->BlockerSearchSamples << "\n";
+  os << indent << "FilterMaxQuads: " << this->FilterMaxQuads << "\n";
+  os << indent << "ConstantBias: " << this->ConstantBias << "\n";
+  os << indent << "SlopeBias: " << this->SlopeBias << "\n";
+  os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
+  os << indent << "DelegatePass: " << this->DelegatePass << "\n";
+  os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";
+}

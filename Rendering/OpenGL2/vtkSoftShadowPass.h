@@ -1,0 +1,214 @@
+/**
+ * @class   vtkSoftShadowPass
+ * @brief   Soft shadows of area lights for every prop of a renderer.
+ *
+ * Install it on a renderer and render as usual:
+ * @code{.cpp}
+ *   vtkNew<vtkSoftShadowPass> shadows;
+ *   shadows->SetMethod(vtkSoftShadowPass::PCSS);
+ *   renderer->SetPass(shadows);
+ * @endcode
+ *
+ * Each frame follows one data flow (see DESIGN.md):
+ * 1. G-buffer: the opaque props are drawn through their own VTK mappers into
+ *    float targets holding the world position (relative to PositionsOrigin),
+ *    the world normal, the prop id and whether the prop receives shadows.
+ * 2. Caster set: the world-space triangles of every shadow-casting prop,
+ *    rebuilt only when a prop, its data or its transform changed.
+ * 3. Effect plan: per light, what to simulate (none, hard, pcf, pcss) and why.
+ * 4. Per shadow-casting light, a solver writes a visibility texture
+ *    V(x,y) in [0,1]: the fraction of the light visible from the surface.
+ * 5. Shading: the delegate pass (by default the renderer's standard path, so
+ *    translucency, depth peeling, volumes and overlays keep working) renders
+ *    with VTK's own lighting; each light's diffuse and specular terms (Phong)
+ *    or radiance (PBR) are multiplied by that light's V.
+ *
+ * Props opt out with SetCastsShadows / SetReceivesShadows. Lights are
+ * configured with vtkSoftShadowLight. Translucent props receive no shadows
+ * (their fragments are not in the G-buffer); they still cast shadows.
+ */
+#ifndef vtkSoftShadowPass_h
+#define vtkSoftShadowPass_h
+
+#include "SoftShadowsRenderingOpenGL2Module.h"
+#include "vtkOpenGLRenderPass.h"
+
+#include <memory> // for unique_ptr
+#include <string> // for string
+
+class vtkFloatArray;
+class vtkInformationIntegerKey;
+class vtkProp;
+class vtkRenderPass;
+
+class SOFTSHADOWSRENDERINGOPENGL2_EXPORT vtkSoftShadowPass : public vtkOpenGLRenderPass
+{
+public:
+  static vtkSoftShadowPass* New();
+  vtkTypeMacro(vtkSoftShadowPass, vtkOpenGLRenderPass);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum MethodType
+  {
+    AUTO = 0, ///< the effect planner decides per light (default)
+    HARD = 1, ///< one shadow map, slope-scaled bias, one texel
+    PCF = 2,  ///< fixed filter of PCFRadius texels
+    PCSS = 3, ///< blocker search + penumbra estimate + texel-quad coverage filter
+    NONE = 4  ///< no shadows (the pass only shades)
+  };
+
+  ///@{
+  /**
+   * The visibility solver used for every shadow-casting light.
+   */
+  vtkSetClampMacro(Method, int, AUTO, NONE);
+  vtkGetMacro(Method, int);
+  /** By name: auto, hard, pcf, pcss, none. Returns false for unknown names. */
+  bool SetMethodByName(const char* name);
+  static const char* GetMethodName(int method);
+  ///@}
+
+  ///@{
+  /**
+   * Render pass used for the shading step. When null (default), the pass
+   * renders the renderer's standard path (lights, opaque, translucent with
+   * depth peeling, volumes, overlays), like ParaView's vtkPVDefaultPass.
+   */
+  virtual void SetDelegatePass(vtkRenderPass* pass);
+  vtkGetObjectMacro(DelegatePass, vtkRenderPass);
+  ///@}
+
+  ///@{
+  /** Shadow map resolution (texels per side), default 2048. */
+  vtkSetClampMacro(ShadowMapSize, int, 64, 16384);
+  vtkGetMacro(ShadowMapSize, int);
+  ///@}
+
+  ///@{
+  /** Filter radius of the pcf method, in texels (default 1.5). */
+  vtkSetClampMacro(PCFRadius, double, 0.5, 64.0);
+  vtkGetMacro(PCFRadius, double);
+  ///@}
+
+  ///@{
+  /** Blocker-search samples per axis of PCSS (default 8). */
+  vtkSetClampMacro(BlockerSearchSamples, int, 2, 32);
+  vtkGetMacro(BlockerSearchSamples, int);
+  ///@}
+
+  ///@{
+  /**
+   * Largest number of texel quads per axis the coverage filter visits
+   * (default 24). Larger kernels use coarser quads (same integral, less
+   * detail), so the cost per pixel is bounded.
+   */
+  vtkSetClampMacro(FilterMaxQuads, int, 2, 128);
+  vtkGetMacro(FilterMaxQuads, int);
+  ///@}
+
+  ///@{
+  /**
+   * Depth bias in shadow-map texels (constant and slope-scaled), default 1 and 2.
+   */
+  vtkSetMacro(ConstantBias, double);
+  vtkGetMacro(ConstantBias, double);
+  vtkSetMacro(SlopeBias, double);
+  vtkGetMacro(SlopeBias, double);
+  ///@}
+
+  ///@{
+  /**
+   * Origin of the positions buffer and of all float computations. By default
+   * (AutomaticPositionsOrigin on) the camera focal point of each frame.
+   */
+  vtkSetVector3Macro(PositionsOrigin, double);
+  vtkGetVector3Macro(PositionsOrigin, double);
+  vtkSetMacro(AutomaticPositionsOrigin, bool);
+  vtkGetMacro(AutomaticPositionsOrigin, bool);
+  vtkBooleanMacro(AutomaticPositionsOrigin, bool);
+  ///@}
+
+  ///@{
+  /**
+   * When on, the GPU is finished (glFinish) between stages so the per-stage
+   * timings in GetStatsJSON are true (costs some speed; default off).
+   */
+  vtkSetMacro(MeasureTimings, bool);
+  vtkGetMacro(MeasureTimings, bool);
+  vtkBooleanMacro(MeasureTimings, bool);
+  ///@}
+
+  ///@{
+  /** Per-prop flags (stored in vtkProp::GetPropertyKeys); both default to true. */
+  static void SetCastsShadows(vtkProp* prop, bool casts);
+  static bool GetCastsShadows(vtkProp* prop);
+  static void SetReceivesShadows(vtkProp* prop, bool receives);
+  static bool GetReceivesShadows(vtkProp* prop);
+  static vtkInformationIntegerKey* CASTS_SHADOWS();
+  static vtkInformationIntegerKey* RECEIVES_SHADOWS();
+  ///@}
+
+  ///@{
+  /**
+   * Results of the last frame.
+   * GetVisibilityImage fills a 1-component array (width*height, row 0 at the
+   * bottom, background NaN) with V of the given shadow light (0-based among
+   * the lights that cast shadows, in renderer order); it returns false when
+   * that light does not exist. GetPositionsImage fills 3 components: world
+   * position minus GetLastPositionsOrigin (background NaN).
+   */
+  int GetNumberOfShadowLights();
+  bool GetVisibilityImage(int shadowLight, vtkFloatArray* out);
+  bool GetPositionsImage(vtkFloatArray* out);
+  int GetLastWidth();
+  int GetLastHeight();
+  void GetLastPositionsOrigin(double origin[3]);
+  int GetLastNumberOfCasterTriangles();
+  /** JSON object: plan (per light: method and reasons), timings_ms, memory_bytes. */
+  std::string GetStatsJSON();
+  /** The plan as readable lines (also in PrintSelf). */
+  std::string GetPlanDescription();
+  ///@}
+
+  /** Live GPU objects owned by the pass (textures, buffers, programs); 0 after release. */
+  int GetNumberOfGraphicsResources();
+
+  void Render(const vtkRenderState* s) override;
+  void ReleaseGraphicsResources(vtkWindow* w) override;
+
+  bool PreReplaceShaderValues(std::string& vertexShader, std::string& geometryShader,
+    std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop) override;
+  bool PostReplaceShaderValues(std::string& vertexShader, std::string& geometryShader,
+    std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop) override;
+  bool SetShaderParameters(vtkShaderProgram* program, vtkAbstractMapper* mapper, vtkProp* prop,
+    vtkOpenGLVertexArrayObject* VAO = nullptr) override;
+  vtkMTimeType GetShaderStageMTime() override;
+
+protected:
+  vtkSoftShadowPass();
+  ~vtkSoftShadowPass() override;
+
+  int Method = AUTO;
+  vtkRenderPass* DelegatePass = nullptr;
+  int ShadowMapSize = 2048;
+  double PCFRadius = 1.5;
+  int BlockerSearchSamples = 8;
+  int FilterMaxQuads = 24;
+  double ConstantBias = 1.0;
+  double SlopeBias = 2.0;
+  double PositionsOrigin[3] = { 0, 0, 0 };
+  bool AutomaticPositionsOrigin = true;
+  bool MeasureTimings = false;
+
+private:
+  vtkSoftShadowPass(const vtkSoftShadowPass&) = delete;
+  void operator=(const vtkSoftShadowPass&) = delete;
+
+  void RenderGBuffer(const vtkRenderState* s);
+  void SolveVisibility(const vtkRenderState* s);
+
+  class vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif

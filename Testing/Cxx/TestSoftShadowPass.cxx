@@ -1,0 +1,568 @@
+// Render-pass tests: image regressions (vtkTesting against Data/Baseline),
+// accuracy against exact visibility, and the shadow complaints VTK users have
+// about vtkShadowMapPass (DESIGN.md), each asserted on the visibility buffer.
+#include "ssRenderTestUtilities.h"
+
+#include "ssAnalytic.h"
+#include "ssLightFrame.h"
+
+#include "vtkImageData.h"
+#include "vtkLightCollection.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkPointData.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdlib>
+
+#ifndef SS_BASELINE_DIR
+#error "SS_BASELINE_DIR must be defined"
+#endif
+#ifndef SS_TEMP_DIR
+#error "SS_TEMP_DIR must be defined"
+#endif
+
+namespace sstest
+{
+int CompareWithBaseline(vtkRenderWindow* win, const std::string& name, double threshold)
+{
+  vtkNew<vtkTesting> testing;
+  testing->AddArgument("-V");
+  const std::string baseline = std::string(SS_BASELINE_DIR) + "/" + name + ".png";
+  testing->AddArgument(baseline.c_str());
+  testing->AddArgument("-T");
+  testing->AddArgument(SS_TEMP_DIR);
+  testing->SetRenderWindow(win);
+  const int result = testing->RegressionTest(threshold);
+  if (result != vtkTesting::PASSED)
+  {
+    // Keep the picture so it can be looked at (and, on purpose, become the baseline).
+    vtkNew<vtkWindowToImageFilter> w2i;
+    w2i->SetInput(win);
+    w2i->ReadFrontBufferOff();
+    w2i->Update();
+    testing->SetValidImageFileName(baseline.c_str());
+  }
+  return result;
+}
+}
+
+using namespace sstest;
+
+namespace
+{
+struct Stats
+{
+  int lit = 0, umbra = 0, penumbra = 0, background = 0, nonFinite = 0;
+};
+
+Stats Classify(const Frame& f)
+{
+  Stats s;
+  for (float v : f.V)
+  {
+    if (std::isnan(v))
+    {
+      ++s.background;
+    }
+    else if (!std::isfinite(v) || v < 0.0f || v > 1.0f)
+    {
+      ++s.nonFinite;
+    }
+    else if (v > 0.99f)
+    {
+      ++s.lit;
+    }
+    else if (v < 0.01f)
+    {
+      ++s.umbra;
+    }
+    else
+    {
+      ++s.penumbra;
+    }
+  }
+  return s;
+}
+
+glm::dvec3 World(const Frame& f, std::size_t i)
+{
+  return { f.P[3 * i] + f.origin[0], f.P[3 * i + 1] + f.origin[1], f.P[3 * i + 2] + f.origin[2] };
+}
+
+// The scene where PCSS is exact in theory: square light, square occluder and
+// ground all parallel (every blocker at one depth).
+struct ParallelScene
+{
+  Scene scene;
+  std::array<glm::dvec3, 4> occluder;
+  ss::LightFrame light;
+  double scale;
+
+  ParallelScene(int w, int h, double s = 1.0, double offset = 0.0)
+    : scene(w, h)
+    , scale(s)
+  {
+    auto ground = Ground(4.0 * s);
+    ground->SetPosition(offset, offset, 0);
+    vtkSoftShadowPass::SetCastsShadows(ground, false);
+    vtkNew<vtkPlaneSource> quad;
+    quad->SetOrigin(-0.5 * s, -0.5 * s, 1.0 * s);
+    quad->SetPoint1(0.5 * s, -0.5 * s, 1.0 * s);
+    quad->SetPoint2(-0.5 * s, 0.5 * s, 1.0 * s);
+    auto occ = MakeActor(quad, 0.2, 0.6, 0.3);
+    occ->SetPosition(offset, offset, 0);
+    vtkSoftShadowPass::SetReceivesShadows(occ, false);
+    scene.renderer->AddActor(ground);
+    scene.renderer->AddActor(occ);
+    const glm::dvec3 o(offset, offset, 0);
+    occluder = { o + s * glm::dvec3(-0.5, -0.5, 1), o + s * glm::dvec3(0.5, -0.5, 1),
+      o + s * glm::dvec3(0.5, 0.5, 1), o + s * glm::dvec3(-0.5, 0.5, 1) };
+    auto l = RectLight(offset, offset, 3.0 * s, offset, offset, 0, 1.0 * s, 1.0 * s);
+    vtkSoftShadowLight::SetAreaUp(l, 0, 1, 0);
+    scene.renderer->AddLight(l);
+    light = ss::MakeRectLightFrame(o + glm::dvec3(0, 0, 3.0 * s), { 0, 0, -1 }, { 0, 1, 0 },
+      { 1.0 * s, 1.0 * s });
+    scene.Camera(offset, offset - 5.0 * s, 6.0 * s, offset, offset, 0);
+  }
+
+  // Mean/max |V - exact| over ground pixels, and the same on penumbra pixels.
+  void Errors(const Frame& f, double& mae, double& maxErr, double& penMae, int& n, int& nPen) const
+  {
+    mae = maxErr = penMae = 0.0;
+    n = nPen = 0;
+    for (std::size_t i = 0; i < f.V.size(); ++i)
+    {
+      if (std::isnan(f.V[i]))
+      {
+        continue;
+      }
+      const glm::dvec3 p = World(f, i);
+      if (std::abs(p.z) > 1e-3 * scale)
+      {
+        continue; // not the ground
+      }
+      const double exact = ss::ParallelRectOccluderVisibility(light, occluder, p);
+      const double e = std::abs(f.V[i] - exact);
+      mae += e;
+      maxErr = std::max(maxErr, e);
+      ++n;
+      if (exact > 0.01 && exact < 0.99)
+      {
+        penMae += e;
+        ++nPen;
+      }
+    }
+    mae /= std::max(n, 1);
+    penMae /= std::max(nPen, 1);
+  }
+};
+}
+
+// ---------------------------------------------------------------------------
+// Accuracy: PCSS against the exact visible fraction, square window and a
+// non-square window (VTK's shadow pass was wrong in non-square windows).
+TEST(SoftShadowPass, PCSSAccuracyParallelPlanes)
+{
+  for (auto size : { std::array<int, 2>{ 400, 400 }, std::array<int, 2>{ 640, 300 } })
+  {
+    ParallelScene ps(size[0], size[1]);
+    ps.scene.pass->SetMethod(vtkSoftShadowPass::PCSS);
+    const Frame f = ps.scene.Render();
+    ASSERT_EQ(static_cast<int>(f.V.size()), size[0] * size[1]);
+    double mae, maxErr, penMae;
+    int n, nPen;
+    ps.Errors(f, mae, maxErr, penMae, n, nPen);
+    std::cout << "PCSS parallel planes " << size[0] << "x" << size[1] << ": ground pixels " << n
+              << ", penumbra " << nPen << ", MAE " << mae << ", max " << maxErr
+              << ", penumbra MAE " << penMae << "\n";
+    EXPECT_GT(n, size[0] * size[1] / 4);
+    EXPECT_GT(nPen, 1000);
+    // Bounds: discretisation of a 2048^2 map and the blocker search; the
+    // max error sits on the few pixels where the penumbra meets the umbra.
+    EXPECT_LT(mae, 0.01);
+    EXPECT_LT(penMae, 0.03);
+    EXPECT_LT(maxErr, 0.12);
+  }
+}
+
+// Resizing the window keeps the visibility right (no stale buffers).
+TEST(SoftShadowPass, ResizeKeepsAccuracy)
+{
+  ParallelScene ps(300, 300);
+  ps.scene.pass->SetMethod(vtkSoftShadowPass::PCSS);
+  ps.scene.Render();
+  ps.scene.window->SetSize(500, 260);
+  const Frame f = ps.scene.Render();
+  EXPECT_EQ(f.width, 500);
+  EXPECT_EQ(f.height, 260);
+  double mae, maxErr, penMae;
+  int n, nPen;
+  ps.Errors(f, mae, maxErr, penMae, n, nPen);
+  EXPECT_LT(mae, 0.01);
+  EXPECT_LT(maxErr, 0.12);
+}
+
+// Shadows do not weaken with distance or scale (VTK's exponential map did):
+// the same scene scaled by 1000 and moved far away gives the same errors.
+TEST(SoftShadowPass, ScaleAndDistanceInvariant)
+{
+  ParallelScene ps(400, 400, 1000.0, 5.0e5);
+  ps.scene.pass->SetMethod(vtkSoftShadowPass::PCSS);
+  const Frame f = ps.scene.Render();
+  double mae, maxErr, penMae;
+  int n, nPen;
+  ps.Errors(f, mae, maxErr, penMae, n, nPen);
+  std::cout << "scaled x1000 at 5e5: MAE " << mae << ", max " << maxErr << "\n";
+  EXPECT_GT(n, 40000);
+  EXPECT_LT(mae, 0.01);
+  EXPECT_LT(maxErr, 0.15);
+}
+
+// Hard shadows and PCF converge to the exact hard shadow of a point light.
+TEST(SoftShadowPass, HardAndPCFMatchPointLight)
+{
+  for (int method : { vtkSoftShadowPass::HARD, vtkSoftShadowPass::PCF })
+  {
+    ParallelScene ps(400, 400);
+    // replace the area light by a point light at its centre
+    ps.scene.renderer->RemoveAllLights();
+    auto l = RectLight(0, 0, 3, 0, 0, 0, 0.0, 0.0);
+    ps.scene.renderer->AddLight(l);
+    ps.light = ss::MakeRectLightFrame({ 0, 0, 3 }, { 0, 0, -1 }, { 0, 1, 0 }, { 1e-9, 1e-9 });
+    ps.scene.pass->SetMethod(method);
+    const Frame f = ps.scene.Render();
+    double mae, maxErr, penMae;
+    int n, nPen;
+    ps.Errors(f, mae, maxErr, penMae, n, nPen);
+    std::cout << vtkSoftShadowPass::GetMethodName(method) << " vs exact hard shadow: MAE " << mae
+              << "\n";
+    // only pixels on the shadow edge may differ
+    EXPECT_LT(mae, 0.01);
+    EXPECT_GT(Classify(f).umbra, 1000);
+  }
+}
+
+// Several lights: each light's visibility is the same as when it is alone.
+TEST(SoftShadowPass, SeveralLightsIndependent)
+{
+  auto build = [](Scene& s, bool both) {
+    s.renderer->AddActor(Ground());
+    s.renderer->AddActor(Sphere(0, 0, 1, 0.5));
+    s.renderer->AddLight(RectLight(2, -1, 5, 0, 0, 0, 1.0, 1.0, 0.6));
+    if (both)
+    {
+      s.renderer->AddLight(RectLight(-3, 2, 4, 0, 0, 0, 0.5, 0.5, 0.6));
+    }
+    s.Camera(0, -7, 5);
+  };
+  Scene alone, two;
+  build(alone, false);
+  build(two, true);
+  const Frame a = alone.Render(0);
+  const Frame b0 = two.Render(0);
+  const Frame b1 = two.Render(1);
+  ASSERT_EQ(a.V.size(), b0.V.size());
+  double maxDiff = 0.0;
+  for (std::size_t i = 0; i < a.V.size(); ++i)
+  {
+    if (!std::isnan(a.V[i]))
+    {
+      maxDiff = std::max(maxDiff, static_cast<double>(std::abs(a.V[i] - b0.V[i])));
+    }
+  }
+  EXPECT_LT(maxDiff, 1e-5);
+  EXPECT_GT(Classify(b1).umbra + Classify(b1).penumbra, 500);
+  // the two shadows are in different places
+  int differ = 0;
+  for (std::size_t i = 0; i < b0.V.size(); ++i)
+  {
+    differ += (!std::isnan(b0.V[i]) && std::abs(b0.V[i] - b1.V[i]) > 0.5) ? 1 : 0;
+  }
+  EXPECT_GT(differ, 500);
+  EXPECT_EQ(CompareWithBaseline(two.window, "TwoLights"), vtkTesting::PASSED);
+}
+
+// A plane that casts and receives does not shadow itself (no acne, no
+// rectangular artefact), with the light at a slant.
+TEST(SoftShadowPass, PlaneDoesNotShadowItself)
+{
+  for (int method : { vtkSoftShadowPass::HARD, vtkSoftShadowPass::PCF, vtkSoftShadowPass::PCSS })
+  {
+    Scene s(400, 300);
+    s.renderer->AddActor(Ground(4.0, 0.0, 8));
+    s.renderer->AddLight(RectLight(3, -2, 3, 0, 0, 0, 1.0, 1.0));
+    s.pass->SetMethod(method);
+    s.Camera(0, -8, 4);
+    const Frame f = s.Render();
+    const Stats st = Classify(f);
+    EXPECT_EQ(st.umbra, 0) << vtkSoftShadowPass::GetMethodName(method);
+    EXPECT_EQ(st.penumbra, 0) << vtkSoftShadowPass::GetMethodName(method);
+    EXPECT_GT(st.lit, 10000);
+  }
+}
+
+// A spot light with a wide cone (80 degrees) still casts shadows.
+TEST(SoftShadowPass, WideSpotLightCasts)
+{
+  Scene s(400, 300);
+  s.renderer->AddActor(Ground(6.0));
+  s.renderer->AddActor(Sphere(1.5, 0, 0.8, 0.5));
+  auto spot = RectLight(0, 0, 2.5, 0, 0, 0, 0, 0);
+  spot->SetConeAngle(80.0);
+  s.renderer->AddLight(spot);
+  s.Camera(0, -9, 6);
+  const Frame f = s.Render();
+  EXPECT_GT(Classify(f).umbra, 300);
+}
+
+// Contact hardening: the shadow of a box standing on the ground is sharp at
+// the contact and wide far from it.
+TEST(SoftShadowPass, BoxOnGroundContactHardening)
+{
+  Scene s(480, 360);
+  s.renderer->AddActor(Ground());
+  s.renderer->AddActor(Box(0, 0, 1.0, 0.6, 0.6, 2.0));
+  s.renderer->AddLight(RectLight(-2, 0, 4, 0, 0, 0, 1.5, 1.5));
+  s.Camera(3, -7, 5);
+  const Frame f = s.Render();
+  // Penumbra width along +x on the ground, near the box (y = 0.0) and at the
+  // shadow's far end: measure the x-extent where 0.05 < V < 0.95 per row band.
+  auto penumbraExtent = [&](double yLo, double yHi, double xLo, double xHi) {
+    double minX = 1e9, maxX = -1e9;
+    for (std::size_t i = 0; i < f.V.size(); ++i)
+    {
+      if (std::isnan(f.V[i]))
+      {
+        continue;
+      }
+      const glm::dvec3 p = World(f, i);
+      if (std::abs(p.z) > 1e-3 || p.y < yLo || p.y > yHi || p.x < xLo || p.x > xHi)
+      {
+        continue;
+      }
+      if (f.V[i] > 0.05 && f.V[i] < 0.95)
+      {
+        minX = std::min(minX, p.x);
+        maxX = std::max(maxX, p.x);
+      }
+    }
+    return maxX - minX;
+  };
+  // side edge of the shadow (y = -0.3 face), near the box vs far from it
+  const double nearWidth = penumbraExtent(-0.6, -0.2, 0.3, 0.6);
+  const double farWidth = penumbraExtent(-1.2, -0.2, 2.5, 3.0);
+  (void)nearWidth;
+  double nearY = 1e9, farY = 1e9;
+  {
+    // width in y of the penumbra at the side of the shadow, at two distances
+    auto widthY = [&](double x0, double x1) {
+      double lo = 1e9, hi = -1e9;
+      for (std::size_t i = 0; i < f.V.size(); ++i)
+      {
+        if (std::isnan(f.V[i]))
+        {
+          continue;
+        }
+        const glm::dvec3 p = World(f, i);
+        if (std::abs(p.z) > 1e-3 || p.x < x0 || p.x > x1 || p.y > 0.0)
+        {
+          continue;
+        }
+        if (f.V[i] > 0.05 && f.V[i] < 0.95)
+        {
+          lo = std::min(lo, p.y);
+          hi = std::max(hi, p.y);
+        }
+      }
+      return hi - lo;
+    };
+    nearY = widthY(0.35, 0.5);
+    farY = widthY(2.0, 2.3);
+  }
+  std::cout << "penumbra width near contact " << nearY << ", far " << farY
+            << " (x-extent far end " << farWidth << ")\n";
+  EXPECT_GT(nearY, 0.0);
+  EXPECT_GT(farY, 2.5 * nearY);
+  EXPECT_EQ(CompareWithBaseline(s.window, "BoxOnGround"), vtkTesting::PASSED);
+}
+
+// Sphere over a plane with a small and with a large light.
+TEST(SoftShadowPass, SpherePlaneSmallAndLargeLight)
+{
+  for (double size : { 0.3, 2.5 })
+  {
+    Scene s(400, 300);
+    s.renderer->AddActor(Ground());
+    s.renderer->AddActor(Sphere(0, 0, 1.2, 0.6));
+    s.renderer->AddLight(RectLight(1, -1, 5, 0, 0, 0, size, size));
+    s.Camera(0, -7, 5);
+    const Frame f = s.Render();
+    const Stats st = Classify(f);
+    EXPECT_EQ(st.nonFinite, 0);
+    if (size < 1.0)
+    {
+      EXPECT_GT(st.umbra, st.penumbra / 2) << "small light: mostly umbra";
+    }
+    else
+    {
+      EXPECT_GT(st.penumbra, st.umbra) << "large light: mostly penumbra";
+    }
+    EXPECT_EQ(CompareWithBaseline(s.window, size < 1.0 ? "SpherePlaneSmallLight" : "SpherePlaneLargeLight"),
+      vtkTesting::PASSED);
+  }
+}
+
+// A prop that does not receive shadows stays unshadowed, though it is in
+// another prop's shadow; and it still casts.
+TEST(SoftShadowPass, NonReceiverStaysLit)
+{
+  Scene s(400, 300);
+  auto ground = Ground();
+  vtkSoftShadowPass::SetReceivesShadows(ground, false);
+  s.renderer->AddActor(ground);
+  auto sphere = Sphere(0, 0, 1.2, 0.6);
+  s.renderer->AddActor(sphere);
+  auto low = Box(1.5, 0.0, 0.3, 0.6, 0.6, 0.6);
+  s.renderer->AddActor(low);
+  s.renderer->AddLight(RectLight(0, 0, 5, 0, 0, 0, 0.5, 0.5));
+  s.Camera(0, -7, 5);
+  s.Render();
+  // Brightness of the ground under the sphere equals the lit ground.
+  vtkNew<vtkWindowToImageFilter> w2i;
+  w2i->SetInput(s.window);
+  w2i->Update();
+  EXPECT_EQ(CompareWithBaseline(s.window, "NonReceiver"), vtkTesting::PASSED);
+  // The same scene with the ground receiving must differ (the test can fail).
+  vtkSoftShadowPass::SetReceivesShadows(ground, true);
+  s.Render();
+  vtkNew<vtkWindowToImageFilter> w2i2;
+  w2i2->SetInput(s.window);
+  w2i2->Update();
+  auto* a = w2i->GetOutput()->GetPointData()->GetScalars();
+  auto* b = w2i2->GetOutput()->GetPointData()->GetScalars();
+  double darker = 0;
+  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+  {
+    darker += (a->GetComponent(i, 0) - b->GetComponent(i, 0) > 40) ? 1 : 0;
+  }
+  EXPECT_GT(darker, 500);
+}
+
+// PBR props receive shadows (VTK's shadow pass misses the PBR light terms).
+TEST(SoftShadowPass, PBRReceivesShadows)
+{
+  Scene s(400, 300);
+  auto ground = Ground();
+  ground->GetProperty()->SetInterpolationToPBR();
+  ground->GetProperty()->SetRoughness(0.6);
+  ground->GetProperty()->SetMetallic(0.0);
+  s.renderer->AddActor(ground);
+  s.renderer->AddActor(Sphere(0, 0, 1.2, 0.6));
+  s.renderer->AddLight(RectLight(0, 0, 5, 0, 0, 0, 0.5, 0.5, 3.0));
+  s.Camera(0, -7, 5);
+  const Frame f = s.Render();
+  EXPECT_GT(Classify(f).umbra, 1000);
+  // The shaded picture is dark where V is 0 on the ground.
+  vtkNew<vtkWindowToImageFilter> w2i;
+  w2i->SetInput(s.window);
+  w2i->Update();
+  auto* rgb = w2i->GetOutput()->GetPointData()->GetScalars();
+  double umbraSum = 0, litSum = 0;
+  int nu = 0, nl = 0;
+  for (std::size_t i = 0; i < f.V.size(); ++i)
+  {
+    if (std::isnan(f.V[i]) || std::abs(World(f, i).z) > 1e-3)
+    {
+      continue;
+    }
+    const double lum = rgb->GetComponent(static_cast<vtkIdType>(i), 1);
+    if (f.V[i] < 0.01)
+    {
+      umbraSum += lum;
+      ++nu;
+    }
+    else if (f.V[i] > 0.99)
+    {
+      litSum += lum;
+      ++nl;
+    }
+  }
+  ASSERT_GT(nu, 0);
+  ASSERT_GT(nl, 0);
+  EXPECT_LT(umbraSum / nu, 0.6 * litSum / nl);
+  EXPECT_EQ(CompareWithBaseline(s.window, "PBRReceiver"), vtkTesting::PASSED);
+}
+
+// Translucent props and depth peeling keep working with the pass installed.
+TEST(SoftShadowPass, TranslucentWithDepthPeeling)
+{
+  Scene s(400, 300);
+  s.renderer->SetUseDepthPeeling(1);
+  s.renderer->SetMaximumNumberOfPeels(8);
+  s.renderer->SetOcclusionRatio(0.0);
+  s.renderer->AddActor(Ground());
+  auto glass = Sphere(0.8, 0, 1.0, 0.6);
+  glass->GetProperty()->SetOpacity(0.4);
+  glass->GetProperty()->SetColor(0.2, 0.4, 1.0);
+  s.renderer->AddActor(glass);
+  s.renderer->AddActor(Box(-0.8, 0, 0.5, 0.6, 0.6, 1.0));
+  s.renderer->AddLight(RectLight(0, -1, 5, 0, 0, 0, 1.0, 1.0));
+  s.Camera(0, -7, 5);
+  s.Render();
+  EXPECT_TRUE(s.renderer->GetLastRenderingUsedDepthPeeling());
+  EXPECT_EQ(CompareWithBaseline(s.window, "TranslucentDepthPeeling"), vtkTesting::PASSED);
+}
+
+// Toggling the pass off and on works, and releasing frees every GPU object.
+TEST(SoftShadowPass, ToggleAndRelease)
+{
+  Scene s(320, 240);
+  s.renderer->AddActor(Ground());
+  s.renderer->AddActor(Sphere(0, 0, 1.2, 0.6));
+  s.renderer->AddLight(RectLight(1, -1, 5, 0, 0, 0, 1.0, 1.0));
+  s.Camera(0, -7, 5);
+  const Frame first = s.Render();
+  EXPECT_GT(s.pass->GetNumberOfGraphicsResources(), 0);
+  s.renderer->SetPass(nullptr);
+  s.window->Render();
+  s.pass->ReleaseGraphicsResources(s.window);
+  EXPECT_EQ(s.pass->GetNumberOfGraphicsResources(), 0);
+  for (int round = 0; round < 3; ++round)
+  {
+    s.renderer->SetPass(s.pass);
+    const Frame again = s.Render();
+    ASSERT_EQ(first.V.size(), again.V.size());
+    double maxDiff = 0;
+    for (std::size_t i = 0; i < first.V.size(); ++i)
+    {
+      if (!std::isnan(first.V[i]))
+      {
+        maxDiff = std::max(maxDiff, static_cast<double>(std::abs(first.V[i] - again.V[i])));
+      }
+    }
+    EXPECT_LT(maxDiff, 1e-6);
+    s.renderer->SetPass(nullptr);
+    s.window->Render();
+    s.pass->ReleaseGraphicsResources(s.window);
+    EXPECT_EQ(s.pass->GetNumberOfGraphicsResources(), 0);
+  }
+}
+
+// No casters, or no lights: no shadow work, and the plan says why.
+TEST(SoftShadowPass, PlannerSkipsWhenNothingToDo)
+{
+  Scene s(200, 150);
+  auto ground = Ground();
+  vtkSoftShadowPass::SetCastsShadows(ground, false);
+  s.renderer->AddActor(ground);
+  s.renderer->AddLight(RectLight(0, 0, 5, 0, 0, 0, 1.0, 1.0));
+  s.Camera(0, -7, 5);
+  s.window->Render();
+  EXPECT_EQ(s.pass->GetNumberOfShadowLights(), 0);
+  EXPECT_NE(s.pass->GetStatsJSON().find("\"shadow_work\": false"), std::string::npos)
+    << s.pass->GetStatsJSON();
+}
