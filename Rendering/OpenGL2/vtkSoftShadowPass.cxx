@@ -37,6 +37,7 @@
 #include "vtkRenderState.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
+#include "vtkTextureUnitManager.h"
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
 #include "vtkMath.h"
@@ -50,6 +51,7 @@
 
 #include "ssCasterFS.h"
 #include "ssCasterVS.h"
+#include "ssMinReduceFS.h"
 #include "ssVisibilityFS.h"
 
 #include <algorithm>
@@ -120,7 +122,12 @@ public:
   vtkSmartPointer<vtkTextureObject> GPosition; // RGBA32F: position - origin, prop id
   vtkSmartPointer<vtkTextureObject> GNormal;   // RGBA32F: world normal, receives
   vtkSmartPointer<vtkTextureObject> GDepth;
-  vtkSmartPointer<vtkTextureObject> ShadowMaps; // R32F 3D: one layer per view
+  // Shadow maps: a GL_TEXTURE_2D_ARRAY (one layer per view, R32F linear depth)
+  // whose mip levels hold the MIN depth of the level below, so the PCSS blocker
+  // search can look at a whole region without missing a blocker between samples.
+  unsigned int ShadowArray = 0;
+  int ShadowArraySize = 0, ShadowArrayLayers = 0, ShadowArrayLevels = 0;
+  std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
   vtkSmartPointer<vtkTextureObject> Visibility; // R32F 3D: one layer per shadow light
   vtkSmartPointer<vtkOpenGLBufferObject> CasterVBO;
   vtkSmartPointer<vtkOpenGLVertexArrayObject> CasterVAO;
@@ -132,6 +139,7 @@ public:
   Stage CurrentStage = Stage::Idle;
   vtkTimeStamp StageTime;
   bool ShadowsThisFrame = false;
+  bool ShadeShadows = false; // whether the shading shaders carry the visibility code
   int Width = 0, Height = 0;
   int ViewportOrigin[2] = { 0, 0 };
   glm::dvec3 Origin{ 0.0 };
@@ -165,7 +173,8 @@ public:
     tex(this->GPosition);
     tex(this->GNormal);
     tex(this->GDepth);
-    tex(this->ShadowMaps);
+    n += this->ShadowArray != 0 ? 1 : 0;
+    n += this->ReduceQuad ? 1 : 0;
     tex(this->Visibility);
     n += (this->FBO && this->FBO->GetFBOIndex() != 0) ? 1 : 0;
     n += (this->CasterVBO && this->CasterVBO->GetHandle() != 0) ? 1 : 0;
@@ -185,7 +194,12 @@ public:
     tex(this->GPosition, 16);
     tex(this->GNormal, 16);
     tex(this->GDepth, 4);
-    tex(this->ShadowMaps, 4);
+    if (this->ShadowArray)
+    {
+      // all mip levels: about 4/3 of level 0
+      b += static_cast<long long>(this->ShadowArraySize) * this->ShadowArraySize *
+        this->ShadowArrayLayers * 4 * 4 / 3;
+    }
     tex(this->Visibility, 4);
     if (this->CasterUploaded)
     {
@@ -194,10 +208,93 @@ public:
     return b;
   }
 
+  void ReleaseShadowArray()
+  {
+    if (this->ShadowArray)
+    {
+      glDeleteTextures(1, &this->ShadowArray);
+      this->ShadowArray = 0;
+    }
+    this->ShadowArraySize = this->ShadowArrayLayers = this->ShadowArrayLevels = 0;
+  }
+
+  // vtkTextureObject cannot bind 2-D array textures (VTK 9.2): take a texture
+  // unit from the window's manager and bind by hand.
+  int BindShadowArray(vtkOpenGLRenderWindow* win)
+  {
+    const int unit = win->GetTextureUnitManager()->Allocate();
+    if (unit >= 0)
+    {
+      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
+      glBindTexture(GL_TEXTURE_2D_ARRAY, this->ShadowArray);
+    }
+    return unit;
+  }
+
+  void UnbindShadowArray(vtkOpenGLRenderWindow* win, int unit)
+  {
+    if (unit >= 0)
+    {
+      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
+      glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+      win->GetTextureUnitManager()->Free(unit);
+    }
+  }
+
+  void EnsureShadowArray(vtkOpenGLRenderWindow* /*win*/, int size, int layers)
+  {
+    if (this->ShadowArray && this->ShadowArraySize == size && this->ShadowArrayLayers == layers)
+    {
+      return;
+    }
+    this->ReleaseShadowArray();
+    int levels = 1;
+    while ((size >> (levels - 1)) > 1)
+    {
+      ++levels;
+    }
+    glGenTextures(1, &this->ShadowArray);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, this->ShadowArray);
+    for (int l = 0; l < levels; ++l)
+    {
+      const int s = std::max(1, size >> l);
+      glTexImage3D(GL_TEXTURE_2D_ARRAY, l, GL_R32F, s, s, layers, 0, GL_RED, GL_FLOAT, nullptr);
+    }
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, levels - 1);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+    this->ShadowArraySize = size;
+    this->ShadowArrayLayers = layers;
+    this->ShadowArrayLevels = levels;
+  }
+
+  // Renders into (level, layer) of the shadow array through the bound FBO.
+  void AttachShadowLevel(vtkOpenGLFramebufferObject* fbo, int level, int layer)
+  {
+    fbo->RemoveColorAttachments(1);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, this->ShadowArray, level, layer);
+    fbo->ActivateDrawBuffers(1);
+  }
+
+  void DetachShadowLevel()
+  {
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
+  }
+
   void Release(vtkWindow* w)
   {
+    this->ReleaseShadowArray();
+    if (this->ReduceQuad)
+    {
+      this->ReduceQuad->ReleaseGraphicsResources(w);
+      this->ReduceQuad.reset();
+    }
     for (auto* t : { this->GPosition.Get(), this->GNormal.Get(), this->GDepth.Get(),
-           this->ShadowMaps.Get(), this->Visibility.Get() })
+           this->Visibility.Get() })
     {
       if (t)
       {
@@ -207,7 +304,6 @@ public:
     this->GPosition = nullptr;
     this->GNormal = nullptr;
     this->GDepth = nullptr;
-    this->ShadowMaps = nullptr;
     this->Visibility = nullptr;
     if (this->FBO)
     {
@@ -680,6 +776,14 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 
   if (in.ShadowsThisFrame && !in.Plan.reuse)
   {
+    // Our stages change blending, depth and clear state: give VTK's shading
+    // (opaque, translucent, depth peeling) the state it had.
+    vtkOpenGLState::ScopedglEnableDisable blendSaver(ostate, GL_BLEND);
+    vtkOpenGLState::ScopedglEnableDisable depthSaver(ostate, GL_DEPTH_TEST);
+    vtkOpenGLState::ScopedglEnableDisable cullSaver(ostate, GL_CULL_FACE);
+    vtkOpenGLState::ScopedglBlendFuncSeparate blendFuncSaver(ostate);
+    vtkOpenGLState::ScopedglDepthMask depthMaskSaver(ostate);
+    vtkOpenGLState::ScopedglClearColor clearSaver(ostate);
     this->RenderGBuffer(s);
     in.Receivers = receivers;
     this->SolveVisibility(s);
@@ -701,9 +805,12 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   {
     ren->Clear();
   }
-  if (in.CurrentStage != Stage::Shade)
+  // The shading code is injected only while there are shadows (its samplers
+  // must be bound to real textures): rebuild shaders when that changes.
+  if (in.CurrentStage != Stage::Shade || in.ShadeShadows != in.ShadowsThisFrame)
   {
     in.CurrentStage = Stage::Shade;
+    in.ShadeShadows = in.ShadowsThisFrame;
     in.StageTime.Modified();
   }
   if (in.ShadowsThisFrame)
@@ -866,7 +973,12 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   vtkRenderer* ren = s->GetRenderer();
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
   vtkOpenGLState* ostate = win->GetState();
-  const int S = this->ShadowMapSize;
+  // Power-of-two maps keep every texel of the min pyramid covered.
+  int S = 64;
+  while (S < this->ShadowMapSize)
+  {
+    S *= 2;
+  }
 
   // Views of every light, fitted to the receivers (relative coordinates).
   ss::Box receivers, casters;
@@ -910,22 +1022,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 
   // --- shadow maps: the caster set drawn by our own small program
   auto tStage = Clock::now();
-  if (!in.ShadowMaps || static_cast<int>(in.ShadowMaps->GetWidth()) != S ||
-    static_cast<int>(in.ShadowMaps->GetDepth()) != totalViews)
-  {
-    if (in.ShadowMaps)
-    {
-      in.ShadowMaps->ReleaseGraphicsResources(win);
-    }
-    in.ShadowMaps = vtkSmartPointer<vtkTextureObject>::New();
-    in.ShadowMaps->SetContext(win);
-    in.ShadowMaps->SetFormat(GL_RED);
-    in.ShadowMaps->SetInternalFormat(GL_R32F);
-    in.ShadowMaps->SetDataType(GL_FLOAT);
-    in.ShadowMaps->SetMinificationFilter(vtkTextureObject::Nearest);
-    in.ShadowMaps->SetMagnificationFilter(vtkTextureObject::Nearest);
-    in.ShadowMaps->Allocate3D(S, S, totalViews, 1, VTK_FLOAT);
-  }
+  in.EnsureShadowArray(win, S, totalViews);
   if (!in.CasterVBO)
   {
     in.CasterVBO = vtkSmartPointer<vtkOpenGLBufferObject>::New();
@@ -973,8 +1070,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     }
     for (const auto& v : l.Views)
     {
-      AttachLayer(in.FBO, in.ShadowMaps, layer);
-      in.FBO->ActivateDrawBuffers(1);
+      in.AttachShadowLevel(in.FBO, 0, layer);
       ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
       if (!in.CasterTriangles.empty())
       {
@@ -997,6 +1093,8 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   }
   ostate->vtkglBlendEquation(GL_FUNC_ADD);
   ostate->vtkglDisable(GL_BLEND);
+  this->BuildMinPyramid(win);
+  in.DetachShadowLevel();
   if (this->MeasureTimings)
   {
     glFinish();
@@ -1040,11 +1138,12 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   }
   in.GPosition->Activate();
   in.GNormal->Activate();
-  in.ShadowMaps->Activate();
+  const int shadowUnit = in.BindShadowArray(win);
   prog->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
   prog->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
-  prog->SetUniformi("shadowMaps", in.ShadowMaps->GetTextureUnit());
+  prog->SetUniformi("shadowMaps", shadowUnit);
   prog->SetUniformf("mapSize", static_cast<float>(S));
+  prog->SetUniformi("numLevels", in.ShadowArrayLevels);
   prog->SetUniformi("searchSamples", this->BlockerSearchSamples);
   prog->SetUniformi("maxQuads", this->FilterMaxQuads);
   prog->SetUniformf("pcfRadius", static_cast<float>(this->PCFRadius));
@@ -1103,7 +1202,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.VisibilityQuad->Render();
     firstLayer += nv;
   }
-  in.ShadowMaps->Deactivate();
+  in.UnbindShadowArray(win, shadowUnit);
   in.GNormal->Deactivate();
   in.GPosition->Deactivate();
   in.FBO->RemoveColorAttachments(1);
@@ -1113,6 +1212,53 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     glFinish();
   }
   in.Timings["visibility"] = Seconds(tStage, Clock::now());
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::BuildMinPyramid(vtkOpenGLRenderWindow* win)
+{
+  auto& in = *this->Internals;
+  vtkOpenGLState* ostate = win->GetState();
+  if (!in.ReduceQuad)
+  {
+    in.ReduceQuad.reset(new vtkOpenGLQuadHelper(
+      win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), ssMinReduceFS, ""));
+  }
+  else
+  {
+    win->GetShaderCache()->ReadyShaderProgram(in.ReduceQuad->Program);
+  }
+  vtkShaderProgram* prog = in.ReduceQuad->Program;
+  if (!prog || !prog->GetCompiled())
+  {
+    vtkErrorMacro("Could not build the min-depth reduction program.");
+    return;
+  }
+  const int unit = in.BindShadowArray(win);
+  prog->SetUniformi("src", unit);
+  for (int level = 1; level < in.ShadowArrayLevels; ++level)
+  {
+    // sample only the level below the one written
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, level - 1);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, level - 1);
+    const int src[2] = { std::max(1, in.ShadowArraySize >> (level - 1)),
+      std::max(1, in.ShadowArraySize >> (level - 1)) };
+    const int dst[2] = { std::max(1, in.ShadowArraySize >> level),
+      std::max(1, in.ShadowArraySize >> level) };
+    prog->SetUniform2i("srcSize", src);
+    prog->SetUniform2i("dstSize", dst);
+    ostate->vtkglViewport(0, 0, dst[0], dst[1]);
+    ostate->vtkglScissor(0, 0, dst[0], dst[1]);
+    for (int layer = 0; layer < in.ShadowArrayLayers; ++layer)
+    {
+      in.AttachShadowLevel(in.FBO, level, layer);
+      prog->SetUniformi("layer", layer);
+      in.ReduceQuad->Render();
+    }
+  }
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, in.ShadowArrayLevels - 1);
+  in.UnbindShadowArray(win, unit);
 }
 
 //------------------------------------------------------------------------------
@@ -1170,7 +1316,7 @@ bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader,
     return true;
   }
 
-  if (in.CurrentStage != Stage::Shade)
+  if (in.CurrentStage != Stage::Shade || !in.ShadeShadows)
   {
     return true;
   }
@@ -1259,17 +1405,20 @@ bool vtkSoftShadowPass::SetShaderParameters(
     program->SetUniformf("ssPropId", static_cast<float>(it->second));
     return true;
   }
-  if (in.CurrentStage != Stage::Shade || !polyMapper || !program->IsUniformUsed("ssUseVis"))
+  if (in.CurrentStage != Stage::Shade || !in.ShadeShadows || !polyMapper ||
+    !program->IsUniformUsed("ssUseVis"))
   {
     return true;
   }
   const auto it = in.PropIds.find(prop);
   const bool use = in.ShadowsThisFrame && it != in.PropIds.end() && GetReceivesShadows(prop);
   program->SetUniformi("ssUseVis", use ? 1 : 0);
+  // Samplers always point at the bound textures: two sampler types left on
+  // unit 0 make every draw of that shader fail (GL_INVALID_OPERATION).
+  program->SetUniformi("ssGPosition", in.GPosition->GetTextureUnit());
+  program->SetUniformi("ssVisTex", in.Visibility->GetTextureUnit());
   if (use)
   {
-    program->SetUniformi("ssGPosition", in.GPosition->GetTextureUnit());
-    program->SetUniformi("ssVisTex", in.Visibility->GetTextureUnit());
     const float vo[2] = { static_cast<float>(in.ViewportOrigin[0]),
       static_cast<float>(in.ViewportOrigin[1]) };
     program->SetUniform2f("ssViewportOrigin", vo);
@@ -1432,7 +1581,7 @@ std::string vtkSoftShadowPass::GetStatsJSON()
   }
   o << "}, \"memory_bytes\": " << in.MemoryBytes() << ", \"caster_triangles\": "
     << in.NumberOfTriangles() << ", \"skipped_triangles\": " << in.SkippedTriangles
-    << ", \"shadow_map_size\": " << this->ShadowMapSize << ", \"lights\": [";
+    << ", \"shadow_map_size\": " << in.ShadowArraySize << ", \"lights\": [";
   first = true;
   for (const auto& l : in.Lights)
   {

@@ -37,6 +37,7 @@
 #include <string> // for string
 
 class vtkFloatArray;
+class vtkOpenGLRenderWindow;
 class vtkInformationIntegerKey;
 class vtkProp;
 class vtkRenderPass;
@@ -79,7 +80,7 @@ public:
   ///@}
 
   ///@{
-  /** Shadow map resolution (texels per side), default 2048. */
+  /** Shadow map resolution (texels per side, rounded up to a power of two), default 2048. */
   vtkSetClampMacro(ShadowMapSize, int, 64, 16384);
   vtkGetMacro(ShadowMapSize, int);
   ///@}
@@ -206,6 +207,7 @@ private:
 
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
+  void BuildMinPyramid(vtkOpenGLRenderWindow* win);
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

@@ -3,7 +3,8 @@
 // The math mirrors Rendering/Core (ssPCSS.h, ssCoverage.h), where it is unit-tested.
 uniform sampler2D gPosition; // xyz: world position - frame origin, w: prop id (0 = background)
 uniform sampler2D gNormal;   // xyz: world normal
-uniform sampler3D shadowMaps; // one layer per view, linear light-space depth
+uniform sampler2DArray shadowMaps; // one layer per view, linear light-space depth;
+                                  // mip level l holds the min depth of level l-1
 uniform int firstLayer;
 uniform int numViews;
 uniform vec3 viewU[6];
@@ -16,6 +17,7 @@ uniform int oneSided;      // rect lights light only the half-space in front of 
 uniform vec2 lightHalfSize; // rect: half width/height (world); directional: tan(angle/2) twice
 uniform int method;         // 1 hard, 2 pcf, 3 pcss
 uniform float mapSize;
+uniform int numLevels;
 uniform float searchDepth;  // nearest caster depth: PCSS blocker-search plane
 uniform int searchSamples;
 uniform int maxQuads;
@@ -48,6 +50,16 @@ float fetchDepth(int layer, ivec2 t)
     return 3.0e38; // outside the map: nothing there, lit
   }
   return texelFetch(shadowMaps, ivec3(t, layer), 0).r;
+}
+
+float fetchMinDepth(int layer, ivec2 t, int level)
+{
+  int s = max(1, int(mapSize) >> level);
+  if (t.x < 0 || t.y < 0 || t.x >= s || t.y >= s)
+  {
+    return 3.0e38;
+  }
+  return texelFetch(shadowMaps, ivec3(t, layer), level).r;
 }
 
 // Ssee ss::ReceiverPlaneDepth: depth of the receiver's tangent plane along
@@ -210,21 +222,40 @@ void main()
       vec2 searchTex = min(searchHalf * w.texelPerUnit, vec2(mapSize * 0.25));
       searchTex = max(searchTex, vec2(1.0));
       float maxDelta = max(searchTex.x, searchTex.y) * w.texelWorld * 10.0;
+      // The search looks at every cell of the min-depth level whose cells are
+      // about (2 * search / samples) texels wide, so no blocker between two
+      // samples is missed (a missed blocker makes a lit streak). Each cell is
+      // weighted by its overlap with the search box, so z_avg is continuous.
+      float cellsWide = 2.0 * max(searchTex.x, searchTex.y) / float(searchSamples);
+      int level = clamp(int(ceil(log2(max(cellsWide, 1.0)))), 0, numLevels - 1);
+      float cell = exp2(float(level));
+      vec2 s0 = w.T - searchTex;
+      vec2 s1 = w.T + searchTex;
+      ivec2 c0 = ivec2(floor(s0 / cell));
+      ivec2 c1 = ivec2(floor(s1 / cell));
       float sum = 0.0;
       float count = 0.0;
-      for (int j = 0; j < searchSamples; ++j)
+      for (int cy = c0.y; cy <= c1.y; ++cy)
       {
-        for (int i = 0; i < searchSamples; ++i)
+        float oy = max(0.0, min((float(cy) + 1.0) * cell, s1.y) - max(float(cy) * cell, s0.y));
+        for (int cx = c0.x; cx <= c1.x; ++cx)
         {
-          vec2 o = (vec2(i, j) + 0.5) / float(searchSamples) * 2.0 - 1.0;
-          vec2 T = w.T + o * searchTex;
-          ivec2 t = ivec2(floor(T));
-          float dz = fetchDepth(firstLayer + w.index, t);
-          float zr = planeDepth(w, texelToProjected(w, vec2(t) + 0.5), maxDelta);
+          float ox = max(0.0, min((float(cx) + 1.0) * cell, s1.x) - max(float(cx) * cell, s0.x));
+          float dz = fetchMinDepth(firstLayer + w.index, ivec2(cx, cy), level);
+          if (ox * oy <= 0.0 || dz > 1.0e38)
+          {
+            continue;
+          }
+          // the receiver's nearest depth over the cell: its plane at the corners
+          vec2 a = vec2(cx, cy) * cell;
+          float zr = min(min(planeDepth(w, texelToProjected(w, a), maxDelta),
+                             planeDepth(w, texelToProjected(w, a + vec2(cell, 0.0)), maxDelta)),
+                         min(planeDepth(w, texelToProjected(w, a + vec2(0.0, cell)), maxDelta),
+                             planeDepth(w, texelToProjected(w, a + vec2(cell)), maxDelta)));
           if (dz < zr - bias)
           {
-            sum += dz;
-            count += 1.0;
+            sum += dz * ox * oy;
+            count += ox * oy;
           }
         }
       }
