@@ -18,13 +18,15 @@ const char* MethodName(Method m)
       return "pcss";
     case Method::None:
       return "none";
+    case Method::Reference:
+      return "reference";
   }
   return "none";
 }
 
 bool MethodFromName(const std::string& s, Method& out)
 {
-  for (Method m : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS, Method::None })
+  for (Method m : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS, Method::None, Method::Reference })
   {
     if (s == MethodName(m))
     {

@@ -16,7 +16,8 @@ enum class Method
   Hard = 1,
   PCF = 2,
   PCSS = 3,
-  None = 4
+  None = 4,
+  Reference = 5 ///< ray-traced ground truth (Embree, CPU)
 };
 const char* MethodName(Method m);
 bool MethodFromName(const std::string& s, Method& out);

@@ -47,6 +47,7 @@
 
 #include "ssEffectPlanner.h"
 #include "ssLightFrame.h"
+#include "ssReference.h"
 #include "ssShadowView.h"
 
 #include "ssCasterFS.h"
@@ -99,6 +100,9 @@ double Seconds(Clock::time_point a, Clock::time_point b)
 {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
+
+bool ReadLayer(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex,
+  int layer, int w, int h, int comps, std::vector<float>& out);
 
 // vtkOpenGLFramebufferObject does not re-attach the same texture with another
 // z-slice: detach first so each layer of a 3-D texture really is the target.
@@ -157,6 +161,11 @@ public:
   // --- caster set (world triangles relative to CasterOrigin)
   std::vector<CasterKey> CasterKeys;
   std::vector<float> CasterTriangles; // 9 floats per triangle
+  std::vector<float> CasterOpacity;   // per triangle
+  // Ray-traced reference (CPU): its scene is rebuilt when the caster set changes.
+  std::unique_ptr<ss::ReferenceSolver> Reference;
+  unsigned long ReferenceVersion = 0;
+  ss::ReferenceStats LastReferenceStats;
   glm::dvec3 CasterOrigin{ 0.0 };
   ss::Box CasterBox; // absolute
   bool CasterUploaded = false;
@@ -417,7 +426,8 @@ bool vtkSoftShadowPass::GetReceivesShadows(vtkProp* prop)
 // Caster set: the world-space triangles of every visible, shadow-casting actor.
 namespace
 {
-void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, std::vector<glm::dvec3>& tris, std::size_t& skipped)
+void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, float opacity, std::vector<glm::dvec3>& tris,
+  std::vector<float>& opacities, std::size_t& skipped)
 {
   vtkPoints* pts = pd->GetPoints();
   if (!pts || pts->GetNumberOfPoints() == 0)
@@ -453,6 +463,7 @@ void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, std::vector<glm::dvec3>& t
     tris.push_back(world[a]);
     tris.push_back(world[b]);
     tris.push_back(world[c]);
+    opacities.push_back(opacity);
   };
   auto polys = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
   for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
@@ -633,6 +644,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   if (keys != in.CasterKeys)
   {
     std::vector<glm::dvec3> tris;
+    std::vector<float> opacities;
     std::size_t skipped = 0;
     bool translucent = false;
     ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
@@ -640,9 +652,10 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
       {
         return;
       }
-      translucent = translucent || actor->GetProperty()->GetOpacity() < 1.0;
+      const float opacity = static_cast<float>(actor->GetProperty()->GetOpacity());
+      translucent = translucent || opacity < 1.0f;
       ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0),
-        [&](vtkPolyData* pd) { AppendPolyData(pd, m, tris, skipped); });
+        [&](vtkPolyData* pd) { AppendPolyData(pd, m, opacity, tris, opacities, skipped); });
     });
     if (skipped > 0 && skipped != in.SkippedTriangles)
     {
@@ -665,6 +678,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
       in.CasterTriangles[3 * i + 1] = static_cast<float>(r.y);
       in.CasterTriangles[3 * i + 2] = static_cast<float>(r.z);
     }
+    in.CasterOpacity = std::move(opacities);
     in.CasterKeys = keys;
     in.CasterUploaded = false;
     ++in.CasterVersion;
@@ -999,9 +1013,14 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     {
       continue;
     }
+    ++numShadowLights;
+    if (l.Method == ss::Method::Reference)
+    {
+      l.Views.clear();
+      continue; // ray traced on the CPU below: no shadow map
+    }
     l.Views = ss::MakeLightViews(l.Frame, receivers, casters, l.ViewInfo);
     totalViews += static_cast<int>(l.Views.size());
-    ++numShadowLights;
     // PCSS blocker-search plane: the nearest caster in front of the light.
     const ss::ShadowView& v0 = l.Views.front();
     double zMin = std::numeric_limits<double>::max();
@@ -1022,7 +1041,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 
   // --- shadow maps: the caster set drawn by our own small program
   auto tStage = Clock::now();
-  in.EnsureShadowArray(win, S, totalViews);
+  in.EnsureShadowArray(win, S, std::max(totalViews, 1));
   if (!in.CasterVBO)
   {
     in.CasterVBO = vtkSmartPointer<vtkOpenGLBufferObject>::New();
@@ -1154,7 +1173,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   int firstLayer = 0;
   for (auto& l : in.Lights)
   {
-    if (l.Layer < 0)
+    if (l.Layer < 0 || l.Method == ss::Method::Reference)
     {
       continue;
     }
@@ -1212,6 +1231,87 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     glFinish();
   }
   in.Timings["visibility"] = Seconds(tStage, Clock::now());
+  this->SolveReference(win);
+}
+
+//------------------------------------------------------------------------------
+// Ground truth on the CPU: k x k shadow rays per pixel (Embree), written into
+// the light's visibility layer so shading and readback are the same as for
+// the GPU solvers.
+void vtkSoftShadowPass::SolveReference(vtkOpenGLRenderWindow* win)
+{
+  auto& in = *this->Internals;
+  bool any = false;
+  for (const auto& l : in.Lights)
+  {
+    any = any || (l.Layer >= 0 && l.Method == ss::Method::Reference);
+  }
+  if (!any)
+  {
+    return;
+  }
+  const auto t0 = Clock::now();
+  if (!in.Reference)
+  {
+    in.Reference.reset(new ss::ReferenceSolver);
+  }
+  if (in.ReferenceVersion != in.CasterVersion)
+  {
+    std::vector<glm::dvec3> verts(in.CasterTriangles.size() / 3);
+    for (std::size_t i = 0; i < verts.size(); ++i)
+    {
+      verts[i] = in.CasterOrigin +
+        glm::dvec3(in.CasterTriangles[3 * i], in.CasterTriangles[3 * i + 1], in.CasterTriangles[3 * i + 2]);
+    }
+    in.Reference->SetTriangles(verts, in.CasterOpacity);
+    in.ReferenceVersion = in.CasterVersion;
+  }
+  std::vector<float> pos4, nrm4;
+  ReadLayer(win, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, pos4);
+  ReadLayer(win, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm4);
+  const std::size_t n = static_cast<std::size_t>(in.Width) * in.Height;
+  std::vector<float> pos(3 * n), nrm(3 * n);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const bool fg = pos4[4 * i + 3] > 0.0f;
+    for (int c = 0; c < 3; ++c)
+    {
+      pos[3 * i + c] = fg ? pos4[4 * i + c] : nan;
+      nrm[3 * i + c] = nrm4[4 * i + c];
+    }
+  }
+  ss::ReferenceOptions opt;
+  opt.k = this->ReferenceSamples;
+  opt.pattern = this->ReferencePattern == 1 ? ss::LightSamplePattern::Stratified
+                                            : ss::LightSamplePattern::Regular;
+  in.LastReferenceStats = ss::ReferenceStats{};
+  for (const auto& l : in.Lights)
+  {
+    if (l.Layer < 0 || l.Method != ss::Method::Reference)
+    {
+      continue;
+    }
+    // The light frame is relative to the frame origin; the solver wants world.
+    ss::LightFrame world = l.Frame;
+    world.center += in.Origin;
+    ss::ReferenceStats st;
+    std::vector<float> V = in.Reference->Solve(world, in.Origin, pos.data(), nrm.data(), n, opt, &st);
+    in.LastReferenceStats.rays += st.rays;
+    in.LastReferenceStats.milliseconds += st.milliseconds;
+    for (auto& v : V)
+    {
+      v = std::isnan(v) ? -1.0f : v; // background marker, as the GPU solvers write
+    }
+    in.Visibility->Activate();
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, l.Layer, in.Width, in.Height, 1, GL_RED, GL_FLOAT, V.data());
+    in.Visibility->Deactivate();
+  }
+  in.LastReferenceStats.raysPerSecond = in.LastReferenceStats.milliseconds > 0
+    ? in.LastReferenceStats.rays / (in.LastReferenceStats.milliseconds * 1e-3)
+    : 0.0;
+  in.Timings["reference"] = Seconds(t0, Clock::now());
 }
 
 //------------------------------------------------------------------------------
@@ -1581,6 +1681,9 @@ std::string vtkSoftShadowPass::GetStatsJSON()
   }
   o << "}, \"memory_bytes\": " << in.MemoryBytes() << ", \"caster_triangles\": "
     << in.NumberOfTriangles() << ", \"skipped_triangles\": " << in.SkippedTriangles
+    << ", \"reference\": {\"samples_per_axis\": " << this->ReferenceSamples
+    << ", \"rays\": " << in.LastReferenceStats.rays << ", \"rays_per_second\": "
+    << in.LastReferenceStats.raysPerSecond << "}"
     << ", \"shadow_map_size\": " << in.ShadowArraySize << ", \"lights\": [";
   first = true;
   for (const auto& l : in.Lights)

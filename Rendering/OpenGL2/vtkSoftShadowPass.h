@@ -55,16 +55,17 @@ public:
     HARD = 1, ///< one shadow map, slope-scaled bias, one texel
     PCF = 2,  ///< fixed filter of PCFRadius texels
     PCSS = 3, ///< blocker search + penumbra estimate + texel-quad coverage filter
-    NONE = 4  ///< no shadows (the pass only shades)
+    NONE = 4, ///< no shadows (the pass only shades)
+    REFERENCE = 5 ///< ray-traced ground truth: k x k light samples per pixel (Embree, CPU)
   };
 
   ///@{
   /**
    * The visibility solver used for every shadow-casting light.
    */
-  vtkSetClampMacro(Method, int, AUTO, NONE);
+  vtkSetClampMacro(Method, int, AUTO, REFERENCE);
   vtkGetMacro(Method, int);
-  /** By name: auto, hard, pcf, pcss, none. Returns false for unknown names. */
+  /** By name: auto, hard, pcf, pcss, none, reference. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
   ///@}
@@ -77,6 +78,18 @@ public:
    */
   virtual void SetDelegatePass(vtkRenderPass* pass);
   vtkGetObjectMacro(DelegatePass, vtkRenderPass);
+  ///@}
+
+  ///@{
+  /**
+   * Reference solver: k x k light samples (1..64, default 32) and their
+   * pattern (0: regular grid centres, as GEARS uses; 1: stratified jitter
+   * with a fixed seed).
+   */
+  vtkSetClampMacro(ReferenceSamples, int, 1, 64);
+  vtkGetMacro(ReferenceSamples, int);
+  vtkSetClampMacro(ReferencePattern, int, 0, 1);
+  vtkGetMacro(ReferencePattern, int);
   ///@}
 
   ///@{
@@ -192,6 +205,8 @@ protected:
   int Method = AUTO;
   vtkRenderPass* DelegatePass = nullptr;
   int ShadowMapSize = 2048;
+  int ReferenceSamples = 32;
+  int ReferencePattern = 0;
   double PCFRadius = 1.5;
   int BlockerSearchSamples = 8;
   int FilterMaxQuads = 24;
@@ -208,6 +223,7 @@ private:
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
   void BuildMinPyramid(vtkOpenGLRenderWindow* win);
+  void SolveReference(vtkOpenGLRenderWindow* win);
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

@@ -579,3 +579,29 @@ TEST(SoftShadowPass, PlannerSkipsWhenNothingToDo)
   EXPECT_NE(s.pass->GetStatsJSON().find("\"shadow_work\": false"), std::string::npos)
     << s.pass->GetStatsJSON();
 }
+
+// The ray-traced reference against the exact visible fraction (issue: ground
+// truth): MAE <= 1/k + 0.002 with k x k regular samples, also far from the origin.
+TEST(SoftShadowPass, ReferenceMatchesAnalytic)
+{
+  for (double offset : { 0.0, 1.0e6 })
+  {
+    for (int k : { 8, 32 })
+    {
+      ParallelScene ps(320, 240, 1.0, offset);
+      ps.scene.pass->SetMethod(vtkSoftShadowPass::REFERENCE);
+      ps.scene.pass->SetReferenceSamples(k);
+      const Frame f = ps.scene.Render();
+      double mae, maxErr, penMae;
+      int n, nPen;
+      ps.Errors(f, mae, maxErr, penMae, n, nPen);
+      std::cout << "reference k=" << k << " offset " << offset << ": MAE " << mae << ", max "
+                << maxErr << ", penumbra MAE " << penMae << " (" << nPen << " px)\n";
+      EXPECT_GT(n, 20000);
+      EXPECT_GT(nPen, 500);
+      EXPECT_LE(mae, 1.0 / k + 0.002);
+      EXPECT_LE(maxErr, 2.0 / k + 0.01);
+      EXPECT_EQ(Classify(f).nonFinite, 0);
+    }
+  }
+}

@@ -1,0 +1,74 @@
+#ifndef ssReference_h
+#define ssReference_h
+
+#include "ssLightFrame.h"
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace ss
+{
+enum class LightSamplePattern
+{
+  Regular,   ///< centres of a k x k grid (the samples GEARS uses)
+  Stratified ///< one jittered sample per cell, fixed seed (deterministic)
+};
+
+struct ReferenceOptions
+{
+  int k = 32; ///< k x k light samples (1..64)
+  LightSamplePattern pattern = LightSamplePattern::Regular;
+  unsigned seed = 1;
+};
+
+struct ReferenceStats
+{
+  double rays = 0.0;
+  double milliseconds = 0.0;
+  double raysPerSecond = 0.0;
+  std::size_t triangles = 0;
+};
+
+/// Ground truth: the visible fraction of a light from each pixel's surface
+/// point, by ray casting k x k light samples against the caster set with
+/// Embree (CPU, all cores through TBB). Translucent triangles (opacity < 1)
+/// multiply the transmittance of the rays that cross them.
+///
+/// Precision: the Embree scene is built relative to the caster set's centre
+/// and every ray is set up in double before being rounded, so a scene far
+/// from the world origin loses nothing. A ray starts at the surface point
+/// pushed along its normal by a small offset scaled to the scene (no
+/// self-shadowing acne) and stops just short of the light (contact shadows
+/// of casters touching the receiver are kept).
+class ReferenceSolver
+{
+public:
+  ReferenceSolver();
+  ~ReferenceSolver();
+  ReferenceSolver(const ReferenceSolver&) = delete;
+  ReferenceSolver& operator=(const ReferenceSolver&) = delete;
+
+  /// Triangles: 3 world-space vertices each; opacity per triangle (empty:
+  /// all opaque). Triangles with non-finite or coincident vertices are
+  /// skipped (counted in SkippedTriangles()).
+  void SetTriangles(const std::vector<glm::dvec3>& vertices, const std::vector<float>& opacity);
+  std::size_t NumberOfTriangles() const;
+  std::size_t SkippedTriangles() const;
+
+  /// V for n pixels. positions: 3 floats per pixel, world position minus
+  /// `origin` (NaN: background, gives NaN); normals: 3 floats per pixel or
+  /// null. Rect lights are one-sided; light samples below a pixel's tangent
+  /// plane are not visible from it. Point lights use one ray; directional
+  /// lights (angular diameter) sample a cone of directions.
+  std::vector<float> Solve(const LightFrame& light, const glm::dvec3& origin, const float* positions,
+    const float* normals, std::size_t n, const ReferenceOptions& options,
+    ReferenceStats* stats = nullptr) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> P;
+};
+}
+
+#endif
