@@ -1214,6 +1214,9 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       half[0] = half[1] = static_cast<float>(std::tan(0.5 * l.Frame.angularDiameter));
     }
     prog->SetUniform2f("lightHalfSize", half);
+    const glm::vec3 lu(l.Frame.u), lv(l.Frame.v);
+    prog->SetUniform3f("lightU", glm::value_ptr(lu));
+    prog->SetUniform3f("lightV", glm::value_ptr(lv));
     prog->SetUniformi("method", static_cast<int>(l.Method));
     prog->SetUniformf("searchDepth", static_cast<float>(l.SearchDepth));
     AttachLayer(in.FBO, in.Visibility, l.Layer);

@@ -15,6 +15,8 @@ uniform vec3 lightCenter;  // relative to the frame origin (orthographic: a poin
 uniform int orthographic;
 uniform int oneSided;      // rect lights light only the half-space in front of them
 uniform vec2 lightHalfSize; // rect: half width/height (world); directional: tan(angle/2) twice
+uniform vec3 lightU; // rect light edges (unit), relative frame
+uniform vec3 lightV;
 uniform int method;         // 1 hard, 2 pcf, 3 pcss
 uniform float mapSize;
 uniform int numLevels;
@@ -138,6 +140,57 @@ float coverageFilter(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
     }
   }
   return clamp(lit / area, 0.0, 1.0);
+}
+
+// Fraction of the light above the receiver's tangent plane: light points
+// below it cannot be seen from the surface (the reference counts them as
+// hidden too). Rect light: the rectangle [-w/2,w/2]x[-h/2,h/2] (in u,v) clipped
+// by the half-plane a + b*s + c*t > 0 (Sutherland-Hodgman, then the shoelace
+// area). Same as ss::LightFractionAboveTangentPlane.
+float lightAboveTangent(vec3 nrm, vec3 d)
+{
+  if (dot(nrm, nrm) < 0.5)
+  {
+    return 1.0; // no normal (unlit prop): no clipping
+  }
+  if (orthographic != 0)
+  {
+    return dot(nrm, -viewN[0]) > 0.0 ? 1.0 : 0.0;
+  }
+  float a = dot(nrm, -d);
+  if (oneSided == 0 || lightHalfSize.x <= 0.0 || lightHalfSize.y <= 0.0)
+  {
+    return a > 0.0 ? 1.0 : 0.0;
+  }
+  float b = dot(nrm, lightU);
+  float c = dot(nrm, lightV);
+  vec2 h = lightHalfSize;
+  vec2 q[4] = vec2[4](vec2(-h.x, -h.y), vec2(h.x, -h.y), vec2(h.x, h.y), vec2(-h.x, h.y));
+  vec2 outp[8];
+  int n = 0;
+  for (int i = 0; i < 4; ++i)
+  {
+    vec2 p0 = q[i];
+    vec2 p1 = q[(i + 1) % 4];
+    float f0 = a + b * p0.x + c * p0.y;
+    float f1 = a + b * p1.x + c * p1.y;
+    if (f0 > 0.0)
+    {
+      outp[n++] = p0;
+    }
+    if ((f0 > 0.0) != (f1 > 0.0))
+    {
+      outp[n++] = mix(p0, p1, f0 / (f0 - f1));
+    }
+  }
+  float area = 0.0;
+  for (int i = 0; i < n; ++i)
+  {
+    vec2 p0 = outp[i];
+    vec2 p1 = outp[(i + 1) % n];
+    area += p0.x * p1.y - p1.x * p0.y;
+  }
+  return clamp(0.5 * abs(area) / (4.0 * h.x * h.y), 0.0, 1.0);
 }
 
 void main()
@@ -286,5 +339,6 @@ void main()
       }
     }
   }
+  V *= lightAboveTangent(normalize(nrm), d);
   gl_FragData[0] = vec4(V, 0.0, 0.0, 1.0);
 }

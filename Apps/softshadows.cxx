@@ -1,0 +1,589 @@
+// softshadows: the command-line program (DESIGN.md "The command-line program").
+//
+//   softshadows render SCENE.json [--method M] [--size WxH] [--light I]
+//         [--output img.png] [--visibility vis.pfm] [--positions pos.pfm]
+//         [--stats stats.json] [--frames N] [--option key=value ...]
+//   softshadows compare A.pfm B.pfm     (B is the reference)
+#include "ssHeadless.h"
+#include "ssImageIO.h"
+#include "ssScene.h"
+
+#include "vtkCamera.h"
+#include "vtkCameraPass.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkLightsPass.h"
+#include "vtkNew.h"
+#include "vtkOpaquePass.h"
+#include "vtkOverlayPass.h"
+#include "vtkPointData.h"
+#include "vtkRenderPassCollection.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSequencePass.h"
+#include "vtkShadowMapBakerPass.h"
+#include "vtkShadowMapPass.h"
+#include "vtkSoftShadowPass.h"
+#include "vtkTranslucentPass.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkVolumetricPass.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+using json = nlohmann::json;
+
+struct UsageError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+const char* kUsage =
+  "usage:\n"
+  "  softshadows render SCENE.json [--method M] [--size WxH] [--light I]\n"
+  "        [--output img.png] [--visibility vis.pfm] [--positions pos.pfm]\n"
+  "        [--stats stats.json] [--frames N] [--option key=value ...]\n"
+  "  softshadows compare A.pfm B.pfm\n"
+  "methods: auto (default), hard, pcf, pcss, reference, vtk, none\n"
+  "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
+  "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified)\n";
+
+double Median(std::vector<double> v)
+{
+  if (v.empty())
+  {
+    return 0.0;
+  }
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return (n % 2) ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int ParseInt(const std::string& s, const std::string& what, int lo, int hi)
+{
+  try
+  {
+    std::size_t used = 0;
+    const long v = std::stol(s, &used);
+    if (used != s.size() || v < lo || v > hi)
+    {
+      throw std::out_of_range(s);
+    }
+    return static_cast<int>(v);
+  }
+  catch (const std::exception&)
+  {
+    throw UsageError(what + ": expected an integer in [" + std::to_string(lo) + ", " +
+      std::to_string(hi) + "], got '" + s + "'");
+  }
+}
+
+double ParseDouble(const std::string& s, const std::string& what)
+{
+  try
+  {
+    std::size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used != s.size() || !std::isfinite(v))
+    {
+      throw std::out_of_range(s);
+    }
+    return v;
+  }
+  catch (const std::exception&)
+  {
+    throw UsageError(what + ": expected a number, got '" + s + "'");
+  }
+}
+
+void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
+{
+  const auto eq = kv.find('=');
+  if (eq == std::string::npos)
+  {
+    throw UsageError("--option: expected key=value, got '" + kv + "'");
+  }
+  const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
+  const std::string what = "--option " + k;
+  if (k == "shadow_map_size")
+  {
+    pass->SetShadowMapSize(ParseInt(v, what, 64, 16384));
+  }
+  else if (k == "pcf_radius")
+  {
+    pass->SetPCFRadius(ParseDouble(v, what));
+  }
+  else if (k == "blocker_samples")
+  {
+    pass->SetBlockerSearchSamples(ParseInt(v, what, 2, 32));
+  }
+  else if (k == "filter_max_quads")
+  {
+    pass->SetFilterMaxQuads(ParseInt(v, what, 2, 128));
+  }
+  else if (k == "constant_bias")
+  {
+    pass->SetConstantBias(ParseDouble(v, what));
+  }
+  else if (k == "slope_bias")
+  {
+    pass->SetSlopeBias(ParseDouble(v, what));
+  }
+  else if (k == "reference_samples")
+  {
+    pass->SetReferenceSamples(ParseInt(v, what, 1, 64));
+  }
+  else if (k == "reference_pattern")
+  {
+    if (v != "regular" && v != "stratified")
+    {
+      throw UsageError(what + ": expected regular or stratified, got '" + v + "'");
+    }
+    pass->SetReferencePattern(v == "stratified" ? 1 : 0);
+  }
+  else
+  {
+    throw UsageError("--option: unknown key '" + k +
+      "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
+      "slope_bias, reference_samples, reference_pattern)");
+  }
+}
+
+// VTK's own shadow pass, set up as in VTK's TestShadowMapPass.
+vtkSmartPointer<vtkRenderPass> MakeVTKShadowPass()
+{
+  vtkNew<vtkOpaquePass> opaque;
+  vtkNew<vtkShadowMapBakerPass> baker;
+  baker->SetOpaqueSequence(opaque);
+  baker->SetCompositeZPass(nullptr);
+  vtkNew<vtkShadowMapPass> shadows;
+  shadows->SetShadowMapBakerPass(baker);
+  shadows->SetOpaqueSequence(opaque);
+  vtkNew<vtkRenderPassCollection> passes;
+  vtkNew<vtkLightsPass> lights;
+  vtkNew<vtkTranslucentPass> translucent;
+  vtkNew<vtkVolumetricPass> volume;
+  vtkNew<vtkOverlayPass> overlay;
+  passes->AddItem(lights);
+  passes->AddItem(baker);
+  passes->AddItem(shadows);
+  passes->AddItem(translucent);
+  passes->AddItem(volume);
+  passes->AddItem(overlay);
+  vtkNew<vtkSequencePass> seq;
+  seq->SetPasses(passes);
+  auto camera = vtkSmartPointer<vtkCameraPass>::New();
+  camera->SetDelegatePass(seq);
+  return camera;
+}
+
+int Render(const std::vector<std::string>& args)
+{
+  std::string scene, method = "auto", output, visibility, positions, stats;
+  int width = 0, height = 0, lightIndex = 0, frames = 1;
+  std::vector<std::string> options;
+  for (std::size_t i = 0; i < args.size(); ++i)
+  {
+    const std::string& a = args[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= args.size())
+      {
+        throw UsageError(a + ": missing value");
+      }
+      return args[++i];
+    };
+    if (a == "--method")
+    {
+      method = value();
+    }
+    else if (a == "--size")
+    {
+      const std::string s = value();
+      const auto x = s.find('x');
+      if (x == std::string::npos)
+      {
+        throw UsageError("--size: expected WxH (e.g. 640x480), got '" + s + "'");
+      }
+      width = ParseInt(s.substr(0, x), "--size width", 1, 16384);
+      height = ParseInt(s.substr(x + 1), "--size height", 1, 16384);
+    }
+    else if (a == "--light")
+    {
+      lightIndex = ParseInt(value(), "--light", 0, 1023);
+    }
+    else if (a == "--output")
+    {
+      output = value();
+    }
+    else if (a == "--visibility")
+    {
+      visibility = value();
+    }
+    else if (a == "--positions")
+    {
+      positions = value();
+    }
+    else if (a == "--stats")
+    {
+      stats = value();
+    }
+    else if (a == "--frames")
+    {
+      frames = ParseInt(value(), "--frames", 1, 10000);
+    }
+    else if (a == "--option")
+    {
+      options.push_back(value());
+    }
+    else if (!a.empty() && a[0] == '-')
+    {
+      throw UsageError("unknown argument '" + a + "'");
+    }
+    else if (scene.empty())
+    {
+      scene = a;
+    }
+    else
+    {
+      throw UsageError("unexpected argument '" + a + "' (one scene file only)");
+    }
+  }
+  if (scene.empty())
+  {
+    throw UsageError("render: missing SCENE.json");
+  }
+  const bool vtkMethod = method == "vtk";
+  vtkNew<vtkSoftShadowPass> pass;
+  if (!vtkMethod && !pass->SetMethodByName(method.c_str()))
+  {
+    static const std::vector<std::string> later = { "pvsm", "vpcss", "asm", "gears" };
+    if (std::find(later.begin(), later.end(), method) != later.end())
+    {
+      throw UsageError("--method " + method + ": not implemented yet (available: auto, hard, pcf, "
+                                              "pcss, reference, vtk, none)");
+    }
+    throw UsageError("--method: unknown method '" + method +
+      "' (expected auto, hard, pcf, pcss, reference, vtk, none)");
+  }
+  if (vtkMethod && (!visibility.empty() || !positions.empty()))
+  {
+    throw UsageError("--method vtk: --visibility and --positions are not available for VTK's own "
+                     "shadow pass (it keeps no visibility buffer)");
+  }
+  for (const auto& o : options)
+  {
+    ApplyOption(pass, o);
+  }
+
+  vtkNew<vtkRenderer> renderer;
+  const ssapp::SceneInfo info = ssapp::LoadScene(scene, renderer);
+  if (width == 0)
+  {
+    width = info.width;
+    height = info.height;
+  }
+
+  ssapp::PrivateDisplay display;
+  std::string msg;
+  if (!display.EnsureDisplay(msg))
+  {
+    throw std::runtime_error(msg);
+  }
+
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetMultiSamples(0); // llvmpipe + multisampling breaks depth peeling
+  window->SetSize(width, height);
+  window->AddRenderer(renderer);
+  renderer->SetUseDepthPeeling(1);
+  renderer->SetMaximumNumberOfPeels(8);
+  if (vtkMethod)
+  {
+    renderer->SetPass(MakeVTKShadowPass());
+  }
+  else
+  {
+    renderer->SetPass(pass);
+    pass->SetMeasureTimings(true);
+  }
+
+  using Clock = std::chrono::steady_clock;
+  std::vector<double> totals;
+  std::map<std::string, std::vector<double>> stages;
+  for (int f = 0; f <= frames; ++f) // frame 0 is the warm-up
+  {
+    // Every measured frame does the whole work: mark the scene modified so
+    // the planner does not reuse the last frame's visibility.
+    renderer->GetActiveCamera()->Modified();
+    pass->Modified();
+    const auto t0 = Clock::now();
+    window->Render();
+    window->WaitForCompletion();
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (f == 0)
+    {
+      continue;
+    }
+    totals.push_back(ms);
+    if (!vtkMethod)
+    {
+      const json st = json::parse(pass->GetStatsJSON());
+      for (auto it = st["timings_ms"].begin(); it != st["timings_ms"].end(); ++it)
+      {
+        stages[it.key()].push_back(it.value().get<double>());
+      }
+    }
+  }
+
+  const int nShadow = vtkMethod ? 0 : pass->GetNumberOfShadowLights();
+  if (!vtkMethod && lightIndex > 0 && lightIndex >= nShadow)
+  {
+    throw UsageError("--light " + std::to_string(lightIndex) + ": out of range (the scene has " +
+      std::to_string(nShadow) + " shadow-casting light(s))");
+  }
+
+  if (!output.empty())
+  {
+    vtkNew<vtkWindowToImageFilter> w2i;
+    w2i->SetInput(window);
+    w2i->SetInputBufferTypeToRGB();
+    w2i->ReadFrontBufferOff();
+    w2i->Update();
+    auto* rgb = vtkUnsignedCharArray::SafeDownCast(w2i->GetOutput()->GetPointData()->GetScalars());
+    int dims[3];
+    w2i->GetOutput()->GetDimensions(dims);
+    if (!ssapp::WriteRGB8Image(output, rgb->GetPointer(0), dims[0], dims[1], 3, msg))
+    {
+      throw std::runtime_error(msg);
+    }
+    std::cout << "softshadows: wrote picture " << output << "\n";
+  }
+  const int w = vtkMethod ? width : pass->GetLastWidth();
+  const int h = vtkMethod ? height : pass->GetLastHeight();
+  if (!visibility.empty())
+  {
+    vtkNew<vtkFloatArray> v;
+    if (!pass->GetVisibilityImage(lightIndex, v))
+    {
+      // No shadow work (no casters, no lights, method none): every
+      // foreground pixel is fully visible; the background stays NaN.
+      vtkNew<vtkFloatArray> p;
+      if (!pass->GetPositionsImage(p))
+      {
+        p->SetNumberOfComponents(3);
+        p->SetNumberOfTuples(static_cast<vtkIdType>(w) * h);
+        p->Fill(std::nan(""));
+      }
+      v->SetNumberOfTuples(static_cast<vtkIdType>(w) * h);
+      for (vtkIdType i = 0; i < v->GetNumberOfTuples(); ++i)
+      {
+        v->SetValue(i, std::isnan(p->GetComponent(i, 0)) ? std::nanf("") : 1.0f);
+      }
+    }
+    if (!ssapp::WriteFloatImage(visibility, v->GetPointer(0), w, h, 1, msg))
+    {
+      throw std::runtime_error(msg);
+    }
+    std::cout << "softshadows: wrote visibility " << visibility << "\n";
+  }
+  if (!positions.empty())
+  {
+    vtkNew<vtkFloatArray> p;
+    if (!pass->GetPositionsImage(p))
+    {
+      p->SetNumberOfComponents(3);
+      p->SetNumberOfTuples(static_cast<vtkIdType>(w) * h);
+      p->Fill(std::nan(""));
+      std::cerr << "softshadows: warning: no G-buffer this frame (no shadow work); positions are "
+                   "all NaN\n";
+    }
+    if (!ssapp::WriteFloatImage(positions, p->GetPointer(0), w, h, 3, msg))
+    {
+      throw std::runtime_error(msg);
+    }
+    std::cout << "softshadows: wrote positions " << positions << "\n";
+  }
+  if (!stats.empty())
+  {
+    json s;
+    s["method"] = method;
+    s["scene"] = scene;
+    s["width"] = w;
+    s["height"] = h;
+    s["frames"] = frames;
+    s["light"] = lightIndex;
+    json timings;
+    timings["total"] = Median(totals);
+    for (const auto& st : stages)
+    {
+      timings[st.first] = Median(st.second);
+    }
+    s["timings_ms"] = timings;
+    if (vtkMethod)
+    {
+      s["triangles"] = info.meshTriangles;
+      s["plan"] = json{ { "reason", "VTK's vtkShadowMapPass (no effect planner)" } };
+      s["positions_origin"] = json::array({ 0.0, 0.0, 0.0 });
+      s["memory_bytes"] = nullptr;
+    }
+    else
+    {
+      const json st = json::parse(pass->GetStatsJSON());
+      double origin[3];
+      pass->GetLastPositionsOrigin(origin);
+      s["triangles"] = pass->GetLastNumberOfCasterTriangles();
+      s["scene_triangles"] = info.meshTriangles;
+      s["positions_origin"] = json::array({ origin[0], origin[1], origin[2] });
+      s["plan"] = st["plan"];
+      s["memory_bytes"] = st["memory_bytes"];
+      s["pass"] = st;
+    }
+    std::ofstream out(stats);
+    if (!out)
+    {
+      throw std::runtime_error("cannot write '" + stats + "'");
+    }
+    out << std::setprecision(17) << s.dump(2) << "\n";
+    std::cout << "softshadows: wrote stats " << stats << "\n";
+  }
+  std::cout << "softshadows: " << method << " " << w << "x" << h << ", " << info.objects
+            << " object(s), " << info.lights << " light(s), median frame " << Median(totals)
+            << " ms over " << frames << " frame(s)\n";
+  if (!vtkMethod)
+  {
+    std::cout << "plan: " << pass->GetPlanDescription() << "\n";
+  }
+  return 0;
+}
+
+// Error metrics of A against the reference B on the pixels where both are
+// finite; penumbra pixels are those with 0.01 < B < 0.99.
+int Compare(const std::vector<std::string>& args)
+{
+  if (args.size() != 2)
+  {
+    throw UsageError("compare: expected two image files (A, then the reference B)");
+  }
+  std::vector<float> a, b;
+  int wa, ha, ca, wb, hb, cb;
+  std::string msg;
+  if (!ssapp::ReadFloatImage(args[0], a, wa, ha, ca, msg) || !ssapp::ReadFloatImage(args[1], b, wb, hb, cb, msg))
+  {
+    throw std::runtime_error(msg);
+  }
+  if (wa != wb || ha != hb || ca != 1 || cb != 1)
+  {
+    throw UsageError("compare: images must be 1-channel and the same size (" + std::to_string(wa) +
+      "x" + std::to_string(ha) + "x" + std::to_string(ca) + " vs " + std::to_string(wb) + "x" +
+      std::to_string(hb) + "x" + std::to_string(cb) + ")");
+  }
+  struct Acc
+  {
+    std::vector<double> e;
+    double sum = 0, sq = 0, max = 0;
+  } all, pen;
+  long nonFiniteA = 0, maskMismatch = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+  {
+    const bool fa = std::isfinite(a[i]), fb = std::isfinite(b[i]);
+    if (std::isinf(a[i]) || (!fa && fb))
+    {
+      ++nonFiniteA;
+    }
+    if (fa != fb)
+    {
+      ++maskMismatch;
+    }
+    if (!fa || !fb)
+    {
+      continue;
+    }
+    const double e = std::abs(static_cast<double>(a[i]) - b[i]);
+    for (Acc* acc : { &all, (b[i] > 0.01f && b[i] < 0.99f) ? &pen : nullptr })
+    {
+      if (acc)
+      {
+        acc->e.push_back(e);
+        acc->sum += e;
+        acc->sq += e * e;
+        acc->max = std::max(acc->max, e);
+      }
+    }
+  }
+  auto report = [](const char* name, Acc& acc) {
+    json j;
+    const double n = static_cast<double>(acc.e.size());
+    j["pixels"] = acc.e.size();
+    j["mae"] = n > 0 ? acc.sum / n : 0.0;
+    j["rmse"] = n > 0 ? std::sqrt(acc.sq / n) : 0.0;
+    j["max"] = acc.max;
+    if (!acc.e.empty())
+    {
+      const std::size_t k = static_cast<std::size_t>(std::ceil(0.99 * n)) - 1;
+      std::nth_element(acc.e.begin(), acc.e.begin() + k, acc.e.end());
+      j["p99"] = acc.e[k];
+    }
+    else
+    {
+      j["p99"] = 0.0;
+    }
+    (void)name;
+    return j;
+  };
+  json out;
+  out["all"] = report("all", all);
+  out["penumbra"] = report("penumbra", pen);
+  out["nonfinite_in_a"] = nonFiniteA;
+  out["background_mismatch"] = maskMismatch;
+  std::cout << out.dump(2) << "\n";
+  return 0;
+}
+}
+
+int main(int argc, char* argv[])
+{
+  std::vector<std::string> args(argv + 1, argv + argc);
+  try
+  {
+    if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help")
+    {
+      std::cout << kUsage;
+      return args.empty() ? 2 : 0;
+    }
+    const std::string cmd = args[0];
+    args.erase(args.begin());
+    if (cmd == "render")
+    {
+      return Render(args);
+    }
+    if (cmd == "compare")
+    {
+      return Compare(args);
+    }
+    throw UsageError("unknown command '" + cmd + "' (expected render or compare)");
+  }
+  catch (const UsageError& e)
+  {
+    std::cerr << "softshadows: error: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "softshadows: error: " << e.what() << "\n";
+    return 2;
+  }
+}

@@ -1,0 +1,118 @@
+#include "ssImageIO.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+namespace ssapp
+{
+namespace
+{
+template <typename T>
+bool Write(const std::string& path, const T* data, int w, int h, int ch, OIIO::TypeDesc type,
+  std::string& message)
+{
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out)
+  {
+    message = "cannot write '" + path + "': " + OIIO::geterror();
+    return false;
+  }
+  OIIO::ImageSpec spec(w, h, ch, type);
+  if (!out->open(path, spec))
+  {
+    message = "cannot write '" + path + "': " + out->geterror();
+    return false;
+  }
+  // VTK rows are bottom-up: start at the last row with a negative stride.
+  const OIIO::stride_t ys = -static_cast<OIIO::stride_t>(w) * ch * static_cast<OIIO::stride_t>(sizeof(T));
+  const T* last = data + static_cast<std::size_t>(h - 1) * w * ch;
+  if (!out->write_image(type, last, OIIO::AutoStride, ys) || !out->close())
+  {
+    message = "cannot write '" + path + "': " + out->geterror();
+    return false;
+  }
+  return true;
+}
+}
+
+// Debian 12's OpenImageIO (2.4) reads PFM but has no PFM writer (its PNM
+// plugin only writes ppm/pgm/pbm), and DESIGN.md requires .pfm output. PFM is
+// a three-line header plus raw floats, rows bottom-up like VTK's; everything
+// else goes through OpenImageIO, and .pfm files are read back by it.
+bool WritePFM(const std::string& path, const float* data, int w, int h, int ch, std::string& message)
+{
+  if (ch != 1 && ch != 3)
+  {
+    message = "cannot write '" + path + "': PFM holds 1 or 3 channels, not " + std::to_string(ch);
+    return false;
+  }
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f)
+  {
+    message = "cannot write '" + path + "': " + std::strerror(errno);
+    return false;
+  }
+  // a negative scale means little-endian floats (x86)
+  std::fprintf(f, "%s\n%d %d\n-1.0\n", ch == 3 ? "PF" : "Pf", w, h);
+  const std::size_t n = static_cast<std::size_t>(w) * h * ch;
+  const bool ok = std::fwrite(data, sizeof(float), n, f) == n;
+  if (std::fclose(f) != 0 || !ok)
+  {
+    message = "cannot write '" + path + "': write failed";
+    return false;
+  }
+  return true;
+}
+
+bool WriteFloatImage(const std::string& path, const float* data, int width, int height, int channels,
+  std::string& message)
+{
+  std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+  for (auto& ch : ext)
+  {
+    ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  }
+  if (ext == ".pfm")
+  {
+    return WritePFM(path, data, width, height, channels, message);
+  }
+  return Write(path, data, width, height, channels, OIIO::TypeDesc::FLOAT, message);
+}
+
+bool WriteRGB8Image(const std::string& path, const unsigned char* data, int width, int height,
+  int channels, std::string& message)
+{
+  return Write(path, data, width, height, channels, OIIO::TypeDesc::UINT8, message);
+}
+
+bool ReadFloatImage(const std::string& path, std::vector<float>& data, int& width, int& height,
+  int& channels, std::string& message)
+{
+  auto in = OIIO::ImageInput::open(path);
+  if (!in)
+  {
+    message = "cannot read '" + path + "': " + OIIO::geterror();
+    return false;
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  width = spec.width;
+  height = spec.height;
+  channels = spec.nchannels;
+  data.resize(static_cast<std::size_t>(width) * height * channels);
+  const OIIO::stride_t ys =
+    -static_cast<OIIO::stride_t>(width) * channels * static_cast<OIIO::stride_t>(sizeof(float));
+  float* last = data.data() + static_cast<std::size_t>(height - 1) * width * channels;
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, last, OIIO::AutoStride, ys))
+  {
+    message = "cannot read '" + path + "': " + in->geterror();
+    return false;
+  }
+  in->close();
+  return true;
+}
+}

@@ -1,0 +1,710 @@
+#include "ssScene.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkCubeSource.h"
+#include "vtkCylinderSource.h"
+#include "vtkDataSetReader.h"
+#include "vtkDataSetSurfaceFilter.h"
+#include "vtkRegularPolygonSource.h"
+#include "vtkLight.h"
+#include "vtkNew.h"
+#include "vtkOBJReader.h"
+#include "vtkPLYReader.h"
+#include "vtkPlaneSource.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkSTLReader.h"
+#include "vtkSoftShadowLight.h"
+#include "vtkSoftShadowPass.h"
+#include "vtkSphereSource.h"
+#include "vtkTransform.h"
+#include "vtkTransformPolyDataFilter.h"
+#include "vtkTriangleFilter.h"
+#include "vtkXMLPolyDataReader.h"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace ssapp
+{
+namespace
+{
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+// Where we are in the file, for one-line error messages.
+struct Ctx
+{
+  std::string file;
+  std::string key;
+
+  Ctx operator/(const std::string& k) const { return { file, key.empty() ? k : key + "." + k }; }
+  Ctx operator[](std::size_t i) const { return { file, key + "[" + std::to_string(i) + "]" }; }
+  [[noreturn]] void Fail(const std::string& what) const
+  {
+    throw SceneError(file + ": " + (key.empty() ? "(top level)" : key) + ": " + what);
+  }
+};
+
+void CheckKeys(const json& j, const Ctx& c, const std::set<std::string>& allowed)
+{
+  if (!j.is_object())
+  {
+    c.Fail("expected an object");
+  }
+  for (auto it = j.begin(); it != j.end(); ++it)
+  {
+    if (!allowed.count(it.key()))
+    {
+      std::string list;
+      for (const auto& a : allowed)
+      {
+        list += (list.empty() ? "" : ", ") + a;
+      }
+      (c / it.key()).Fail("unknown key (expected one of: " + list + ")");
+    }
+  }
+}
+
+double Number(const json& j, const Ctx& c)
+{
+  if (!j.is_number())
+  {
+    c.Fail("expected a number, got " + std::string(j.type_name()));
+  }
+  const double v = j.get<double>();
+  if (!std::isfinite(v))
+  {
+    c.Fail("expected a finite number");
+  }
+  return v;
+}
+
+double NumberOr(const json& parent, const char* key, const Ctx& c, double def)
+{
+  return parent.contains(key) ? Number(parent[key], c / key) : def;
+}
+
+double Positive(const json& parent, const char* key, const Ctx& c, double def)
+{
+  const double v = NumberOr(parent, key, c, def);
+  if (!(v > 0.0))
+  {
+    (c / key).Fail("expected a positive number, got " + std::to_string(v));
+  }
+  return v;
+}
+
+int Int(const json& parent, const char* key, const Ctx& c, int def, int lo, int hi)
+{
+  if (!parent.contains(key))
+  {
+    return def;
+  }
+  const json& j = parent[key];
+  if (!j.is_number_integer() || j.get<long long>() < lo || j.get<long long>() > hi)
+  {
+    (c / key).Fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return j.get<int>();
+}
+
+bool Bool(const json& parent, const char* key, const Ctx& c, bool def)
+{
+  if (!parent.contains(key))
+  {
+    return def;
+  }
+  if (!parent[key].is_boolean())
+  {
+    (c / key).Fail("expected true or false");
+  }
+  return parent[key].get<bool>();
+}
+
+template <std::size_t N>
+std::array<double, N> Vec(const json& j, const Ctx& c)
+{
+  if (!j.is_array() || j.size() != N)
+  {
+    c.Fail("expected an array of " + std::to_string(N) + " numbers");
+  }
+  std::array<double, N> v{};
+  for (std::size_t i = 0; i < N; ++i)
+  {
+    v[i] = Number(j[i], c[i]);
+  }
+  return v;
+}
+
+template <std::size_t N>
+std::array<double, N> VecOr(const json& parent, const char* key, const Ctx& c, std::array<double, N> def)
+{
+  return parent.contains(key) ? Vec<N>(parent[key], c / key) : def;
+}
+
+template <std::size_t N>
+std::array<double, N> Required(const json& parent, const char* key, const Ctx& c)
+{
+  if (!parent.contains(key))
+  {
+    (c / key).Fail("missing (expected an array of " + std::to_string(N) + " numbers)");
+  }
+  return Vec<N>(parent[key], c / key);
+}
+
+std::array<double, 3> NonZero(std::array<double, 3> v, const Ctx& c)
+{
+  if (std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) <= 0.0)
+  {
+    c.Fail("expected a non-zero vector");
+  }
+  return v;
+}
+
+std::array<double, 3> Color(const json& parent, const char* key, const Ctx& c, std::array<double, 3> def)
+{
+  auto v = VecOr<3>(parent, key, c, def);
+  for (double x : v)
+  {
+    if (x < 0.0 || x > 1.0)
+    {
+      (c / key).Fail("expected 3 numbers in [0, 1]");
+    }
+  }
+  return v;
+}
+
+// A rotation taking +z to `n` (for planes and disks) or +y to `n` (cylinders).
+void AlignAxis(vtkTransform* t, const double from[3], std::array<double, 3> n)
+{
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (auto& x : n)
+  {
+    x /= len;
+  }
+  const double dot = from[0] * n[0] + from[1] * n[1] + from[2] * n[2];
+  double axis[3] = { from[1] * n[2] - from[2] * n[1], from[2] * n[0] - from[0] * n[2],
+    from[0] * n[1] - from[1] * n[0] };
+  const double s = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+  if (s < 1e-12)
+  {
+    if (dot < 0)
+    {
+      // opposite: any perpendicular axis
+      const double perp[3] = { std::abs(from[0]) < 0.9 ? 1.0 : 0.0, std::abs(from[0]) < 0.9 ? 0.0 : 1.0, 0.0 };
+      t->RotateWXYZ(180.0, perp);
+    }
+    return;
+  }
+  t->RotateWXYZ(std::atan2(s, dot) * 180.0 / M_PI, axis);
+}
+
+vtkSmartPointer<vtkPolyData> Transformed(vtkPolyDataAlgorithm* src, vtkTransform* t)
+{
+  vtkNew<vtkTransformPolyDataFilter> f;
+  f->SetInputConnection(src->GetOutputPort());
+  f->SetTransform(t);
+  f->Update();
+  return f->GetOutput();
+}
+
+vtkSmartPointer<vtkPolyData> Primitive(const json& o, const Ctx& c)
+{
+  if (!o["primitive"].is_string())
+  {
+    (c / "primitive").Fail("expected one of: plane, box, sphere, cylinder, disk");
+  }
+  const std::string kind = o["primitive"].get<std::string>();
+  const auto center = VecOr<3>(o, "center", c, { 0, 0, 0 });
+  vtkNew<vtkTransform> t;
+  t->PostMultiply();
+  if (kind == "plane")
+  {
+    const auto size = VecOr<2>(o, "size", c, { 1, 1 });
+    if (!(size[0] > 0 && size[1] > 0))
+    {
+      (c / "size").Fail("expected 2 positive numbers");
+    }
+    const int res = Int(o, "resolution", c, 1, 1, 4096);
+    vtkNew<vtkPlaneSource> p;
+    p->SetOrigin(-0.5 * size[0], -0.5 * size[1], 0);
+    p->SetPoint1(0.5 * size[0], -0.5 * size[1], 0);
+    p->SetPoint2(-0.5 * size[0], 0.5 * size[1], 0);
+    p->SetResolution(res, res);
+    const double z[3] = { 0, 0, 1 };
+    AlignAxis(t, z, NonZero(VecOr<3>(o, "normal", c, { 0, 0, 1 }), c / "normal"));
+    t->Translate(center.data());
+    return Transformed(p, t);
+  }
+  if (kind == "box")
+  {
+    const auto size = VecOr<3>(o, "size", c, { 1, 1, 1 });
+    if (!(size[0] > 0 && size[1] > 0 && size[2] > 0))
+    {
+      (c / "size").Fail("expected 3 positive numbers");
+    }
+    vtkNew<vtkCubeSource> b;
+    b->SetXLength(size[0]);
+    b->SetYLength(size[1]);
+    b->SetZLength(size[2]);
+    t->Translate(center.data());
+    return Transformed(b, t);
+  }
+  if (kind == "sphere")
+  {
+    const double r = Positive(o, "radius", c, 0.5);
+    const int res = Int(o, "resolution", c, 48, 3, 4096);
+    vtkNew<vtkSphereSource> s;
+    s->SetRadius(r);
+    s->SetThetaResolution(res);
+    s->SetPhiResolution(std::max(3, res / 2));
+    t->Translate(center.data());
+    return Transformed(s, t);
+  }
+  if (kind == "cylinder")
+  {
+    const double r = Positive(o, "radius", c, 0.5);
+    const double h = Positive(o, "height", c, 1.0);
+    const int res = Int(o, "resolution", c, 48, 3, 4096);
+    vtkNew<vtkCylinderSource> cy;
+    cy->SetRadius(r);
+    cy->SetHeight(h);
+    cy->SetResolution(res);
+    cy->CappingOn();
+    const double y[3] = { 0, 1, 0 };
+    AlignAxis(t, y, NonZero(VecOr<3>(o, "axis", c, { 0, 0, 1 }), c / "axis"));
+    t->Translate(center.data());
+    return Transformed(cy, t);
+  }
+  if (kind == "disk")
+  {
+    const double r = Positive(o, "radius", c, 0.5);
+    const int res = Int(o, "resolution", c, 48, 3, 4096);
+    // a filled polygon (vtkDiskSource with a zero inner radius makes
+    // degenerate quads at the centre)
+    vtkNew<vtkRegularPolygonSource> d;
+    d->SetNumberOfSides(res);
+    d->SetRadius(r);
+    d->GeneratePolygonOn();
+    d->GeneratePolylineOff();
+    const double z[3] = { 0, 0, 1 };
+    AlignAxis(t, z, NonZero(VecOr<3>(o, "normal", c, { 0, 0, 1 }), c / "normal"));
+    t->Translate(center.data());
+    return Transformed(d, t);
+  }
+  (c / "primitive").Fail("unknown primitive '" + kind + "' (expected plane, box, sphere, cylinder, disk)");
+}
+
+vtkSmartPointer<vtkPolyData> ReadOFF(const std::string& path, const Ctx& c)
+{
+  OpenMesh::PolyMesh_ArrayKernelT<> mesh;
+  if (!OpenMesh::IO::read_mesh(mesh, path))
+  {
+    c.Fail("could not read OFF mesh '" + path + "'");
+  }
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  for (auto v : mesh.vertices())
+  {
+    const auto p = mesh.point(v);
+    pts->InsertNextPoint(p[0], p[1], p[2]);
+  }
+  vtkNew<vtkCellArray> polys;
+  for (auto f : mesh.faces())
+  {
+    std::vector<vtkIdType> ids;
+    for (auto fv : mesh.fv_range(f))
+    {
+      ids.push_back(fv.idx());
+    }
+    polys->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
+  }
+  pd->SetPoints(pts);
+  pd->SetPolys(polys);
+  return pd;
+}
+
+vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::path& sceneDir)
+{
+  if (!o["mesh"].is_string())
+  {
+    (c / "mesh").Fail("expected a file name (relative to the scene file)");
+  }
+  const fs::path rel = o["mesh"].get<std::string>();
+  const fs::path path = rel.is_absolute() ? rel : sceneDir / rel;
+  if (!fs::is_regular_file(path))
+  {
+    (c / "mesh").Fail("mesh file not found: '" + path.string() + "'");
+  }
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  vtkSmartPointer<vtkPolyData> pd;
+  auto run = [&](auto reader) {
+    reader->SetFileName(path.string().c_str());
+    reader->Update();
+    pd = reader->GetOutput();
+  };
+  if (ext == ".vtp")
+  {
+    run(vtkSmartPointer<vtkXMLPolyDataReader>::New());
+  }
+  else if (ext == ".stl")
+  {
+    run(vtkSmartPointer<vtkSTLReader>::New());
+  }
+  else if (ext == ".ply")
+  {
+    run(vtkSmartPointer<vtkPLYReader>::New());
+  }
+  else if (ext == ".obj")
+  {
+    run(vtkSmartPointer<vtkOBJReader>::New());
+  }
+  else if (ext == ".vtk")
+  {
+    vtkNew<vtkDataSetReader> r;
+    r->SetFileName(path.string().c_str());
+    vtkNew<vtkDataSetSurfaceFilter> surf;
+    surf->SetInputConnection(r->GetOutputPort());
+    surf->Update();
+    pd = surf->GetOutput();
+  }
+  else if (ext == ".off")
+  {
+    pd = ReadOFF(path.string(), c / "mesh");
+  }
+  else
+  {
+    (c / "mesh").Fail("unsupported mesh format '" + ext + "' (expected .vtp .vtk .stl .ply .obj .off)");
+  }
+  if (!pd || pd->GetNumberOfPoints() == 0 || pd->GetNumberOfCells() == 0)
+  {
+    (c / "mesh").Fail("could not read a surface from '" + path.string() + "' (empty or unreadable)");
+  }
+  return pd;
+}
+
+vtkSmartPointer<vtkPolyData> Inline(const json& o, const Ctx& c)
+{
+  if (!o.contains("triangles"))
+  {
+    (c / "triangles").Fail("missing (expected an array of [i, j, k] vertex indices)");
+  }
+  const json& vs = o["vertices"];
+  const json& ts = o["triangles"];
+  if (!vs.is_array() || vs.empty())
+  {
+    (c / "vertices").Fail("expected a non-empty array of [x, y, z]");
+  }
+  if (!ts.is_array() || ts.empty())
+  {
+    (c / "triangles").Fail("expected a non-empty array of [i, j, k]");
+  }
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  for (std::size_t i = 0; i < vs.size(); ++i)
+  {
+    const auto p = Vec<3>(vs[i], (c / "vertices")[i]);
+    pts->InsertNextPoint(p.data());
+  }
+  vtkNew<vtkCellArray> tris;
+  for (std::size_t i = 0; i < ts.size(); ++i)
+  {
+    const Ctx ci = (c / "triangles")[i];
+    if (!ts[i].is_array() || ts[i].size() != 3)
+    {
+      ci.Fail("expected [i, j, k]");
+    }
+    vtkIdType ids[3];
+    for (int j = 0; j < 3; ++j)
+    {
+      if (!ts[i][j].is_number_integer() || ts[i][j].get<long long>() < 0 ||
+        ts[i][j].get<long long>() >= static_cast<long long>(vs.size()))
+      {
+        ci.Fail("vertex index out of range [0, " + std::to_string(vs.size() - 1) + "]");
+      }
+      ids[j] = ts[i][j].get<vtkIdType>();
+    }
+    tris->InsertNextCell(3, ids);
+  }
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->SetPoints(pts);
+  pd->SetPolys(tris);
+  return pd;
+}
+
+void ApplyTransform(vtkActor* actor, const json& o, const Ctx& c)
+{
+  if (!o.contains("transform"))
+  {
+    return;
+  }
+  const json& t = o["transform"];
+  const Ctx ct = c / "transform";
+  CheckKeys(t, ct, { "scale", "rotate", "translate" });
+  vtkNew<vtkTransform> xf;
+  xf->PostMultiply();
+  if (t.contains("scale"))
+  {
+    std::array<double, 3> s{};
+    if (t["scale"].is_number())
+    {
+      const double v = Number(t["scale"], ct / "scale");
+      s = { v, v, v };
+    }
+    else
+    {
+      s = Vec<3>(t["scale"], ct / "scale");
+    }
+    if (!(s[0] != 0 && s[1] != 0 && s[2] != 0))
+    {
+      (ct / "scale").Fail("expected non-zero scale factors");
+    }
+    xf->Scale(s.data());
+  }
+  if (t.contains("rotate"))
+  {
+    const auto r = Vec<4>(t["rotate"], ct / "rotate");
+    NonZero({ r[1], r[2], r[3] }, ct / "rotate");
+    xf->RotateWXYZ(r[0], r[1], r[2], r[3]);
+  }
+  if (t.contains("translate"))
+  {
+    const auto tr = Vec<3>(t["translate"], ct / "translate");
+    xf->Translate(tr.data());
+  }
+  actor->SetUserTransform(xf);
+}
+}
+
+SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
+{
+  const Ctx top{ path, "" };
+  if (!fs::is_regular_file(path))
+  {
+    throw SceneError(path + ": cannot open the scene file (not found or not a file)");
+  }
+  json doc;
+  {
+    std::ifstream in(path);
+    try
+    {
+      doc = json::parse(in);
+    }
+    catch (const json::parse_error& e)
+    {
+      std::string msg = e.what();
+      std::replace(msg.begin(), msg.end(), '\n', ' ');
+      throw SceneError(path + ": invalid JSON: " + msg);
+    }
+  }
+  CheckKeys(doc, top, { "image", "camera", "lights", "objects" });
+  SceneInfo info;
+
+  if (doc.contains("image"))
+  {
+    const json& im = doc["image"];
+    const Ctx c = top / "image";
+    CheckKeys(im, c, { "width", "height", "background" });
+    info.width = Int(im, "width", c, 512, 1, 16384);
+    info.height = Int(im, "height", c, 512, 1, 16384);
+    info.background = Color(im, "background", c, { 1, 1, 1 });
+  }
+  renderer->SetBackground(info.background.data());
+  renderer->AutomaticLightCreationOff();
+
+  // --- objects
+  if (!doc.contains("objects") || !doc["objects"].is_array())
+  {
+    (top / "objects").Fail("missing or not an array (an empty array is allowed)");
+  }
+  const fs::path sceneDir = fs::absolute(path).parent_path();
+  const json& objects = doc["objects"];
+  for (std::size_t i = 0; i < objects.size(); ++i)
+  {
+    const json& o = objects[i];
+    const Ctx c = (top / "objects")[i];
+    CheckKeys(o, c,
+      { "mesh", "vertices", "triangles", "primitive", "center", "normal", "size", "radius", "height",
+        "axis", "resolution", "transform", "color", "opacity", "casts_shadows", "receives_shadows",
+        "pbr" });
+    const int sources = (o.contains("mesh") ? 1 : 0) + (o.contains("vertices") ? 1 : 0) +
+      (o.contains("primitive") ? 1 : 0);
+    if (sources != 1)
+    {
+      c.Fail("expected exactly one of \"mesh\", \"vertices\" (+\"triangles\") or \"primitive\"");
+    }
+    if (!o.contains("primitive"))
+    {
+      for (const char* k : { "center", "normal", "size", "radius", "height", "axis", "resolution" })
+      {
+        if (o.contains(k))
+        {
+          (c / k).Fail("only valid with \"primitive\"");
+        }
+      }
+    }
+    vtkSmartPointer<vtkPolyData> pd =
+      o.contains("mesh") ? ReadMesh(o, c, sceneDir) : o.contains("vertices") ? Inline(o, c) : Primitive(o, c);
+    vtkNew<vtkTriangleFilter> tri;
+    tri->SetInputData(pd);
+    tri->Update();
+    info.meshTriangles += static_cast<std::size_t>(tri->GetOutput()->GetNumberOfPolys());
+
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(pd);
+    mapper->ScalarVisibilityOff();
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    auto color = Color(o, "color", c, { 0.8, 0.8, 0.8 });
+    actor->GetProperty()->SetColor(color.data());
+    const double opacity = NumberOr(o, "opacity", c, 1.0);
+    if (opacity < 0.0 || opacity > 1.0)
+    {
+      (c / "opacity").Fail("expected a number in [0, 1]");
+    }
+    actor->GetProperty()->SetOpacity(opacity);
+    actor->GetProperty()->SetAmbient(0.1);
+    actor->GetProperty()->SetDiffuse(0.9);
+    actor->GetProperty()->SetSpecular(0.1);
+    if (o.contains("pbr"))
+    {
+      const Ctx cp = c / "pbr";
+      CheckKeys(o["pbr"], cp, { "metallic", "roughness" });
+      actor->GetProperty()->SetInterpolationToPBR();
+      const double metallic = NumberOr(o["pbr"], "metallic", cp, 0.0);
+      const double roughness = NumberOr(o["pbr"], "roughness", cp, 0.5);
+      if (metallic < 0 || metallic > 1 || roughness < 0 || roughness > 1)
+      {
+        cp.Fail("metallic and roughness must be in [0, 1]");
+      }
+      actor->GetProperty()->SetMetallic(metallic);
+      actor->GetProperty()->SetRoughness(roughness);
+    }
+    ApplyTransform(actor, o, c);
+    vtkSoftShadowPass::SetCastsShadows(actor, Bool(o, "casts_shadows", c, true));
+    vtkSoftShadowPass::SetReceivesShadows(actor, Bool(o, "receives_shadows", c, true));
+    renderer->AddActor(actor);
+    ++info.objects;
+  }
+
+  // --- lights
+  if (doc.contains("lights"))
+  {
+    if (!doc["lights"].is_array())
+    {
+      (top / "lights").Fail("expected an array");
+    }
+    const json& lights = doc["lights"];
+    for (std::size_t i = 0; i < lights.size(); ++i)
+    {
+      const json& l = lights[i];
+      const Ctx c = (top / "lights")[i];
+      if (!l.is_object() || !l.contains("type") || !l["type"].is_string())
+      {
+        (c / "type").Fail("expected \"rect\" or \"point\"");
+      }
+      const std::string type = l["type"].get<std::string>();
+      vtkNew<vtkLight> light;
+      light->SetLightTypeToSceneLight();
+      light->SetPositional(true);
+      light->SetConeAngle(90.0); // >= 90: no spot cone
+      light->SetAttenuationValues(1, 0, 0);
+      if (type == "rect")
+      {
+        CheckKeys(l, c, { "type", "center", "normal", "up", "size", "intensity", "color" });
+        const auto center = Required<3>(l, "center", c);
+        const auto normal = NonZero(Required<3>(l, "normal", c), c / "normal");
+        const auto up = VecOr<3>(l, "up", c, { 0, 0, 0 });
+        const auto size = VecOr<2>(l, "size", c, { 1, 1 });
+        if (size[0] < 0 || size[1] < 0)
+        {
+          (c / "size").Fail("expected an array of 2 non-negative numbers");
+        }
+        light->SetPosition(center.data());
+        light->SetFocalPoint(center[0] + normal[0], center[1] + normal[1], center[2] + normal[2]);
+        vtkSoftShadowLight::SetAreaSize(light, size[0], size[1]);
+        if (l.contains("up"))
+        {
+          vtkSoftShadowLight::SetAreaUp(light, up[0], up[1], up[2]);
+        }
+      }
+      else if (type == "point")
+      {
+        CheckKeys(l, c, { "type", "position", "intensity", "color" });
+        const auto pos = Required<3>(l, "position", c);
+        light->SetPosition(pos.data());
+        // The cone is open (90 degrees): the direction does not matter for a
+        // point light; the pass fits its shadow views to the receivers.
+        light->SetFocalPoint(pos[0], pos[1], pos[2] - 1.0);
+      }
+      else
+      {
+        (c / "type").Fail("unknown light type '" + type + "' (expected \"rect\" or \"point\")");
+      }
+      const double intensity = NumberOr(l, "intensity", c, 1.0);
+      if (intensity < 0)
+      {
+        (c / "intensity").Fail("expected a non-negative number");
+      }
+      light->SetIntensity(intensity);
+      auto lightColor = Color(l, "color", c, { 1, 1, 1 });
+      light->SetColor(lightColor.data());
+      renderer->AddLight(light);
+      ++info.lights;
+    }
+  }
+
+  // --- camera
+  vtkCamera* cam = renderer->GetActiveCamera();
+  if (doc.contains("camera"))
+  {
+    const json& cj = doc["camera"];
+    const Ctx c = top / "camera";
+    CheckKeys(cj, c, { "position", "focal_point", "view_up", "view_angle" });
+    const auto pos = Required<3>(cj, "position", c);
+    const auto fp = Required<3>(cj, "focal_point", c);
+    const auto up = NonZero(VecOr<3>(cj, "view_up", c, { 0, 0, 1 }), c / "view_up");
+    const double angle = NumberOr(cj, "view_angle", c, 30.0);
+    if (angle <= 0 || angle >= 180)
+    {
+      (c / "view_angle").Fail("expected degrees in (0, 180)");
+    }
+    const double d[3] = { fp[0] - pos[0], fp[1] - pos[1], fp[2] - pos[2] };
+    if (std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) <= 0)
+    {
+      (c / "focal_point").Fail("must differ from the camera position");
+    }
+    const double cr[3] = { d[1] * up[2] - d[2] * up[1], d[2] * up[0] - d[0] * up[2], d[0] * up[1] - d[1] * up[0] };
+    if (std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]) <= 1e-12)
+    {
+      (c / "view_up").Fail("must not be parallel to the view direction");
+    }
+    cam->SetPosition(pos.data());
+    cam->SetFocalPoint(fp.data());
+    cam->SetViewUp(up.data());
+    cam->SetViewAngle(angle);
+  }
+  else
+  {
+    renderer->ResetCamera();
+  }
+  renderer->ResetCameraClippingRange();
+  return info;
+}
+}

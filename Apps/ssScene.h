@@ -1,0 +1,38 @@
+// Scene files (DESIGN.md "Scene files"): JSON -> a VTK renderer with actors,
+// lights (vtkSoftShadowLight area sizes) and a camera.
+#ifndef ssScene_h
+#define ssScene_h
+
+#include "vtkSmartPointer.h"
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+class vtkRenderer;
+
+namespace ssapp
+{
+/// Bad input: the message is one line, "<file>: <key>: <what is wrong>".
+struct SceneError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+struct SceneInfo
+{
+  int width = 512, height = 512;
+  std::array<double, 3> background{ 1, 1, 1 };
+  int lights = 0;
+  int objects = 0;
+  std::size_t meshTriangles = 0; // triangles read from mesh files and inline data
+  std::size_t skippedTriangles = 0; // degenerate or non-finite, dropped with a warning
+};
+
+/// Reads `path` and fills `renderer` (actors, lights, camera, background).
+/// Throws SceneError for any bad input.
+SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer);
+}
+
+#endif
