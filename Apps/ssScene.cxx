@@ -3,6 +3,8 @@
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
+#include "vtkCommand.h"
+#include "vtkExecutive.h"
 #include "vtkCubeSource.h"
 #include "vtkCylinderSource.h"
 #include "vtkDataSetReader.h"
@@ -309,6 +311,27 @@ vtkSmartPointer<vtkPolyData> Primitive(const json& o, const Ctx& c)
   (c / "primitive").Fail("unknown primitive '" + kind + "' (expected plane, box, sphere, cylinder, disk)");
 }
 
+// Keeps the first error (or warning) a reader reports, as one line.
+class ErrorCapture : public vtkCommand
+{
+public:
+  static ErrorCapture* New() { return new ErrorCapture; }
+  void Execute(vtkObject*, unsigned long, void* data) override
+  {
+    if (this->Message.empty() && data)
+    {
+      std::string m = static_cast<const char*>(data);
+      std::replace(m.begin(), m.end(), '\n', ' ');
+      while (!m.empty() && m.back() == ' ')
+      {
+        m.pop_back();
+      }
+      this->Message = m;
+    }
+  }
+  std::string Message;
+};
+
 vtkSmartPointer<vtkPolyData> ReadOFF(const std::string& path, const Ctx& c)
 {
   OpenMesh::PolyMesh_ArrayKernelT<> mesh;
@@ -354,7 +377,13 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::pat
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
   vtkSmartPointer<vtkPolyData> pd;
+  // Readers report problems through ErrorEvent; an observer keeps them from
+  // printing their own lines so the user gets one error line naming the key.
+  vtkNew<ErrorCapture> errors;
   auto run = [&](auto reader) {
+    reader->AddObserver(vtkCommand::ErrorEvent, errors);
+    reader->AddObserver(vtkCommand::WarningEvent, errors);
+    reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
     reader->SetFileName(path.string().c_str());
     reader->Update();
     pd = reader->GetOutput();
@@ -378,6 +407,9 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::pat
   else if (ext == ".vtk")
   {
     vtkNew<vtkDataSetReader> r;
+    r->AddObserver(vtkCommand::ErrorEvent, errors);
+    r->AddObserver(vtkCommand::WarningEvent, errors);
+    r->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
     r->SetFileName(path.string().c_str());
     vtkNew<vtkDataSetSurfaceFilter> surf;
     surf->SetInputConnection(r->GetOutputPort());
@@ -391,6 +423,10 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::pat
   else
   {
     (c / "mesh").Fail("unsupported mesh format '" + ext + "' (expected .vtp .vtk .stl .ply .obj .off)");
+  }
+  if (!errors->Message.empty())
+  {
+    (c / "mesh").Fail("could not read '" + path.string() + "': " + errors->Message);
   }
   if (!pd || pd->GetNumberOfPoints() == 0 || pd->GetNumberOfCells() == 0)
   {

@@ -20,8 +20,14 @@ if [ ! -s "$tmp" ]; then
   rm -f "$tmp"
   exit 1
 fi
-export DISPLAY=":$(head -n1 "$tmp" | tr -d '[:space:]')"
+num=$(head -n1 "$tmp" | tr -d '[:space:]')
 rm -f "$tmp"
+export DISPLAY=":$num"
+# the server is up when its socket exists
+for _ in $(seq 1 100); do
+  [ -S "/tmp/.X11-unix/X$num" ] && break
+  sleep 0.05
+done
 "$@"
 rc=$?
 kill "$xpid" 2>/dev/null
