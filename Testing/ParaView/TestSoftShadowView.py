@@ -1,0 +1,98 @@
+"""pvpython: the SoftShadows plugin's view shows a sphere over a plane with a
+soft shadow, compared with a baseline; and, independent of the baseline, the
+ground under the sphere is darker than in a plain RenderView."""
+import os
+import sys
+
+from paraview.simple import *  # noqa: F401,F403
+
+plugin, baseline, tempdir = sys.argv[1], sys.argv[2], sys.argv[3]
+LoadPlugin(plugin, ns=globals())
+
+from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
+from vtkmodules.vtkTestingRendering import vtkTesting  # noqa: E402
+
+
+def scene(view):
+    sphere = Sphere(Center=[0, 0, 1.2], Radius=0.6, ThetaResolution=64, PhiResolution=32)
+    plane = Plane(Origin=[-4, -4, 0], Point1=[4, -4, 0], Point2=[-4, 4, 0])
+    for src in (sphere, plane):
+        d = Show(src, view)
+        d.DiffuseColor = [0.85, 0.85, 0.85]
+    view.ViewSize = [400, 300]
+    view.OrientationAxesVisibility = 0
+    view.Background = [1, 1, 1]
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    Render(view)  # the first render resets the camera; set ours after it
+    view.CameraPosition = [0, -7, 5]
+    view.CameraFocalPoint = [0, 0, 0.6]
+    view.CameraViewUp = [0, 0, 1]
+    view.CameraViewAngle = 30
+    return sphere, plane
+
+
+def ground_brightness(png, region):
+    r = vtkPNGReader()
+    r.SetFileName(png)
+    r.Update()
+    img = r.GetOutput()
+    w, h, _ = img.GetDimensions()
+    s = img.GetPointData().GetScalars()
+    x0, x1, y0, y1 = region
+    total, n = 0.0, 0
+    for y in range(int(y0 * h), int(y1 * h)):
+        for x in range(int(x0 * w), int(x1 * w)):
+            total += s.GetComponent(y * w + x, 0)
+            n += 1
+    return total / n
+
+
+view = CreateView("SoftShadowView")
+view.Method = "pcss"
+view.LightSize = 1.0
+scene(view)
+Render(view)
+shot = os.path.join(tempdir, "ParaViewSoftShadowView.png")
+SaveScreenshot(shot, view, ImageResolution=[400, 300])
+
+plain = CreateView("RenderView")
+scene(plain)
+Render(plain)
+plain_shot = os.path.join(tempdir, "ParaViewPlainRenderView.png")
+SaveScreenshot(plain_shot, plain, ImageResolution=[400, 300])
+
+# the key light is above the data: the shadow falls right under the sphere
+under = (0.40, 0.60, 0.20, 0.45)
+far = (0.05, 0.20, 0.05, 0.25)
+shadowed = ground_brightness(shot, under)
+plain_under = ground_brightness(plain_shot, under)
+lit = ground_brightness(shot, far)
+print("ground under sphere: %.1f (plain view %.1f), far ground %.1f" % (shadowed, plain_under, lit))
+failures = 0
+if not shadowed < 0.8 * lit:
+    print("FAIL: no shadow under the sphere")
+    failures += 1
+if not shadowed < 0.8 * plain_under:
+    print("FAIL: not darker than the plain render view")
+    failures += 1
+
+t = vtkTesting()
+for a in ("-V", baseline, "-T", tempdir):
+    t.AddArgument(a)
+if not os.path.exists(baseline):
+    print("FAIL: no baseline %s; candidate written to %s" % (baseline, shot))
+    failures += 1
+else:
+    result = t.RegressionTest(shot, 0.15)
+    if result != vtkTesting.PASSED:
+        print("FAIL: differs from the baseline")
+        failures += 1
+# Tear the views down while the X display is still open (pvpython's own
+# teardown order at interpreter exit is not ours to control).
+for v in (view, plain):
+    Delete(v)
+del view, plain
+sys.exit(1 if failures else 0)
