@@ -32,6 +32,14 @@ struct TransmittanceContext
   RTCIntersectContext context;
   const float* opacity;
   float* transmittance; // 16 entries
+  // Embree may report one primitive more than once (BVH references); each
+  // ray remembers the translucent primitives it already crossed.
+  // Two triangles sharing an edge are both reported by a ray through that
+  // edge: hits at the same distance count as one surface.
+  unsigned seen[16][16];
+  float seenT[16][16];
+  int seenCount[16];
+  float tEpsilon;
 };
 
 void OccludedFilter(const RTCFilterFunctionNArguments* args)
@@ -47,6 +55,29 @@ void OccludedFilter(const RTCFilterFunctionNArguments* args)
     const float a = ctx->opacity[prim];
     // ray ids are the lanes of our 16-wide packets
     const unsigned rayIndex = RTCRayN_id(args->ray, args->N, i) & 15u;
+    auto* mctx = const_cast<TransmittanceContext*>(ctx);
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    bool repeated = false;
+    for (int s = 0; s < mctx->seenCount[rayIndex]; ++s)
+    {
+      repeated = repeated || mctx->seen[rayIndex][s] == prim ||
+        std::abs(mctx->seenT[rayIndex][s] - t) <= mctx->tEpsilon;
+    }
+    if (repeated)
+    {
+      args->valid[i] = 0;
+      continue;
+    }
+    if (mctx->seenCount[rayIndex] < 16)
+    {
+      mctx->seen[rayIndex][mctx->seenCount[rayIndex]] = prim;
+      mctx->seenT[rayIndex][mctx->seenCount[rayIndex]++] = t;
+    }
+    else
+    {
+      // more than 16 translucent layers: treat the rest as opaque
+      continue;
+    }
     ctx->transmittance[rayIndex] *= (1.0f - a);
     if (ctx->transmittance[rayIndex] > 1e-4f)
     {
@@ -312,6 +343,8 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
         ctx.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         ctx.opacity = P->Opacity.data();
         ctx.transmittance = transmittance;
+        std::fill(std::begin(ctx.seenCount), std::end(ctx.seenCount), 0);
+        ctx.tEpsilon = static_cast<float>(1e-6 * P->Extent);
         rtcOccluded16(valid, P->Scene, &ctx.context, &rays);
         for (int q = 0; q < 16; ++q)
         {

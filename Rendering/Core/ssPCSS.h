@@ -1,0 +1,49 @@
+#ifndef ssPCSS_h
+#define ssPCSS_h
+
+#include "ssLightFrame.h"
+
+#include <glm/glm.hpp>
+
+// PCSS (Fernando 2005) in the notation of the PVSM paper §4. Light space has
+// its origin at the light centre and axes (u, v, n); a point's light-space
+// depth is z = dot(p - c, n). Perspective views (rect and point lights)
+// project X = (x/z, y/z) onto the unit plane; orthographic views
+// (directional lights) project X = (x, y).
+//
+// The visibility shader (Rendering/OpenGL2/glsl/ssVisibilityFS.glsl) computes
+// the same formulas per pixel; they are unit-tested here.
+namespace ss
+{
+/// PVSM §4 eq. 1: through blockers at depth zb, a light offset l (world
+/// units on the light) maps to the unit-plane offset alpha * l with
+/// alpha = (zr - zb) / (zr * zb). 0 when zb >= zr or zb <= 0.
+double PerspectiveKernelScale(double zReceiver, double zBlocker);
+
+/// Directional light of angular diameter theta: kernel half-width
+/// (zr - zb) * tan(theta / 2) in orthographic units (0 when zb >= zr).
+double DirectionalKernelHalfWidth(double zReceiver, double zBlocker, double angularDiameter);
+
+/// PCSS step 1, the blocker-search region: the light's footprint seen from
+/// the receiver on the plane of the nearest possible blocker zNear
+/// (half-extent 0.5 * size * PerspectiveKernelScale(zr, zNear), unit plane).
+glm::dvec2 BlockerSearchHalfExtent(const LightFrame& light, double zReceiver, double zNear);
+
+/// Slope-scaled depth bias (world units): texelWorld * (constant + slope *
+/// tan(theta)) with cosTheta = dot(normal, direction to the light); tan is
+/// clamped to 10 so grazing receivers stay finite (cosTheta <= 1e-4 uses 10).
+double SlopeScaledBias(double texelWorld, double cosTheta, double constantTexels, double slopeTexels);
+
+/// Receiver-plane depth: the depth, along the projection ray through X, of
+/// the plane through the receiver point pLS (light space) with normal nLS,
+/// clamped to pLS.z +- maxDelta (grazing planes are unbounded).
+double ReceiverPlaneDepth(
+  const glm::dvec3& pLS, const glm::dvec3& nLS, const glm::dvec2& X, bool orthographic, double maxDelta);
+
+/// Fraction of a rect light's area above the tangent plane of a surface
+/// point p with normal nrm (light points below it cannot be seen from the
+/// surface): the rectangle clipped by a half-plane. Point lights give 0 or 1.
+double LightFractionAboveTangentPlane(const LightFrame& light, const glm::dvec3& p, const glm::dvec3& nrm);
+}
+
+#endif
