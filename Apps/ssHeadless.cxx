@@ -5,7 +5,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
-#include <poll.h>
+#include <random>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -34,58 +36,78 @@ bool PrivateDisplay::EnsureDisplay(std::string& message)
   {
     return true;
   }
-  int fds[2];
-  if (pipe(fds) != 0)
+  // A random display number in a high range, not the lowest free one: when
+  // another program's Xvfb exits just as ours starts on the number it freed,
+  // the exiting server can unlink our socket.
+  std::random_device rd;
+  std::mt19937 rng(rd() ^ static_cast<unsigned>(getpid()));
+  std::uniform_int_distribution<int> pick(200, 30199);
+  for (int attempt = 0; attempt < 20; ++attempt)
   {
-    message = std::string("cannot create a pipe for Xvfb: ") + std::strerror(errno);
-    return false;
-  }
-  const pid_t pid = fork();
-  if (pid < 0)
-  {
-    message = std::string("cannot fork Xvfb: ") + std::strerror(errno);
-    return false;
-  }
-  if (pid == 0)
-  {
-    // child: Xvfb writes the display number it picked to fds[1] (-displayfd),
-    // so concurrent programs never race for a display number.
-    close(fds[0]);
-    const int devnull = open("/dev/null", O_RDWR);
-    if (devnull >= 0)
+    const int num = pick(rng);
+    const std::string lock = "/tmp/.X" + std::to_string(num) + "-lock";
+    const std::string socket = "/tmp/.X11-unix/X" + std::to_string(num);
+    if (access(lock.c_str(), F_OK) == 0)
     {
-      dup2(devnull, 1);
-      dup2(devnull, 2);
+      continue;
     }
-    const std::string fd = std::to_string(fds[1]);
-    execlp("Xvfb", "Xvfb", "-displayfd", fd.c_str(), "-screen", "0", "4096x4096x24", "-nolisten",
-      "tcp", static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  close(fds[1]);
-  this->Pid = pid;
-  std::string number;
-  pollfd p{ fds[0], POLLIN, 0 };
-  // Xvfb starts in well under a second; give it 15 s on a loaded machine.
-  while (poll(&p, 1, 15000) > 0)
-  {
-    char ch;
-    const ssize_t n = read(fds[0], &ch, 1);
-    if (n <= 0 || ch == '\n')
+    const pid_t pid = fork();
+    if (pid < 0)
     {
-      break;
+      message = std::string("cannot fork Xvfb: ") + std::strerror(errno);
+      return false;
     }
-    number += ch;
-  }
-  close(fds[0]);
-  if (number.empty())
-  {
+    if (pid == 0)
+    {
+      const int devnull = open("/dev/null", O_RDWR);
+      if (devnull >= 0)
+      {
+        dup2(devnull, 1);
+        dup2(devnull, 2);
+      }
+      const std::string d = ":" + std::to_string(num);
+      // -noreset: an X server resets (and refuses connections) whenever its
+      // last client disconnects, which a window closed and reopened can hit.
+      execlp("Xvfb", "Xvfb", d.c_str(), "-screen", "0", "4096x4096x24", "-nolisten", "tcp",
+        "-noreset", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    this->Pid = pid;
+    // Xvfb starts in well under a second; allow 15 s on a loaded machine.
+    bool up = false;
+    for (int i = 0; i < 300 && !up; ++i)
+    {
+      int status = 0;
+      if (waitpid(pid, &status, WNOHANG) == pid)
+      {
+        this->Pid = -1; // it exited: number taken or Xvfb missing
+        break;
+      }
+      // ready when the socket accepts a connection (the file appears
+      // before the server listens)
+      const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+      if (fd >= 0)
+      {
+        sockaddr_un addr{};
+        addr.sun_family = AF_UNIX;
+        std::strncpy(addr.sun_path, socket.c_str(), sizeof(addr.sun_path) - 1);
+        up = ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) == 0;
+        ::close(fd);
+      }
+      if (!up)
+      {
+        usleep(50000);
+      }
+    }
+    if (up)
+    {
+      setenv("DISPLAY", (":" + std::to_string(num)).c_str(), 1);
+      return true;
+    }
     this->Stop();
-    message = "DISPLAY is not set and a private Xvfb could not be started (is the 'xvfb' "
-              "package installed?)";
-    return false;
   }
-  setenv("DISPLAY", (":" + number).c_str(), 1);
-  return true;
+  message = "DISPLAY is not set and a private Xvfb could not be started (is the 'xvfb' "
+            "package installed?)";
+  return false;
 }
 }

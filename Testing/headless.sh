@@ -1,33 +1,43 @@
 #!/usr/bin/env bash
 # Runs a command with an X display: Debian's VTK/ParaView are GLX builds, so
 # when no display is set, a private Xvfb (Mesa llvmpipe) is started for it.
-# Xvfb picks a free display itself (-displayfd), so parallel tests do not race
-# the way `xvfb-run -a` does.
+# The display number is random in a high range, not "the lowest free one":
+# when one test's Xvfb exits just as another starts on the number it freed,
+# the exiting server can unlink the new one's socket. -noreset: by default an
+# X server resets when its last client disconnects and refuses connections
+# meanwhile, which made the next render window of a test fail now and then.
 if [ -n "${DISPLAY:-}" ]; then
   exec "$@"
 fi
-tmp=$(mktemp)
-Xvfb -displayfd 3 -screen 0 1600x1200x24 -nolisten tcp 3>"$tmp" >/dev/null 2>&1 &
-xpid=$!
-for _ in $(seq 1 200); do
-  [ -s "$tmp" ] && break
-  if ! kill -0 "$xpid" 2>/dev/null; then break; fi
-  sleep 0.05
-done
-if [ ! -s "$tmp" ]; then
-  echo "headless.sh: could not start Xvfb" >&2
+xpid=""
+for _ in $(seq 1 20); do
+  num=$(( 200 + (RANDOM * 32768 + RANDOM) % 30000 ))
+  [ -e "/tmp/.X${num}-lock" ] && continue
+  Xvfb ":$num" -screen 0 1600x1200x24 -nolisten tcp -noreset >/dev/null 2>&1 &
+  xpid=$!
+  # ready when its socket accepts a connection (the file appears before
+  # the server listens)
+  ready=0
+  for _ in $(seq 1 200); do
+    kill -0 "$xpid" 2>/dev/null || break
+    if [ -S "/tmp/.X11-unix/X$num" ] && /usr/bin/python3 -c "import socket,sys; s=socket.socket(socket.AF_UNIX); s.connect(sys.argv[1])" "/tmp/.X11-unix/X$num" 2>/dev/null; then
+      ready=1
+      break
+    fi
+    sleep 0.05
+  done
+  if [ "$ready" = 1 ]; then
+    break
+  fi
   kill "$xpid" 2>/dev/null
-  rm -f "$tmp"
+  wait "$xpid" 2>/dev/null
+  xpid=""
+done
+if [ -z "$xpid" ]; then
+  echo "headless.sh: could not start Xvfb" >&2
   exit 1
 fi
-num=$(head -n1 "$tmp" | tr -d '[:space:]')
-rm -f "$tmp"
 export DISPLAY=":$num"
-# the server is up when its socket exists
-for _ in $(seq 1 100); do
-  [ -S "/tmp/.X11-unix/X$num" ] && break
-  sleep 0.05
-done
 "$@"
 rc=$?
 kill "$xpid" 2>/dev/null

@@ -112,6 +112,23 @@ void AttachLayer(vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex, int lay
   fbo->AddColorAttachment(0, tex, static_cast<unsigned int>(layer));
 }
 
+// A full-screen pass with its fragment shader, built once and made current.
+vtkShaderProgram* ReadyQuad(
+  std::unique_ptr<vtkOpenGLQuadHelper>& quad, vtkOpenGLRenderWindow* win, const char* fs)
+{
+  if (!quad)
+  {
+    quad.reset(new vtkOpenGLQuadHelper(
+      win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fs, ""));
+  }
+  else
+  {
+    win->GetShaderCache()->ReadyShaderProgram(quad->Program);
+  }
+  vtkShaderProgram* prog = quad->Program;
+  return (prog && prog->GetCompiled()) ? prog : nullptr;
+}
+
 bool Finite3(const double p[3])
 {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
@@ -1139,17 +1156,8 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.Visibility->SetMagnificationFilter(vtkTextureObject::Nearest);
     in.Visibility->Allocate3D(in.Width, in.Height, numShadowLights, 1, VTK_FLOAT);
   }
-  if (!in.VisibilityQuad)
-  {
-    in.VisibilityQuad.reset(new vtkOpenGLQuadHelper(
-      win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), ssVisibilityFS, ""));
-  }
-  else
-  {
-    win->GetShaderCache()->ReadyShaderProgram(in.VisibilityQuad->Program);
-  }
-  vtkShaderProgram* prog = in.VisibilityQuad->Program;
-  if (!prog || !prog->GetCompiled())
+  vtkShaderProgram* prog = ReadyQuad(in.VisibilityQuad, win, ssVisibilityFS);
+  if (!prog)
   {
     vtkErrorMacro("Could not build the visibility program.");
     ostate->PopFramebufferBindings();
@@ -1322,17 +1330,8 @@ void vtkSoftShadowPass::BuildMinPyramid(vtkOpenGLRenderWindow* win)
 {
   auto& in = *this->Internals;
   vtkOpenGLState* ostate = win->GetState();
-  if (!in.ReduceQuad)
-  {
-    in.ReduceQuad.reset(new vtkOpenGLQuadHelper(
-      win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), ssMinReduceFS, ""));
-  }
-  else
-  {
-    win->GetShaderCache()->ReadyShaderProgram(in.ReduceQuad->Program);
-  }
-  vtkShaderProgram* prog = in.ReduceQuad->Program;
-  if (!prog || !prog->GetCompiled())
+  vtkShaderProgram* prog = ReadyQuad(in.ReduceQuad, win, ssMinReduceFS);
+  if (!prog)
   {
     vtkErrorMacro("Could not build the min-depth reduction program.");
     return;
