@@ -1,18 +1,23 @@
-# Render-pass tests: image regressions, accuracy, VTK users' complaints.
-add_executable(TestSoftShadowPass TestSoftShadowPass.cxx)
-target_link_libraries(TestSoftShadowPass PRIVATE
-  SoftShadows::RenderingOpenGL2 SoftShadows::RenderingCore
-  VTK::TestingRendering VTK::FiltersSources VTK::RenderingOpenGL2 VTK::InteractionStyle
-  GTest::gtest_main)
-target_compile_definitions(TestSoftShadowPass PRIVATE
-  "SS_BASELINE_DIR=\"${SOFTSHADOWS_BASELINE_DIR}\""
-  "SS_TEMP_DIR=\"${SOFTSHADOWS_TEST_OUTPUT_DIR}\"")
-target_compile_options(TestSoftShadowPass PRIVATE ${SOFTSHADOWS_WARNINGS})
-vtk_module_autoinit(TARGETS TestSoftShadowPass MODULES VTK::RenderingOpenGL2 VTK::InteractionStyle)
-set_target_properties(TestSoftShadowPass PROPERTIES CROSSCOMPILING_EMULATOR "${SOFTSHADOWS_HEADLESS}")
+# Render-pass tests: image regressions, accuracy, VTK users' complaints, and
+# the stability suite. Each test runs through headless.sh (a private Xvfb
+# when DISPLAY is unset).
 include(GoogleTest)
-gtest_discover_tests(TestSoftShadowPass
-  TEST_PREFIX "render."
-  DISCOVERY_MODE PRE_TEST
-  PROPERTIES LABELS "render" TIMEOUT 300
-  EXTRA_ARGS "")
+function(ss_render_test name label)
+  add_executable(${name} ${name}.cxx)
+  target_link_libraries(${name} PRIVATE
+    SoftShadows::RenderingOpenGL2 SoftShadows::RenderingCore
+    VTK::TestingRendering VTK::FiltersSources VTK::RenderingOpenGL2 VTK::InteractionStyle
+    GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE
+    "SS_BASELINE_DIR=\"${SOFTSHADOWS_BASELINE_DIR}\""
+    "SS_TEMP_DIR=\"${SOFTSHADOWS_TEST_OUTPUT_DIR}\"")
+  target_compile_options(${name} PRIVATE ${SOFTSHADOWS_WARNINGS})
+  vtk_module_autoinit(TARGETS ${name} MODULES VTK::RenderingOpenGL2 VTK::InteractionStyle)
+  set_target_properties(${name} PROPERTIES CROSSCOMPILING_EMULATOR "${SOFTSHADOWS_HEADLESS}")
+  gtest_discover_tests(${name}
+    TEST_PREFIX "${label}."
+    DISCOVERY_MODE PRE_TEST
+    PROPERTIES LABELS "${label}" TIMEOUT 300)
+endfunction()
+ss_render_test(TestSoftShadowPass render)
+ss_render_test(TestStability stability)
