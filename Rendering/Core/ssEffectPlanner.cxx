@@ -160,7 +160,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
                                 : "no light casts shadows";
   if (plan.shadowWork && in.translucentCasters)
   {
-    plan.reason += "; translucent casters are treated as opaque";
+    plan.reason += "; translucent casters are treated as opaque (planner v1)";
   }
   if (plan.shadowWork && in.unchangedSinceLastFrame)
   {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace ss
 {
@@ -34,8 +35,10 @@ bool LightFrame::IsSoft() const
   return false;
 }
 
-glm::dvec3 FallbackUp(const glm::dvec3& n)
+glm::dvec3 FallbackUp(const glm::dvec3& nIn)
 {
+  // the least aligned axis keeps the projection well conditioned (|axis.n| <= 1/sqrt(3))
+  const glm::dvec3 n = glm::normalize(nIn);
   const glm::dvec3 a = glm::abs(n);
   glm::dvec3 axis(0, 0, 1);
   if (a.x <= a.y && a.x <= a.z)
@@ -70,10 +73,27 @@ LightFrame MakeRectLightFrame(
   f.center = center;
   f.n = normal / len;
   // Gram-Schmidt: the part of `up` orthogonal to the normal gives the height edge.
-  glm::dvec3 v = Finite(up) ? up - glm::dot(up, f.n) * f.n : glm::dvec3(0.0);
-  const double vl = glm::length(v);
+  // Below sin(angle) = 1e-6 the residual is mostly rounding noise and its
+  // direction is arbitrary, so a nearly parallel `up` counts as parallel.
   const double ul = Finite(up) ? glm::length(up) : 0.0;
-  f.v = (vl > 1e-9 * std::max(ul, 1e-300) && vl > 0.0) ? v / vl : FallbackUp(f.n);
+  glm::dvec3 v(0.0);
+  if (ul > 0.0 && std::isfinite(ul))
+  {
+    const glm::dvec3 uh = up / ul;
+    v = uh - glm::dot(uh, f.n) * f.n;
+  }
+  const double vl = glm::length(v);
+  if (vl > 1e-6)
+  {
+    v /= vl;
+    // a second pass removes what cancellation left along n (v.n ~ 1e-16 / vl)
+    f.v = glm::normalize(v - glm::dot(v, f.n) * f.n);
+  }
+  else
+  {
+    f.v = FallbackUp(f.n);
+  }
+  // cross(v, n) == cross(up, n) up to length, since v and up differ by a multiple of n.
   f.u = glm::normalize(glm::cross(f.v, f.n));
   f.width = size.x;
   f.height = size.y;
@@ -115,6 +135,10 @@ LightFrame MakeDirectionalLightFrame(const glm::dvec3& direction, double angular
 
 glm::dvec3 RegularLightSample(const LightFrame& light, int i, int j, int k)
 {
+  if (k < 1)
+  {
+    return light.center; // no grid: the centre is the only sensible sample
+  }
   const double s = (i + 0.5) / k - 0.5;
   const double t = (j + 0.5) / k - 0.5;
   return light.center + s * light.width * light.u + t * light.height * light.v;
