@@ -4,8 +4,10 @@
 //         [--output img.png] [--visibility vis.pfm] [--positions pos.pfm]
 //         [--stats stats.json] [--frames N] [--option key=value ...]
 //   softshadows compare A.pfm B.pfm     (B is the reference)
+#include "ssBench.h"
 #include "ssHeadless.h"
 #include "ssImageIO.h"
+#include "ssMetrics.h"
 #include "ssScene.h"
 
 #include "vtkCamera.h"
@@ -47,10 +49,10 @@ namespace
 {
 using json = nlohmann::json;
 
-struct UsageError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
+using ssapp::ApplyOption;
+using ssapp::MakeVTKShadowPass;
+using ssapp::Median;
+using ssapp::UsageError;
 
 const char* kUsage =
   "usage:\n"
@@ -58,20 +60,11 @@ const char* kUsage =
   "        [--output img.png] [--visibility vis.pfm] [--positions pos.pfm]\n"
   "        [--stats stats.json] [--frames N] [--option key=value ...]\n"
   "  softshadows compare A.pfm B.pfm\n"
+  "  softshadows bench [--smoke] [--scenes a.json,b.json] [--out DIR] [--frames N]\n"
+  "        [--size WxH] [--reference-samples K]\n"
   "methods: auto (default), hard, pcf, pcss, reference, vtk, none\n"
   "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
   "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified)\n";
-
-double Median(std::vector<double> v)
-{
-  if (v.empty())
-  {
-    return 0.0;
-  }
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return (n % 2) ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 int ParseInt(const std::string& s, const std::string& what, int lo, int hi)
 {
@@ -108,6 +101,21 @@ double ParseDouble(const std::string& s, const std::string& what)
   {
     throw UsageError(what + ": expected a number, got '" + s + "'");
   }
+}
+
+}
+
+namespace ssapp
+{
+double Median(std::vector<double> v)
+{
+  if (v.empty())
+  {
+    return 0.0;
+  }
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return (n % 2) ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
@@ -191,6 +199,10 @@ vtkSmartPointer<vtkRenderPass> MakeVTKShadowPass()
   return camera;
 }
 
+}
+
+namespace
+{
 int Render(const std::vector<std::string>& args)
 {
   std::string scene, method = "auto", output, visibility, positions, stats;
@@ -491,64 +503,16 @@ int Compare(const std::vector<std::string>& args)
       "x" + std::to_string(ha) + "x" + std::to_string(ca) + " vs " + std::to_string(wb) + "x" +
       std::to_string(hb) + "x" + std::to_string(cb) + ")");
   }
-  struct Acc
-  {
-    std::vector<double> e;
-    double sum = 0, sq = 0, max = 0;
-  } all, pen;
-  long nonFiniteA = 0, maskMismatch = 0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    const bool fa = std::isfinite(a[i]), fb = std::isfinite(b[i]);
-    if (std::isinf(a[i]) || (!fa && fb))
-    {
-      ++nonFiniteA;
-    }
-    if (fa != fb)
-    {
-      ++maskMismatch;
-    }
-    if (!fa || !fb)
-    {
-      continue;
-    }
-    const double e = std::abs(static_cast<double>(a[i]) - b[i]);
-    for (Acc* acc : { &all, (b[i] > 0.01f && b[i] < 0.99f) ? &pen : nullptr })
-    {
-      if (acc)
-      {
-        acc->e.push_back(e);
-        acc->sum += e;
-        acc->sq += e * e;
-        acc->max = std::max(acc->max, e);
-      }
-    }
-  }
-  auto report = [](const char* name, Acc& acc) {
-    json j;
-    const double n = static_cast<double>(acc.e.size());
-    j["pixels"] = acc.e.size();
-    j["mae"] = n > 0 ? acc.sum / n : 0.0;
-    j["rmse"] = n > 0 ? std::sqrt(acc.sq / n) : 0.0;
-    j["max"] = acc.max;
-    if (!acc.e.empty())
-    {
-      const std::size_t k = static_cast<std::size_t>(std::ceil(0.99 * n)) - 1;
-      std::nth_element(acc.e.begin(), acc.e.begin() + k, acc.e.end());
-      j["p99"] = acc.e[k];
-    }
-    else
-    {
-      j["p99"] = 0.0;
-    }
-    (void)name;
-    return j;
+  const ss::VisibilityErrors errors = ss::CompareVisibility(a.data(), b.data(), a.size());
+  auto report = [](const ss::ErrorStats& st) {
+    return json{ { "pixels", st.pixels }, { "mae", st.mae }, { "rmse", st.rmse }, { "max", st.max },
+      { "p99", st.p99 } };
   };
   json out;
-  out["all"] = report("all", all);
-  out["penumbra"] = report("penumbra", pen);
-  out["nonfinite_in_a"] = nonFiniteA;
-  out["background_mismatch"] = maskMismatch;
+  out["all"] = report(errors.all);
+  out["penumbra"] = report(errors.penumbra);
+  out["nonfinite_in_a"] = errors.nonFinite;
+  out["background_mismatch"] = errors.backgroundMismatch;
   std::cout << out.dump(2) << "\n";
   return 0;
 }
@@ -574,7 +538,11 @@ int main(int argc, char* argv[])
     {
       return Compare(args);
     }
-    throw UsageError("unknown command '" + cmd + "' (expected render or compare)");
+    if (cmd == "bench")
+    {
+      return ssapp::Bench(args);
+    }
+    throw UsageError("unknown command '" + cmd + "' (expected render, compare or bench)");
   }
   catch (const UsageError& e)
   {

@@ -24,3 +24,8 @@ if [ ! -f build/CMakeCache.txt ]; then
   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 fi
 cmake --build build -j "$jobs"
+
+# Meshes of the scene suite that are generated or extracted (not committed).
+if [ ! -f Data/Meshes/generated/assembly_5m.ply ] || [ ! -f Data/Meshes/generated/field_iso_1m.ply ]; then
+  /usr/bin/python3 scripts/generate_scenes.py --large
+fi

@@ -54,3 +54,13 @@ ss_cli_render(nan_mesh "${_ss_data}/GoodScenes/nan_mesh.json" soft --method pcss
 add_test(NAME cli.render.vtk_method
   COMMAND env -u DISPLAY ${_ss_cli} render "${_demo}" --method vtk --size 160x120 --output "${_ss_out}/cli_vtk.png")
 set_tests_properties(cli.render.vtk_method PROPERTIES LABELS "cli" TIMEOUT 120)
+
+# Benchmark smoke run: a tiny scene, a few settings; asserts the report, data
+# and plot are produced and sane (not timings).
+add_test(NAME cli.bench.smoke
+  COMMAND env -u DISPLAY ${_ss_cli} bench --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
+    --size 160x120 --frames 1 --reference-samples 8 --out "${_ss_out}/bench_smoke")
+add_test(NAME cli.bench.smoke_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bench.py" "${_ss_out}/bench_smoke")
+set_tests_properties(cli.bench.smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_smoke)
+set_tests_properties(cli.bench.smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_smoke)

@@ -1,6 +1,14 @@
-# Unit tests of Rendering/Core: no window, no GL.
-add_executable(TestSoftShadowsCore TestSoftShadowsCore.cxx)
+# Unit tests of Rendering/Core: no window, no GL. One executable, one source
+# file per Core header family.
+add_executable(TestSoftShadowsCore
+  TestSSLightFrame.cxx
+  TestSSCoverage.cxx
+  TestSSPCSS.cxx
+  TestSSAnalytic.cxx
+  TestSSEffectPlanner.cxx
+  TestSSShadowView.cxx
+  TestSSReference.cxx)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore GTest::gtest_main)
-target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS})
+target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
 include(GoogleTest)
 gtest_discover_tests(TestSoftShadowsCore TEST_PREFIX "core." PROPERTIES LABELS "core" TIMEOUT 120)

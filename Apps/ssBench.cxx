@@ -1,0 +1,463 @@
+// softshadows bench: what accuracy costs in time, measured side by side in
+// one run. For each scene: the ray-traced reference once (k x k samples), then
+// every method x quality setting on the same pixels: median frame time after a
+// warm-up (glFinish before each clock reading) and the error against the
+// reference (MAE, max, p99, the same on penumbra pixels). Writes a Markdown
+// report, CSV and JSON data, and a plot per scene (VTK charts) with the
+// Pareto front.
+#include "ssBench.h"
+
+#include "ssHeadless.h"
+#include "ssMetrics.h"
+#include "ssPlot.h"
+#include "ssScene.h"
+
+#include "vtkCamera.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSoftShadowPass.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace ssapp
+{
+namespace
+{
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct Config
+{
+  std::string method;                // pass method name, or "vtk"
+  std::vector<std::string> options;  // key=value
+  std::string Label() const
+  {
+    std::string s;
+    for (const auto& o : options)
+    {
+      s += (s.empty() ? "" : ", ") + o;
+    }
+    return s.empty() ? "defaults" : s;
+  }
+};
+
+struct Row
+{
+  std::string scene, method, settings;
+  int width = 0, height = 0;
+  std::size_t triangles = 0;
+  double ms = 0.0;
+  bool hasError = false;
+  ss::VisibilityErrors err;
+  std::string note;
+};
+
+std::vector<float> Luminance(vtkRenderWindow* win)
+{
+  vtkNew<vtkWindowToImageFilter> w2i;
+  w2i->SetInput(win);
+  w2i->SetInputBufferTypeToRGB();
+  w2i->ReadFrontBufferOff();
+  w2i->Update();
+  auto* rgb = vtkUnsignedCharArray::SafeDownCast(w2i->GetOutput()->GetPointData()->GetScalars());
+  std::vector<float> l(static_cast<std::size_t>(rgb->GetNumberOfTuples()));
+  for (vtkIdType i = 0; i < rgb->GetNumberOfTuples(); ++i)
+  {
+    l[i] = static_cast<float>(0.2126 * rgb->GetComponent(i, 0) + 0.7152 * rgb->GetComponent(i, 1) +
+      0.0722 * rgb->GetComponent(i, 2));
+  }
+  return l;
+}
+
+double TimeFrames(vtkRenderWindow* win, vtkRenderer* ren, vtkSoftShadowPass* pass, int frames)
+{
+  std::vector<double> t;
+  for (int f = 0; f <= frames; ++f) // frame 0 warms up
+  {
+    ren->GetActiveCamera()->Modified();
+    if (pass)
+    {
+      pass->Modified(); // defeat the planner's reuse: every frame does the work
+    }
+    const auto t0 = Clock::now();
+    win->Render();
+    win->WaitForCompletion();
+    if (f > 0)
+    {
+      t.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+  }
+  return Median(t);
+}
+
+std::string Fmt(double v, int prec = 4)
+{
+  std::ostringstream o;
+  o << std::setprecision(prec) << v;
+  return o.str();
+}
+}
+
+int Bench(const std::vector<std::string>& args)
+{
+  bool smoke = false;
+  std::vector<std::string> scenes;
+  std::string out = "Documentation";
+  int frames = 3, width = 0, height = 0, k = 32;
+  for (std::size_t i = 0; i < args.size(); ++i)
+  {
+    const std::string& a = args[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= args.size())
+      {
+        throw UsageError(a + ": missing value");
+      }
+      return args[++i];
+    };
+    if (a == "--smoke")
+    {
+      smoke = true;
+    }
+    else if (a == "--scenes")
+    {
+      std::stringstream ss(value());
+      std::string s;
+      while (std::getline(ss, s, ','))
+      {
+        scenes.push_back(s);
+      }
+    }
+    else if (a == "--out")
+    {
+      out = value();
+    }
+    else if (a == "--frames")
+    {
+      frames = std::stoi(value());
+    }
+    else if (a == "--reference-samples")
+    {
+      k = std::stoi(value());
+    }
+    else if (a == "--size")
+    {
+      const std::string s = value();
+      const auto x = s.find('x');
+      if (x == std::string::npos)
+      {
+        throw UsageError("--size: expected WxH");
+      }
+      width = std::stoi(s.substr(0, x));
+      height = std::stoi(s.substr(x + 1));
+    }
+    else
+    {
+      throw UsageError("bench: unknown argument '" + a + "'");
+    }
+  }
+  if (frames < 1 || k < 1 || k > 64)
+  {
+    throw UsageError("bench: --frames must be >= 1 and --reference-samples in [1, 64]");
+  }
+  if (scenes.empty())
+  {
+    throw UsageError("bench: --scenes is required (comma-separated scene files)");
+  }
+
+  std::vector<Config> configs;
+  if (smoke)
+  {
+    configs = { { "hard", { "shadow_map_size=512" } }, { "pcss", { "shadow_map_size=512" } },
+      { "reference", { "reference_samples=4" } }, { "vtk", {} } };
+  }
+  else
+  {
+    configs = {
+      { "hard", { "shadow_map_size=1024" } },
+      { "hard", { "shadow_map_size=4096" } },
+      { "pcf", { "shadow_map_size=2048" } },
+      { "pcss", { "shadow_map_size=1024" } },
+      { "pcss", { "shadow_map_size=2048" } },
+      { "pcss", { "shadow_map_size=4096" } },
+      { "pcss", { "shadow_map_size=2048", "filter_max_quads=64", "blocker_samples=16" } },
+      { "reference", { "reference_samples=4" } },
+      { "reference", { "reference_samples=8" } },
+      { "reference", { "reference_samples=16" } },
+      { "vtk", {} },
+    };
+  }
+
+  PrivateDisplay display;
+  std::string msg;
+  if (!display.EnsureDisplay(msg))
+  {
+    throw std::runtime_error(msg);
+  }
+  fs::create_directories(fs::path(out) / "plots");
+  std::vector<Row> rows;
+  std::string renderer = "?";
+  const int total = static_cast<int>(scenes.size() * (configs.size() + 1));
+  int done = 0;
+  auto progress = [&](const std::string& scene, const std::string& what) {
+    ++done;
+    std::cerr << "\r[" << done << "/" << total << "] " << fs::path(scene).stem().string() << ": "
+              << what << std::string(30, ' ') << std::flush;
+  };
+
+  for (const auto& scene : scenes)
+  {
+    vtkNew<vtkRenderer> ren;
+    const SceneInfo info = LoadScene(scene, ren);
+    vtkNew<vtkRenderWindow> win;
+    win->SetOffScreenRendering(1);
+    win->SetMultiSamples(0);
+    win->SetSize(width ? width : info.width, height ? height : info.height);
+    win->AddRenderer(ren);
+    const std::string name = fs::path(scene).stem().string();
+
+    // --- the reference, once
+    progress(scene, "reference k=" + std::to_string(k));
+    vtkNew<vtkSoftShadowPass> refPass;
+    refPass->SetMethod(vtkSoftShadowPass::REFERENCE);
+    refPass->SetReferenceSamples(k);
+    ren->SetPass(refPass);
+    const double refMs = TimeFrames(win, ren, refPass, 1);
+    if (renderer == "?")
+    {
+      const std::string caps = win->ReportCapabilities();
+      const auto p = caps.find("OpenGL renderer string:");
+      renderer = p == std::string::npos ? "?" : caps.substr(p + 23, caps.find('\n', p) - p - 23);
+    }
+    vtkNew<vtkFloatArray> refV;
+    const bool haveRef = refPass->GetVisibilityImage(0, refV);
+    const std::size_t n = static_cast<std::size_t>(refV->GetNumberOfTuples());
+    const std::size_t tris = static_cast<std::size_t>(refPass->GetLastNumberOfCasterTriangles());
+    {
+      Row r;
+      r.scene = name;
+      r.method = "reference";
+      r.settings = "k=" + std::to_string(k) + " (ground truth)";
+      r.width = win->GetSize()[0];
+      r.height = win->GetSize()[1];
+      r.triangles = tris;
+      r.ms = refMs;
+      r.note = Fmt(json::parse(refPass->GetStatsJSON())["reference"]["rays_per_second"].get<double>(), 3) +
+        " rays/s";
+      rows.push_back(r);
+    }
+    refPass->ReleaseGraphicsResources(win);
+
+    // --- every configuration on the same pixels
+    for (const auto& cfg : configs)
+    {
+      progress(scene, cfg.method + " " + cfg.Label());
+      Row r;
+      r.scene = name;
+      r.method = cfg.method;
+      r.settings = cfg.Label();
+      r.width = win->GetSize()[0];
+      r.height = win->GetSize()[1];
+      r.triangles = tris;
+      if (cfg.method == "vtk")
+      {
+        // VTK's own pass keeps no visibility buffer: V is estimated from its
+        // picture, the unshadowed picture and the ambient-only picture
+        // (single light: I = A + V * (L - A)), on pixels the light clearly lights.
+        vtkNew<vtkSoftShadowPass> plain;
+        plain->SetMethod(vtkSoftShadowPass::NONE);
+        ren->SetPass(plain);
+        win->Render();
+        const auto lit = Luminance(win);
+        std::vector<double> intensities;
+        vtkLightCollection* lc = ren->GetLights();
+        vtkCollectionSimpleIterator it;
+        lc->InitTraversal(it);
+        while (vtkLight* l = lc->GetNextLight(it))
+        {
+          intensities.push_back(l->GetIntensity());
+          l->SetIntensity(0.0);
+        }
+        win->Render();
+        const auto ambient = Luminance(win);
+        lc->InitTraversal(it);
+        std::size_t li = 0;
+        while (vtkLight* l = lc->GetNextLight(it))
+        {
+          l->SetIntensity(intensities[li++]);
+        }
+        plain->ReleaseGraphicsResources(win);
+        auto vtkPass = MakeVTKShadowPass();
+        ren->SetPass(vtkPass);
+        r.ms = TimeFrames(win, ren, nullptr, frames);
+        const auto shadowed = Luminance(win);
+        vtkPass->ReleaseGraphicsResources(win);
+        if (haveRef && shadowed.size() == n && ren->GetLights()->GetNumberOfItems() == 1)
+        {
+          std::vector<float> est(n, std::nanf("")), ref(n, std::nanf(""));
+          for (std::size_t i = 0; i < n; ++i)
+          {
+            const float range = lit[i] - ambient[i];
+            if (!std::isnan(refV->GetValue(i)) && range > 12.0f)
+            {
+              est[i] = std::clamp((shadowed[i] - ambient[i]) / range, 0.0f, 1.0f);
+              ref[i] = refV->GetValue(i);
+            }
+          }
+          r.err = ss::CompareVisibility(est.data(), ref.data(), n);
+          r.hasError = true;
+          r.note = "V estimated from its picture on lit pixels";
+        }
+        else
+        {
+          r.note = "no error: VTK's pass keeps no visibility buffer";
+        }
+      }
+      else
+      {
+        vtkNew<vtkSoftShadowPass> pass;
+        pass->SetMethodByName(cfg.method.c_str());
+        for (const auto& o : cfg.options)
+        {
+          ApplyOption(pass, o);
+        }
+        pass->SetMeasureTimings(true);
+        ren->SetPass(pass);
+        r.ms = TimeFrames(win, ren, pass, cfg.method == "reference" ? 1 : frames);
+        vtkNew<vtkFloatArray> v;
+        if (haveRef && pass->GetVisibilityImage(0, v) && static_cast<std::size_t>(v->GetNumberOfTuples()) == n)
+        {
+          r.err = ss::CompareVisibility(v->GetPointer(0), refV->GetPointer(0), n);
+          r.hasError = true;
+        }
+        pass->ReleaseGraphicsResources(win);
+      }
+      rows.push_back(r);
+    }
+    ren->SetPass(nullptr);
+  }
+  std::cerr << "\n";
+
+  // --- data
+  json data = json::array();
+  std::ofstream csv(fs::path(out) / "accuracy-vs-time.csv");
+  csv << "scene,method,settings,width,height,triangles,ms,mae,max,p99,penumbra_mae,penumbra_max,"
+         "nonfinite,note\n";
+  for (const auto& r : rows)
+  {
+    json j{ { "scene", r.scene }, { "method", r.method }, { "settings", r.settings },
+      { "width", r.width }, { "height", r.height }, { "triangles", r.triangles }, { "ms", r.ms },
+      { "note", r.note } };
+    if (r.hasError)
+    {
+      j["mae"] = r.err.all.mae;
+      j["max"] = r.err.all.max;
+      j["p99"] = r.err.all.p99;
+      j["penumbra_mae"] = r.err.penumbra.mae;
+      j["penumbra_max"] = r.err.penumbra.max;
+      j["nonfinite"] = r.err.nonFinite;
+    }
+    data.push_back(j);
+    csv << r.scene << "," << r.method << ",\"" << r.settings << "\"," << r.width << "," << r.height
+        << "," << r.triangles << "," << r.ms << ",";
+    if (r.hasError)
+    {
+      csv << r.err.all.mae << "," << r.err.all.max << "," << r.err.all.p99 << ","
+          << r.err.penumbra.mae << "," << r.err.penumbra.max << "," << r.err.nonFinite;
+    }
+    else
+    {
+      csv << ",,,,,";
+    }
+    csv << ",\"" << r.note << "\"\n";
+  }
+  std::ofstream(fs::path(out) / "accuracy-vs-time.json") << data.dump(2) << "\n";
+
+  // --- report and plots
+  std::ofstream md(fs::path(out) / "accuracy-vs-time.md");
+  md << "# What accuracy costs in time\n\n"
+     << "Generated by `softshadows bench" << (smoke ? " --smoke" : "") << "` in one run on this "
+     << "machine (OpenGL renderer: " << renderer << "; 2 CPU cores). Times are medians of "
+     << frames << " frames after a warm-up, with `glFinish` before each clock reading (the "
+     << "reference: one frame). Errors are against the ray-traced reference with " << k << "x" << k
+     << " regular light samples on the same pixels: mean and max absolute visibility error, "
+     << "and the mean on penumbra pixels (0.01 < V_ref < 0.99). Pareto: no other row is both "
+     << "faster and more accurate. Raw data: `accuracy-vs-time.csv`, `accuracy-vs-time.json`.\n\n";
+  for (const auto& scene : scenes)
+  {
+    const std::string name = fs::path(scene).stem().string();
+    std::vector<Row*> sr;
+    for (auto& r : rows)
+    {
+      if (r.scene == name)
+      {
+        sr.push_back(&r);
+      }
+    }
+    std::vector<PlotPoint> pts;
+    for (auto* r : sr)
+    {
+      if (r->hasError)
+      {
+        pts.push_back({ r->method, r->settings, r->ms, r->err.all.mae, false });
+      }
+    }
+    for (auto& p : pts)
+    {
+      p.pareto = std::none_of(pts.begin(), pts.end(), [&](const PlotPoint& q) {
+        return (q.ms <= p.ms && q.mae < p.mae) || (q.ms < p.ms && q.mae <= p.mae);
+      });
+    }
+    const std::string plot = "plots/accuracy-vs-time-" + name + ".png";
+    std::string pmsg;
+    const bool plotted = PlotErrorVsTime((fs::path(out) / plot).string(),
+      name + " (" + std::to_string(sr.front()->triangles) + " triangles)", pts, pmsg);
+    if (!plotted)
+    {
+      std::cerr << "softshadows: warning: plot not written: " << pmsg << "\n";
+    }
+    md << "## " << name << " (" << sr.front()->triangles << " caster triangles, "
+       << sr.front()->width << "x" << sr.front()->height << ")\n\n"
+       << "| method | settings | ms | MAE | max | penumbra MAE | Pareto | note |\n"
+       << "|---|---|---:|---:|---:|---:|:-:|---|\n";
+    for (auto* r : sr)
+    {
+      bool pareto = false;
+      for (const auto& p : pts)
+      {
+        pareto = pareto || (p.method == r->method && p.label == r->settings && p.pareto);
+      }
+      md << "| " << r->method << " | " << r->settings << " | " << Fmt(r->ms) << " | "
+         << (r->hasError ? Fmt(r->err.all.mae, 3) : "–") << " | "
+         << (r->hasError ? Fmt(r->err.all.max, 3) : "–") << " | "
+         << (r->hasError ? Fmt(r->err.penumbra.mae, 3) : "–") << " | " << (pareto ? "yes" : "")
+         << " | " << r->note << " |\n";
+    }
+    if (plotted)
+    {
+      md << "\n![" << name << "](" << plot << ")\n\n";
+    }
+  }
+  std::cout << "softshadows: bench wrote " << (fs::path(out) / "accuracy-vs-time.md").string()
+            << ", .csv, .json and " << scenes.size() << " plot(s) in "
+            << (fs::path(out) / "plots").string() << "\n";
+  return 0;
+}
+}

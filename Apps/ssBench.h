@@ -1,0 +1,32 @@
+// `softshadows bench`, and the pieces of `render` it shares.
+#ifndef ssBench_h
+#define ssBench_h
+
+#include "vtkSmartPointer.h"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+class vtkRenderPass;
+class vtkSoftShadowPass;
+
+namespace ssapp
+{
+struct UsageError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// Applies one --option key=value to the pass (throws UsageError).
+void ApplyOption(vtkSoftShadowPass* pass, const std::string& keyValue);
+/// VTK's own shadow pass, set up as in VTK's TestShadowMapPass.
+vtkSmartPointer<vtkRenderPass> MakeVTKShadowPass();
+double Median(std::vector<double> v);
+
+/// softshadows bench [--smoke] [--scenes a.json,b.json] [--out DIR] [--frames N]
+///   [--size WxH] [--reference-samples K]
+int Bench(const std::vector<std::string>& args);
+}
+
+#endif

@@ -1,0 +1,118 @@
+#include "ssPlot.h"
+
+#include "ssImageIO.h"
+
+#include "vtkAxis.h"
+#include "vtkChartLegend.h"
+#include "vtkChartXY.h"
+#include "vtkContextScene.h"
+#include "vtkContextView.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPen.h"
+#include "vtkPlot.h"
+#include "vtkPlotPoints.h"
+#include "vtkPointData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkTable.h"
+#include "vtkTextProperty.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <algorithm>
+#include <map>
+
+namespace ssapp
+{
+bool PlotErrorVsTime(const std::string& path, const std::string& title,
+  const std::vector<PlotPoint>& points, std::string& message)
+{
+  vtkNew<vtkContextView> view;
+  view->GetRenderWindow()->SetOffScreenRendering(1);
+  view->GetRenderWindow()->SetMultiSamples(0);
+  view->GetRenderWindow()->SetSize(900, 600);
+  view->GetRenderer()->SetBackground(1, 1, 1);
+  vtkNew<vtkChartXY> chart;
+  view->GetScene()->AddItem(chart);
+  chart->SetTitle(title);
+  chart->GetTitleProperties()->SetFontSize(16);
+  chart->SetShowLegend(true);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("time per frame (ms, log scale)");
+  chart->GetAxis(vtkAxis::BOTTOM)->SetLogScale(true);
+  chart->GetAxis(vtkAxis::LEFT)->SetTitle("mean absolute visibility error vs reference");
+
+  // one point series per method
+  std::map<std::string, std::vector<const PlotPoint*>> byMethod;
+  for (const auto& p : points)
+  {
+    byMethod[p.method].push_back(&p);
+  }
+  const unsigned char colors[][3] = { { 31, 119, 180 }, { 255, 127, 14 }, { 44, 160, 44 },
+    { 214, 39, 40 }, { 148, 103, 189 }, { 140, 86, 75 }, { 227, 119, 194 } };
+  int ci = 0;
+  for (const auto& m : byMethod)
+  {
+    vtkNew<vtkTable> table;
+    vtkNew<vtkFloatArray> x, y;
+    x->SetName("ms");
+    y->SetName(m.first.c_str());
+    for (const auto* p : m.second)
+    {
+      x->InsertNextValue(static_cast<float>(p->ms));
+      y->InsertNextValue(static_cast<float>(p->mae));
+    }
+    table->AddColumn(x);
+    table->AddColumn(y);
+    vtkPlot* plot = chart->AddPlot(vtkChart::POINTS);
+    plot->SetInputData(table, 0, 1);
+    const auto* c = colors[ci++ % 7];
+    plot->SetColor(c[0], c[1], c[2], 255);
+    if (auto* pts = vtkPlotPoints::SafeDownCast(plot))
+    {
+      pts->SetMarkerStyle(vtkPlotPoints::CIRCLE);
+      pts->SetMarkerSize(10);
+    }
+  }
+  // the Pareto front: no other point is both faster and more accurate
+  std::vector<const PlotPoint*> front;
+  for (const auto& p : points)
+  {
+    if (p.pareto)
+    {
+      front.push_back(&p);
+    }
+  }
+  std::sort(front.begin(), front.end(), [](auto* a, auto* b) { return a->ms < b->ms; });
+  if (front.size() >= 2)
+  {
+    vtkNew<vtkTable> table;
+    vtkNew<vtkFloatArray> x, y;
+    x->SetName("ms");
+    y->SetName("Pareto front");
+    for (const auto* p : front)
+    {
+      x->InsertNextValue(static_cast<float>(p->ms));
+      y->InsertNextValue(static_cast<float>(p->mae));
+    }
+    table->AddColumn(x);
+    table->AddColumn(y);
+    vtkPlot* line = chart->AddPlot(vtkChart::LINE);
+    line->SetInputData(table, 0, 1);
+    line->SetColor(0, 0, 0, 255);
+    line->SetWidth(2.0);
+    line->GetPen()->SetLineType(vtkPen::DASH_LINE);
+  }
+  view->GetRenderWindow()->Render();
+  vtkNew<vtkWindowToImageFilter> w2i;
+  w2i->SetInput(view->GetRenderWindow());
+  w2i->SetInputBufferTypeToRGB();
+  w2i->ReadFrontBufferOff();
+  w2i->Update();
+  int dims[3];
+  w2i->GetOutput()->GetDimensions(dims);
+  auto* rgb = vtkUnsignedCharArray::SafeDownCast(w2i->GetOutput()->GetPointData()->GetScalars());
+  return WriteRGB8Image(path, rgb->GetPointer(0), dims[0], dims[1], 3, message);
+}
+}

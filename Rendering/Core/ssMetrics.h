@@ -1,0 +1,28 @@
+#ifndef ssMetrics_h
+#define ssMetrics_h
+
+#include <cstddef>
+#include <vector>
+
+namespace ss
+{
+/// Error statistics of a visibility buffer against a reference on the same pixels.
+struct ErrorStats
+{
+  std::size_t pixels = 0;
+  double mae = 0.0, rmse = 0.0, max = 0.0, p99 = 0.0;
+};
+
+struct VisibilityErrors
+{
+  ErrorStats all;      ///< pixels where both are finite
+  ErrorStats penumbra; ///< the same restricted to 0.01 < reference < 0.99
+  std::size_t nonFinite = 0;          ///< Inf in A, or NaN in A where the reference is finite
+  std::size_t backgroundMismatch = 0; ///< finite in one, NaN in the other
+};
+
+/// Compares A with the reference R (same size; NaN is background).
+VisibilityErrors CompareVisibility(const float* a, const float* reference, std::size_t n);
+}
+
+#endif

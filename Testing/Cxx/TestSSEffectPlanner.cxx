@@ -1,0 +1,263 @@
+// Effect planner v1 (DESIGN.md "effect plan"): one test per rule, plus the
+// method names and the JSON/text the stats and PrintSelf show.
+#include "ssEffectPlanner.h"
+
+#include <gtest/gtest.h>
+
+using namespace ss;
+
+namespace
+{
+bool Contains(const std::string& s, const std::string& part)
+{
+  return s.find(part) != std::string::npos;
+}
+
+PlannerLight Area()
+{
+  PlannerLight l;
+  l.frame = MakeRectLightFrame({ 0, 0, 5 }, { 0, 0, -1 }, { 0, 1, 0 }, { 1, 1 });
+  return l;
+}
+
+PlannerLight Point()
+{
+  PlannerLight l;
+  l.frame = MakePointLightFrame({ 0, 0, 5 });
+  return l;
+}
+
+PlannerInput Scene(std::vector<PlannerLight> lights)
+{
+  PlannerInput in;
+  in.casterTriangles = 100;
+  in.receiverProps = 2;
+  in.lights = std::move(lights);
+  return in;
+}
+}
+
+TEST(EffectPlanner, MethodNamesRoundTrip)
+{
+  for (Method m : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS, Method::None })
+  {
+    Method back = Method::Auto;
+    ASSERT_TRUE(MethodFromName(MethodName(m), back)) << MethodName(m);
+    EXPECT_EQ(back, m);
+  }
+  EXPECT_STREQ(MethodName(Method::Auto), "auto");
+  EXPECT_STREQ(MethodName(Method::Hard), "hard");
+  EXPECT_STREQ(MethodName(Method::PCF), "pcf");
+  EXPECT_STREQ(MethodName(Method::PCSS), "pcss");
+  EXPECT_STREQ(MethodName(Method::None), "none");
+  // the numbers are vtkSoftShadowPass::MethodType's
+  EXPECT_EQ(static_cast<int>(Method::Auto), 0);
+  EXPECT_EQ(static_cast<int>(Method::Hard), 1);
+  EXPECT_EQ(static_cast<int>(Method::PCF), 2);
+  EXPECT_EQ(static_cast<int>(Method::PCSS), 3);
+  EXPECT_EQ(static_cast<int>(Method::None), 4);
+  Method m = Method::PCF;
+  EXPECT_TRUE(MethodFromName("reference", m));
+  EXPECT_EQ(m, Method::Reference);
+  m = Method::PCF;
+  EXPECT_FALSE(MethodFromName("fancy", m));
+  EXPECT_FALSE(MethodFromName("PCSS", m)); // names are lower case
+  EXPECT_FALSE(MethodFromName("", m));
+  EXPECT_EQ(m, Method::PCF); // untouched on failure
+}
+
+TEST(EffectPlanner, NothingToShadow)
+{
+  struct Case
+  {
+    PlannerInput in;
+    const char* reason;
+  };
+  PlannerInput noLights = Scene({});
+  PlannerInput noCasters = Scene({ Area(), Point() });
+  noCasters.casterTriangles = 0;
+  PlannerInput noReceivers = Scene({ Area(), Point() });
+  noReceivers.receiverProps = 0;
+  for (const Case& c : { Case{ noLights, "no lights" }, Case{ noCasters, "no shadow casters" },
+         Case{ noReceivers, "no shadow receivers" } })
+  {
+    for (bool unchanged : { false, true })
+    {
+      PlannerInput in = c.in;
+      in.unchangedSinceLastFrame = unchanged;
+      const EffectPlan p = MakeEffectPlan(in);
+      EXPECT_FALSE(p.shadowWork) << c.reason;
+      EXPECT_FALSE(p.reuse) << c.reason; // nothing to reuse without shadow work
+      EXPECT_TRUE(Contains(p.reason, c.reason)) << p.reason;
+      ASSERT_EQ(p.lights.size(), in.lights.size());
+      for (const LightPlan& l : p.lights)
+      {
+        EXPECT_EQ(l.method, Method::None);
+        EXPECT_TRUE(Contains(l.reason, c.reason)) << l.reason;
+      }
+    }
+  }
+  // requesting "none" switches the whole frame off
+  PlannerInput off = Scene({ Area() });
+  off.requested = Method::None;
+  const EffectPlan p = MakeEffectPlan(off);
+  EXPECT_FALSE(p.shadowWork);
+  EXPECT_EQ(p.lights[0].method, Method::None);
+}
+
+TEST(EffectPlanner, LightsThatCastNoShadows)
+{
+  PlannerLight head = Area();
+  head.headlight = true;
+  PlannerLight off = Area();
+  off.castsShadows = false;
+  PlannerLight bad = Area();
+  bad.valid = false;
+  bad.invalidReason = "zero normal";
+  for (Method requested : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS })
+  {
+    PlannerInput in = Scene({ head, off, bad });
+    in.requested = requested;
+    const EffectPlan p = MakeEffectPlan(in);
+    ASSERT_EQ(p.lights.size(), 3u);
+    EXPECT_EQ(p.lights[0].method, Method::None);
+    EXPECT_TRUE(Contains(p.lights[0].reason, "headlight")) << p.lights[0].reason;
+    EXPECT_EQ(p.lights[1].method, Method::None);
+    EXPECT_TRUE(Contains(p.lights[1].reason, "light does not cast shadows")) << p.lights[1].reason;
+    EXPECT_EQ(p.lights[2].method, Method::None);
+    EXPECT_TRUE(Contains(p.lights[2].reason, "zero normal")) << p.lights[2].reason;
+    EXPECT_FALSE(p.shadowWork); // none of them needs a visibility solve
+  }
+}
+
+TEST(EffectPlanner, AutoPicksBySoftness)
+{
+  PlannerLight thin = Area();
+  thin.frame = MakeRectLightFrame({ 0, 0, 5 }, { 0, 0, -1 }, { 0, 1, 0 }, { 1, 0 });
+  PlannerLight sun;
+  sun.frame = MakeDirectionalLightFrame({ 0, 0, -1 }, 0.0093);
+  PlannerLight hardSun;
+  hardSun.frame = MakeDirectionalLightFrame({ 0, 0, -1 }, 0.0);
+  const EffectPlan p = MakeEffectPlan(Scene({ Area(), Point(), thin, sun, hardSun }));
+  ASSERT_EQ(p.lights.size(), 5u);
+  EXPECT_TRUE(p.shadowWork);
+  EXPECT_FALSE(p.reuse);
+  EXPECT_EQ(p.lights[0].method, Method::PCSS);
+  EXPECT_TRUE(Contains(p.lights[0].reason, "area light: soft shadows")) << p.lights[0].reason;
+  EXPECT_EQ(p.lights[1].method, Method::Hard);
+  EXPECT_TRUE(Contains(p.lights[1].reason, "point/zero-size light: hard shadows")) << p.lights[1].reason;
+  EXPECT_EQ(p.lights[2].method, Method::Hard); // one zero side: not soft
+  EXPECT_EQ(p.lights[3].method, Method::PCSS); // the sun has an angular size
+  EXPECT_EQ(p.lights[4].method, Method::Hard);
+}
+
+TEST(EffectPlanner, RequestedMethodForEveryShadowCastingLight)
+{
+  PlannerLight head = Point();
+  head.headlight = true;
+  for (Method requested : { Method::Hard, Method::PCF, Method::PCSS })
+  {
+    PlannerInput in = Scene({ Area(), Point(), head });
+    in.requested = requested;
+    const EffectPlan p = MakeEffectPlan(in);
+    EXPECT_TRUE(p.shadowWork);
+    EXPECT_EQ(p.lights[0].method, requested);
+    EXPECT_EQ(p.lights[1].method, requested); // even a point light gets what was asked for
+    EXPECT_EQ(p.lights[2].method, Method::None);
+    EXPECT_TRUE(Contains(p.lights[0].reason, MethodName(requested))) << p.lights[0].reason;
+  }
+  // PCSS on a point light degenerates to a hard shadow, and the reason says so
+  PlannerInput in = Scene({ Area(), Point() });
+  in.requested = Method::PCSS;
+  const EffectPlan p = MakeEffectPlan(in);
+  EXPECT_TRUE(Contains(p.lights[1].reason, "degenerates")) << p.lights[1].reason;
+  EXPECT_FALSE(Contains(p.lights[0].reason, "degenerates")) << p.lights[0].reason;
+}
+
+TEST(EffectPlanner, TranslucentCastersAndReuse)
+{
+  PlannerInput in = Scene({ Area() });
+  in.translucentCasters = true;
+  EffectPlan p = MakeEffectPlan(in);
+  EXPECT_TRUE(Contains(p.reason, "translucent casters are treated as opaque")) << p.reason;
+  EXPECT_TRUE(Contains(p.reason, "v1")) << p.reason;
+  EXPECT_FALSE(p.reuse);
+  in.translucentCasters = false;
+  EXPECT_FALSE(Contains(MakeEffectPlan(in).reason, "translucent"));
+
+  in.unchangedSinceLastFrame = true;
+  p = MakeEffectPlan(in);
+  EXPECT_TRUE(p.shadowWork);
+  EXPECT_TRUE(p.reuse);
+  EXPECT_EQ(p.lights[0].method, Method::PCSS); // the plan itself still says what V holds
+  // reuse needs shadow work: a headlight-only scene has nothing to reuse
+  PlannerLight head = Area();
+  head.headlight = true;
+  PlannerInput h = Scene({ head });
+  h.unchangedSinceLastFrame = true;
+  p = MakeEffectPlan(h);
+  EXPECT_FALSE(p.shadowWork);
+  EXPECT_FALSE(p.reuse);
+}
+
+TEST(EffectPlanner, JSONAndText)
+{
+  PlannerLight bad = Area();
+  bad.valid = false;
+  bad.invalidReason = "size \"-1\" is negative\\\nsecond line";
+  const EffectPlan p = MakeEffectPlan(Scene({ Area(), bad }));
+  const std::string j = p.ToJSON();
+  EXPECT_EQ(j.front(), '{');
+  EXPECT_EQ(j.back(), '}');
+  EXPECT_TRUE(Contains(j, "\"shadow_work\": true")) << j;
+  EXPECT_TRUE(Contains(j, "\"reuse\": false")) << j;
+  EXPECT_TRUE(Contains(j, "\"reason\": \"")) << j;
+  EXPECT_TRUE(Contains(j, "{\"method\": \"pcss\", \"reason\": \"")) << j;
+  EXPECT_TRUE(Contains(j, "{\"method\": \"none\"")) << j;
+  // quotes, backslashes and newlines are escaped; no raw control characters
+  EXPECT_TRUE(Contains(j, "size \\\"-1\\\" is negative\\\\\\nsecond line")) << j;
+  for (char c : j)
+  {
+    EXPECT_GE(static_cast<unsigned char>(c), 0x20);
+  }
+  // a small scanner: strings close, escapes are valid, brackets balance outside strings
+  bool inString = false;
+  int depth = 0;
+  for (std::size_t i = 0; i < j.size(); ++i)
+  {
+    const char c = j[i];
+    if (inString)
+    {
+      if (c == '\\')
+      {
+        ASSERT_LT(i + 1, j.size());
+        EXPECT_NE(std::string("\"\\/bfnrtu").find(j[i + 1]), std::string::npos) << j;
+        ++i;
+      }
+      else if (c == '"')
+      {
+        inString = false;
+      }
+    }
+    else if (c == '"')
+    {
+      inString = true;
+    }
+    else if (c == '{' || c == '[')
+    {
+      ++depth;
+    }
+    else if (c == '}' || c == ']')
+    {
+      --depth;
+      ASSERT_GE(depth, 0) << j;
+    }
+  }
+  EXPECT_FALSE(inString) << j;
+  EXPECT_EQ(depth, 0) << j;
+  const std::string t = p.ToText();
+  EXPECT_TRUE(Contains(t, "light 0: pcss")) << t;
+  EXPECT_TRUE(Contains(t, "light 1: none")) << t;
+  EXPECT_TRUE(Contains(t, p.reason)) << t;
+  EXPECT_EQ(MakeEffectPlan(Scene({})).ToJSON().find("\"lights\": []") != std::string::npos, true);
+}

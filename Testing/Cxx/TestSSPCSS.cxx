@@ -1,0 +1,199 @@
+// PCSS geometry in the PVSM §4 notation checked against explicit geometric
+// constructions: kernel scale (eq. 1's alpha), blocker-search region,
+// directional kernels, slope-scaled bias, receiver-plane depth, and the
+// fraction of the light above a receiver's tangent plane.
+#include "ssPCSS.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+using namespace ss;
+
+namespace
+{
+glm::dvec3 ToLightSpace(const LightFrame& l, const glm::dvec3& p)
+{
+  const glm::dvec3 d = p - l.center;
+  return { glm::dot(d, l.u), glm::dot(d, l.v), glm::dot(d, l.n) };
+}
+
+glm::dvec3 DirToLightSpace(const LightFrame& l, const glm::dvec3& d)
+{
+  return { glm::dot(d, l.u), glm::dot(d, l.v), glm::dot(d, l.n) };
+}
+
+// The point where the segment from receiver r to light point l (light space)
+// crosses the plane z = zb, projected to the unit plane.
+glm::dvec2 ThroughPlane(const glm::dvec3& r, const glm::dvec3& l, double zb)
+{
+  const double t = (r.z - zb) / (r.z - l.z);
+  const glm::dvec3 b = r + t * (l - r);
+  return glm::dvec2(b) / b.z;
+}
+}
+
+TEST(PCSS, KernelScaleIsTheProjectedLight)
+{
+  // PVSM §4 eq. 1: a light offset l seen from receiver r through the blocker
+  // plane z = zb lands at X = R + alpha * l on the unit plane.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    const glm::dvec3 r(U(rng) * 4 - 2, U(rng) * 4 - 2, 2 + U(rng) * 8);
+    const double zb = 0.1 + U(rng) * (r.z - 0.2);
+    const glm::dvec3 l(U(rng) - 0.5, U(rng) - 0.5, 0.0);
+    const glm::dvec2 X = ThroughPlane(r, l, zb);
+    const glm::dvec2 R = glm::dvec2(r) / r.z;
+    const double a = PerspectiveKernelScale(r.z, zb);
+    EXPECT_NEAR(X.x, R.x + a * l.x, 1e-12);
+    EXPECT_NEAR(X.y, R.y + a * l.y, 1e-12);
+  }
+  // no blocker in front of the receiver, or behind the light: no kernel
+  EXPECT_EQ(PerspectiveKernelScale(2.0, 3.0), 0.0);
+  EXPECT_EQ(PerspectiveKernelScale(2.0, 2.0), 0.0);
+  EXPECT_EQ(PerspectiveKernelScale(2.0, 0.0), 0.0);
+  EXPECT_EQ(PerspectiveKernelScale(2.0, -1.0), 0.0);
+  // closer blockers give bigger penumbrae
+  EXPECT_GT(PerspectiveKernelScale(4.0, 1.0), PerspectiveKernelScale(4.0, 2.0));
+}
+
+TEST(PCSS, BlockerSearchRegionIsTheLightFootprint)
+{
+  // PCSS step 1: the light rectangle seen from the receiver through the plane
+  // of the nearest possible blocker, built from the four light corners.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 100; ++trial)
+  {
+    const LightFrame l = MakeRectLightFrame(
+      { U(rng), U(rng), 5 }, { U(rng) - 0.5, U(rng) - 0.5, -1 }, { 0, 1, 0 }, { 0.2 + U(rng), 0.2 + U(rng) });
+    const glm::dvec3 pw(U(rng) * 4 - 2, U(rng) * 4 - 2, U(rng));
+    const glm::dvec3 r = ToLightSpace(l, pw);
+    ASSERT_GT(r.z, 0.0);
+    const double zNear = 0.05 + U(rng) * (r.z - 0.1);
+    glm::dvec2 lo(1e300), hi(-1e300);
+    for (int c = 0; c < 4; ++c)
+    {
+      const glm::dvec3 cw = l.center + ((c & 1) ? 0.5 : -0.5) * l.width * l.u + ((c & 2) ? 0.5 : -0.5) * l.height * l.v;
+      const glm::dvec2 X = ThroughPlane(r, ToLightSpace(l, cw), zNear);
+      lo = glm::min(lo, X);
+      hi = glm::max(hi, X);
+    }
+    const glm::dvec2 e = BlockerSearchHalfExtent(l, r.z, zNear);
+    EXPECT_NEAR(e.x, 0.5 * (hi.x - lo.x), 1e-12);
+    EXPECT_NEAR(e.y, 0.5 * (hi.y - lo.y), 1e-12);
+    // and the region is centred on the receiver's own projection
+    EXPECT_NEAR(0.5 * (hi.x + lo.x), r.x / r.z, 1e-12);
+    EXPECT_NEAR(0.5 * (hi.y + lo.y), r.y / r.z, 1e-12);
+  }
+  const LightFrame l = MakeRectLightFrame({ 0, 0, 5 }, { 0, 0, -1 }, { 0, 1, 0 }, { 1, 1 });
+  EXPECT_EQ(BlockerSearchHalfExtent(l, 3.0, 4.0).x, 0.0); // nothing can block beyond the receiver
+}
+
+TEST(PCSS, DirectionalKernelIsTheConeAtTheBlocker)
+{
+  // a ray from the receiver tilted by half the angular diameter crosses the
+  // blocker plane (zr - zb) * tan(theta / 2) away, in orthographic units
+  for (double theta : { 0.001, 0.0093, 0.1, 0.5 })
+  {
+    const double zr = 7.0, zb = 2.5;
+    const glm::dvec3 dir(std::sin(0.5 * theta), 0.0, -std::cos(0.5 * theta)); // towards the light
+    const double t = (zb - zr) / dir.z;
+    EXPECT_NEAR(DirectionalKernelHalfWidth(zr, zb, theta), std::abs(t * dir.x), 1e-12);
+  }
+  EXPECT_EQ(DirectionalKernelHalfWidth(2.0, 3.0, 0.1), 0.0);
+  EXPECT_EQ(DirectionalKernelHalfWidth(2.0, 1.0, 0.0), 0.0);
+}
+
+TEST(PCSS, SlopeBiasMonotoneAndFinite)
+{
+  double prev = 0.0;
+  for (double deg = 0.0; deg <= 90.0; deg += 0.25)
+  {
+    const double b = SlopeScaledBias(0.01, std::cos(deg * M_PI / 180.0), 1.0, 2.0);
+    ASSERT_TRUE(std::isfinite(b)) << deg;
+    ASSERT_GE(b, prev - 1e-15) << deg;
+    prev = b;
+  }
+  EXPECT_NEAR(SlopeScaledBias(0.01, 1.0, 1.0, 2.0), 0.01, 1e-15);                      // facing: constant only
+  EXPECT_NEAR(SlopeScaledBias(0.01, std::cos(M_PI / 4), 1.0, 2.0), 0.01 * 3.0, 1e-12); // tan 45° = 1
+  // grazing and back-facing receivers get the clamped value tan = 10
+  const double clamped = 0.01 * (1.0 + 2.0 * 10.0);
+  EXPECT_NEAR(SlopeScaledBias(0.01, 0.0, 1.0, 2.0), clamped, 1e-12);
+  EXPECT_NEAR(SlopeScaledBias(0.01, 1e-9, 1.0, 2.0), clamped, 1e-12);
+  EXPECT_NEAR(SlopeScaledBias(0.01, -0.5, 1.0, 2.0), clamped, 1e-12);
+  EXPECT_NEAR(SlopeScaledBias(0.01, -1.0, 1.0, 2.0), clamped, 1e-12);
+  EXPECT_LE(prev, clamped + 1e-15);
+  // scales with the texel size
+  EXPECT_NEAR(SlopeScaledBias(0.04, 0.5, 1.0, 2.0), 4.0 * SlopeScaledBias(0.01, 0.5, 1.0, 2.0), 1e-15);
+}
+
+TEST(PCSS, ReceiverPlaneDepthIsThePlaneAlongTheRay)
+{
+  // explicit geometry: a world-space receiver plane seen by a rect light
+  // (perspective) and by a directional light (orthographic); a world point q
+  // on that plane projects to X, and the plane depth at X must be q's depth.
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    const LightFrame rect = MakeRectLightFrame(
+      { U(rng), U(rng), 6 + U(rng) }, { 0.3 * (U(rng) - 0.5), 0.3 * (U(rng) - 0.5), -1 }, { 0, 1, 0 }, { 1, 1 });
+    const LightFrame dir = MakeDirectionalLightFrame({ 0.3 * (U(rng) - 0.5), 0.3 * (U(rng) - 0.5), -1 }, 0.01);
+    const glm::dvec3 p(U(rng) * 2 - 1, U(rng) * 2 - 1, U(rng));                    // receiver point (world)
+    const glm::dvec3 nw = glm::normalize(glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, 1)); // its normal (world)
+    const glm::dvec3 t1 = glm::normalize(glm::cross(nw, glm::dvec3(1, 0, 0)));
+    const glm::dvec3 t2 = glm::cross(nw, t1);
+    const glm::dvec3 q = p + 0.3 * (U(rng) - 0.5) * t1 + 0.3 * (U(rng) - 0.5) * t2; // another plane point
+    {
+      const glm::dvec3 pLS = ToLightSpace(rect, p), qLS = ToLightSpace(rect, q);
+      const glm::dvec3 nLS = DirToLightSpace(rect, nw);
+      const glm::dvec2 X = glm::dvec2(qLS) / qLS.z;
+      EXPECT_NEAR(ReceiverPlaneDepth(pLS, nLS, X, false, 100.0), qLS.z, 1e-10) << "trial " << trial;
+      // at the receiver's own projection it is the receiver's depth
+      EXPECT_NEAR(ReceiverPlaneDepth(pLS, nLS, glm::dvec2(pLS) / pLS.z, false, 100.0), pLS.z, 1e-12);
+    }
+    {
+      // orthographic: the light frame's origin is arbitrary, depth is along n
+      const glm::dvec3 pLS = ToLightSpace(dir, p), qLS = ToLightSpace(dir, q);
+      const glm::dvec3 nLS = DirToLightSpace(dir, nw);
+      EXPECT_NEAR(ReceiverPlaneDepth(pLS, nLS, glm::dvec2(qLS), true, 100.0), qLS.z, 1e-10) << "trial " << trial;
+    }
+  }
+  // grazing planes are clamped to pLS.z +- maxDelta, and stay finite
+  EXPECT_NEAR(ReceiverPlaneDepth({ 0, 0, 1 }, { 1, 0, 1e-9 }, { 0.5, 0 }, false, 0.25), 1.0 - 0.25, 1e-12);
+  // plane z = 1 + 2x (nearly) parallel to the ray (0.5, 0, 1) t: the hit runs off to +infinity
+  EXPECT_NEAR(ReceiverPlaneDepth({ 0, 0, 1 }, { -1, 0, 0.5 + 1e-9 }, { 0.5, 0 }, false, 0.25), 1.0 + 0.25, 1e-12);
+  EXPECT_NEAR(ReceiverPlaneDepth({ 0, 0, 1 }, { 1, 0, 0 }, { 0.5, 0 }, true, 0.25), 1.0, 1e-12);
+  const double z = ReceiverPlaneDepth({ 0, 0, 1 }, { 1, 0, 1 }, { -1, 0 }, false, 0.25); // ray parallel to plane
+  EXPECT_TRUE(std::isfinite(z));
+  EXPECT_LE(std::abs(z - 1.0), 0.25);
+}
+
+TEST(PCSS, LightAboveTangentPlaneMatchesSampling)
+{
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const LightFrame l = MakeRectLightFrame({ 0, 0, 3 }, { 0.2, 0, -1 }, { 0, 1, 0 }, { 1.5, 0.8 });
+  for (int trial = 0; trial < 50; ++trial)
+  {
+    const glm::dvec3 p(U(rng) * 4 - 2, U(rng) * 4 - 2, U(rng));
+    const glm::dvec3 n = glm::normalize(glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5));
+    const int k = 256;
+    int above = 0;
+    for (int j = 0; j < k; ++j)
+    {
+      for (int i = 0; i < k; ++i)
+      {
+        above += glm::dot(n, RegularLightSample(l, i, j, k) - p) > 0 ? 1 : 0;
+      }
+    }
+    EXPECT_NEAR(LightFractionAboveTangentPlane(l, p, n), above / double(k * k), 2.0 / k);
+  }
+  EXPECT_EQ(LightFractionAboveTangentPlane(MakePointLightFrame({ 0, 0, 3 }), { 0, 0, 0 }, { 0, 0, 1 }), 1.0);
+  EXPECT_EQ(LightFractionAboveTangentPlane(MakePointLightFrame({ 0, 0, 3 }), { 0, 0, 0 }, { 0, 0, -1 }), 0.0);
+}
