@@ -52,6 +52,7 @@ using json = nlohmann::json;
 using ssapp::ApplyOption;
 using ssapp::MakeVTKShadowPass;
 using ssapp::Median;
+using ssapp::ParseInt;
 using ssapp::UsageError;
 
 const char* kUsage =
@@ -66,6 +67,10 @@ const char* kUsage =
   "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
   "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified)\n";
 
+}
+
+namespace ssapp
+{
 int ParseInt(const std::string& s, const std::string& what, int lo, int hi)
 {
   try
@@ -85,6 +90,20 @@ int ParseInt(const std::string& s, const std::string& what, int lo, int hi)
   }
 }
 
+void ParseSize(const std::string& s, int& width, int& height)
+{
+  const auto x = s.find('x');
+  if (x == std::string::npos)
+  {
+    throw UsageError("--size: expected WxH (e.g. 640x480), got '" + s + "'");
+  }
+  width = ParseInt(s.substr(0, x), "--size width", 1, 16384);
+  height = ParseInt(s.substr(x + 1), "--size height", 1, 16384);
+}
+}
+
+namespace
+{
 double ParseDouble(const std::string& s, const std::string& what)
 {
   try
@@ -224,14 +243,7 @@ int Render(const std::vector<std::string>& args)
     }
     else if (a == "--size")
     {
-      const std::string s = value();
-      const auto x = s.find('x');
-      if (x == std::string::npos)
-      {
-        throw UsageError("--size: expected WxH (e.g. 640x480), got '" + s + "'");
-      }
-      width = ParseInt(s.substr(0, x), "--size width", 1, 16384);
-      height = ParseInt(s.substr(x + 1), "--size height", 1, 16384);
+      ssapp::ParseSize(value(), width, height);
     }
     else if (a == "--light")
     {

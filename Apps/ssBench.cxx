@@ -151,22 +151,15 @@ int Bench(const std::vector<std::string>& args)
     }
     else if (a == "--frames")
     {
-      frames = std::stoi(value());
+      frames = ParseInt(value(), "--frames", 1, 1000);
     }
     else if (a == "--reference-samples")
     {
-      k = std::stoi(value());
+      k = ParseInt(value(), "--reference-samples", 1, 64);
     }
     else if (a == "--size")
     {
-      const std::string s = value();
-      const auto x = s.find('x');
-      if (x == std::string::npos)
-      {
-        throw UsageError("--size: expected WxH");
-      }
-      width = std::stoi(s.substr(0, x));
-      height = std::stoi(s.substr(x + 1));
+      ParseSize(value(), width, height);
     }
     else
     {

@@ -23,6 +23,10 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& keyValue);
 /// VTK's own shadow pass, set up as in VTK's TestShadowMapPass.
 vtkSmartPointer<vtkRenderPass> MakeVTKShadowPass();
 double Median(std::vector<double> v);
+/// Integer in [lo, hi] (throws UsageError naming `what`).
+int ParseInt(const std::string& s, const std::string& what, int lo, int hi);
+/// WxH (throws UsageError).
+void ParseSize(const std::string& s, int& width, int& height);
 
 /// softshadows bench [--smoke] [--scenes a.json,b.json] [--out DIR] [--frames N]
 ///   [--size WxH] [--reference-samples K]
