@@ -143,9 +143,10 @@ public:
   vtkSmartPointer<vtkTextureObject> GPosition; // RGBA32F: position - origin, prop id
   vtkSmartPointer<vtkTextureObject> GNormal;   // RGBA32F: world normal, receives
   vtkSmartPointer<vtkTextureObject> GDepth;
-  // Shadow maps: a GL_TEXTURE_2D_ARRAY (one layer per view, R32F linear depth)
-  // whose mip levels hold the MIN depth of the level below, so the PCSS blocker
-  // search can look at a whole region without missing a blocker between samples.
+  // Shadow maps: a GL_TEXTURE_2D_ARRAY (one layer per view, RG32F linear
+  // depth) whose mip levels hold the (min, max) depth of the level below: the
+  // PCSS blocker search looks at a whole region without missing a blocker
+  // between samples, and the filter decides coarse quads exactly where it can.
   unsigned int ShadowArray = 0;
   int ShadowArraySize = 0, ShadowArrayLayers = 0, ShadowArrayLevels = 0;
   std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
@@ -224,7 +225,7 @@ public:
     {
       // all mip levels: about 4/3 of level 0
       b += static_cast<long long>(this->ShadowArraySize) * this->ShadowArraySize *
-        this->ShadowArrayLayers * 4 * 4 / 3;
+        this->ShadowArrayLayers * 8 * 4 / 3;
     }
     tex(this->Visibility, 4);
     if (this->CasterUploaded)
@@ -284,7 +285,7 @@ public:
     for (int l = 0; l < levels; ++l)
     {
       const int s = std::max(1, size >> l);
-      glTexImage3D(GL_TEXTURE_2D_ARRAY, l, GL_R32F, s, s, layers, 0, GL_RED, GL_FLOAT, nullptr);
+      glTexImage3D(GL_TEXTURE_2D_ARRAY, l, GL_RG32F, s, s, layers, 0, GL_RG, GL_FLOAT, nullptr);
     }
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);

@@ -1,6 +1,6 @@
 //VTK::System::Dec
-// One level of the shadow maps' min-depth pyramid: each texel is the minimum
-// of the 2x2 texels below it (the sampled range is restricted to the level
+// One level of the shadow maps' depth pyramid: each texel holds the minimum
+// (R) and maximum (G) of the 2x2 texels below it (the sampled range is restricted to the level
 // below, so reading and writing one texture is not a feedback loop).
 uniform sampler2DArray src;
 uniform int layer;
@@ -12,9 +12,9 @@ void main()
 {
   ivec2 p = ivec2(floor(texCoord * vec2(dstSize))) * 2;
   ivec2 hi = srcSize - 1;
-  float m = texelFetch(src, ivec3(min(p, hi), layer), 0).r;
-  m = min(m, texelFetch(src, ivec3(min(p + ivec2(1, 0), hi), layer), 0).r);
-  m = min(m, texelFetch(src, ivec3(min(p + ivec2(0, 1), hi), layer), 0).r);
-  m = min(m, texelFetch(src, ivec3(min(p + ivec2(1, 1), hi), layer), 0).r);
-  gl_FragData[0] = vec4(m, 0.0, 0.0, 1.0);
+  vec2 a = texelFetch(src, ivec3(min(p, hi), layer), 0).rg;
+  vec2 b = texelFetch(src, ivec3(min(p + ivec2(1, 0), hi), layer), 0).rg;
+  vec2 c = texelFetch(src, ivec3(min(p + ivec2(0, 1), hi), layer), 0).rg;
+  vec2 d = texelFetch(src, ivec3(min(p + ivec2(1, 1), hi), layer), 0).rg;
+  gl_FragData[0] = vec4(min(min(a.x, b.x), min(c.x, d.x)), max(max(a.y, b.y), max(c.y, d.y)), 0.0, 1.0);
 }

@@ -3,8 +3,8 @@
 // The math mirrors Rendering/Core (ssPCSS.h, ssCoverage.h), where it is unit-tested.
 uniform sampler2D gPosition; // xyz: world position - frame origin, w: prop id (0 = background)
 uniform sampler2D gNormal;   // xyz: world normal
-uniform sampler2DArray shadowMaps; // one layer per view, linear light-space depth;
-                                  // mip level l holds the min depth of level l-1
+uniform sampler2DArray shadowMaps; // one layer per view, linear light-space depth (RG);
+                                  // mip level l holds (min, max) of the level below
 uniform int firstLayer;
 uniform int numViews;
 uniform vec3 viewU[6];
@@ -64,6 +64,16 @@ float fetchMinDepth(int layer, ivec2 t, int level)
   return texelFetch(shadowMaps, ivec3(t, layer), level).r;
 }
 
+vec2 fetchMinMaxDepth(int layer, ivec2 t, int level)
+{
+  int s = max(1, int(mapSize) >> level);
+  if (t.x < 0 || t.y < 0 || t.x >= s || t.y >= s)
+  {
+    return vec2(3.0e38);
+  }
+  return texelFetch(shadowMaps, ivec3(t, layer), level).rg;
+}
+
 // Ssee ss::ReceiverPlaneDepth: depth of the receiver's tangent plane along
 // the projection ray through unit-plane position X, clamped.
 float planeDepth(View w, vec2 X, float maxDelta)
@@ -92,24 +102,83 @@ vec2 texelToProjected(View w, vec2 T)
   return e.xy + T / w.texelPerUnit;
 }
 
-// PVSM §4.1 eq. 2 with texel quads of `stride` texels: each quad contributes
-// its overlap with the kernel box times its shadow test, divided by the box area.
+// Lit fraction of the quad q of 2^level texels. The (min, max) depth of the
+// quad decides it exactly when the receiver (its tangent plane over the
+// quad, minus the bias) is nearer than every texel (lit) or farther than every
+// texel (occluded); otherwise its four children are classified the same way
+// and a child still undecided takes the test of its centre texel. Coarse quads
+// thus stay exact where the shadow is uniform, and no fixed sampling lattice
+// shows in wide penumbrae (one centre sample per coarse quad did).
+float quadLit(View w, int level, ivec2 q, float bias, float maxDelta)
+{
+  int layer = firstLayer + w.index;
+  if (level == 0)
+  {
+    float d = fetchDepth(layer, q);
+    return (planeDepth(w, texelToProjected(w, vec2(q) + 0.5), maxDelta) - bias <= d) ? 1.0 : 0.0;
+  }
+  float s = exp2(float(level));
+  vec2 a = vec2(q) * s;
+  float z00 = planeDepth(w, texelToProjected(w, a), maxDelta);
+  float z10 = planeDepth(w, texelToProjected(w, a + vec2(s, 0.0)), maxDelta);
+  float z01 = planeDepth(w, texelToProjected(w, a + vec2(0.0, s)), maxDelta);
+  float z11 = planeDepth(w, texelToProjected(w, a + vec2(s)), maxDelta);
+  float zmin = min(min(z00, z10), min(z01, z11)) - bias;
+  float zmax = max(max(z00, z10), max(z01, z11)) - bias;
+  vec2 mm = fetchMinMaxDepth(layer, q, level);
+  if (zmax <= mm.x)
+  {
+    return 1.0;
+  }
+  if (zmin > mm.y)
+  {
+    return 0.0;
+  }
+  float h = 0.5 * s;
+  float sum = 0.0;
+  for (int c = 0; c < 4; ++c)
+  {
+    ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
+    vec2 b = vec2(child) * h;
+    // the receiver plane is linear per quad: the corners bound it
+    float c00 = planeDepth(w, texelToProjected(w, b), maxDelta);
+    float c10 = planeDepth(w, texelToProjected(w, b + vec2(h, 0.0)), maxDelta);
+    float c01 = planeDepth(w, texelToProjected(w, b + vec2(0.0, h)), maxDelta);
+    float c11 = planeDepth(w, texelToProjected(w, b + vec2(h)), maxDelta);
+    float cmin = min(min(c00, c10), min(c01, c11)) - bias;
+    float cmax = max(max(c00, c10), max(c01, c11)) - bias;
+    vec2 cm = fetchMinMaxDepth(layer, child, level - 1);
+    if (cmax <= cm.x)
+    {
+      sum += 1.0;
+    }
+    else if (cmin <= cm.y)
+    {
+      // undecided: the test of the child's centre texel
+      ivec2 t = ivec2(b + 0.5 * h);
+      float d = fetchDepth(layer, t);
+      sum += (planeDepth(w, texelToProjected(w, vec2(t) + 0.5), maxDelta) - bias <= d) ? 1.0 : 0.0;
+    }
+  }
+  return 0.25 * sum;
+}
+
+// PVSM §4.1 eq. 2 with texel quads of 2^level texels: each quad contributes
+// its overlap with the kernel box times its lit fraction, over the box area.
 float coverageFilter(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
 {
   float area = (k1.x - k0.x) * (k1.y - k0.y);
   if (area <= 0.0)
   {
-    vec2 c = 0.5 * (k0 + k1);
-    float d = fetchDepth(firstLayer + w.index, ivec2(floor(c)));
-    return (planeDepth(w, texelToProjected(w, floor(c) + 0.5), maxDelta) - bias <= d) ? 1.0 : 0.0;
+    return quadLit(w, 0, ivec2(floor(0.5 * (k0 + k1))), bias, maxDelta);
   }
   float extent = max(k1.x - k0.x, k1.y - k0.y);
-  int stride = 1;
-  while (extent / float(stride) > float(maxQuads))
+  int level = 0;
+  while (extent / exp2(float(level)) > float(maxQuads) && level < numLevels - 1)
   {
-    stride *= 2;
+    ++level;
   }
-  float s = float(stride);
+  float s = exp2(float(level));
   ivec2 q0 = ivec2(floor(k0 / s));
   ivec2 q1 = ivec2(floor(k1 / s));
   float lit = 0.0;
@@ -129,14 +198,7 @@ float coverageFilter(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
       {
         continue;
       }
-      // the quad's depth is the one of its centre texel
-      ivec2 t = ivec2(qx * stride + stride / 2, qy * stride + stride / 2);
-      float d = fetchDepth(firstLayer + w.index, t);
-      float zr = planeDepth(w, texelToProjected(w, vec2(t) + 0.5), maxDelta);
-      if (zr - bias <= d)
-      {
-        lit += ox * oy;
-      }
+      lit += ox * oy * quadLit(w, level, ivec2(qx, qy), bias, maxDelta);
     }
   }
   return clamp(lit / area, 0.0, 1.0);
