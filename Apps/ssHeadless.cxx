@@ -10,6 +10,9 @@
 #include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
 namespace ssapp
 {
@@ -26,6 +29,9 @@ void PrivateDisplay::Stop()
     int status = 0;
     waitpid(this->Pid, &status, 0);
     this->Pid = -1;
+    // DISPLAY was unset before the server started (else none is started);
+    // do not leave it naming a server that is gone.
+    unsetenv("DISPLAY");
   }
 }
 
@@ -51,6 +57,10 @@ bool PrivateDisplay::EnsureDisplay(std::string& message)
     {
       continue;
     }
+    // Everything the child needs is prepared before fork: after fork only
+    // async-signal-safe calls are allowed (VTK may already run threads).
+    const std::string d = ":" + std::to_string(num);
+    const pid_t parent = getpid();
     const pid_t pid = fork();
     if (pid < 0)
     {
@@ -65,7 +75,17 @@ bool PrivateDisplay::EnsureDisplay(std::string& message)
         dup2(devnull, 1);
         dup2(devnull, 2);
       }
-      const std::string d = ":" + std::to_string(num);
+#ifdef __linux__
+      // If this program dies without running its destructors (a signal),
+      // the server goes with it instead of lingering.
+      prctl(PR_SET_PDEATHSIG, SIGTERM);
+      if (getppid() != parent)
+      {
+        _exit(127);
+      }
+#else
+      (void)parent;
+#endif
       // -noreset: an X server resets (and refuses connections) whenever its
       // last client disconnects, which a window closed and reopened can hit.
       execlp("Xvfb", "Xvfb", d.c_str(), "-screen", "0", "4096x4096x24", "-nolisten", "tcp",

@@ -11,8 +11,10 @@
 #include "vtkDataSetSurfaceFilter.h"
 #include "vtkRegularPolygonSource.h"
 #include "vtkLight.h"
+#include "vtkLogger.h"
 #include "vtkNew.h"
 #include "vtkOBJReader.h"
+#include "vtkOutputWindow.h"
 #include "vtkPLYReader.h"
 #include "vtkPlaneSource.h"
 #include "vtkPoints.h"
@@ -31,6 +33,7 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -332,8 +335,82 @@ public:
   std::string Message;
 };
 
+// One line from a VTK message ("ERROR: In file, line N\nclass (0x..): text"):
+// the text after the object's address, newlines folded.
+std::string OneLine(std::string m)
+{
+  const auto where = m.find(", line ");
+  const auto addr = m.find("): ");
+  if (where != std::string::npos && addr != std::string::npos && where < addr)
+  {
+    m = m.substr(addr + 3);
+  }
+  std::replace(m.begin(), m.end(), '\n', ' ');
+  while (!m.empty() && (m.back() == ' ' || m.back() == '\r'))
+  {
+    m.pop_back();
+  }
+  return m;
+}
+
+// While a reader runs, VTK messages from objects without observers (the XML
+// parser inside vtkXMLPolyDataReader, vtkDataObjectTypes, ...) are kept here
+// instead of being printed, so bad input still gives exactly one error line.
+class CaptureOutputWindow : public vtkOutputWindow
+{
+public:
+  static CaptureOutputWindow* New() { return new CaptureOutputWindow; }
+  void DisplayText(const char* t) override { this->Keep(t); }
+  void DisplayErrorText(const char* t) override { this->Keep(t); }
+  void DisplayWarningText(const char* t) override { this->Keep(t); }
+  void DisplayGenericWarningText(const char* t) override { this->Keep(t); }
+  void DisplayDebugText(const char*) override {}
+  std::string First;
+
+private:
+  void Keep(const char* t)
+  {
+    if (this->First.empty() && t)
+    {
+      this->First = OneLine(t);
+    }
+  }
+};
+
+class ScopedOutputCapture
+{
+public:
+  // VTK logs errors to stderr through vtkLogger before the output window
+  // sees them: that stream is silenced too, and restored afterwards.
+  ScopedOutputCapture()
+    : Previous(vtkOutputWindow::GetInstance())
+    , Verbosity(vtkLogger::GetCurrentVerbosityCutoff())
+  {
+    vtkOutputWindow::SetInstance(this->Capture);
+    vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
+  }
+  ~ScopedOutputCapture()
+  {
+    vtkLogger::SetStderrVerbosity(this->Verbosity);
+    vtkOutputWindow::SetInstance(this->Previous);
+  }
+  ScopedOutputCapture(const ScopedOutputCapture&) = delete;
+  ScopedOutputCapture& operator=(const ScopedOutputCapture&) = delete;
+  const std::string& First() const { return this->Capture->First; }
+
+private:
+  vtkSmartPointer<vtkOutputWindow> Previous;
+  vtkLogger::Verbosity Verbosity;
+  vtkNew<CaptureOutputWindow> Capture;
+};
+
 vtkSmartPointer<vtkPolyData> ReadOFF(const std::string& path, const Ctx& c)
 {
+  // OpenMesh reports problems on its own streams; the error line below names
+  // the key and the file instead.
+  omerr().disable();
+  omlog().disable();
+  omout().disable();
   OpenMesh::PolyMesh_ArrayKernelT<> mesh;
   if (!OpenMesh::IO::read_mesh(mesh, path))
   {
@@ -380,6 +457,7 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::pat
   // Readers report problems through ErrorEvent; an observer keeps them from
   // printing their own lines so the user gets one error line naming the key.
   vtkNew<ErrorCapture> errors;
+  ScopedOutputCapture unobserved;
   auto run = [&](auto reader) {
     reader->AddObserver(vtkCommand::ErrorEvent, errors);
     reader->AddObserver(vtkCommand::WarningEvent, errors);
@@ -424,13 +502,15 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::pat
   {
     (c / "mesh").Fail("unsupported mesh format '" + ext + "' (expected .vtp .vtk .stl .ply .obj .off)");
   }
+  const std::string readerMessage = !errors->Message.empty() ? OneLine(errors->Message) : unobserved.First();
   if (!errors->Message.empty())
   {
-    (c / "mesh").Fail("could not read '" + path.string() + "': " + errors->Message);
+    (c / "mesh").Fail("could not read '" + path.string() + "': " + readerMessage);
   }
   if (!pd || pd->GetNumberOfPoints() == 0 || pd->GetNumberOfCells() == 0)
   {
-    (c / "mesh").Fail("could not read a surface from '" + path.string() + "' (empty or unreadable)");
+    (c / "mesh").Fail("could not read a surface from '" + path.string() + "' (empty or unreadable" +
+      (readerMessage.empty() ? std::string(")") : "; " + readerMessage + ")"));
   }
   return pd;
 }
@@ -542,8 +622,9 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
     {
       doc = json::parse(in);
     }
-    catch (const json::parse_error& e)
+    catch (const json::exception& e)
     {
+      // parse_error, and out_of_range for numbers such as 1e400
       std::string msg = e.what();
       std::replace(msg.begin(), msg.end(), '\n', ' ');
       throw SceneError(path + ": invalid JSON: " + msg);
