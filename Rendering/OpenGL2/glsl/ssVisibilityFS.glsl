@@ -102,6 +102,17 @@ vec2 texelToProjected(View w, vec2 T)
   return e.xy + T / w.texelPerUnit;
 }
 
+// (min, max) of the receiver's tangent plane over the quad [a, a + s]^2 (texel
+// units): the plane's depth along the rays is bounded by the quad's corners.
+vec2 planeRange(View w, vec2 a, float s, float maxDelta)
+{
+  float z00 = planeDepth(w, texelToProjected(w, a), maxDelta);
+  float z10 = planeDepth(w, texelToProjected(w, a + vec2(s, 0.0)), maxDelta);
+  float z01 = planeDepth(w, texelToProjected(w, a + vec2(0.0, s)), maxDelta);
+  float z11 = planeDepth(w, texelToProjected(w, a + vec2(s)), maxDelta);
+  return vec2(min(min(z00, z10), min(z01, z11)), max(max(z00, z10), max(z01, z11)));
+}
+
 // Lit fraction of the quad q of 2^level texels. The (min, max) depth of the
 // quad decides it exactly when the receiver (its tangent plane over the
 // quad, minus the bias) is nearer than every texel (lit) or farther than every
@@ -118,19 +129,13 @@ float quadLit(View w, int level, ivec2 q, float bias, float maxDelta)
     return (planeDepth(w, texelToProjected(w, vec2(q) + 0.5), maxDelta) - bias <= d) ? 1.0 : 0.0;
   }
   float s = exp2(float(level));
-  vec2 a = vec2(q) * s;
-  float z00 = planeDepth(w, texelToProjected(w, a), maxDelta);
-  float z10 = planeDepth(w, texelToProjected(w, a + vec2(s, 0.0)), maxDelta);
-  float z01 = planeDepth(w, texelToProjected(w, a + vec2(0.0, s)), maxDelta);
-  float z11 = planeDepth(w, texelToProjected(w, a + vec2(s)), maxDelta);
-  float zmin = min(min(z00, z10), min(z01, z11)) - bias;
-  float zmax = max(max(z00, z10), max(z01, z11)) - bias;
+  vec2 z = planeRange(w, vec2(q) * s, s, maxDelta) - bias;
   vec2 mm = fetchMinMaxDepth(layer, q, level);
-  if (zmax <= mm.x)
+  if (z.y <= mm.x)
   {
     return 1.0;
   }
-  if (zmin > mm.y)
+  if (z.x > mm.y)
   {
     return 0.0;
   }
@@ -140,19 +145,13 @@ float quadLit(View w, int level, ivec2 q, float bias, float maxDelta)
   {
     ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
     vec2 b = vec2(child) * h;
-    // the receiver plane is linear per quad: the corners bound it
-    float c00 = planeDepth(w, texelToProjected(w, b), maxDelta);
-    float c10 = planeDepth(w, texelToProjected(w, b + vec2(h, 0.0)), maxDelta);
-    float c01 = planeDepth(w, texelToProjected(w, b + vec2(0.0, h)), maxDelta);
-    float c11 = planeDepth(w, texelToProjected(w, b + vec2(h)), maxDelta);
-    float cmin = min(min(c00, c10), min(c01, c11)) - bias;
-    float cmax = max(max(c00, c10), max(c01, c11)) - bias;
+    vec2 cz = planeRange(w, b, h, maxDelta) - bias;
     vec2 cm = fetchMinMaxDepth(layer, child, level - 1);
-    if (cmax <= cm.x)
+    if (cz.y <= cm.x)
     {
       sum += 1.0;
     }
-    else if (cmin <= cm.y)
+    else if (cz.x <= cm.y)
     {
       // undecided: the test of the child's centre texel
       ivec2 t = ivec2(b + 0.5 * h);
@@ -362,11 +361,7 @@ void main()
             continue;
           }
           // the receiver's nearest depth over the cell: its plane at the corners
-          vec2 a = vec2(cx, cy) * cell;
-          float zr = min(min(planeDepth(w, texelToProjected(w, a), maxDelta),
-                             planeDepth(w, texelToProjected(w, a + vec2(cell, 0.0)), maxDelta)),
-                         min(planeDepth(w, texelToProjected(w, a + vec2(0.0, cell)), maxDelta),
-                             planeDepth(w, texelToProjected(w, a + vec2(cell)), maxDelta)));
+          float zr = planeRange(w, vec2(cx, cy) * cell, cell, maxDelta).x;
           if (dz < zr - bias)
           {
             sum += dz * ox * oy;
