@@ -50,6 +50,7 @@ namespace
 using json = nlohmann::json;
 
 using ssapp::ApplyOption;
+using ssapp::FlagValue;
 using ssapp::MakeVTKShadowPass;
 using ssapp::Median;
 using ssapp::ParseInt;
@@ -88,6 +89,15 @@ int ParseInt(const std::string& s, const std::string& what, int lo, int hi)
     throw UsageError(what + ": expected an integer in [" + std::to_string(lo) + ", " +
       std::to_string(hi) + "], got '" + s + "'");
   }
+}
+
+std::string FlagValue(const std::vector<std::string>& args, std::size_t& i)
+{
+  if (i + 1 >= args.size())
+  {
+    throw UsageError(args[i] + ": missing value");
+  }
+  return args[++i];
 }
 
 void ParseSize(const std::string& s, int& width, int& height)
@@ -230,13 +240,7 @@ int Render(const std::vector<std::string>& args)
   for (std::size_t i = 0; i < args.size(); ++i)
   {
     const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size())
-      {
-        throw UsageError(a + ": missing value");
-      }
-      return args[++i];
-    };
+    auto value = [&]() { return FlagValue(args, i); };
     if (a == "--method")
     {
       method = value();

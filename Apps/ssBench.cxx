@@ -125,13 +125,7 @@ int Bench(const std::vector<std::string>& args)
   for (std::size_t i = 0; i < args.size(); ++i)
   {
     const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size())
-      {
-        throw UsageError(a + ": missing value");
-      }
-      return args[++i];
-    };
+    auto value = [&]() { return FlagValue(args, i); };
     if (a == "--smoke")
     {
       smoke = true;

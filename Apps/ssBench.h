@@ -25,6 +25,8 @@ vtkSmartPointer<vtkRenderPass> MakeVTKShadowPass();
 double Median(std::vector<double> v);
 /// Integer in [lo, hi] (throws UsageError naming `what`).
 int ParseInt(const std::string& s, const std::string& what, int lo, int hi);
+/// The value after the flag args[i] (advances i; throws UsageError when missing).
+std::string FlagValue(const std::vector<std::string>& args, std::size_t& i);
 /// WxH (throws UsageError).
 void ParseSize(const std::string& s, int& width, int& height);
 

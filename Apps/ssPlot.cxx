@@ -16,6 +16,7 @@
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
 #include "vtkTable.h"
 #include "vtkTextProperty.h"
 #include "vtkUnsignedCharArray.h"
@@ -26,6 +27,26 @@
 
 namespace ssapp
 {
+namespace
+{
+// A two-column table (time, error) of the given points: one plotted series.
+vtkSmartPointer<vtkTable> Series(const std::string& name, const std::vector<const PlotPoint*>& pts)
+{
+  auto table = vtkSmartPointer<vtkTable>::New();
+  vtkNew<vtkFloatArray> x, y;
+  x->SetName("ms");
+  y->SetName(name.c_str());
+  for (const auto* p : pts)
+  {
+    x->InsertNextValue(static_cast<float>(p->ms));
+    y->InsertNextValue(static_cast<float>(p->mae));
+  }
+  table->AddColumn(x);
+  table->AddColumn(y);
+  return table;
+}
+}
+
 bool PlotErrorVsTime(const std::string& path, const std::string& title,
   const std::vector<PlotPoint>& points, std::string& message)
 {
@@ -54,19 +75,8 @@ bool PlotErrorVsTime(const std::string& path, const std::string& title,
   int ci = 0;
   for (const auto& m : byMethod)
   {
-    vtkNew<vtkTable> table;
-    vtkNew<vtkFloatArray> x, y;
-    x->SetName("ms");
-    y->SetName(m.first.c_str());
-    for (const auto* p : m.second)
-    {
-      x->InsertNextValue(static_cast<float>(p->ms));
-      y->InsertNextValue(static_cast<float>(p->mae));
-    }
-    table->AddColumn(x);
-    table->AddColumn(y);
     vtkPlot* plot = chart->AddPlot(vtkChart::POINTS);
-    plot->SetInputData(table, 0, 1);
+    plot->SetInputData(Series(m.first, m.second), 0, 1);
     const auto* c = colors[ci++ % 7];
     plot->SetColor(c[0], c[1], c[2], 255);
     if (auto* pts = vtkPlotPoints::SafeDownCast(plot))
@@ -87,19 +97,8 @@ bool PlotErrorVsTime(const std::string& path, const std::string& title,
   std::sort(front.begin(), front.end(), [](auto* a, auto* b) { return a->ms < b->ms; });
   if (front.size() >= 2)
   {
-    vtkNew<vtkTable> table;
-    vtkNew<vtkFloatArray> x, y;
-    x->SetName("ms");
-    y->SetName("Pareto front");
-    for (const auto* p : front)
-    {
-      x->InsertNextValue(static_cast<float>(p->ms));
-      y->InsertNextValue(static_cast<float>(p->mae));
-    }
-    table->AddColumn(x);
-    table->AddColumn(y);
     vtkPlot* line = chart->AddPlot(vtkChart::LINE);
-    line->SetInputData(table, 0, 1);
+    line->SetInputData(Series("Pareto front", front), 0, 1);
     line->SetColor(0, 0, 0, 255);
     line->SetWidth(2.0);
     line->GetPen()->SetLineType(vtkPen::DASH_LINE);
