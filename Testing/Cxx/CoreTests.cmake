@@ -7,7 +7,8 @@ add_executable(TestSoftShadowsCore
   TestSSAnalytic.cxx
   TestSSEffectPlanner.cxx
   TestSSShadowView.cxx
-  TestSSReference.cxx)
+  TestSSReference.cxx
+  TestSSGEARS.cxx)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
 include(GoogleTest)

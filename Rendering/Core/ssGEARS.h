@@ -1,0 +1,133 @@
+#ifndef ssGEARS_h
+#define ssGEARS_h
+
+#include "ssLightFrame.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ss
+{
+/// How a cell's triangles are rasterised into a pixel's k x k light bitmask.
+enum class GearsRaster
+{
+  EdgePlane, ///< exact: three edge planes through the pixel sample + the triangle's plane [GEARS §4.2]
+  LUT        ///< 2-D lookup table of half-plane bitmasks [GEARS §4.3, ED07/SEA08]; approximate
+};
+
+struct GearsOptions
+{
+  int k = 16;                    ///< k x k regular light samples, 1..32 (point lights: 1)
+  int grid = 128;                ///< grid G resolution (G x G cells) [§4.3 Table 7: 128 best]
+  double eyeDistance = 1.0;      ///< |C L_m| in light diagonals [§3.1]
+  bool retractToFarthest = true; ///< the P_far optimisation [§3.1, Fig. 5]
+  bool countNecessary = false;   ///< Table 9 "necessary" assignments (no early exit, slower)
+  GearsRaster raster = GearsRaster::EdgePlane;
+  int lutResolution = 512;       ///< LUT: angles x distances
+};
+
+/// The paper's tables for one Solve: stage times (Table 2), grid load
+/// (Table 8) and triangle-to-pixel assignments (Table 9).
+struct GearsStats
+{
+  // Table 2 stages, milliseconds
+  double msProject = 0;   ///< 3.1 + 3.2: camera C, pixel samples to cells, cell max depth
+  double msPrefixSum = 0; ///< 3.3 pass 1: shadow-volume AABBs (with P_far) + prefix sum of cellsN
+  double msRelate = 0;    ///< 3.3 pass 2: (triID, cellID) pairs written
+  double msSort = 0;      ///< pairs sorted on cellID, per-cell ranges
+  double msRaster = 0;    ///< step 4: bitmasks (point light: the one-bit test, irregular z-buffer)
+  double msTotal = 0;
+  std::size_t triangles = 0;     ///< triangles in the solver
+  std::size_t samples = 0;       ///< pixel samples lit by the light (in front of it)
+  std::size_t gridCells = 0;     ///< G x G (x faces for a point light)
+  std::size_t nonEmptyCells = 0; ///< cells with at least one pixel sample
+  std::size_t pairs = 0;         ///< (triID, cellID) pairs
+  std::size_t trianglesPerCellMax = 0;
+  double trianglesPerCellAvg = 0; ///< over non-empty cells
+  std::size_t samplesPerCellMax = 0;
+  double samplesPerCellAvg = 0;
+  double assignmentsTotal = 0;     ///< sum over pixels of the triangles of their cell
+  double assignmentsNecessary = -1; ///< of those, triangles that block >= 1 sample (-1: not counted)
+  std::size_t fullGridTriangles = 0; ///< triangles touching the light plane, given every cell
+  std::size_t lutFallbacks = 0;      ///< LUT mode: pixel-triangle pairs rasterised by edge planes
+};
+
+/// One pixel's light bitmask: row j (light v axis), bit i (light u axis);
+/// a set bit is a blocked (or below-horizon) light sample.
+using GearsMask = std::array<std::uint32_t, 32>;
+
+/// The assignment built by step 3, exposed for tests and tools.
+struct GearsAssignment
+{
+  struct Face
+  {
+    int grid = 0;
+    std::vector<std::uint32_t> cellBegin; ///< grid*grid + 1 offsets into triangles
+    std::vector<std::uint32_t> triangles; ///< triangle ids sorted by cell
+  };
+  std::vector<Face> faces;              ///< 1 (rect, directional) or up to 6 (point)
+  std::vector<std::int32_t> pixelFace;  ///< per pixel: face, or -1 (not in any cell)
+  std::vector<std::int32_t> pixelCell;  ///< per pixel: cell in its face
+};
+
+/// GEARS (Wang et al., "A General and Efficient Algorithm for Rendering
+/// Shadows"): for each pixel sample, the exact fraction of k x k regular
+/// light samples it sees, from the triangles that a grid assigns to it.
+///
+/// The samples, the start offset along the normal and the tangent-plane rule
+/// are those of ReferenceSolver with LightSamplePattern::Regular, so both give
+/// the same V up to samples that graze an edge. Translucent triangles
+/// (0 < opacity < 1) multiply a per-sample transmittance, as in the reference.
+///
+/// Multithreaded with TBB; no VTK, no GL, so a baking filter can reuse it.
+class GearsSolver
+{
+public:
+  GearsSolver();
+  ~GearsSolver();
+  GearsSolver(const GearsSolver&) = delete;
+  GearsSolver& operator=(const GearsSolver&) = delete;
+
+  /// Same contract as ReferenceSolver::SetTriangles: 3 world vertices per
+  /// triangle; non-finite and zero-area triangles are skipped; opacity 0
+  /// triangles cast nothing and are skipped too.
+  void SetTriangles(const std::vector<glm::dvec3>& vertices, const std::vector<float>& opacity);
+  std::size_t NumberOfTriangles() const;
+  std::size_t SkippedTriangles() const;
+  /// Index of solver triangle t in the vertex list given to SetTriangles.
+  std::size_t InputIndex(std::size_t t) const;
+
+  /// Same contract as ReferenceSolver::Solve. masks (optional) receives one
+  /// GearsMask per pixel (opaque blockers and below-horizon samples).
+  std::vector<float> Solve(const LightFrame& light, const glm::dvec3& origin, const float* positions,
+    const float* normals, std::size_t n, const GearsOptions& options, GearsStats* stats = nullptr,
+    std::vector<GearsMask>* masks = nullptr, GearsAssignment* assignment = nullptr) const;
+
+  /// The start point of pixel rays (world): surface point pushed along the
+  /// normal by the scene-scaled offset the reference uses.
+  glm::dvec3 RayStart(const glm::dvec3& p, const glm::dvec3& normal) const;
+  /// Triangle t's world vertices (after SetTriangles' filtering).
+  std::array<glm::dvec3, 3> Triangle(std::size_t t) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> P;
+};
+
+/// Exact edge-plane rasterisation of one triangle (world vertices) into the
+/// k x k bitmask seen from `start` [§4.2]: the bits of the light samples whose
+/// segment from start crosses the triangle. Exposed for tests.
+void GearsRasterizeTriangle(const LightFrame& light, const glm::dvec3& start,
+  const std::array<glm::dvec3, 3>& tri, int k, GearsMask& mask);
+/// The brute-force form of the same predicate for light sample (i, j).
+bool GearsSampleBlocked(const LightFrame& light, const glm::dvec3& start,
+  const std::array<glm::dvec3, 3>& tri, int k, int i, int j);
+
+std::string GearsStatsToJSON(const GearsStats& s);
+}
+
+#endif
