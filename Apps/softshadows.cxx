@@ -64,9 +64,10 @@ const char* kUsage =
   "  softshadows compare A.pfm B.pfm\n"
   "  softshadows bench [--smoke] [--scenes a.json,b.json] [--out DIR] [--frames N]\n"
   "        [--size WxH] [--reference-samples K]\n"
-  "methods: auto (default), hard, pcf, pcss, reference, vtk, none\n"
+  "methods: auto (default), hard, pcf, pcss, reference, gears, vtk, none\n"
   "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
-  "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified)\n";
+  "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"
+  "         gears_samples (1..32), gears_grid, gears_raster (edge|lut), gears_backend (cpu|gl)\n";
 
 }
 
@@ -192,11 +193,36 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
     }
     pass->SetReferencePattern(v == "stratified" ? 1 : 0);
   }
+  else if (k == "gears_samples")
+  {
+    pass->SetGearsSamples(ParseInt(v, what, 1, 32));
+  }
+  else if (k == "gears_grid")
+  {
+    pass->SetGearsGrid(ParseInt(v, what, 8, 1024));
+  }
+  else if (k == "gears_raster")
+  {
+    if (v != "edge" && v != "lut")
+    {
+      throw UsageError(what + ": expected edge or lut, got '" + v + "'");
+    }
+    pass->SetGearsRaster(v == "lut" ? 1 : 0);
+  }
+  else if (k == "gears_backend")
+  {
+    if (v != "cpu" && v != "gl")
+    {
+      throw UsageError(what + ": expected cpu or gl, got '" + v + "'");
+    }
+    pass->SetGearsBackend(v == "gl" ? 1 : 0);
+  }
   else
   {
     throw UsageError("--option: unknown key '" + k +
       "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
-      "slope_bias, reference_samples, reference_pattern)");
+      "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, "
+      "gears_backend)");
   }
 }
 
@@ -298,14 +324,14 @@ int Render(const std::vector<std::string>& args)
   vtkNew<vtkSoftShadowPass> pass;
   if (!vtkMethod && !pass->SetMethodByName(method.c_str()))
   {
-    static const std::vector<std::string> later = { "pvsm", "vpcss", "asm", "gears" };
+    static const std::vector<std::string> later = { "pvsm", "vpcss", "asm" };
     if (std::find(later.begin(), later.end(), method) != later.end())
     {
       throw UsageError("--method " + method + ": not implemented yet (available: auto, hard, pcf, "
-                                              "pcss, reference, vtk, none)");
+                                              "pcss, reference, gears, vtk, none)");
     }
     throw UsageError("--method: unknown method '" + method +
-      "' (expected auto, hard, pcf, pcss, reference, vtk, none)");
+      "' (expected auto, hard, pcf, pcss, reference, gears, vtk, none)");
   }
   if (vtkMethod && (!visibility.empty() || !positions.empty()))
   {

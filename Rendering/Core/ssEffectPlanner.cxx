@@ -20,13 +20,16 @@ const char* MethodName(Method m)
       return "none";
     case Method::Reference:
       return "reference";
+    case Method::GEARS:
+      return "gears";
   }
   return "none";
 }
 
 bool MethodFromName(const std::string& s, Method& out)
 {
-  for (Method m : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS, Method::None, Method::Reference })
+  for (Method m : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS, Method::None, Method::Reference,
+         Method::GEARS })
   {
     if (s == MethodName(m))
     {
@@ -35,6 +38,11 @@ bool MethodFromName(const std::string& s, Method& out)
     }
   }
   return false;
+}
+
+bool IsTriangleSolver(Method m)
+{
+  return m == Method::Reference || m == Method::GEARS;
 }
 
 namespace
@@ -160,7 +168,15 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
                                 : "no light casts shadows";
   if (plan.shadowWork && in.translucentCasters)
   {
-    plan.reason += "; translucent casters are treated as opaque (planner v1)";
+    bool mapSolver = false;
+    for (const auto& l : plan.lights)
+    {
+      mapSolver = mapSolver || (l.method != Method::None && !IsTriangleSolver(l.method));
+    }
+    if (mapSolver)
+    {
+      plan.reason += "; translucent casters are treated as opaque by shadow-map methods (planner v1)";
+    }
   }
   if (plan.shadowWork && in.unchangedSinceLastFrame)
   {

@@ -17,9 +17,12 @@ enum class Method
   PCF = 2,
   PCSS = 3,
   None = 4,
-  Reference = 5 ///< ray-traced ground truth (Embree, CPU)
+  Reference = 5, ///< ray-traced ground truth (Embree, CPU)
+  GEARS = 6      ///< exact soft shadows from per-pixel triangle lists (GEARS)
 };
 const char* MethodName(Method m);
+/// Solved per pixel from the caster triangles (no shadow map).
+bool IsTriangleSolver(Method m);
 bool MethodFromName(const std::string& s, Method& out);
 
 struct PlannerLight

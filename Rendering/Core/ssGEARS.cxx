@@ -144,60 +144,66 @@ bool SetupTriangle(const SampleSpace& s, const glm::dvec3& S, const glm::dvec3& 
 // OR the triangle's bits into mask rows [j0, j1]; returns whether any bit was set.
 bool RasterSetup(const TriangleSetup& t, int k, int j0, int j1, std::uint32_t* rows)
 {
+  // Each constraint A + B i + C j >= 0 bounds i on row j by -(A + C j) / B =
+  // P + Q j: a lower bound if B > 0, an upper one if B < 0 (one division per
+  // triangle, not per row). B = 0: the constraint holds or fails per row.
+  const Affine* f[4] = { &t.edge[0], &t.edge[1], &t.edge[2], &t.cross };
+  const int nf = t.hasCross ? 4 : 3;
+  double P[4], Q[4];
+  for (int m = 0; m < nf; ++m)
+  {
+    const double B = f[m]->B;
+    P[m] = B != 0.0 ? -f[m]->A / B : 0.0;
+    Q[m] = B != 0.0 ? -f[m]->C / B : 0.0;
+  }
   bool any = false;
   for (int j = j0; j <= j1; ++j)
   {
     double lo = -1e300, hi = 1e300;
+    bool ok = true;
     for (int m = 0; m < 3; ++m)
     {
-      Clip(t.edge[m].A + t.edge[m].C * j, t.edge[m].B, false, lo, hi);
+      const double B = f[m]->B;
+      if (B > 0.0)
+      {
+        lo = std::max(lo, P[m] + Q[m] * j);
+      }
+      else if (B < 0.0)
+      {
+        hi = std::min(hi, P[m] + Q[m] * j);
+      }
+      else
+      {
+        ok = ok && f[m]->A + f[m]->C * j >= 0.0;
+      }
     }
     bool strictLo = false, strictHi = false;
-    if (t.hasCross)
+    if (nf == 4)
     {
-      const double a = t.cross.A + t.cross.C * j, b = t.cross.B;
-      const double lo0 = lo, hi0 = hi;
-      Clip(a, b, true, lo, hi);
-      strictLo = lo != lo0 && b > 0.0;
-      strictHi = hi != hi0 && b < 0.0;
+      const double B = t.cross.B, x = P[3] + Q[3] * j;
+      if (B > 0.0 && x >= lo)
+      {
+        lo = x;
+        strictLo = true;
+      }
+      else if (B < 0.0 && x <= hi)
+      {
+        hi = x;
+        strictHi = true;
+      }
+      else if (B == 0.0)
+      {
+        ok = ok && t.cross.A + t.cross.C * j > 0.0;
+      }
     }
     int il, ih;
-    if (IntRange(lo, hi, strictLo, strictHi, k, il, ih))
+    if (ok && IntRange(lo, hi, strictLo, strictHi, k, il, ih))
     {
       rows[j] |= RowBits(il, ih);
       any = true;
     }
   }
   return any;
-}
-
-// Sample-space coordinates (su, sv) of a point X seen from S, if X lies
-// strictly between S and the light (then its projection is meaningful).
-bool ProjectToLight(const LightFrame& L, const glm::dvec3& Lc, const glm::dvec3& S, const glm::dvec3& X,
-  double T, double& su, double& sv)
-{
-  const glm::dvec3 d = X - S;
-  if (L.type == LightType::Directional)
-  {
-    const double toward = -glm::dot(d, L.n);
-    if (!(toward > 0.0) || !(T > 0.0))
-    {
-      return false;
-    }
-    su = glm::dot(d, L.u) / (T * toward);
-    sv = glm::dot(d, L.v) / (T * toward);
-    return true;
-  }
-  const double dS = glm::dot(S - Lc, L.n), dX = glm::dot(X - Lc, L.n);
-  if (!(dX > 0.0 && dX < dS) || !(L.width > 0.0 && L.height > 0.0))
-  {
-    return false;
-  }
-  const double lambda = dS / (dS - dX);
-  const glm::dvec3 p = S + lambda * d - Lc;
-  su = glm::dot(p, L.u) / L.width;
-  sv = glm::dot(p, L.v) / L.height;
-  return true;
 }
 
 // Row range of sample indices whose sv lies in [lo, hi] (conservative).
@@ -281,6 +287,125 @@ struct HalfPlaneLUT
     std::copy(m, m + k, out);
   }
 };
+
+// The light's frame seen from one pixel sample S (all in light coordinates:
+// origin L_c, axes u, v, n). Light sample (i, j) is (su W, sv H, 0) for a
+// finite light, or the direction (su T, sv T, -1) for a directional one.
+struct LightSpace
+{
+  SampleSpace s;
+  glm::dvec3 S;
+  double W = 0, H = 0;
+  bool dir = false;
+};
+
+LightSpace MakeLightSpace(const glm::dvec3& S, double W, double H, bool dir, int k)
+{
+  LightSpace l;
+  l.S = S;
+  l.W = W;
+  l.H = H;
+  l.dir = dir;
+  l.s.k = k;
+  l.s.segment = !dir;
+  l.s.D0 = dir ? glm::dvec3(0, 0, -1) : -S;
+  l.s.Du = glm::dvec3(W, 0, 0);
+  l.s.Dv = glm::dvec3(0, H, 0);
+  return l;
+}
+
+// Edge functions of a triangle projected onto the light, in sample-index
+// coordinates: the edge planes through S cut the light plane in these lines
+// [§4.2], so no separate depth test is needed when all three vertices lie
+// strictly between S and the light.
+bool SetupProjectedTriangle(const double* X, const double* Y, TriangleSetup& t)
+{
+  const double area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+  if (!(area != 0.0))
+  {
+    return false; // seen edge-on: covers no sample
+  }
+  const double sg = area > 0.0 ? 1.0 : -1.0;
+  for (int m = 0; m < 3; ++m)
+  {
+    const int q = (m + 1) % 3;
+    const double ex = X[q] - X[m], ey = Y[q] - Y[m];
+    // (ex (j - Y_m) - ey (i - X_m)) >= 0 inside (counter-clockwise)
+    t.edge[m] = { sg * (ey * X[m] - ex * Y[m]), sg * -ey, sg * ex };
+  }
+  t.hasCross = false;
+  return true;
+}
+
+// One triangle (light coordinates) into the bitmask rows seen from l.S.
+// Vertices strictly between S and the light are projected onto it: their
+// bounding box rejects at once, and the 2-D edge functions (or the LUT)
+// rasterise. Otherwise the three edge planes and the triangle's plane are
+// used in 3-D. Returns whether any bit was set; [j0, j1] gets the rows
+// touched; fallback tells that a LUT was asked for but edge planes were used.
+bool RasterizeTriangle(const LightSpace& l, const glm::dvec3& S, const glm::dvec3& B0, const glm::dvec3& B1,
+  const glm::dvec3& B2, const HalfPlaneLUT* lut, std::uint32_t* rows, int& j0, int& j1, bool& fallback)
+{
+  const int k = l.s.k;
+  j0 = 0;
+  j1 = k - 1;
+  fallback = false;
+  double su[3], sv[3];
+  bool projected = k > 1 && l.W > 0.0 && l.H > 0.0;
+  const glm::dvec3* B[3] = { &B0, &B1, &B2 };
+  for (int m = 0; m < 3 && projected; ++m)
+  {
+    const double den = S.z - B[m]->z;
+    projected = den > 0.0 && (l.dir || B[m]->z > 0.0);
+    if (projected)
+    {
+      const double g = l.dir ? 1.0 / den : S.z / den;
+      su[m] = ((l.dir ? 0.0 : S.x) + (B[m]->x - S.x) * g) / l.W;
+      sv[m] = ((l.dir ? 0.0 : S.y) + (B[m]->y - S.y) * g) / l.H;
+    }
+  }
+  TriangleSetup ts;
+  if (projected)
+  {
+    int i0, i1;
+    IndexRange(std::min({ su[0], su[1], su[2] }), std::max({ su[0], su[1], su[2] }), k, i0, i1);
+    IndexRange(std::min({ sv[0], sv[1], sv[2] }), std::max({ sv[0], sv[1], sv[2] }), k, j0, j1);
+    if (i0 > i1 || j0 > j1)
+    {
+      return false; // misses every light sample
+    }
+    if (lut)
+    {
+      const double area = (su[1] - su[0]) * (sv[2] - sv[0]) - (su[2] - su[0]) * (sv[1] - sv[0]);
+      if (area == 0.0)
+      {
+        return false;
+      }
+      const int o1 = area > 0 ? 1 : 2, o2 = area > 0 ? 2 : 1;
+      std::uint32_t e0[32], e1[32], e2[32];
+      lut->Edge(su[0], sv[0], su[o1], sv[o1], e0);
+      lut->Edge(su[o1], sv[o1], su[o2], sv[o2], e1);
+      lut->Edge(su[o2], sv[o2], su[0], sv[0], e2);
+      bool hit = false;
+      for (int j = j0; j <= j1; ++j)
+      {
+        const std::uint32_t bits = e0[j] & e1[j] & e2[j];
+        rows[j] |= bits;
+        hit = hit || bits;
+      }
+      return hit;
+    }
+    double X[3], Y[3];
+    for (int m = 0; m < 3; ++m)
+    {
+      X[m] = (su[m] + 0.5) * k - 0.5;
+      Y[m] = (sv[m] + 0.5) * k - 0.5;
+    }
+    return SetupProjectedTriangle(X, Y, ts) && RasterSetup(ts, k, j0, j1, rows);
+  }
+  fallback = lut != nullptr;
+  return SetupTriangle(l.s, S, B0, B1, B2, ts) && RasterSetup(ts, k, j0, j1, rows);
+}
 
 // ---------------------------------------------------------------------------
 // Camera C and grid G of one face [§3.1]. Perspective for rect and point
@@ -541,12 +666,18 @@ SampleSpace MakeSampleSpace(const LightFrame& L, const glm::dvec3& Lc, const glm
 void GearsRasterizeTriangle(const LightFrame& light, const glm::dvec3& start,
   const std::array<glm::dvec3, 3>& tri, int k, GearsMask& mask)
 {
-  const SampleSpace s = MakeSampleSpace(light, light.center, start, k);
-  TriangleSetup t;
-  if (SetupTriangle(s, start, tri[0], tri[1], tri[2], t))
-  {
-    RasterSetup(t, k, 0, k - 1, mask.data());
-  }
+  // the same light frame and path as Solve (a point light's frame is its own)
+  auto toLight = [&](const glm::dvec3& X) {
+    const glm::dvec3 r = X - light.center;
+    return glm::dvec3(glm::dot(r, light.u), glm::dot(r, light.v), glm::dot(r, light.n));
+  };
+  const bool dir = light.type == LightType::Directional;
+  const double T = dir ? 2.0 * std::tan(0.5 * light.angularDiameter) : 0.0;
+  const int kk = light.type == LightType::Point ? 1 : k;
+  const LightSpace l = MakeLightSpace(toLight(start), dir ? T : light.width, dir ? T : light.height, dir, kk);
+  int j0, j1;
+  bool fallback;
+  RasterizeTriangle(l, l.S, toLight(tri[0]), toLight(tri[1]), toLight(tri[2]), nullptr, mask.data(), j0, j1, fallback);
 }
 
 bool GearsSampleBlocked(const LightFrame& light, const glm::dvec3& start,
@@ -1020,6 +1151,10 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     // --- step 4: per pixel sample, its light bitmask from its cell's
     // triangles [§4.2]; pixels in cells without triangles are lit at no cost
     // (but for light samples below their tangent plane).
+    // Work happens in the light's frame (origin L_c, axes u, v, n): a cell's
+    // triangles are moved there once and shared by the cell's pixels, and a
+    // light sample is (su w, sv h, 0) (rect, point) or the direction
+    // (su T, sv T, -1) (directional).
     std::vector<std::size_t> cellsWithSamples;
     for (std::size_t c = 0; c < NC; ++c)
     {
@@ -1028,27 +1163,55 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
         cellsWithSamples.push_back(c);
       }
     }
+    const glm::dvec3 FU = C.u, FV = C.v, FN = C.n;
+    auto toLight = [&](const glm::dvec3& X) {
+      const glm::dvec3 r = X - L.center;
+      return glm::dvec3(glm::dot(r, FU), glm::dot(r, FV), glm::dot(r, FN));
+    };
+    const bool dirLight = L.type == LightType::Directional;
+    const double W = dirLight ? T : L.width, H = dirLight ? T : L.height;
+    // extent of the sample positions on the light (world units or tangents),
+    // widened by a hair so that rounding never rejects a covered sample
+    const double hx = (0.5 - 0.5 / k) * W, hy = (0.5 - 0.5 / k) * H;
+    const double slackX = 1e-7 * (W / k) + 1e-12 * I.Extent, slackY = 1e-7 * (H / k) + 1e-12 * I.Extent;
+    const double xlo = -hx - slackX, xhi = hx + slackX, ylo = -hy - slackY, yhi = hy + slackY;
     tbb::enumerable_thread_specific<double> necessary(0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cellsWithSamples.size(), 1),
       [&](const tbb::blocked_range<std::size_t>& r) {
         double& nec = necessary.local();
         std::vector<float> trans;
+        std::vector<double> tv;          // the cell's triangles in the light frame, 9 per triangle
+        std::vector<std::uint32_t> cand; // triangles not rejected for a pixel
         for (std::size_t ci = r.begin(); ci != r.end(); ++ci)
         {
           const std::size_t c = cellsWithSamples[ci];
           const std::uint32_t* tris = sortedTri.data() + cellBegin[c];
           const std::size_t ntri = cellBegin[c + 1] - cellBegin[c];
+          tv.resize(9 * ntri);
+          for (std::size_t a = 0; a < ntri; ++a)
+          {
+            for (int m = 0; m < 3; ++m)
+            {
+              const glm::dvec3 b = toLight(I.Vertex(tris[a], m));
+              tv[9 * a + 3 * m] = b.x;
+              tv[9 * a + 3 * m + 1] = b.y;
+              tv[9 * a + 3 * m + 2] = b.z;
+            }
+          }
+          cand.resize(ntri);
           for (std::uint32_t q = cellStart[c]; q < cellStart[c + 1]; ++q)
           {
             const std::size_t pixel = pix[cellPix[q]];
-            const glm::dvec3& S = start[pixel];
-            const SampleSpace s = MakeSampleSpace(L, L.center, S, k);
+            const glm::dvec3 S = toLight(start[pixel]);
+            const LightSpace lf = MakeLightSpace(S, W, H, dirLight, k);
+            const SampleSpace& s = lf.s;
             GearsMask mask{};
             std::uint32_t* rows = mask.data();
             // light samples below the tangent plane are not seen (reference rule)
-            const glm::dvec3& N = normal[pixel];
-            if (N != glm::dvec3(0.0))
+            const glm::dvec3& Nw = normal[pixel];
+            if (Nw != glm::dvec3(0.0))
             {
+              const glm::dvec3 N(glm::dot(Nw, FU), glm::dot(Nw, FV), glm::dot(Nw, FN));
               const Affine below = MakeAffine(s, -N);
               for (int j = 0; j < k; ++j)
               {
@@ -1061,86 +1224,69 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
                 }
               }
             }
+            // Cheap rejection: a triangle strictly between the pixel and the
+            // light whose three projections onto the light lie beyond one
+            // side of the samples' extent covers no sample; neither does one
+            // wholly at or behind the pixel's depth (or behind the light).
+            // px < xlo <=> (sx - xlo)(sd - bd) + (bx - sx) sd < 0 for a
+            // finite light; (bx - sx) - xlo (sd - bd) < 0 for a direction.
+            const double sx = S.x, sy = S.y, sd = S.z;
+            std::size_t ncand = 0;
+            for (std::size_t a = 0; a < ntri; ++a)
+            {
+              const double* t = &tv[9 * a];
+              int out[4] = { 0, 0, 0, 0 };
+              int valid = 0, beyondPixel = 0, behindLight = 0;
+              for (int m = 0; m < 3; ++m)
+              {
+                const double bx = t[3 * m], by = t[3 * m + 1], bd = t[3 * m + 2];
+                const double den = sd - bd;
+                beyondPixel += !(den > 0.0);
+                behindLight += !dirLight && !(bd > 0.0);
+                valid += den > 0.0 && (dirLight || bd > 0.0);
+                const double fx = dirLight ? 1.0 : sd, gx = dirLight ? 0.0 : sx;
+                const double ux = (gx - xlo) * den + (bx - sx) * fx, vx = (gx - xhi) * den + (bx - sx) * fx;
+                const double uy = ((dirLight ? 0.0 : sy) - ylo) * den + (by - sy) * fx;
+                const double vy = ((dirLight ? 0.0 : sy) - yhi) * den + (by - sy) * fx;
+                out[0] += ux < 0.0;
+                out[1] += vx > 0.0;
+                out[2] += uy < 0.0;
+                out[3] += vy > 0.0;
+              }
+              const bool reject = beyondPixel == 3 || behindLight == 3 ||
+                (valid == 3 && (out[0] == 3 || out[1] == 3 || out[2] == 3 || out[3] == 3));
+              cand[ncand] = static_cast<std::uint32_t>(a);
+              ncand += !reject;
+            }
             bool haveTrans = false;
             int fullRows = 0;
             for (int j = 0; j < k; ++j)
             {
               fullRows += rows[j] == fullRow;
             }
-            for (std::size_t a = 0; a < ntri; ++a)
+            for (std::size_t ca = 0; ca < ncand; ++ca)
             {
               if (fullRows == k && !opt.countNecessary)
               {
                 break; // umbra: no further triangle changes V
               }
-              const std::uint32_t t = tris[a];
-              const glm::dvec3 B0 = I.Vertex(t, 0), B1 = I.Vertex(t, 1), B2 = I.Vertex(t, 2);
-              const float alpha = I.Opacity[t];
-              std::uint32_t tmp[32] = {};
-              std::uint32_t* target = alpha < 1.0f ? tmp : rows;
-              bool hit = false;
-              // LUT rasterisation for triangles between the pixel and the
-              // light (their projection onto the light is a triangle)
-              double su[3], sv[3];
-              bool projected = k > 1;
-              for (int m = 0; m < 3 && projected; ++m)
+              const std::size_t a = cand[ca];
+              const double* tp = &tv[9 * a];
+              const glm::dvec3 B0(tp[0], tp[1], tp[2]), B1(tp[3], tp[4], tp[5]), B2(tp[6], tp[7], tp[8]);
+              const float alpha = I.Opacity[tris[a]];
+              std::uint32_t tmp[32];
+              std::uint32_t* target = rows;
+              if (alpha < 1.0f || opt.countNecessary)
               {
-                projected = ProjectToLight(L, L.center, S, I.Vertex(t, m), T, su[m], sv[m]);
+                std::fill(tmp, tmp + k, 0u);
+                target = tmp;
               }
               int j0 = 0, j1 = k - 1;
-              if (projected)
+              bool fallback = false;
+              const bool hit = RasterizeTriangle(lf, S, B0, B1, B2, lut, target, j0, j1, fallback);
+              if (fallback)
               {
-                int i0, i1;
-                IndexRange(std::min({ su[0], su[1], su[2] }), std::max({ su[0], su[1], su[2] }), k, i0, i1);
-                IndexRange(std::min({ sv[0], sv[1], sv[2] }), std::max({ sv[0], sv[1], sv[2] }), k, j0, j1);
-                if (i0 > i1 || j0 > j1)
-                {
-                  continue; // misses every light sample
-                }
-              }
-              if (lut && projected)
-              {
-                // orient the projected triangle counter-clockwise
-                const double area = (su[1] - su[0]) * (sv[2] - sv[0]) - (su[2] - su[0]) * (sv[1] - sv[0]);
-                if (area == 0.0)
-                {
-                  continue;
-                }
-                const int o1 = area > 0 ? 1 : 2, o2 = area > 0 ? 2 : 1;
-                std::uint32_t e0[32], e1[32], e2[32];
-                lut->Edge(su[0], sv[0], su[o1], sv[o1], e0);
-                lut->Edge(su[o1], sv[o1], su[o2], sv[o2], e1);
-                lut->Edge(su[o2], sv[o2], su[0], sv[0], e2);
-                for (int j = j0; j <= j1; ++j)
-                {
-                  const std::uint32_t bits = e0[j] & e1[j] & e2[j];
-                  target[j] |= bits;
-                  hit = hit || bits;
-                }
-              }
-              else
-              {
-                if (lut)
-                {
-                  lutFallbacks.fetch_add(1, std::memory_order_relaxed);
-                }
-                TriangleSetup ts;
-                if (SetupTriangle(s, S, B0, B1, B2, ts))
-                {
-                  if (opt.countNecessary && target == rows)
-                  {
-                    std::fill(tmp, tmp + k, 0u);
-                    hit = RasterSetup(ts, k, j0, j1, tmp);
-                    for (int j = 0; j < k; ++j)
-                    {
-                      rows[j] |= tmp[j];
-                    }
-                  }
-                  else
-                  {
-                    hit = RasterSetup(ts, k, j0, j1, target);
-                  }
-                }
+                lutFallbacks.fetch_add(1, std::memory_order_relaxed);
               }
               if (hit && opt.countNecessary)
               {
@@ -1153,7 +1299,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
                   trans.assign(static_cast<std::size_t>(k) * k, 1.0f);
                   haveTrans = true;
                 }
-                for (int j = 0; j < k; ++j)
+                for (int j = j0; j <= j1; ++j)
                 {
                   for (std::uint32_t bits = tmp[j]; bits; bits &= bits - 1)
                   {
@@ -1164,6 +1310,13 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
               }
               else if (hit)
               {
+                if (target == tmp)
+                {
+                  for (int j = j0; j <= j1; ++j)
+                  {
+                    rows[j] |= tmp[j];
+                  }
+                }
                 fullRows = 0;
                 for (int j = 0; j < k; ++j)
                 {

@@ -47,6 +47,7 @@
 
 #include "ssEffectPlanner.h"
 #include "ssLightFrame.h"
+#include "ssGEARS.h"
 #include "ssReference.h"
 #include "ssShadowView.h"
 
@@ -184,6 +185,37 @@ public:
   std::unique_ptr<ss::ReferenceSolver> Reference;
   unsigned long ReferenceVersion = 0;
   ss::ReferenceStats LastReferenceStats;
+  // GEARS (CPU): its triangles are re-read when the caster set changes.
+  std::unique_ptr<ss::GearsSolver> Gears;
+  unsigned long GearsVersion = 0;
+  ss::GearsStats LastGearsStats; // summed over the GEARS lights of the frame
+  int GearsLights = 0;
+  int GearsBackendUsed = 0;
+  void AccumulateGearsStats(const ss::GearsStats& st)
+  {
+    ss::GearsStats& a = LastGearsStats;
+    a.msProject += st.msProject;
+    a.msPrefixSum += st.msPrefixSum;
+    a.msRelate += st.msRelate;
+    a.msSort += st.msSort;
+    a.msRaster += st.msRaster;
+    a.msTotal += st.msTotal;
+    a.triangles = st.triangles;
+    a.samples += st.samples;
+    a.gridCells += st.gridCells;
+    a.nonEmptyCells += st.nonEmptyCells;
+    a.pairs += st.pairs;
+    a.trianglesPerCellMax = std::max(a.trianglesPerCellMax, st.trianglesPerCellMax);
+    a.samplesPerCellMax = std::max(a.samplesPerCellMax, st.samplesPerCellMax);
+    a.assignmentsTotal += st.assignmentsTotal;
+    a.fullGridTriangles += st.fullGridTriangles;
+    a.lutFallbacks += st.lutFallbacks;
+    ++GearsLights;
+    // averages over all non-empty cells of the frame's GEARS lights
+    a.trianglesPerCellAvg = (a.trianglesPerCellAvg * (a.nonEmptyCells - st.nonEmptyCells) +
+                              st.trianglesPerCellAvg * st.nonEmptyCells) / std::max<std::size_t>(a.nonEmptyCells, 1);
+    a.samplesPerCellAvg = a.nonEmptyCells ? static_cast<double>(a.samples) / a.nonEmptyCells : 0.0;
+  }
   glm::dvec3 CasterOrigin{ 0.0 };
   ss::Box CasterBox; // absolute
   bool CasterUploaded = false;
@@ -1032,10 +1064,10 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       continue;
     }
     ++numShadowLights;
-    if (l.Method == ss::Method::Reference)
+    if (ss::IsTriangleSolver(l.Method))
     {
       l.Views.clear();
-      continue; // ray traced on the CPU below: no shadow map
+      continue; // solved from the caster triangles below: no shadow map
     }
     l.Views = ss::MakeLightViews(l.Frame, receivers, casters, l.ViewInfo);
     totalViews += static_cast<int>(l.Views.size());
@@ -1182,7 +1214,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   int firstLayer = 0;
   for (auto& l : in.Lights)
   {
-    if (l.Layer < 0 || l.Method == ss::Method::Reference)
+    if (l.Layer < 0 || ss::IsTriangleSolver(l.Method))
     {
       continue;
     }
@@ -1243,40 +1275,62 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     glFinish();
   }
   in.Timings["visibility"] = Seconds(tStage, Clock::now());
-  this->SolveReference(win);
+  this->SolveOnTriangles(win);
 }
 
 //------------------------------------------------------------------------------
-// Ground truth on the CPU: k x k shadow rays per pixel (Embree), written into
-// the light's visibility layer so shading and readback are the same as for
-// the GPU solvers.
-void vtkSoftShadowPass::SolveReference(vtkOpenGLRenderWindow* win)
+// Solvers that work on the caster triangles rather than a shadow map: the
+// ground truth (k x k shadow rays per pixel, Embree) and GEARS (triangles
+// assigned to pixels by a grid, k x k bitmasks). Both read the G-buffer's
+// positions and normals and write the light's visibility layer, so shading
+// and readback are the same as for the shadow-map solvers.
+void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
 {
   auto& in = *this->Internals;
-  bool any = false;
+  bool anyRef = false, anyGears = false;
   for (const auto& l : in.Lights)
   {
-    any = any || (l.Layer >= 0 && l.Method == ss::Method::Reference);
+    anyRef = anyRef || (l.Layer >= 0 && l.Method == ss::Method::Reference);
+    anyGears = anyGears || (l.Layer >= 0 && l.Method == ss::Method::GEARS);
   }
-  if (!any)
+  in.LastReferenceStats = ss::ReferenceStats{};
+  in.LastGearsStats = ss::GearsStats{};
+  in.GearsLights = 0;
+  if (!anyRef && !anyGears)
   {
     return;
   }
   const auto t0 = Clock::now();
-  if (!in.Reference)
-  {
-    in.Reference.reset(new ss::ReferenceSolver);
-  }
-  if (in.ReferenceVersion != in.CasterVersion)
-  {
-    std::vector<glm::dvec3> verts(in.CasterTriangles.size() / 3);
-    for (std::size_t i = 0; i < verts.size(); ++i)
+  std::vector<glm::dvec3> verts;
+  auto worldTriangles = [&]() -> const std::vector<glm::dvec3>& {
+    if (verts.empty() && !in.CasterTriangles.empty())
     {
-      verts[i] = in.CasterOrigin +
-        glm::dvec3(in.CasterTriangles[3 * i], in.CasterTriangles[3 * i + 1], in.CasterTriangles[3 * i + 2]);
+      verts.resize(in.CasterTriangles.size() / 3);
+      for (std::size_t i = 0; i < verts.size(); ++i)
+      {
+        verts[i] = in.CasterOrigin +
+          glm::dvec3(in.CasterTriangles[3 * i], in.CasterTriangles[3 * i + 1], in.CasterTriangles[3 * i + 2]);
+      }
     }
-    in.Reference->SetTriangles(verts, in.CasterOpacity);
+    return verts;
+  };
+  if (anyRef && (!in.Reference || in.ReferenceVersion != in.CasterVersion))
+  {
+    if (!in.Reference)
+    {
+      in.Reference.reset(new ss::ReferenceSolver);
+    }
+    in.Reference->SetTriangles(worldTriangles(), in.CasterOpacity);
     in.ReferenceVersion = in.CasterVersion;
+  }
+  if (anyGears && (!in.Gears || in.GearsVersion != in.CasterVersion))
+  {
+    if (!in.Gears)
+    {
+      in.Gears.reset(new ss::GearsSolver);
+    }
+    in.Gears->SetTriangles(worldTriangles(), in.CasterOpacity);
+    in.GearsVersion = in.CasterVersion;
   }
   std::vector<float> pos4, nrm4;
   ReadLayer(win, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, pos4);
@@ -1293,24 +1347,42 @@ void vtkSoftShadowPass::SolveReference(vtkOpenGLRenderWindow* win)
       nrm[3 * i + c] = nrm4[4 * i + c];
     }
   }
-  ss::ReferenceOptions opt;
-  opt.k = this->ReferenceSamples;
-  opt.pattern = this->ReferencePattern == 1 ? ss::LightSamplePattern::Stratified
-                                            : ss::LightSamplePattern::Regular;
-  in.LastReferenceStats = ss::ReferenceStats{};
+  in.Timings["triangle_solver_input"] = Seconds(t0, Clock::now());
+  ss::ReferenceOptions ropt;
+  ropt.k = this->ReferenceSamples;
+  ropt.pattern = this->ReferencePattern == 1 ? ss::LightSamplePattern::Stratified
+                                             : ss::LightSamplePattern::Regular;
+  ss::GearsOptions gopt;
+  gopt.k = this->GearsSamples;
+  gopt.grid = this->GearsGrid;
+  gopt.raster = this->GearsRaster == 1 ? ss::GearsRaster::LUT : ss::GearsRaster::EdgePlane;
+  double msRef = 0.0, msGears = 0.0;
   for (const auto& l : in.Lights)
   {
-    if (l.Layer < 0 || l.Method != ss::Method::Reference)
+    if (l.Layer < 0 || !ss::IsTriangleSolver(l.Method))
     {
       continue;
     }
-    // The light frame is relative to the frame origin; the solver wants world.
+    // The light frame is relative to the frame origin; the solvers want world.
     ss::LightFrame world = l.Frame;
     world.center += in.Origin;
-    ss::ReferenceStats st;
-    std::vector<float> V = in.Reference->Solve(world, in.Origin, pos.data(), nrm.data(), n, opt, &st);
-    in.LastReferenceStats.rays += st.rays;
-    in.LastReferenceStats.milliseconds += st.milliseconds;
+    const auto tl = Clock::now();
+    std::vector<float> V;
+    if (l.Method == ss::Method::Reference)
+    {
+      ss::ReferenceStats st;
+      V = in.Reference->Solve(world, in.Origin, pos.data(), nrm.data(), n, ropt, &st);
+      in.LastReferenceStats.rays += st.rays;
+      in.LastReferenceStats.milliseconds += st.milliseconds;
+      msRef += Seconds(tl, Clock::now());
+    }
+    else
+    {
+      ss::GearsStats st;
+      V = in.Gears->Solve(world, in.Origin, pos.data(), nrm.data(), n, gopt, &st);
+      in.AccumulateGearsStats(st);
+      msGears += Seconds(tl, Clock::now());
+    }
     for (auto& v : V)
     {
       v = std::isnan(v) ? -1.0f : v; // background marker, as the GPU solvers write
@@ -1323,7 +1395,14 @@ void vtkSoftShadowPass::SolveReference(vtkOpenGLRenderWindow* win)
   in.LastReferenceStats.raysPerSecond = in.LastReferenceStats.milliseconds > 0
     ? in.LastReferenceStats.rays / (in.LastReferenceStats.milliseconds * 1e-3)
     : 0.0;
-  in.Timings["reference"] = Seconds(t0, Clock::now());
+  if (anyRef)
+  {
+    in.Timings["reference"] = msRef;
+  }
+  if (anyGears)
+  {
+    in.Timings["gears"] = msGears;
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -1687,6 +1766,10 @@ std::string vtkSoftShadowPass::GetStatsJSON()
     << ", \"reference\": {\"samples_per_axis\": " << this->ReferenceSamples
     << ", \"rays\": " << in.LastReferenceStats.rays << ", \"rays_per_second\": "
     << in.LastReferenceStats.raysPerSecond << "}"
+    << ", \"gears\": {\"samples_per_axis\": " << this->GearsSamples << ", \"grid\": " << this->GearsGrid
+    << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \""
+    << (in.GearsBackendUsed == 1 ? "gl" : "cpu") << "\", \"lights\": " << in.GearsLights
+    << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}"
     << ", \"shadow_map_size\": " << in.ShadowArraySize << ", \"lights\": [";
   first = true;
   for (const auto& l : in.Lights)
@@ -1712,6 +1795,11 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FilterMaxQuads: " << this->FilterMaxQuads << "\n";
   os << indent << "ConstantBias: " << this->ConstantBias << "\n";
   os << indent << "SlopeBias: " << this->SlopeBias << "\n";
+  os << indent << "ReferenceSamples: " << this->ReferenceSamples << "\n";
+  os << indent << "GearsSamples: " << this->GearsSamples << "\n";
+  os << indent << "GearsGrid: " << this->GearsGrid << "\n";
+  os << indent << "GearsRaster: " << (this->GearsRaster ? "lut" : "edge") << "\n";
+  os << indent << "GearsBackend: " << (this->GearsBackend ? "gl" : "cpu") << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";

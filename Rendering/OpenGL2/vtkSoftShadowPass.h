@@ -56,16 +56,17 @@ public:
     PCF = 2,  ///< fixed filter of PCFRadius texels
     PCSS = 3, ///< blocker search + penumbra estimate + texel-quad coverage filter
     NONE = 4, ///< no shadows (the pass only shades)
-    REFERENCE = 5 ///< ray-traced ground truth: k x k light samples per pixel (Embree, CPU)
+    REFERENCE = 5, ///< ray-traced ground truth: k x k light samples per pixel (Embree, CPU)
+    GEARS = 6      ///< exact soft shadows: triangles assigned to pixels by a grid, k x k bitmasks
   };
 
   ///@{
   /**
    * The visibility solver used for every shadow-casting light.
    */
-  vtkSetClampMacro(Method, int, AUTO, REFERENCE);
+  vtkSetClampMacro(Method, int, AUTO, GEARS);
   vtkGetMacro(Method, int);
-  /** By name: auto, hard, pcf, pcss, none, reference. Returns false for unknown names. */
+  /** By name: auto, hard, pcf, pcss, none, reference, gears. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
   ///@}
@@ -90,6 +91,24 @@ public:
   vtkGetMacro(ReferenceSamples, int);
   vtkSetClampMacro(ReferencePattern, int, 0, 1);
   vtkGetMacro(ReferencePattern, int);
+  ///@}
+
+  ///@{
+  /**
+   * GEARS solver: k x k regular light samples (1..32, default 16; the same
+   * samples as the reference with ReferencePattern 0), grid resolution
+   * (default 128), rasterisation (0: exact edge planes, 1: lookup table) and
+   * backend (0: CPU with TBB, 1: OpenGL 4.3 compute shaders; the pass falls
+   * back to the CPU with a warning when the context has no compute shaders).
+   */
+  vtkSetClampMacro(GearsSamples, int, 1, 32);
+  vtkGetMacro(GearsSamples, int);
+  vtkSetClampMacro(GearsGrid, int, 8, 1024);
+  vtkGetMacro(GearsGrid, int);
+  vtkSetClampMacro(GearsRaster, int, 0, 1);
+  vtkGetMacro(GearsRaster, int);
+  vtkSetClampMacro(GearsBackend, int, 0, 1);
+  vtkGetMacro(GearsBackend, int);
   ///@}
 
   ///@{
@@ -207,6 +226,10 @@ protected:
   int ShadowMapSize = 2048;
   int ReferenceSamples = 32;
   int ReferencePattern = 0;
+  int GearsSamples = 16;
+  int GearsGrid = 128;
+  int GearsRaster = 0;
+  int GearsBackend = 0;
   double PCFRadius = 1.5;
   int BlockerSearchSamples = 8;
   int FilterMaxQuads = 24;
@@ -223,7 +246,7 @@ private:
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
   void BuildMinPyramid(vtkOpenGLRenderWindow* win);
-  void SolveReference(vtkOpenGLRenderWindow* win);
+  void SolveOnTriangles(vtkOpenGLRenderWindow* win);
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;
