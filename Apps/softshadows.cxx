@@ -64,10 +64,13 @@ const char* kUsage =
   "  softshadows compare A.pfm B.pfm\n"
   "  softshadows bench [--smoke] [--scenes a.json,b.json] [--out DIR] [--frames N]\n"
   "        [--size WxH] [--reference-samples K]\n"
+  "  softshadows bench --gears --scenes a.json,... [--sizes 512x512,1024x1024]\n"
+  "        [--samples 16,32] [--out DIR]\n"
   "methods: auto (default), hard, pcf, pcss, reference, gears, vtk, none\n"
   "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
   "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"
-  "         gears_samples (1..32), gears_grid, gears_raster (edge|lut), gears_backend (cpu|gl)\n";
+  "         gears_samples (1..32), gears_grid, gears_raster (edge|lut),\n"
+  "         gears_necessary (0|1: count Table 9's necessary assignments)\n";
 
 }
 
@@ -209,20 +212,16 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
     }
     pass->SetGearsRaster(v == "lut" ? 1 : 0);
   }
-  else if (k == "gears_backend")
+  else if (k == "gears_necessary")
   {
-    if (v != "cpu" && v != "gl")
-    {
-      throw UsageError(what + ": expected cpu or gl, got '" + v + "'");
-    }
-    pass->SetGearsBackend(v == "gl" ? 1 : 0);
+    pass->SetGearsCountNecessary(ParseInt(v, what, 0, 1) != 0);
   }
   else
   {
     throw UsageError("--option: unknown key '" + k +
       "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
       "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, "
-      "gears_backend)");
+      "gears_necessary)");
   }
 }
 

@@ -33,6 +33,9 @@ void ParseSize(const std::string& s, int& width, int& height);
 /// softshadows bench [--smoke] [--scenes a.json,b.json] [--out DIR] [--frames N]
 ///   [--size WxH] [--reference-samples K]
 int Bench(const std::vector<std::string>& args);
+/// softshadows bench --gears [--smoke] --scenes a.json,... [--sizes 512x512,1024x1024]
+///   [--samples 16,32] [--out DIR]: GEARS against the reference at identical samples.
+int BenchGEARS(const std::vector<std::string>& args);
 }
 
 #endif

@@ -522,6 +522,17 @@ struct GearsSolver::Impl
   bool Translucent = false;
   mutable std::mutex LUTMutex;
   mutable std::unique_ptr<HalfPlaneLUT> Table;
+  struct Scratch
+  {
+    std::vector<glm::dvec3> start, normal;
+    std::vector<std::int8_t> face;
+    RangeMax rmax;
+    std::vector<Box2> box;
+    std::vector<std::uint32_t> cellsN, pairTri, pairCell, hist, sortedTri;
+    std::vector<std::size_t> offset;
+  };
+  mutable std::mutex SolveMutex;
+  mutable Scratch Work;
 
   glm::dvec3 Vertex(std::size_t t, int j) const
   {
@@ -710,6 +721,10 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   const auto tStart = Clock::now();
   GearsStats st;
   const Impl& I = *P;
+  // Buffers are kept between solves: re-mapping fresh pages every frame
+  // cost more than some stages themselves. One solve at a time per solver.
+  std::lock_guard<std::mutex> solveLock(I.SolveMutex);
+  Impl::Scratch& WS = I.Work;
   const int k = (light.type == LightType::Point) ? 1 : std::clamp(opt.k, 1, 32);
   const int G = std::clamp(opt.grid, 1, 4096);
   const std::uint32_t fullRow = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
@@ -734,9 +749,12 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   const double T = (L.type == LightType::Directional) ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
 
   // --- step 2: pixel samples (ray starts), with the reference's rules
-  std::vector<glm::dvec3> start(n);
-  std::vector<glm::dvec3> normal(n);
-  std::vector<std::int8_t> face(n, -1);
+  auto& start = WS.start;
+  auto& normal = WS.normal;
+  auto& face = WS.face;
+  start.resize(n);
+  normal.resize(n);
+  face.assign(n, -1);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i)
     {
@@ -924,7 +942,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
       return sat[(b.y1 + 1) * (G + 1) + b.x1 + 1] - sat[b.y0 * (G + 1) + b.x1 + 1] -
         sat[(b.y1 + 1) * (G + 1) + b.x0] + sat[b.y0 * (G + 1) + b.x0];
     };
-    RangeMax rmax;
+    RangeMax& rmax = WS.rmax;
     if (opt.retractToFarthest)
     {
       rmax.Build(cellDepth, G);
@@ -944,8 +962,10 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     // far plane, then retracted to the farthest sample P_far of the cells it
     // touched and re-projected [§3.1, Fig. 5]; cellsN = its non-empty cells.
     const double minDepth = 1e-9 * std::max(I.Extent, diag);
-    std::vector<Box2> box(NT);
-    std::vector<std::uint32_t> cellsN(NT + 1, 0);
+    auto& box = WS.box;
+    auto& cellsN = WS.cellsN;
+    box.resize(NT);
+    cellsN.assign(NT + 1, 0);
     std::atomic<std::size_t> fullGrid{ 0 };
     const int nCorners = (L.type == LightType::Point) ? 1 : 4;
     glm::dvec3 corner[4];
@@ -1058,7 +1078,8 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     });
     st.fullGridTriangles += fullGrid.load();
     // prefix sum of cellsN
-    std::vector<std::size_t> offset(NT + 1, 0);
+    auto& offset = WS.offset;
+    offset.assign(NT + 1, 0);
     for (std::size_t t = 0; t < NT; ++t)
     {
       offset[t + 1] = offset[t] + cellsN[t];
@@ -1069,7 +1090,10 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     st.msPrefixSum += Ms(t1, t2);
 
     // --- 3.3 pass 2: (triID, cellID) pairs at the prefix-sum offsets
-    std::vector<std::uint32_t> pairTri(numPairs), pairCell(numPairs);
+    auto& pairTri = WS.pairTri;
+    auto& pairCell = WS.pairCell;
+    pairTri.resize(numPairs);
+    pairCell.resize(numPairs);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NT, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t t = r.begin(); t != r.end(); ++t)
       {
@@ -1100,7 +1124,8 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     // histograms, their prefix sum, scatter), then per-cell ranges
     const std::size_t chunks = std::max<std::size_t>(1, std::min<std::size_t>(64, numPairs / 65536 + 1));
     const std::size_t chunkSize = (numPairs + chunks - 1) / chunks;
-    std::vector<std::uint32_t> hist(chunks * NC, 0);
+    auto& hist = WS.hist;
+    hist.assign(chunks * NC, 0);
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t ch) {
       const std::size_t a = ch * chunkSize, b = std::min(numPairs, a + chunkSize);
       std::uint32_t* h = &hist[ch * NC];
@@ -1124,7 +1149,8 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
       }
       cellBegin[NC] = static_cast<std::uint32_t>(run);
     }
-    std::vector<std::uint32_t> sortedTri(numPairs);
+    auto& sortedTri = WS.sortedTri;
+    sortedTri.resize(numPairs);
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t ch) {
       const std::size_t a = ch * chunkSize, b = std::min(numPairs, a + chunkSize);
       std::uint32_t* h = &hist[ch * NC];
@@ -1133,8 +1159,6 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
         sortedTri[h[pairCell[q]]++] = pairTri[q];
       }
     });
-    std::vector<std::uint32_t>().swap(pairTri);
-    std::vector<std::uint32_t>().swap(pairCell);
     for (std::size_t c = 0; c < NC; ++c)
     {
       if (cellCount[c])
@@ -1361,7 +1385,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
       GearsAssignment::Face fa;
       fa.grid = G;
       fa.cellBegin = std::move(cellBegin);
-      fa.triangles = std::move(sortedTri);
+      fa.triangles.assign(sortedTri.begin(), sortedTri.begin() + numPairs);
       for (std::size_t q = 0; q < pix.size(); ++q)
       {
         assignOut->pixelFace[pix[q]] = static_cast<std::int32_t>(assignOut->faces.size());

@@ -190,7 +190,6 @@ public:
   unsigned long GearsVersion = 0;
   ss::GearsStats LastGearsStats; // summed over the GEARS lights of the frame
   int GearsLights = 0;
-  int GearsBackendUsed = 0;
   void AccumulateGearsStats(const ss::GearsStats& st)
   {
     ss::GearsStats& a = LastGearsStats;
@@ -208,6 +207,8 @@ public:
     a.trianglesPerCellMax = std::max(a.trianglesPerCellMax, st.trianglesPerCellMax);
     a.samplesPerCellMax = std::max(a.samplesPerCellMax, st.samplesPerCellMax);
     a.assignmentsTotal += st.assignmentsTotal;
+    a.assignmentsNecessary = st.assignmentsNecessary < 0 ? -1.0
+      : std::max(a.assignmentsNecessary, 0.0) + st.assignmentsNecessary;
     a.fullGridTriangles += st.fullGridTriangles;
     a.lutFallbacks += st.lutFallbacks;
     ++GearsLights;
@@ -1356,6 +1357,7 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
   gopt.k = this->GearsSamples;
   gopt.grid = this->GearsGrid;
   gopt.raster = this->GearsRaster == 1 ? ss::GearsRaster::LUT : ss::GearsRaster::EdgePlane;
+  gopt.countNecessary = this->GearsCountNecessary;
   double msRef = 0.0, msGears = 0.0;
   for (const auto& l : in.Lights)
   {
@@ -1767,8 +1769,8 @@ std::string vtkSoftShadowPass::GetStatsJSON()
     << ", \"rays\": " << in.LastReferenceStats.rays << ", \"rays_per_second\": "
     << in.LastReferenceStats.raysPerSecond << "}"
     << ", \"gears\": {\"samples_per_axis\": " << this->GearsSamples << ", \"grid\": " << this->GearsGrid
-    << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \""
-    << (in.GearsBackendUsed == 1 ? "gl" : "cpu") << "\", \"lights\": " << in.GearsLights
+    << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \"cpu\""
+    << ", \"lights\": " << in.GearsLights
     << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}"
     << ", \"shadow_map_size\": " << in.ShadowArraySize << ", \"lights\": [";
   first = true;
@@ -1799,7 +1801,6 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GearsSamples: " << this->GearsSamples << "\n";
   os << indent << "GearsGrid: " << this->GearsGrid << "\n";
   os << indent << "GearsRaster: " << (this->GearsRaster ? "lut" : "edge") << "\n";
-  os << indent << "GearsBackend: " << (this->GearsBackend ? "gl" : "cpu") << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";

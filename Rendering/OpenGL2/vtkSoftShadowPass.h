@@ -95,11 +95,10 @@ public:
 
   ///@{
   /**
-   * GEARS solver: k x k regular light samples (1..32, default 16; the same
-   * samples as the reference with ReferencePattern 0), grid resolution
-   * (default 128), rasterisation (0: exact edge planes, 1: lookup table) and
-   * backend (0: CPU with TBB, 1: OpenGL 4.3 compute shaders; the pass falls
-   * back to the CPU with a warning when the context has no compute shaders).
+   * GEARS solver (CPU, all cores through TBB): k x k regular light samples
+   * (1..32, default 16; the same samples as the reference with
+   * ReferencePattern 0), grid resolution (default 128) and rasterisation
+   * (0: exact edge planes, 1: lookup table).
    */
   vtkSetClampMacro(GearsSamples, int, 1, 32);
   vtkGetMacro(GearsSamples, int);
@@ -107,8 +106,9 @@ public:
   vtkGetMacro(GearsGrid, int);
   vtkSetClampMacro(GearsRaster, int, 0, 1);
   vtkGetMacro(GearsRaster, int);
-  vtkSetClampMacro(GearsBackend, int, 0, 1);
-  vtkGetMacro(GearsBackend, int);
+  /** Count the paper's "necessary" assignments (Table 9) in the stats; slower (no early exit). */
+  vtkSetMacro(GearsCountNecessary, bool);
+  vtkGetMacro(GearsCountNecessary, bool);
   ///@}
 
   ///@{
@@ -229,7 +229,7 @@ protected:
   int GearsSamples = 16;
   int GearsGrid = 128;
   int GearsRaster = 0;
-  int GearsBackend = 0;
+  bool GearsCountNecessary = false;
   double PCFRadius = 1.5;
   int BlockerSearchSamples = 8;
   int FilterMaxQuads = 24;

@@ -43,7 +43,9 @@ ss_cli_error(zero_scale "objects\\[0\\]\\.transform\\.scale: expected non-zero" 
 
 set(_demo "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json")
 ss_cli_error(unknown_method "--method: unknown method 'fancy'" ${_ss_cli} render "${_demo}" --method fancy)
-ss_cli_error(later_method "--method gears: not implemented yet" ${_ss_cli} render "${_demo}" --method gears)
+ss_cli_error(later_method "--method pvsm: not implemented yet" ${_ss_cli} render "${_demo}" --method pvsm)
+ss_cli_error(gears_samples "--option gears_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method gears --option gears_samples=64)
+ss_cli_error(gears_raster "--option gears_raster: expected edge or lut" ${_ss_cli} render "${_demo}" --method gears --option gears_raster=fast)
 ss_cli_error(bad_size "--size: expected WxH" ${_ss_cli} render "${_demo}" --size 640by480)
 ss_cli_error(light_out_of_range "--light 3: out of range" ${_ss_cli} render "${_demo}" --size 64x48 --light 3)
 ss_cli_error(unknown_option "--option: unknown key 'sharpness'" ${_ss_cli} render "${_demo}" --option sharpness=3)

@@ -605,3 +605,56 @@ TEST(SoftShadowPass, ReferenceMatchesAnalytic)
     }
   }
 }
+
+// GEARS in the pass: the reference's own 16 x 16 regular samples give the
+// same V (up to samples grazing an edge), and the picture is a baseline.
+TEST(SoftShadowPass, GEARSEqualsReferenceAndBaseline)
+{
+  auto render = [](int method, int raster) {
+    Scene s(400, 300);
+    s.renderer->AddActor(Ground());
+    s.renderer->AddActor(Sphere(0, 0, 1.2, 0.6));
+    s.renderer->AddActor(Box(1.2, 0.6, 0.3, 0.5, 0.5, 0.6));
+    s.renderer->AddLight(RectLight(1, -1, 5, 0, 0, 0, 2.0, 1.2));
+    s.Camera(0, -7, 5);
+    s.pass->SetMethod(method);
+    s.pass->SetReferenceSamples(16);
+    s.pass->SetGearsSamples(16);
+    s.pass->SetGearsRaster(raster);
+    Frame f = s.Render();
+    if (method == vtkSoftShadowPass::GEARS && raster == 0)
+    {
+      EXPECT_EQ(CompareWithBaseline(s.window, "GEARSSpherePlaneBox"), vtkTesting::PASSED);
+      const std::string stats = s.pass->GetStatsJSON();
+      EXPECT_NE(stats.find("\"gears\": {\"samples_per_axis\": 16"), std::string::npos) << stats;
+    }
+    return f;
+  };
+  const Frame ref = render(vtkSoftShadowPass::REFERENCE, 0);
+  const Frame gears = render(vtkSoftShadowPass::GEARS, 0);
+  const Frame lut = render(vtkSoftShadowPass::GEARS, 1);
+  ASSERT_EQ(ref.V.size(), gears.V.size());
+  std::size_t fg = 0, equal = 0, penumbra = 0;
+  double maxDiff = 0.0, lutSum = 0.0;
+  for (std::size_t i = 0; i < ref.V.size(); ++i)
+  {
+    if (std::isnan(ref.V[i]))
+    {
+      EXPECT_TRUE(std::isnan(gears.V[i]));
+      continue;
+    }
+    ++fg;
+    ASSERT_TRUE(std::isfinite(gears.V[i]));
+    const double d = std::abs(double(gears.V[i]) - ref.V[i]);
+    equal += d < 1e-6;
+    maxDiff = std::max(maxDiff, d);
+    penumbra += ref.V[i] > 0.01f && ref.V[i] < 0.99f;
+    lutSum += std::abs(double(lut.V[i]) - gears.V[i]);
+  }
+  std::cout << "GEARS vs reference: " << equal << " of " << fg << " px equal, max diff " << maxDiff
+            << ", LUT mean diff " << lutSum / fg << "\n";
+  EXPECT_GT(penumbra, fg / 20);
+  EXPECT_GE(equal, 0.999 * fg);
+  EXPECT_LE(maxDiff, 2.0 / 256 + 1e-6);
+  EXPECT_LT(lutSum / fg, 0.01);
+}
