@@ -4,6 +4,7 @@
 //   Rendering Shadows", Computer Graphics Forum 2014.
 // Section numbers below refer to that paper (../shared/papers/gears-*.md).
 #include "ssGEARS.h"
+#include "ssTriangleSet.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -560,64 +561,39 @@ GearsSolver::~GearsSolver() = default;
 
 void GearsSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::vector<float>& opacity)
 {
+  // The same selection, centre and size as the reference (so both start
+  // their rays at the same points); fully transparent triangles are then
+  // dropped as well, since they hide nothing.
+  const TriangleSelection sel = SelectTriangles(v, opacity, false);
   const std::size_t nt = v.size() / 3;
-  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-  std::vector<char> keep(nt, 0);
-  P->Skipped = 0;
-  for (std::size_t t = 0; t < nt; ++t)
-  {
-    bool ok = true;
-    for (int j = 0; j < 3; ++j)
-    {
-      const glm::dvec3& p = v[3 * t + j];
-      ok = ok && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-    }
-    if (ok)
-    {
-      const glm::dvec3 e = glm::cross(v[3 * t + 1] - v[3 * t], v[3 * t + 2] - v[3 * t]);
-      ok = glm::dot(e, e) > 0.0;
-    }
-    const float a = (t < opacity.size()) ? std::clamp(opacity[t], 0.0f, 1.0f) : 1.0f;
-    keep[t] = ok && a > 0.0f;
-    if (keep[t])
-    {
-      for (int j = 0; j < 3; ++j)
-      {
-        lo = glm::min(lo, v[3 * t + j]);
-        hi = glm::max(hi, v[3 * t + j]);
-      }
-    }
-    else
-    {
-      ++P->Skipped;
-    }
-  }
-  const std::size_t kept = nt - P->Skipped;
-  P->Center = kept ? 0.5 * (lo + hi) : glm::dvec3(0.0);
-  P->Extent = kept ? std::max(glm::length(hi - lo), 1e-30) : 1.0;
-  P->V.assign(9 * kept, 0.0f);
-  P->Opacity.assign(kept, 1.0f);
-  P->Input.assign(kept, 0);
+  P->Center = sel.center;
+  P->Extent = sel.extent;
+  P->Skipped = sel.skipped;
+  P->V.clear();
+  P->Opacity.clear();
+  P->Input.clear();
+  P->V.reserve(9 * sel.kept);
+  P->Opacity.reserve(sel.kept);
+  P->Input.reserve(sel.kept);
   P->Translucent = false;
-  std::size_t out = 0;
   for (std::size_t t = 0; t < nt; ++t)
   {
-    if (!keep[t])
+    const float a = TriangleOpacity(opacity, t);
+    if (!sel.keep[t] || a <= 0.0f)
     {
+      P->Skipped += sel.keep[t] ? 1 : 0;
       continue;
     }
     for (int j = 0; j < 3; ++j)
     {
       const glm::dvec3 r = v[3 * t + j] - P->Center;
-      P->V[9 * out + 3 * j + 0] = static_cast<float>(r.x);
-      P->V[9 * out + 3 * j + 1] = static_cast<float>(r.y);
-      P->V[9 * out + 3 * j + 2] = static_cast<float>(r.z);
+      P->V.push_back(static_cast<float>(r.x));
+      P->V.push_back(static_cast<float>(r.y));
+      P->V.push_back(static_cast<float>(r.z));
     }
-    const float a = (t < opacity.size()) ? std::clamp(opacity[t], 0.0f, 1.0f) : 1.0f;
-    P->Opacity[out] = a;
+    P->Opacity.push_back(a);
     P->Translucent = P->Translucent || a < 1.0f;
-    P->Input[out] = t;
-    ++out;
+    P->Input.push_back(t);
   }
 }
 

@@ -1,4 +1,5 @@
 #include "ssReference.h"
+#include "ssTriangleSet.h"
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
@@ -130,39 +131,12 @@ void ReferenceSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::
     P->Scene = nullptr;
   }
   const std::size_t nt = v.size() / 3;
-  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-  std::vector<char> keep(nt, 0);
-  P->Skipped = 0;
-  for (std::size_t t = 0; t < nt; ++t)
-  {
-    bool ok = true;
-    for (int j = 0; j < 3; ++j)
-    {
-      const glm::dvec3& p = v[3 * t + j];
-      ok = ok && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-    }
-    if (ok)
-    {
-      const glm::dvec3 e = glm::cross(v[3 * t + 1] - v[3 * t], v[3 * t + 2] - v[3 * t]);
-      ok = glm::dot(e, e) > 0.0;
-    }
-    keep[t] = ok ? 1 : 0;
-    if (ok)
-    {
-      for (int j = 0; j < 3; ++j)
-      {
-        lo = glm::min(lo, v[3 * t + j]);
-        hi = glm::max(hi, v[3 * t + j]);
-      }
-    }
-    else
-    {
-      ++P->Skipped;
-    }
-  }
-  P->Triangles = nt - P->Skipped;
-  P->Center = P->Triangles ? 0.5 * (lo + hi) : glm::dvec3(0.0);
-  P->Extent = P->Triangles ? std::max(glm::length(hi - lo), 1e-30) : 1.0;
+  const TriangleSelection sel = SelectTriangles(v, opacity, false);
+  const std::vector<char>& keep = sel.keep;
+  P->Skipped = sel.skipped;
+  P->Triangles = sel.kept;
+  P->Center = sel.center;
+  P->Extent = sel.extent;
   P->Opacity.clear();
   P->Translucent = false;
   P->Scene = rtcNewScene(P->Device);
@@ -189,7 +163,7 @@ void ReferenceSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::
         vb[9 * out + 3 * j + 2] = static_cast<float>(r.z);
         ib[3 * out + j] = static_cast<unsigned>(3 * out + j);
       }
-      const float a = (t < opacity.size()) ? std::clamp(opacity[t], 0.0f, 1.0f) : 1.0f;
+      const float a = TriangleOpacity(opacity, t);
       P->Opacity.push_back(a);
       P->Translucent = P->Translucent || a < 1.0f;
       ++out;
