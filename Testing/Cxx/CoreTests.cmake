@@ -8,7 +8,8 @@ add_executable(TestSoftShadowsCore
   TestSSEffectPlanner.cxx
   TestSSShadowView.cxx
   TestSSReference.cxx
-  TestSSGEARS.cxx)
+  TestSSGEARS.cxx
+  TestSSPVSM.cxx)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
 include(GoogleTest)
