@@ -66,11 +66,13 @@ const char* kUsage =
   "        [--size WxH] [--reference-samples K]\n"
   "  softshadows bench --gears --scenes a.json,... [--sizes 512x512,1024x1024]\n"
   "        [--samples 16,32] [--out DIR]\n"
-  "methods: auto (default), hard, pcf, pcss, reference, gears, vtk, none\n"
+  "methods: auto (default), hard, pcf, pcss, pvsm, reference, gears, vtk, none\n"
   "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
   "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"
   "         gears_samples (1..32), gears_grid, gears_raster (edge|lut),\n"
-  "         gears_necessary (0|1: count Table 9's necessary assignments)\n";
+  "         gears_necessary (0|1: count Table 9's necessary assignments),\n"
+  "         pvsm_quality (scale on rho), pvsm_metric (auto|dynamic|static), pvsm_grid,\n"
+  "         pvsm_max_tile, pvsm_low_resolution\n";
 
 }
 
@@ -216,12 +218,41 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
   {
     pass->SetGearsCountNecessary(ParseInt(v, what, 0, 1) != 0);
   }
+  else if (k == "pvsm_quality")
+  {
+    const double q = ParseDouble(v, what);
+    if (!(q >= 0.05 && q <= 64.0))
+    {
+      throw UsageError(what + ": expected a value in [0.05, 64], got '" + v + "'");
+    }
+    pass->SetPVSMQuality(q);
+  }
+  else if (k == "pvsm_metric")
+  {
+    if (v != "auto" && v != "dynamic" && v != "static")
+    {
+      throw UsageError(what + ": expected auto, dynamic or static, got '" + v + "'");
+    }
+    pass->SetPVSMMetric(v == "auto" ? 0 : (v == "dynamic" ? 1 : 2));
+  }
+  else if (k == "pvsm_grid")
+  {
+    pass->SetPVSMGridSize(ParseInt(v, what, 4, 256));
+  }
+  else if (k == "pvsm_max_tile")
+  {
+    pass->SetPVSMMaxTileResolution(ParseInt(v, what, 64, 16384));
+  }
+  else if (k == "pvsm_low_resolution")
+  {
+    pass->SetPVSMLowResolution(ParseInt(v, what, 64, 8192));
+  }
   else
   {
     throw UsageError("--option: unknown key '" + k +
       "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
       "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, "
-      "gears_necessary)");
+      "gears_necessary, pvsm_quality, pvsm_metric, pvsm_grid, pvsm_max_tile, pvsm_low_resolution)");
   }
 }
 
@@ -323,14 +354,14 @@ int Render(const std::vector<std::string>& args)
   vtkNew<vtkSoftShadowPass> pass;
   if (!vtkMethod && !pass->SetMethodByName(method.c_str()))
   {
-    static const std::vector<std::string> later = { "pvsm", "vpcss", "asm" };
+    static const std::vector<std::string> later = { "vpcss", "asm" };
     if (std::find(later.begin(), later.end(), method) != later.end())
     {
       throw UsageError("--method " + method + ": not implemented yet (available: auto, hard, pcf, "
-                                              "pcss, reference, gears, vtk, none)");
+                                              "pcss, pvsm, reference, gears, vtk, none)");
     }
     throw UsageError("--method: unknown method '" + method +
-      "' (expected auto, hard, pcf, pcss, reference, gears, vtk, none)");
+      "' (expected auto, hard, pcf, pcss, pvsm, reference, gears, vtk, none)");
   }
   if (vtkMethod && (!visibility.empty() || !positions.empty()))
   {

@@ -22,6 +22,8 @@ const char* MethodName(Method m)
       return "reference";
     case Method::GEARS:
       return "gears";
+    case Method::PVSM:
+      return "pvsm";
   }
   return "none";
 }
@@ -29,7 +31,7 @@ const char* MethodName(Method m)
 bool MethodFromName(const std::string& s, Method& out)
 {
   for (Method m : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS, Method::None, Method::Reference,
-         Method::GEARS })
+         Method::GEARS, Method::PVSM })
   {
     if (s == MethodName(m))
     {

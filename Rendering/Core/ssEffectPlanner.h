@@ -18,7 +18,8 @@ enum class Method
   PCSS = 3,
   None = 4,
   Reference = 5, ///< ray-traced ground truth (Embree, CPU)
-  GEARS = 6      ///< exact soft shadows from per-pixel triangle lists (GEARS)
+  GEARS = 6,     ///< exact soft shadows from per-pixel triangle lists (GEARS)
+  PVSM = 7       ///< predicted virtual soft shadow maps (adaptive tiles, anisotropic filtering)
 };
 const char* MethodName(Method m);
 /// Solved per pixel from the caster triangles (no shadow map).

@@ -55,14 +55,20 @@ double MonotoneEnd(const double c[4])
 }
 }
 
-double PerceptualRho(double n, PerceptualMetric m)
+void PerceptualRhoCubic(PerceptualMetric m, double coeffs[4], double& xEnd)
 {
   // PVSM §5.1, cubic fits of the user study in log2 space
   static const double Pd[4] = { 0.667, 0.7794, 0.3967, -0.02716 };
   static const double Ps[4] = { 0.5477, 1.406, -0.04687, -0.003944 };
-  static const double endD = MonotoneEnd(Pd), endS = MonotoneEnd(Ps);
   const double* c = (m == PerceptualMetric::Static) ? Ps : Pd;
-  const double end = (m == PerceptualMetric::Static) ? endS : endD;
+  std::copy(c, c + 4, coeffs);
+  xEnd = MonotoneEnd(c);
+}
+
+double PerceptualRho(double n, PerceptualMetric m)
+{
+  double c[4], end = 0.0;
+  PerceptualRhoCubic(m, c, end);
   double x = (std::isfinite(n) && n > 0.0) ? std::log2(n) : 0.0;
   x = std::clamp(x, 0.0, end);
   return Cubic(c, x);

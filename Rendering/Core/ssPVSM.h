@@ -60,6 +60,8 @@ const char* PerceptualMetricName(PerceptualMetric m);
 /// 1:1 hard-shadow rule of Giegl & Wimmer) and very wide ones keep the
 /// largest measured rho. Non-finite or non-positive n gives rho(1).
 double PerceptualRho(double n, PerceptualMetric m);
+/// The cubic's coefficients (c0..c3) and the end of its clamp range, for shaders.
+void PerceptualRhoCubic(PerceptualMetric m, double coeffs[4], double& xEnd);
 
 /// Static metric automatically when only the camera moved since the last frame
 /// (mode 0), or forced: mode 1 dynamic, mode 2 static.

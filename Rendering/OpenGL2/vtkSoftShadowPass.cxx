@@ -48,12 +48,21 @@
 #include "ssEffectPlanner.h"
 #include "ssLightFrame.h"
 #include "ssGEARS.h"
+#include "ssPVSM.h"
 #include "ssReference.h"
 #include "ssShadowView.h"
 
 #include "ssCasterFS.h"
 #include "ssCasterVS.h"
+#include "ssConservativeFS.h"
+#include "ssConservativeGS.h"
 #include "ssMinReduceFS.h"
+#include "ssPVSMFilterFS.h"
+#include "ssPVSMGridFS.h"
+#include "ssPVSMGridVS.h"
+#include "ssPVSMKernelFS.h"
+#include "ssPVSMResolveFS.h"
+#include "ssShadowCommon.h"
 #include "ssVisibilityFS.h"
 
 #include <algorithm>
@@ -92,10 +101,99 @@ struct ShadowLight
   ss::LightViewInfo ViewInfo;
   ss::Method Method = ss::Method::None;
   double SearchDepth = 0.0;
+  int FirstLayer = 0; // its first layer in the shadow-map array
 };
 
 // What the caster set was built from: rebuilt when any entry changes.
 using CasterKey = std::tuple<void*, void*, vtkMTimeType, vtkMTimeType, vtkMTimeType>;
+
+// A GL_TEXTURE_2D_ARRAY of RG32F linear light-space depth whose mip levels
+// hold the (min, max) of the level below. vtkTextureObject cannot bind 2-D
+// array textures (VTK 9.2): a texture unit is taken from the window's
+// manager and bound by hand.
+struct DepthArray
+{
+  unsigned int Handle = 0;
+  int Size = 0, Layers = 0, Levels = 0;
+
+  void Release()
+  {
+    if (this->Handle)
+    {
+      glDeleteTextures(1, &this->Handle);
+      this->Handle = 0;
+    }
+    this->Size = this->Layers = this->Levels = 0;
+  }
+
+  long long Bytes() const
+  {
+    // all mip levels: about 4/3 of level 0
+    return this->Handle ? static_cast<long long>(this->Size) * this->Size * this->Layers * 8 * 4 / 3 : 0;
+  }
+
+  void Ensure(int size, int layers)
+  {
+    if (this->Handle && this->Size == size && this->Layers == layers)
+    {
+      return;
+    }
+    this->Release();
+    int levels = 1;
+    while ((size >> (levels - 1)) > 1)
+    {
+      ++levels;
+    }
+    glGenTextures(1, &this->Handle);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, this->Handle);
+    for (int l = 0; l < levels; ++l)
+    {
+      const int s = std::max(1, size >> l);
+      glTexImage3D(GL_TEXTURE_2D_ARRAY, l, GL_RG32F, s, s, layers, 0, GL_RG, GL_FLOAT, nullptr);
+    }
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, levels - 1);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+    this->Size = size;
+    this->Layers = layers;
+    this->Levels = levels;
+  }
+
+  int Bind(vtkOpenGLRenderWindow* win) const
+  {
+    const int unit = win->GetTextureUnitManager()->Allocate();
+    if (unit >= 0)
+    {
+      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
+      glBindTexture(GL_TEXTURE_2D_ARRAY, this->Handle);
+    }
+    return unit;
+  }
+
+  static void Unbind(vtkOpenGLRenderWindow* win, int unit)
+  {
+    if (unit >= 0)
+    {
+      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
+      glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+      win->GetTextureUnitManager()->Free(unit);
+    }
+  }
+
+  // Renders into (level, layer) through the bound FBO.
+  void Attach(vtkOpenGLFramebufferObject* fbo, int level, int layer) const
+  {
+    fbo->RemoveColorAttachments(1);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, this->Handle, level, layer);
+    fbo->ActivateDrawBuffers(1);
+  }
+
+  static void Detach() { glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0); }
+};
 
 double Seconds(Clock::time_point a, Clock::time_point b)
 {
@@ -130,6 +228,140 @@ vtkShaderProgram* ReadyQuad(
   return (prog && prog->GetCompiled()) ? prog : nullptr;
 }
 
+// Levels 1.. of the (min, max) pyramid of `array` over its [0,w) x [0,h)
+// corner (a virtual PVSM tile uses only part of its texture).
+bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo,
+  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const DepthArray& array, int w, int h)
+{
+  vtkOpenGLState* ostate = win->GetState();
+  vtkShaderProgram* prog = ReadyQuad(quad, win, ssMinReduceFS);
+  if (!prog)
+  {
+    return false;
+  }
+  const int unit = array.Bind(win);
+  prog->SetUniformi("src", unit);
+  for (int level = 1; level < array.Levels; ++level)
+  {
+    // sample only the level below the one written
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, level - 1);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, level - 1);
+    auto up = [](int v, int l) { return std::max(1, (v + (1 << l) - 1) >> l); };
+    const int src[2] = { up(w, level - 1), up(h, level - 1) };
+    const int dst[2] = { up(w, level), up(h, level) };
+    prog->SetUniform2i("srcSize", src);
+    prog->SetUniform2i("dstSize", dst);
+    ostate->vtkglViewport(0, 0, dst[0], dst[1]);
+    ostate->vtkglScissor(0, 0, dst[0], dst[1]);
+    for (int layer = 0; layer < array.Layers; ++layer)
+    {
+      array.Attach(fbo, level, layer);
+      prog->SetUniformi("layer", layer);
+      quad->Render();
+    }
+  }
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, array.Levels - 1);
+  DepthArray::Unbind(win, unit);
+  return true;
+}
+
+// A screen-space float texture of `comps` (1, 2 or 4) components, (re)sized.
+void EnsureTexture2D(vtkOpenGLRenderWindow* win, vtkSmartPointer<vtkTextureObject>& t, int w, int h, int comps)
+{
+  if (!t)
+  {
+    t = vtkSmartPointer<vtkTextureObject>::New();
+    t->SetContext(win);
+    t->SetFormat(comps == 4 ? GL_RGBA : (comps == 2 ? GL_RG : GL_RED));
+    t->SetInternalFormat(comps == 4 ? GL_RGBA32F : (comps == 2 ? GL_RG32F : GL_R32F));
+    t->SetDataType(GL_FLOAT);
+    t->SetMinificationFilter(vtkTextureObject::Nearest);
+    t->SetMagnificationFilter(vtkTextureObject::Nearest);
+    t->SetWrapS(vtkTextureObject::ClampToEdge);
+    t->SetWrapT(vtkTextureObject::ClampToEdge);
+    t->Allocate2D(w, h, comps, VTK_FLOAT);
+  }
+  else if (static_cast<int>(t->GetWidth()) != w || static_cast<int>(t->GetHeight()) != h)
+  {
+    t->Resize(w, h);
+  }
+}
+
+// A fragment shader with the shared shadow code (ssShadowCommon.glsl) pasted
+// where it says //SS::Common.
+std::string WithCommon(const char* fs)
+{
+  std::string src(fs);
+  vtkShaderProgram::Substitute(src, "//SS::Common", ssShadowCommon);
+  return src;
+}
+
+// The uniforms of ssShadowCommon.glsl that describe one light and its views.
+void SetLightUniforms(vtkShaderProgram* prog, const ShadowLight& l)
+{
+  const int nv = static_cast<int>(l.Views.size());
+  float U[6][3] = {}, Vv[6][3] = {}, N[6][3] = {}, E[6][4] = {};
+  for (int i = 0; i < nv && i < 6; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      U[i][c] = static_cast<float>(l.Views[i].u[c]);
+      Vv[i][c] = static_cast<float>(l.Views[i].v[c]);
+      N[i][c] = static_cast<float>(l.Views[i].n[c]);
+    }
+    E[i][0] = static_cast<float>(l.Views[i].extent.x0);
+    E[i][1] = static_cast<float>(l.Views[i].extent.y0);
+    E[i][2] = static_cast<float>(l.Views[i].extent.x1);
+    E[i][3] = static_cast<float>(l.Views[i].extent.y1);
+  }
+  prog->SetUniformi("firstLayer", l.FirstLayer);
+  prog->SetUniformi("numViews", nv);
+  prog->SetUniform3fv("viewU", nv, U);
+  prog->SetUniform3fv("viewV", nv, Vv);
+  prog->SetUniform3fv("viewN", nv, N);
+  prog->SetUniform4fv("viewExtent", nv, E);
+  const glm::vec3 c(l.Views.front().origin);
+  prog->SetUniform3f("lightCenter", glm::value_ptr(c));
+  const bool ortho = l.Frame.type == ss::LightType::Directional;
+  prog->SetUniformi("orthographic", ortho ? 1 : 0);
+  prog->SetUniformi("oneSided", l.Frame.type == ss::LightType::Rect ? 1 : 0);
+  float half[2] = { 0.f, 0.f };
+  if (l.Frame.type == ss::LightType::Rect)
+  {
+    half[0] = static_cast<float>(0.5 * l.Frame.width);
+    half[1] = static_cast<float>(0.5 * l.Frame.height);
+  }
+  else if (ortho)
+  {
+    half[0] = half[1] = static_cast<float>(std::tan(0.5 * l.Frame.angularDiameter));
+  }
+  prog->SetUniform2f("lightHalfSize", half);
+  const glm::vec3 lu(l.Frame.u), lv(l.Frame.v);
+  prog->SetUniform3f("lightU", glm::value_ptr(lu));
+  prog->SetUniform3f("lightV", glm::value_ptr(lv));
+  prog->SetUniformf("searchDepth", static_cast<float>(l.SearchDepth));
+}
+
+// Draws the caster set into the bound target as seen by `view`, over the
+// shadow-map window `extent` (the whole view, or one PVSM tile).
+void DrawCasters(vtkShaderProgram* p, vtkOpenGLVertexArrayObject* vao, const ss::ShadowView& v,
+  const ss::Rect& extent, const glm::dvec3& casterOffset, std::size_t vertices)
+{
+  p->SetUniform3f("casterOffset", glm::value_ptr(glm::vec3(casterOffset)));
+  p->SetUniform3f("viewOrigin", glm::value_ptr(glm::vec3(v.origin)));
+  p->SetUniform3f("axisU", glm::value_ptr(glm::vec3(v.u)));
+  p->SetUniform3f("axisV", glm::value_ptr(glm::vec3(v.v)));
+  p->SetUniform3f("axisN", glm::value_ptr(glm::vec3(v.n)));
+  const float e[4] = { static_cast<float>(extent.x0), static_cast<float>(extent.y0),
+    static_cast<float>(extent.x1), static_cast<float>(extent.y1) };
+  p->SetUniform4f("extent", e);
+  p->SetUniformi("orthographic", v.orthographic ? 1 : 0);
+  vao->Bind();
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices));
+  vao->Release();
+}
+
 bool Finite3(const double p[3])
 {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
@@ -148,13 +380,57 @@ public:
   // depth) whose mip levels hold the (min, max) depth of the level below: the
   // PCSS blocker search looks at a whole region without missing a blocker
   // between samples, and the filter decides coarse quads exactly where it can.
-  unsigned int ShadowArray = 0;
-  int ShadowArraySize = 0, ShadowArrayLayers = 0, ShadowArrayLevels = 0;
+  DepthArray Shadow;
+  // PVSM: one virtual shadow-map tile at a time (a single layer, same layout).
+  DepthArray Tile;
   std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
   vtkSmartPointer<vtkTextureObject> Visibility; // R32F 3D: one layer per shadow light
   vtkSmartPointer<vtkOpenGLBufferObject> CasterVBO;
   vtkSmartPointer<vtkOpenGLVertexArrayObject> CasterVAO;
   vtkShaderProgram* CasterProgram = nullptr; // owned by the window's shader cache
+  unsigned long CasterUploads = 0;
+  // PVSM (§5.2): conservative low-res maps, kernel-shape buffer, SMTG, tiles
+  vtkShaderProgram* ConservativeProgram = nullptr;
+  vtkSmartPointer<vtkOpenGLVertexArrayObject> ConservativeVAO;
+  unsigned long ConservativeVAOUploads = 0;
+  vtkSmartPointer<vtkTextureObject> Kernel[3]; // RGBA32F, screen size
+  vtkSmartPointer<vtkTextureObject> Accum;     // RG32F (V·A, A), screen size
+  vtkSmartPointer<vtkTextureObject> Grid;      // RG32F SMTG
+  vtkShaderProgram* GridProgram = nullptr;
+  vtkSmartPointer<vtkOpenGLVertexArrayObject> EmptyVAO;
+  std::unique_ptr<vtkOpenGLQuadHelper> KernelQuad, FilterQuad, ResolveQuad;
+  ss::PVSMStats LastPVSMStats;
+  int PVSMLights = 0;
+  std::string PVSMSceneKey; // casters and lights of the last PVSM frame (static metric)
+
+  vtkShaderProgram* ReadyConservativeProgram(vtkOpenGLRenderWindow* win)
+  {
+    this->ConservativeProgram =
+      win->GetShaderCache()->ReadyShaderProgram(ssCasterVS, ssConservativeFS, ssConservativeGS);
+    if (!this->ConservativeProgram)
+    {
+      return nullptr;
+    }
+    if (!this->ConservativeVAO)
+    {
+      this->ConservativeVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
+      this->ConservativeVAOUploads = 0;
+    }
+    if (this->ConservativeVAOUploads != this->CasterUploads)
+    {
+      this->ConservativeVAO->Bind();
+      this->ConservativeVAO->RemoveAttributeArray("vertexRel");
+      const bool ok = this->ConservativeVAO->AddAttributeArray(this->ConservativeProgram, this->CasterVBO,
+        "vertexRel", 0, 3 * sizeof(float), VTK_FLOAT, 3, false);
+      this->ConservativeVAO->Release();
+      if (!ok)
+      {
+        return nullptr;
+      }
+      this->ConservativeVAOUploads = this->CasterUploads;
+    }
+    return this->ConservativeProgram;
+  }
   std::unique_ptr<vtkOpenGLQuadHelper> VisibilityQuad;
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
 
@@ -233,9 +509,16 @@ public:
     tex(this->GPosition);
     tex(this->GNormal);
     tex(this->GDepth);
-    n += this->ShadowArray != 0 ? 1 : 0;
+    n += this->Shadow.Handle != 0 ? 1 : 0;
+    n += this->Tile.Handle != 0 ? 1 : 0;
     n += this->ReduceQuad ? 1 : 0;
     tex(this->Visibility);
+    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get(),
+           this->Grid.Get() })
+    {
+      tex(t);
+    }
+    n += (this->KernelQuad ? 1 : 0) + (this->FilterQuad ? 1 : 0) + (this->ResolveQuad ? 1 : 0);
     n += (this->FBO && this->FBO->GetFBOIndex() != 0) ? 1 : 0;
     n += (this->CasterVBO && this->CasterVBO->GetHandle() != 0) ? 1 : 0;
     n += this->VisibilityQuad ? 1 : 0;
@@ -254,13 +537,14 @@ public:
     tex(this->GPosition, 16);
     tex(this->GNormal, 16);
     tex(this->GDepth, 4);
-    if (this->ShadowArray)
-    {
-      // all mip levels: about 4/3 of level 0
-      b += static_cast<long long>(this->ShadowArraySize) * this->ShadowArraySize *
-        this->ShadowArrayLayers * 8 * 4 / 3;
-    }
+    b += this->Shadow.Bytes() + this->Tile.Bytes();
     tex(this->Visibility, 4);
+    for (int i = 0; i < 3; ++i)
+    {
+      tex(this->Kernel[i], 16);
+    }
+    tex(this->Accum, 8);
+    tex(this->Grid, 8);
     if (this->CasterUploaded)
     {
       b += static_cast<long long>(this->CasterTriangles.size()) * 4;
@@ -268,86 +552,10 @@ public:
     return b;
   }
 
-  void ReleaseShadowArray()
-  {
-    if (this->ShadowArray)
-    {
-      glDeleteTextures(1, &this->ShadowArray);
-      this->ShadowArray = 0;
-    }
-    this->ShadowArraySize = this->ShadowArrayLayers = this->ShadowArrayLevels = 0;
-  }
-
-  // vtkTextureObject cannot bind 2-D array textures (VTK 9.2): take a texture
-  // unit from the window's manager and bind by hand.
-  int BindShadowArray(vtkOpenGLRenderWindow* win)
-  {
-    const int unit = win->GetTextureUnitManager()->Allocate();
-    if (unit >= 0)
-    {
-      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
-      glBindTexture(GL_TEXTURE_2D_ARRAY, this->ShadowArray);
-    }
-    return unit;
-  }
-
-  void UnbindShadowArray(vtkOpenGLRenderWindow* win, int unit)
-  {
-    if (unit >= 0)
-    {
-      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
-      glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-      win->GetTextureUnitManager()->Free(unit);
-    }
-  }
-
-  void EnsureShadowArray(vtkOpenGLRenderWindow* /*win*/, int size, int layers)
-  {
-    if (this->ShadowArray && this->ShadowArraySize == size && this->ShadowArrayLayers == layers)
-    {
-      return;
-    }
-    this->ReleaseShadowArray();
-    int levels = 1;
-    while ((size >> (levels - 1)) > 1)
-    {
-      ++levels;
-    }
-    glGenTextures(1, &this->ShadowArray);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, this->ShadowArray);
-    for (int l = 0; l < levels; ++l)
-    {
-      const int s = std::max(1, size >> l);
-      glTexImage3D(GL_TEXTURE_2D_ARRAY, l, GL_RG32F, s, s, layers, 0, GL_RG, GL_FLOAT, nullptr);
-    }
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, levels - 1);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-    this->ShadowArraySize = size;
-    this->ShadowArrayLayers = layers;
-    this->ShadowArrayLevels = levels;
-  }
-
-  // Renders into (level, layer) of the shadow array through the bound FBO.
-  void AttachShadowLevel(vtkOpenGLFramebufferObject* fbo, int level, int layer)
-  {
-    fbo->RemoveColorAttachments(1);
-    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, this->ShadowArray, level, layer);
-    fbo->ActivateDrawBuffers(1);
-  }
-
-  void DetachShadowLevel()
-  {
-    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
-  }
-
   void Release(vtkWindow* w)
   {
-    this->ReleaseShadowArray();
+    this->Shadow.Release();
+    this->Tile.Release();
     if (this->ReduceQuad)
     {
       this->ReduceQuad->ReleaseGraphicsResources(w);
@@ -385,6 +593,39 @@ public:
       this->VisibilityQuad->ReleaseGraphicsResources(w);
       this->VisibilityQuad.reset();
     }
+    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get(),
+           this->Grid.Get() })
+    {
+      if (t)
+      {
+        t->ReleaseGraphicsResources(w);
+      }
+    }
+    for (auto& t : this->Kernel)
+    {
+      t = nullptr;
+    }
+    this->Accum = nullptr;
+    this->Grid = nullptr;
+    for (auto* q : { &this->KernelQuad, &this->FilterQuad, &this->ResolveQuad })
+    {
+      if (*q)
+      {
+        (*q)->ReleaseGraphicsResources(w);
+        q->reset();
+      }
+    }
+    for (auto* vao : { &this->ConservativeVAO, &this->EmptyVAO })
+    {
+      if (*vao)
+      {
+        (*vao)->ReleaseGraphicsResources();
+        *vao = nullptr;
+      }
+    }
+    this->ConservativeProgram = nullptr;
+    this->GridProgram = nullptr;
+    this->PVSMSceneKey.clear();
     this->CasterProgram = nullptr;
     this->CasterUploaded = false;
     this->HaveResults = false;
@@ -918,27 +1159,8 @@ void vtkSoftShadowPass::RenderGBuffer(const vtkRenderState* s)
   vtkOpenGLState* ostate = win->GetState();
   const int w = in.Width, h = in.Height;
 
-  auto makeTex = [&](vtkSmartPointer<vtkTextureObject>& t, int comps) {
-    if (!t)
-    {
-      t = vtkSmartPointer<vtkTextureObject>::New();
-      t->SetContext(win);
-      t->SetFormat(comps == 4 ? GL_RGBA : GL_RED);
-      t->SetInternalFormat(comps == 4 ? GL_RGBA32F : GL_R32F);
-      t->SetDataType(GL_FLOAT);
-      t->SetMinificationFilter(vtkTextureObject::Nearest);
-      t->SetMagnificationFilter(vtkTextureObject::Nearest);
-      t->SetWrapS(vtkTextureObject::ClampToEdge);
-      t->SetWrapT(vtkTextureObject::ClampToEdge);
-      t->Allocate2D(w, h, comps, VTK_FLOAT);
-    }
-    else if (static_cast<int>(t->GetWidth()) != w || static_cast<int>(t->GetHeight()) != h)
-    {
-      t->Resize(w, h);
-    }
-  };
-  makeTex(in.GPosition, 4);
-  makeTex(in.GNormal, 4);
+  EnsureTexture2D(win, in.GPosition, w, h, 4);
+  EnsureTexture2D(win, in.GNormal, w, h, 4);
   if (!in.GDepth)
   {
     in.GDepth = vtkSmartPointer<vtkTextureObject>::New();
@@ -1038,9 +1260,20 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   vtkRenderer* ren = s->GetRenderer();
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
   vtkOpenGLState* ostate = win->GetState();
-  // Power-of-two maps keep every texel of the min pyramid covered.
+  // Power-of-two maps keep every texel of the min pyramid covered. PVSM's
+  // low-resolution maps have their own size when no other light needs a map.
+  bool anyMap = false, allPVSM = true;
+  for (const auto& l : in.Lights)
+  {
+    if (l.Layer >= 0 && !ss::IsTriangleSolver(l.Method))
+    {
+      anyMap = true;
+      allPVSM = allPVSM && l.Method == ss::Method::PVSM;
+    }
+  }
+  const int wantSize = (anyMap && allPVSM) ? this->PVSMLowResolution : this->ShadowMapSize;
   int S = 64;
-  while (S < this->ShadowMapSize)
+  while (S < wantSize)
   {
     S *= 2;
   }
@@ -1092,7 +1325,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 
   // --- shadow maps: the caster set drawn by our own small program
   auto tStage = Clock::now();
-  in.EnsureShadowArray(win, S, std::max(totalViews, 1));
+  in.Shadow.Ensure(S, std::max(totalViews, 1));
   if (!in.CasterVBO)
   {
     in.CasterVBO = vtkSmartPointer<vtkOpenGLBufferObject>::New();
@@ -1117,6 +1350,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     }
     in.CasterVAO->Release();
     in.CasterUploaded = true;
+    ++in.CasterUploads;
   }
 
   ostate->PushFramebufferBindings();
@@ -1138,25 +1372,35 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     {
       continue;
     }
+    l.FirstLayer = layer;
+    // PVSM §5.2 step 2: its low-resolution map is rasterised conservatively
+    vtkShaderProgram* p = in.CasterProgram;
+    vtkOpenGLVertexArrayObject* vao = in.CasterVAO;
+    win->GetShaderCache()->ReadyShaderProgram(p);
+    if (l.Method == ss::Method::PVSM && !l.Views.empty())
+    {
+      p = in.ReadyConservativeProgram(win);
+      vao = in.ConservativeVAO;
+      if (!p)
+      {
+        vtkErrorMacro("Could not build the conservative rasterisation program.");
+        p = in.CasterProgram;
+        vao = in.CasterVAO;
+        win->GetShaderCache()->ReadyShaderProgram(p);
+      }
+      else
+      {
+        const float vp[2] = { static_cast<float>(S), static_cast<float>(S) };
+        p->SetUniform2f("viewportSize", vp);
+      }
+    }
     for (const auto& v : l.Views)
     {
-      in.AttachShadowLevel(in.FBO, 0, layer);
+      in.Shadow.Attach(in.FBO, 0, layer);
       ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
       if (!in.CasterTriangles.empty())
       {
-        vtkShaderProgram* p = in.CasterProgram;
-        p->SetUniform3f("casterOffset", glm::value_ptr(glm::vec3(casterOffset)));
-        p->SetUniform3f("viewOrigin", glm::value_ptr(glm::vec3(v.origin)));
-        p->SetUniform3f("axisU", glm::value_ptr(glm::vec3(v.u)));
-        p->SetUniform3f("axisV", glm::value_ptr(glm::vec3(v.v)));
-        p->SetUniform3f("axisN", glm::value_ptr(glm::vec3(v.n)));
-        const float e[4] = { static_cast<float>(v.extent.x0), static_cast<float>(v.extent.y0),
-          static_cast<float>(v.extent.x1), static_cast<float>(v.extent.y1) };
-        p->SetUniform4f("extent", e);
-        p->SetUniformi("orthographic", v.orthographic ? 1 : 0);
-        in.CasterVAO->Bind();
-        glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(in.CasterTriangles.size() / 3));
-        in.CasterVAO->Release();
+        DrawCasters(p, vao, v, v.extent, casterOffset, in.CasterTriangles.size() / 3);
       }
       ++layer;
     }
@@ -1164,7 +1408,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   ostate->vtkglBlendEquation(GL_FUNC_ADD);
   ostate->vtkglDisable(GL_BLEND);
   this->BuildMinPyramid(win);
-  in.DetachShadowLevel();
+  DepthArray::Detach();
   if (this->MeasureTimings)
   {
     glFinish();
@@ -1190,7 +1434,8 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.Visibility->SetMagnificationFilter(vtkTextureObject::Nearest);
     in.Visibility->Allocate3D(in.Width, in.Height, numShadowLights, 1, VTK_FLOAT);
   }
-  vtkShaderProgram* prog = ReadyQuad(in.VisibilityQuad, win, ssVisibilityFS);
+  static const std::string visibilityFS = WithCommon(ssVisibilityFS);
+  vtkShaderProgram* prog = ReadyQuad(in.VisibilityQuad, win, visibilityFS.c_str());
   if (!prog)
   {
     vtkErrorMacro("Could not build the visibility program.");
@@ -1199,12 +1444,12 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   }
   in.GPosition->Activate();
   in.GNormal->Activate();
-  const int shadowUnit = in.BindShadowArray(win);
+  const int shadowUnit = in.Shadow.Bind(win);
   prog->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
   prog->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
   prog->SetUniformi("shadowMaps", shadowUnit);
   prog->SetUniformf("mapSize", static_cast<float>(S));
-  prog->SetUniformi("numLevels", in.ShadowArrayLevels);
+  prog->SetUniformi("numLevels", in.Shadow.Levels);
   prog->SetUniformi("searchSamples", this->BlockerSearchSamples);
   prog->SetUniformi("maxQuads", this->FilterMaxQuads);
   prog->SetUniformf("pcfRadius", static_cast<float>(this->PCFRadius));
@@ -1212,61 +1457,19 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   prog->SetUniformf("slopeBias", static_cast<float>(this->SlopeBias));
   ostate->vtkglViewport(0, 0, in.Width, in.Height);
   ostate->vtkglScissor(0, 0, in.Width, in.Height);
-  int firstLayer = 0;
   for (auto& l : in.Lights)
   {
-    if (l.Layer < 0 || ss::IsTriangleSolver(l.Method))
+    if (l.Layer < 0 || ss::IsTriangleSolver(l.Method) || l.Method == ss::Method::PVSM)
     {
       continue;
     }
-    const int nv = static_cast<int>(l.Views.size());
-    float U[6][3] = {}, Vv[6][3] = {}, N[6][3] = {}, E[6][4] = {};
-    for (int i = 0; i < nv; ++i)
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        U[i][c] = static_cast<float>(l.Views[i].u[c]);
-        Vv[i][c] = static_cast<float>(l.Views[i].v[c]);
-        N[i][c] = static_cast<float>(l.Views[i].n[c]);
-      }
-      E[i][0] = static_cast<float>(l.Views[i].extent.x0);
-      E[i][1] = static_cast<float>(l.Views[i].extent.y0);
-      E[i][2] = static_cast<float>(l.Views[i].extent.x1);
-      E[i][3] = static_cast<float>(l.Views[i].extent.y1);
-    }
-    prog->SetUniformi("firstLayer", firstLayer);
-    prog->SetUniformi("numViews", nv);
-    prog->SetUniform3fv("viewU", nv, U);
-    prog->SetUniform3fv("viewV", nv, Vv);
-    prog->SetUniform3fv("viewN", nv, N);
-    prog->SetUniform4fv("viewExtent", nv, E);
-    const glm::vec3 c(l.Views.front().origin);
-    prog->SetUniform3f("lightCenter", glm::value_ptr(c));
-    const bool ortho = l.Frame.type == ss::LightType::Directional;
-    prog->SetUniformi("orthographic", ortho ? 1 : 0);
-    prog->SetUniformi("oneSided", l.Frame.type == ss::LightType::Rect ? 1 : 0);
-    float half[2] = { 0.f, 0.f };
-    if (l.Frame.type == ss::LightType::Rect)
-    {
-      half[0] = static_cast<float>(0.5 * l.Frame.width);
-      half[1] = static_cast<float>(0.5 * l.Frame.height);
-    }
-    else if (ortho)
-    {
-      half[0] = half[1] = static_cast<float>(std::tan(0.5 * l.Frame.angularDiameter));
-    }
-    prog->SetUniform2f("lightHalfSize", half);
-    const glm::vec3 lu(l.Frame.u), lv(l.Frame.v);
-    prog->SetUniform3f("lightU", glm::value_ptr(lu));
-    prog->SetUniform3f("lightV", glm::value_ptr(lv));
+    SetLightUniforms(prog, l);
     prog->SetUniformi("method", static_cast<int>(l.Method));
-    prog->SetUniformf("searchDepth", static_cast<float>(l.SearchDepth));
     AttachLayer(in.FBO, in.Visibility, l.Layer);
     in.FBO->ActivateDrawBuffers(1);
     in.VisibilityQuad->Render();
-    firstLayer += nv;
   }
-  in.UnbindShadowArray(win, shadowUnit);
+  DepthArray::Unbind(win, shadowUnit);
   in.GNormal->Deactivate();
   in.GPosition->Deactivate();
   in.FBO->RemoveColorAttachments(1);
@@ -1276,7 +1479,342 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     glFinish();
   }
   in.Timings["visibility"] = Seconds(tStage, Clock::now());
+  this->SolvePVSM(s);
   this->SolveOnTriangles(win);
+}
+
+//------------------------------------------------------------------------------
+// PVSM (Shen, Guennebaud, Yang, Feng 2011), §5.2 steps 3-8 for every PVSM
+// light; steps 1 (G-buffer) and 2 (conservative low-resolution maps) ran
+// before. Per light: the kernel-shape buffer; per view: the SMTG, its pyramid
+// and kd-tree (Rendering/Core/ssPVSM), then each leaf tile rendered at its
+// predicted resolution and used at once by the pixels whose kernel reaches
+// it, merged by V·A / A; finally V into the light's visibility layer.
+void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
+{
+  auto& in = *this->Internals;
+  in.PVSMLights = 0;
+  bool any = false;
+  for (const auto& l : in.Lights)
+  {
+    any = any || (l.Layer >= 0 && l.Method == ss::Method::PVSM && !l.Views.empty());
+  }
+  if (!any)
+  {
+    in.LastPVSMStats = ss::PVSMStats{};
+    return;
+  }
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
+  vtkOpenGLState* ostate = win->GetState();
+  const int W = in.Width, H = in.Height;
+  auto finish = [&]() {
+    if (this->MeasureTimings)
+    {
+      glFinish();
+    }
+  };
+  ss::PVSMStats st;
+  st.msGBuffer = in.Timings["gbuffer"];
+  st.msLowResSM = in.Timings["shadow_maps"];
+  st.quality = this->PVSMQuality;
+
+  // §5.1: the static metric when only the camera moved since the last frame
+  std::ostringstream key;
+  key.precision(17);
+  key << in.CasterVersion;
+  for (const auto& l : in.Lights)
+  {
+    const ss::LightFrame& f = l.Frame;
+    key << ';' << static_cast<int>(f.type) << ',' << f.center.x + in.Origin.x << ',' << f.center.y + in.Origin.y
+        << ',' << f.center.z + in.Origin.z << ',' << f.n.x << ',' << f.n.y << ',' << f.n.z << ',' << f.u.x
+        << ',' << f.u.y << ',' << f.u.z << ',' << f.width << ',' << f.height << ',' << f.angularDiameter;
+  }
+  const bool changed = key.str() != in.PVSMSceneKey;
+  in.PVSMSceneKey = key.str();
+  const ss::PerceptualMetric metric = ss::ChooseMetric(this->PVSMMetric, changed);
+  st.metric = ss::PerceptualMetricName(metric);
+  double rc[4], rhoEnd = 0.0;
+  ss::PerceptualRhoCubic(metric, rc, rhoEnd);
+  const float rhoCoeffs[4] = { static_cast<float>(rc[0]), static_cast<float>(rc[1]), static_cast<float>(rc[2]),
+    static_cast<float>(rc[3]) };
+
+  // resources
+  for (auto& k : in.Kernel)
+  {
+    EnsureTexture2D(win, k, W, H, 4);
+  }
+  EnsureTexture2D(win, in.Accum, W, H, 2);
+  int G = 4;
+  while (G < this->PVSMGridSize)
+  {
+    G *= 2;
+  }
+  EnsureTexture2D(win, in.Grid, G, G, 2);
+  GLint maxTexture = 4096;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
+  int tileMax = std::min(this->PVSMMaxTileResolution, static_cast<int>(maxTexture));
+  int T = 64;
+  while (T < tileMax)
+  {
+    T *= 2;
+  }
+  T = std::min(T, static_cast<int>(maxTexture));
+  tileMax = std::min(tileMax, T);
+  in.Tile.Ensure(T, 1);
+  if (!in.EmptyVAO)
+  {
+    in.EmptyVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
+  }
+  GLfloat pointRange[2] = { 1.0f, 1.0f };
+  glGetFloatv(GL_POINT_SIZE_RANGE, pointRange);
+
+  // the camera: clip space -> world relative to the frame origin
+  vtkCamera* cam = ren->GetActiveCamera();
+  vtkNew<vtkMatrix4x4> relToClip, shift;
+  shift->Identity();
+  for (int r = 0; r < 3; ++r)
+  {
+    shift->SetElement(r, 3, in.Origin[r]);
+  }
+  vtkMatrix4x4::Multiply4x4(
+    cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1), shift, relToClip);
+  vtkNew<vtkMatrix4x4> clipToRel;
+  vtkMatrix4x4::Invert(relToClip, clipToRel);
+  // SetUniformMatrix hands VTK's row-major storage to GL as column-major:
+  // transpose so that GLSL's clipToRel * v is the product above
+  clipToRel->Transpose();
+
+  static const std::string kernelFS = WithCommon(ssPVSMKernelFS);
+  static const std::string filterFS = WithCommon(ssPVSMFilterFS);
+  const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
+  const float screen[2] = { static_cast<float>(W), static_cast<float>(H) };
+
+  ostate->PushFramebufferBindings();
+  in.FBO->Bind();
+  in.FBO->RemoveDepthAttachment();
+  ostate->vtkglDisable(GL_DEPTH_TEST);
+  ostate->vtkglDisable(GL_CULL_FACE);
+  ostate->vtkglDisable(GL_BLEND);
+  auto target = [&](vtkTextureObject* t, int w, int h) {
+    in.FBO->RemoveColorAttachments(3);
+    in.FBO->AddColorAttachment(0, t);
+    in.FBO->ActivateDrawBuffers(1);
+    ostate->vtkglViewport(0, 0, w, h);
+    ostate->vtkglScissor(0, 0, w, h);
+  };
+  auto commonUniforms = [&](vtkShaderProgram* p, const ShadowLight& l, int shadowUnit) {
+    p->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
+    p->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
+    p->SetUniformi("shadowMaps", shadowUnit);
+    p->SetUniformf("mapSize", static_cast<float>(in.Shadow.Size));
+    p->SetUniformi("numLevels", in.Shadow.Levels);
+    p->SetUniformi("searchSamples", this->BlockerSearchSamples);
+    p->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
+    SetLightUniforms(p, l);
+  };
+
+  for (auto& l : in.Lights)
+  {
+    if (l.Layer < 0 || l.Method != ss::Method::PVSM || l.Views.empty())
+    {
+      continue;
+    }
+    ++in.PVSMLights;
+    // --- step 3: kernel-shape buffer (blocker search, footprint, convolution, prediction)
+    auto t0 = Clock::now();
+    vtkShaderProgram* kp = ReadyQuad(in.KernelQuad, win, kernelFS.c_str());
+    if (!kp)
+    {
+      vtkErrorMacro("Could not build the PVSM kernel-shape program.");
+      break;
+    }
+    in.GPosition->Activate();
+    in.GNormal->Activate();
+    int shadowUnit = in.Shadow.Bind(win);
+    commonUniforms(kp, l, shadowUnit);
+    kp->SetUniformMatrix("clipToRel", clipToRel);
+    kp->SetUniform2f("screenSize", screen);
+    kp->SetUniform4f("rhoCoeffs", rhoCoeffs);
+    kp->SetUniformf("rhoEnd", static_cast<float>(rhoEnd));
+    kp->SetUniformf("quality", static_cast<float>(this->PVSMQuality));
+    in.FBO->RemoveColorAttachments(3);
+    for (int i = 0; i < 3; ++i)
+    {
+      in.FBO->AddColorAttachment(static_cast<unsigned int>(i), in.Kernel[i]);
+    }
+    in.FBO->ActivateDrawBuffers(3);
+    ostate->vtkglViewport(0, 0, W, H);
+    ostate->vtkglScissor(0, 0, W, H);
+    in.KernelQuad->Render();
+    DepthArray::Unbind(win, shadowUnit);
+    finish();
+    auto t1 = Clock::now();
+    st.msKernel += Seconds(t0, t1);
+
+    target(in.Accum, W, H);
+    ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
+    ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+    for (int vi = 0; vi < static_cast<int>(l.Views.size()); ++vi)
+    {
+      const ss::ShadowView& view = l.Views[vi];
+      // --- step 4: the SMTG, one point per pixel, min-blended
+      t0 = Clock::now();
+      target(in.Grid, G, G);
+      ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
+      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+      in.GridProgram = win->GetShaderCache()->ReadyShaderProgram(ssPVSMGridVS, ssPVSMGridFS, "");
+      if (!in.GridProgram)
+      {
+        vtkErrorMacro("Could not build the PVSM tile-grid program.");
+        break;
+      }
+      for (int i = 0; i < 3; ++i)
+      {
+        in.Kernel[i]->Activate();
+      }
+      vtkShaderProgram* gp = in.GridProgram;
+      gp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
+      gp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
+      gp->SetUniformi("kernel2", in.Kernel[2]->GetTextureUnit());
+      gp->SetUniformi("screenWidth", W);
+      gp->SetUniformi("view", vi);
+      const float ext[4] = { static_cast<float>(view.extent.x0), static_cast<float>(view.extent.y0),
+        static_cast<float>(view.extent.x1), static_cast<float>(view.extent.y1) };
+      gp->SetUniform4f("extent", ext);
+      gp->SetUniformf("gridSize", static_cast<float>(G));
+      gp->SetUniformf("maxPointSize", std::min(pointRange[1], static_cast<float>(2 * G + 1)));
+      ostate->vtkglEnable(GL_BLEND);
+      ostate->vtkglBlendEquation(GL_MIN);
+      ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+      glEnable(GL_PROGRAM_POINT_SIZE);
+      in.EmptyVAO->Bind();
+      glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(W) * H);
+      in.EmptyVAO->Release();
+      glDisable(GL_PROGRAM_POINT_SIZE);
+      ostate->vtkglBlendEquation(GL_FUNC_ADD);
+      ostate->vtkglDisable(GL_BLEND);
+      // --- step 5: the grid to the host, its pyramid; step 6: the kd-tree
+      std::vector<float> grid(static_cast<std::size_t>(G) * G * 2);
+      in.FBO->ActivateReadBuffer(0);
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glReadPixels(0, 0, G, G, GL_RG, GL_FLOAT, grid.data());
+      for (float& g : grid)
+      {
+        g = (g >= 1e38f) ? std::numeric_limits<float>::infinity() : g;
+      }
+      const ss::TileGridPyramid pyramid(grid.data(), G);
+      const double extent[4] = { view.extent.x0, view.extent.y0, view.extent.x1, view.extent.y1 };
+      const std::vector<ss::ShadowTile> tiles = ss::BuildShadowTiles(pyramid, extent, tileMax);
+      t1 = Clock::now();
+      st.msTiling += Seconds(t0, t1);
+
+      for (const ss::ShadowTile& tile : tiles)
+      {
+        // --- step 7: the tile's shadow map at its predicted resolution
+        t0 = Clock::now();
+        in.Tile.Attach(in.FBO, 0, 0);
+        ostate->vtkglViewport(0, 0, tile.resX, tile.resY);
+        ostate->vtkglScissor(0, 0, tile.resX, tile.resY);
+        ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
+        ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+        if (!in.CasterTriangles.empty())
+        {
+          win->GetShaderCache()->ReadyShaderProgram(in.CasterProgram);
+          ostate->vtkglEnable(GL_BLEND);
+          ostate->vtkglBlendEquation(GL_MIN);
+          ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+          const ss::Rect r{ tile.rect[0], tile.rect[1], tile.rect[2], tile.rect[3] };
+          DrawCasters(in.CasterProgram, in.CasterVAO, view, r, casterOffset, in.CasterTriangles.size() / 3);
+          ostate->vtkglBlendEquation(GL_FUNC_ADD);
+          ostate->vtkglDisable(GL_BLEND);
+        }
+        BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Tile, tile.resX, tile.resY);
+        DepthArray::Detach();
+        finish();
+        t1 = Clock::now();
+        st.msTileSM += Seconds(t0, t1);
+        st.texelsRendered += static_cast<double>(tile.resX) * tile.resY;
+        st.tileResolutions.emplace_back(tile.resX, tile.resY);
+        st.clampedTiles += tile.clamped ? 1 : 0;
+
+        // --- step 8: filtering of the pixels whose kernel reaches the tile
+        vtkShaderProgram* fp = ReadyQuad(in.FilterQuad, win, filterFS.c_str());
+        if (!fp)
+        {
+          vtkErrorMacro("Could not build the PVSM filter program.");
+          break;
+        }
+        target(in.Accum, W, H);
+        const int tileUnit = in.Tile.Bind(win);
+        commonUniforms(fp, l, -1);
+        fp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
+        fp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
+        fp->SetUniformi("tileMap", tileUnit);
+        const float tr[4] = { static_cast<float>(tile.rect[0]), static_cast<float>(tile.rect[1]),
+          static_cast<float>(tile.rect[2]), static_cast<float>(tile.rect[3]) };
+        fp->SetUniform4f("tileRect", tr);
+        const float res[2] = { static_cast<float>(tile.resX), static_cast<float>(tile.resY) };
+        fp->SetUniform2f("tileRes", res);
+        int levels = 1;
+        while ((std::max(tile.resX, tile.resY) >> levels) > 0 && levels < in.Tile.Levels)
+        {
+          ++levels;
+        }
+        fp->SetUniformi("tileLevels", levels);
+        fp->SetUniformi("view", vi);
+        fp->SetUniformi("maxQuads", this->FilterMaxQuads);
+        ostate->vtkglEnable(GL_BLEND);
+        ostate->vtkglBlendEquation(GL_FUNC_ADD);
+        ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+        in.FilterQuad->Render();
+        ostate->vtkglDisable(GL_BLEND);
+        DepthArray::Unbind(win, tileUnit);
+        finish();
+        st.msFiltering += Seconds(t1, Clock::now());
+      }
+      st.tiles += tiles.size();
+      for (int i = 0; i < 3; ++i)
+      {
+        in.Kernel[i]->Deactivate();
+      }
+    }
+    // --- V = (V·A) / A into the light's visibility layer
+    t0 = Clock::now();
+    vtkShaderProgram* rp = ReadyQuad(in.ResolveQuad, win, ssPVSMResolveFS);
+    if (rp)
+    {
+      in.Kernel[0]->Activate();
+      in.Kernel[1]->Activate();
+      in.Accum->Activate();
+      rp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
+      rp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
+      rp->SetUniformi("accum", in.Accum->GetTextureUnit());
+      AttachLayer(in.FBO, in.Visibility, l.Layer);
+      in.FBO->ActivateDrawBuffers(1);
+      ostate->vtkglViewport(0, 0, W, H);
+      ostate->vtkglScissor(0, 0, W, H);
+      in.ResolveQuad->Render();
+      in.Accum->Deactivate();
+      in.Kernel[1]->Deactivate();
+      in.Kernel[0]->Deactivate();
+    }
+    else
+    {
+      vtkErrorMacro("Could not build the PVSM resolve program.");
+    }
+    in.GNormal->Deactivate();
+    in.GPosition->Deactivate();
+    finish();
+    st.msFiltering += Seconds(t0, Clock::now());
+  }
+  in.FBO->RemoveColorAttachments(3);
+  ostate->PopFramebufferBindings();
+  st.shadowMemoryBytes = static_cast<double>(in.Shadow.Bytes() + in.Tile.Bytes()) +
+    static_cast<double>(G) * G * 8 + static_cast<double>(W) * H * (3 * 16 + 8);
+  st.msTotal = st.msGBuffer + st.msLowResSM + st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
+  in.LastPVSMStats = st;
+  in.Timings["pvsm"] = st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
 }
 
 //------------------------------------------------------------------------------
@@ -1411,38 +1949,10 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
 void vtkSoftShadowPass::BuildMinPyramid(vtkOpenGLRenderWindow* win)
 {
   auto& in = *this->Internals;
-  vtkOpenGLState* ostate = win->GetState();
-  vtkShaderProgram* prog = ReadyQuad(in.ReduceQuad, win, ssMinReduceFS);
-  if (!prog)
+  if (!BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Shadow, in.Shadow.Size, in.Shadow.Size))
   {
     vtkErrorMacro("Could not build the min-depth reduction program.");
-    return;
   }
-  const int unit = in.BindShadowArray(win);
-  prog->SetUniformi("src", unit);
-  for (int level = 1; level < in.ShadowArrayLevels; ++level)
-  {
-    // sample only the level below the one written
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, level - 1);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, level - 1);
-    const int src[2] = { std::max(1, in.ShadowArraySize >> (level - 1)),
-      std::max(1, in.ShadowArraySize >> (level - 1)) };
-    const int dst[2] = { std::max(1, in.ShadowArraySize >> level),
-      std::max(1, in.ShadowArraySize >> level) };
-    prog->SetUniform2i("srcSize", src);
-    prog->SetUniform2i("dstSize", dst);
-    ostate->vtkglViewport(0, 0, dst[0], dst[1]);
-    ostate->vtkglScissor(0, 0, dst[0], dst[1]);
-    for (int layer = 0; layer < in.ShadowArrayLayers; ++layer)
-    {
-      in.AttachShadowLevel(in.FBO, level, layer);
-      prog->SetUniformi("layer", layer);
-      in.ReduceQuad->Render();
-    }
-  }
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, in.ShadowArrayLevels - 1);
-  in.UnbindShadowArray(win, unit);
 }
 
 //------------------------------------------------------------------------------
@@ -1772,7 +2282,10 @@ std::string vtkSoftShadowPass::GetStatsJSON()
     << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \"cpu\""
     << ", \"lights\": " << in.GearsLights
     << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}"
-    << ", \"shadow_map_size\": " << in.ShadowArraySize << ", \"lights\": [";
+    << ", \"pvsm\": {\"lights\": " << in.PVSMLights << ", \"low_resolution\": " << this->PVSMLowResolution
+    << ", \"grid\": " << this->PVSMGridSize << ", \"max_tile\": " << this->PVSMMaxTileResolution
+    << ", \"stats\": " << ss::PVSMStatsToJSON(in.LastPVSMStats) << "}"
+    << ", \"shadow_map_size\": " << in.Shadow.Size << ", \"lights\": [";
   first = true;
   for (const auto& l : in.Lights)
   {
@@ -1801,6 +2314,11 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GearsSamples: " << this->GearsSamples << "\n";
   os << indent << "GearsGrid: " << this->GearsGrid << "\n";
   os << indent << "GearsRaster: " << (this->GearsRaster ? "lut" : "edge") << "\n";
+  os << indent << "PVSMLowResolution: " << this->PVSMLowResolution << "\n";
+  os << indent << "PVSMGridSize: " << this->PVSMGridSize << "\n";
+  os << indent << "PVSMMaxTileResolution: " << this->PVSMMaxTileResolution << "\n";
+  os << indent << "PVSMQuality: " << this->PVSMQuality << "\n";
+  os << indent << "PVSMMetric: " << this->PVSMMetric << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";

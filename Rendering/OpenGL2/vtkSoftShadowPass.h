@@ -57,16 +57,17 @@ public:
     PCSS = 3, ///< blocker search + penumbra estimate + texel-quad coverage filter
     NONE = 4, ///< no shadows (the pass only shades)
     REFERENCE = 5, ///< ray-traced ground truth: k x k light samples per pixel (Embree, CPU)
-    GEARS = 6      ///< exact soft shadows: triangles assigned to pixels by a grid, k x k bitmasks
+    GEARS = 6,     ///< exact soft shadows: triangles assigned to pixels by a grid, k x k bitmasks
+    PVSM = 7       ///< predicted virtual soft shadow maps: adaptive tiles, anisotropic coverage filter
   };
 
   ///@{
   /**
    * The visibility solver used for every shadow-casting light.
    */
-  vtkSetClampMacro(Method, int, AUTO, GEARS);
+  vtkSetClampMacro(Method, int, AUTO, PVSM);
   vtkGetMacro(Method, int);
-  /** By name: auto, hard, pcf, pcss, none, reference, gears. Returns false for unknown names. */
+  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
   ///@}
@@ -109,6 +110,28 @@ public:
   /** Count the paper's "necessary" assignments (Table 9) in the stats; slower (no early exit). */
   vtkSetMacro(GearsCountNecessary, bool);
   vtkGetMacro(GearsCountNecessary, bool);
+  ///@}
+
+  ///@{
+  /**
+   * PVSM (Shen et al. 2011). PVSMLowResolution: the conservative low-resolution
+   * map for the blocker search (default 1024; when other lights use shadow maps
+   * in the same frame, ShadowMapSize is used for all). PVSMGridSize: the shadow
+   * map tile grid (64, a power of two). PVSMMaxTileResolution: the largest tile
+   * (4096, capped by the GL limit). PVSMQuality: scale on the perceptual metric
+   * rho (2 asks twice the texels per kernel). PVSMMetric: 0 automatic (static
+   * when only the camera moved since the last frame), 1 dynamic, 2 static.
+   */
+  vtkSetClampMacro(PVSMLowResolution, int, 64, 8192);
+  vtkGetMacro(PVSMLowResolution, int);
+  vtkSetClampMacro(PVSMGridSize, int, 4, 256);
+  vtkGetMacro(PVSMGridSize, int);
+  vtkSetClampMacro(PVSMMaxTileResolution, int, 64, 16384);
+  vtkGetMacro(PVSMMaxTileResolution, int);
+  vtkSetClampMacro(PVSMQuality, double, 0.05, 64.0);
+  vtkGetMacro(PVSMQuality, double);
+  vtkSetClampMacro(PVSMMetric, int, 0, 2);
+  vtkGetMacro(PVSMMetric, int);
   ///@}
 
   ///@{
@@ -230,6 +253,11 @@ protected:
   int GearsGrid = 128;
   int GearsRaster = 0;
   bool GearsCountNecessary = false;
+  int PVSMLowResolution = 1024;
+  int PVSMGridSize = 64;
+  int PVSMMaxTileResolution = 4096;
+  double PVSMQuality = 1.0;
+  int PVSMMetric = 0;
   double PCFRadius = 1.5;
   int BlockerSearchSamples = 8;
   int FilterMaxQuads = 24;
@@ -247,6 +275,7 @@ private:
   void SolveVisibility(const vtkRenderState* s);
   void BuildMinPyramid(vtkOpenGLRenderWindow* win);
   void SolveOnTriangles(vtkOpenGLRenderWindow* win);
+  void SolvePVSM(const vtkRenderState* s);
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

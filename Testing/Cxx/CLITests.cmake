@@ -43,7 +43,7 @@ ss_cli_error(zero_scale "objects\\[0\\]\\.transform\\.scale: expected non-zero" 
 
 set(_demo "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json")
 ss_cli_error(unknown_method "--method: unknown method 'fancy'" ${_ss_cli} render "${_demo}" --method fancy)
-ss_cli_error(later_method "--method pvsm: not implemented yet" ${_ss_cli} render "${_demo}" --method pvsm)
+ss_cli_error(later_method "--method vpcss: not implemented yet" ${_ss_cli} render "${_demo}" --method vpcss)
 ss_cli_error(gears_samples "--option gears_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method gears --option gears_samples=64)
 ss_cli_error(gears_raster "--option gears_raster: expected edge or lut" ${_ss_cli} render "${_demo}" --method gears --option gears_raster=fast)
 ss_cli_error(bad_size "--size: expected WxH" ${_ss_cli} render "${_demo}" --size 640by480)

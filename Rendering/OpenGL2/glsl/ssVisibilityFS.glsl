@@ -1,117 +1,12 @@
 //VTK::System::Dec
 // Visibility V(x,y) of one light for every G-buffer pixel: hard, PCF or PCSS.
-// The math mirrors Rendering/Core (ssPCSS.h, ssCoverage.h), where it is unit-tested.
-uniform sampler2D gPosition; // xyz: world position - frame origin, w: prop id (0 = background)
-uniform sampler2D gNormal;   // xyz: world normal
-uniform sampler2DArray shadowMaps; // one layer per view, linear light-space depth (RG);
-                                  // mip level l holds (min, max) of the level below
-uniform int firstLayer;
-uniform int numViews;
-uniform vec3 viewU[6];
-uniform vec3 viewV[6];
-uniform vec3 viewN[6];
-uniform vec4 viewExtent[6];
-uniform vec3 lightCenter;  // relative to the frame origin (orthographic: a point behind the scene)
-uniform int orthographic;
-uniform int oneSided;      // rect lights light only the half-space in front of them
-uniform vec2 lightHalfSize; // rect: half width/height (world); directional: tan(angle/2) twice
-uniform vec3 lightU; // rect light edges (unit), relative frame
-uniform vec3 lightV;
 uniform int method;         // 1 hard, 2 pcf, 3 pcss
-uniform float mapSize;
-uniform int numLevels;
-uniform float searchDepth;  // nearest caster depth: PCSS blocker-search plane
-uniform int searchSamples;
 uniform int maxQuads;
 uniform float pcfRadius;
-uniform float constantBias;
 uniform float slopeBias;
 in vec2 texCoord; // from VTK's full-screen quad
 //VTK::Output::Dec
-
-struct View
-{
-  int index;
-  vec3 p;   // light-space position (x, y, z)
-  vec3 n;   // light-space normal
-  vec2 T;   // continuous texel coordinates
-  float texelWorld; // world size of one texel at the receiver
-  vec2 texelPerUnit; // texels per projected unit
-};
-
-vec2 project(vec3 p)
-{
-  return (orthographic != 0) ? p.xy : p.xy / p.z;
-}
-
-float fetchDepth(int layer, ivec2 t)
-{
-  ivec2 s = ivec2(int(mapSize));
-  if (t.x < 0 || t.y < 0 || t.x >= s.x || t.y >= s.y)
-  {
-    return 3.0e38; // outside the map: nothing there, lit
-  }
-  return texelFetch(shadowMaps, ivec3(t, layer), 0).r;
-}
-
-float fetchMinDepth(int layer, ivec2 t, int level)
-{
-  int s = max(1, int(mapSize) >> level);
-  if (t.x < 0 || t.y < 0 || t.x >= s || t.y >= s)
-  {
-    return 3.0e38;
-  }
-  return texelFetch(shadowMaps, ivec3(t, layer), level).r;
-}
-
-vec2 fetchMinMaxDepth(int layer, ivec2 t, int level)
-{
-  int s = max(1, int(mapSize) >> level);
-  if (t.x < 0 || t.y < 0 || t.x >= s || t.y >= s)
-  {
-    return vec2(3.0e38);
-  }
-  return texelFetch(shadowMaps, ivec3(t, layer), level).rg;
-}
-
-// Ssee ss::ReceiverPlaneDepth: depth of the receiver's tangent plane along
-// the projection ray through unit-plane position X, clamped.
-float planeDepth(View w, vec2 X, float maxDelta)
-{
-  float z;
-  if (orthographic != 0)
-  {
-    z = (abs(w.n.z) > 1e-6) ? w.p.z - (w.n.x * (X.x - w.p.x) + w.n.y * (X.y - w.p.y)) / w.n.z
-                            : w.p.z;
-  }
-  else
-  {
-    float den = dot(w.n, vec3(X, 1.0));
-    z = (abs(den) > 1e-12) ? dot(w.n, w.p) / den : w.p.z;
-  }
-  if (!(z == z))
-  {
-    z = w.p.z;
-  }
-  return clamp(z, w.p.z - maxDelta, w.p.z + maxDelta);
-}
-
-vec2 texelToProjected(View w, vec2 T)
-{
-  vec4 e = viewExtent[w.index];
-  return e.xy + T / w.texelPerUnit;
-}
-
-// (min, max) of the receiver's tangent plane over the quad [a, a + s]^2 (texel
-// units): the plane's depth along the rays is bounded by the quad's corners.
-vec2 planeRange(View w, vec2 a, float s, float maxDelta)
-{
-  float z00 = planeDepth(w, texelToProjected(w, a), maxDelta);
-  float z10 = planeDepth(w, texelToProjected(w, a + vec2(s, 0.0)), maxDelta);
-  float z01 = planeDepth(w, texelToProjected(w, a + vec2(0.0, s)), maxDelta);
-  float z11 = planeDepth(w, texelToProjected(w, a + vec2(s)), maxDelta);
-  return vec2(min(min(z00, z10), min(z01, z11)), max(max(z00, z10), max(z01, z11)));
-}
+//SS::Common
 
 // Lit fraction of the quad q of 2^level texels. The (min, max) depth of the
 // quad decides it exactly when the receiver (its tangent plane over the
@@ -203,57 +98,6 @@ float coverageFilter(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
   return clamp(lit / area, 0.0, 1.0);
 }
 
-// Fraction of the light above the receiver's tangent plane: light points
-// below it cannot be seen from the surface (the reference counts them as
-// hidden too). Rect light: the rectangle [-w/2,w/2]x[-h/2,h/2] (in u,v) clipped
-// by the half-plane a + b*s + c*t > 0 (Sutherland-Hodgman, then the shoelace
-// area). Same as ss::LightFractionAboveTangentPlane.
-float lightAboveTangent(vec3 nrm, vec3 d)
-{
-  if (dot(nrm, nrm) < 0.5)
-  {
-    return 1.0; // no normal (unlit prop): no clipping
-  }
-  if (orthographic != 0)
-  {
-    return dot(nrm, -viewN[0]) > 0.0 ? 1.0 : 0.0;
-  }
-  float a = dot(nrm, -d);
-  if (oneSided == 0 || lightHalfSize.x <= 0.0 || lightHalfSize.y <= 0.0)
-  {
-    return a > 0.0 ? 1.0 : 0.0;
-  }
-  float b = dot(nrm, lightU);
-  float c = dot(nrm, lightV);
-  vec2 h = lightHalfSize;
-  vec2 q[4] = vec2[4](vec2(-h.x, -h.y), vec2(h.x, -h.y), vec2(h.x, h.y), vec2(-h.x, h.y));
-  vec2 outp[8];
-  int n = 0;
-  for (int i = 0; i < 4; ++i)
-  {
-    vec2 p0 = q[i];
-    vec2 p1 = q[(i + 1) % 4];
-    float f0 = a + b * p0.x + c * p0.y;
-    float f1 = a + b * p1.x + c * p1.y;
-    if (f0 > 0.0)
-    {
-      outp[n++] = p0;
-    }
-    if ((f0 > 0.0) != (f1 > 0.0))
-    {
-      outp[n++] = mix(p0, p1, f0 / (f0 - f1));
-    }
-  }
-  float area = 0.0;
-  for (int i = 0; i < n; ++i)
-  {
-    vec2 p0 = outp[i];
-    vec2 p1 = outp[(i + 1) % n];
-    area += p0.x * p1.y - p1.x * p0.y;
-  }
-  return clamp(0.5 * abs(area) / (4.0 * h.x * h.y), 0.0, 1.0);
-}
-
 void main()
 {
   ivec2 pix = ivec2(floor(texCoord * vec2(textureSize(gPosition, 0))));
@@ -266,29 +110,7 @@ void main()
   vec3 nrm = texelFetch(gNormal, pix, 0).xyz;
   vec3 d = g.xyz - lightCenter;
 
-  View w;
-  w.index = -1;
-  for (int i = 0; i < numViews; ++i)
-  {
-    vec3 p = vec3(dot(d, viewU[i]), dot(d, viewV[i]), dot(d, viewN[i]));
-    if (orthographic == 0 && p.z <= 0.0)
-    {
-      continue;
-    }
-    vec2 X = project(p);
-    vec4 e = viewExtent[i];
-    if (X.x >= e.x && X.x <= e.z && X.y >= e.y && X.y <= e.w)
-    {
-      w.index = i;
-      w.p = p;
-      w.n = vec3(dot(nrm, viewU[i]), dot(nrm, viewV[i]), dot(nrm, viewN[i]));
-      w.texelPerUnit = vec2(mapSize) / (e.zw - e.xy);
-      w.T = (X - e.xy) * w.texelPerUnit;
-      float unitTexel = (e.z - e.x) / mapSize;
-      w.texelWorld = (orthographic != 0) ? unitTexel : unitTexel * p.z;
-      break;
-    }
-  }
+  View w = selectView(d, nrm);
   if (w.index < 0)
   {
     // Behind a one-sided light: no light arrives. Outside every view
@@ -321,61 +143,13 @@ void main()
     }
     else
     {
-      // PCSS step 1: blocker search over the light's footprint on the plane of
-      // the nearest caster (Fernando 2005; PVSM §4 eq. 1 scale).
-      vec2 searchHalf;
-      if (orthographic != 0)
-      {
-        searchHalf = lightHalfSize * max(w.p.z - searchDepth, 0.0);
-      }
-      else
-      {
-        float zb = min(searchDepth, w.p.z);
-        searchHalf = lightHalfSize * max(w.p.z - zb, 0.0) / max(w.p.z * zb, 1e-30);
-      }
-      vec2 searchTex = min(searchHalf * w.texelPerUnit, vec2(mapSize * 0.25));
-      searchTex = max(searchTex, vec2(1.0));
-      float maxDelta = max(searchTex.x, searchTex.y) * w.texelWorld * 10.0;
-      // The search looks at every cell of the min-depth level whose cells are
-      // about (2 * search / samples) texels wide, so no blocker between two
-      // samples is missed (a missed blocker makes a lit streak). Each cell is
-      // weighted by its overlap with the search box, so z_avg is continuous.
-      float cellsWide = 2.0 * max(searchTex.x, searchTex.y) / float(searchSamples);
-      int level = clamp(int(ceil(log2(max(cellsWide, 1.0)))), 0, numLevels - 1);
-      float cell = exp2(float(level));
-      vec2 s0 = w.T - searchTex;
-      vec2 s1 = w.T + searchTex;
-      ivec2 c0 = ivec2(floor(s0 / cell));
-      ivec2 c1 = ivec2(floor(s1 / cell));
-      float sum = 0.0;
-      float count = 0.0;
-      for (int cy = c0.y; cy <= c1.y; ++cy)
-      {
-        float oy = max(0.0, min((float(cy) + 1.0) * cell, s1.y) - max(float(cy) * cell, s0.y));
-        for (int cx = c0.x; cx <= c1.x; ++cx)
-        {
-          float ox = max(0.0, min((float(cx) + 1.0) * cell, s1.x) - max(float(cx) * cell, s0.x));
-          float dz = fetchMinDepth(firstLayer + w.index, ivec2(cx, cy), level);
-          if (ox * oy <= 0.0 || dz > 1.0e38)
-          {
-            continue;
-          }
-          // the receiver's nearest depth over the cell: its plane at the corners
-          float zr = planeRange(w, vec2(cx, cy) * cell, cell, maxDelta).x;
-          if (dz < zr - bias)
-          {
-            sum += dz * ox * oy;
-            count += ox * oy;
-          }
-        }
-      }
-      if (count == 0.0)
+      float zAvg = blockerSearch(w, bias);
+      if (zAvg < 0.0)
       {
         V = 1.0; // fully lit: no blocker in the search region
       }
       else
       {
-        float zAvg = sum / count;
         // PCSS step 2: penumbra by parallel planes, PVSM §4 eq. 1:
         // alpha = (z_r - z_o) / (z_r z_o) maps the light onto the unit plane.
         vec2 kHalf;
