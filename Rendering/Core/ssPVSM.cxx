@@ -330,24 +330,42 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
   auto texelLit = [&](int i, int j) {
     return receiverDepth(X(i + 0.5), Y(j + 0.5)) - bias <= Depth(tile, i, j) ? 1.0 : 0.0;
   };
-  auto quadLit = [&](int qx, int qy) {
-    if (s == 1)
+  // (min, max) depth of the texels of quad (qx, qy) of size ss, and of the
+  // receiver's plane over it (minus the bias)
+  auto depthRange = [&](int qx, int qy, int ss, double& dmin, double& dmax) {
+    dmin = HUGE_VAL;
+    dmax = -HUGE_VAL;
+    for (int j = qy * ss; j < std::min((qy + 1) * ss, tile.h); ++j)
     {
-      return texelLit(qx, qy);
-    }
-    double dmin = HUGE_VAL, dmax = -HUGE_VAL;
-    for (int j = qy * s; j < std::min((qy + 1) * s, tile.h); ++j)
-    {
-      for (int i = qx * s; i < std::min((qx + 1) * s, tile.w); ++i)
+      for (int i = qx * ss; i < std::min((qx + 1) * ss, tile.w); ++i)
       {
         const double d = Depth(tile, i, j);
         dmin = std::min(dmin, d);
         dmax = std::max(dmax, d);
       }
     }
-    const double z00 = receiverDepth(X(qx * s), Y(qy * s)), z10 = receiverDepth(X((qx + 1) * s), Y(qy * s));
-    const double z01 = receiverDepth(X(qx * s), Y((qy + 1) * s)), z11 = receiverDepth(X((qx + 1) * s), Y((qy + 1) * s));
-    const double zlo = std::min({ z00, z10, z01, z11 }) - bias, zhi = std::max({ z00, z10, z01, z11 }) - bias;
+    if (dmin == HUGE_VAL)
+    {
+      dmin = dmax = HUGE_VAL; // beyond the tile: nothing drawn
+    }
+  };
+  auto planeRange = [&](int qx, int qy, int ss, double& zlo, double& zhi) {
+    const double z00 = receiverDepth(X(qx * ss), Y(qy * ss)), z10 = receiverDepth(X((qx + 1) * ss), Y(qy * ss));
+    const double z01 = receiverDepth(X(qx * ss), Y((qy + 1) * ss));
+    const double z11 = receiverDepth(X((qx + 1) * ss), Y((qy + 1) * ss));
+    zlo = std::min({ z00, z10, z01, z11 }) - bias;
+    zhi = std::max({ z00, z10, z01, z11 }) - bias;
+  };
+  // as quadLitTile() in the shader: the quad's (min, max) decides it, or its
+  // four children do, each by its own (min, max) or its centre texel
+  auto quadLit = [&](int qx, int qy) {
+    if (s == 1)
+    {
+      return texelLit(qx, qy);
+    }
+    double dmin, dmax, zlo, zhi;
+    depthRange(qx, qy, s, dmin, dmax);
+    planeRange(qx, qy, s, zlo, zhi);
     if (zhi <= dmin)
     {
       return 1.0;
@@ -356,7 +374,23 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
     {
       return 0.0;
     }
-    return texelLit(std::min(qx * s + s / 2, tile.w - 1), std::min(qy * s + s / 2, tile.h - 1));
+    const int hs = s / 2;
+    double sum = 0.0;
+    for (int q = 0; q < 4; ++q)
+    {
+      const int cx = 2 * qx + (q & 1), cy = 2 * qy + (q >> 1);
+      depthRange(cx, cy, hs, dmin, dmax);
+      planeRange(cx, cy, hs, zlo, zhi);
+      if (zhi <= dmin)
+      {
+        sum += 1.0;
+      }
+      else if (zlo <= dmax)
+      {
+        sum += texelLit(std::min(cx * hs + hs / 2, tile.w - 1), std::min(cy * hs + hs / 2, tile.h - 1));
+      }
+    }
+    return 0.25 * sum;
   };
   const int qx0 = std::max(0, static_cast<int>(std::floor((Tx - hw) / s)));
   const int qx1 = std::min((tile.w - 1) / s, static_cast<int>(std::floor((Tx + hw) / s)));

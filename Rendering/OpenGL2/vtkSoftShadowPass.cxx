@@ -67,6 +67,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -104,8 +105,22 @@ struct ShadowLight
   int FirstLayer = 0; // its first layer in the shadow-map array
 };
 
-// What the caster set was built from: rebuilt when any entry changes.
-using CasterKey = std::tuple<void*, void*, vtkMTimeType, vtkMTimeType, vtkMTimeType>;
+// What the caster set was built from: rebuilt when any entry changes. The
+// transform enters by value: assembly paths hand out fresh matrices (new
+// MTimes) at every traversal, which rebuilt the caster set every frame.
+using CasterKey = std::tuple<void*, void*, vtkMTimeType, std::uint64_t, vtkMTimeType>;
+
+std::uint64_t MatrixHash(vtkMatrix4x4* m)
+{
+  // FNV-1a over the 16 doubles
+  std::uint64_t h = 1469598103934665603ull;
+  const auto* bytes = reinterpret_cast<const unsigned char*>(m->GetData());
+  for (std::size_t i = 0; i < 16 * sizeof(double); ++i)
+  {
+    h = (h ^ bytes[i]) * 1099511628211ull;
+  }
+  return h;
+}
 
 // A GL_TEXTURE_2D_ARRAY of RG32F linear light-space depth whose mip levels
 // hold the (min, max) of the level below. vtkTextureObject cannot bind 2-D
@@ -930,7 +945,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     }
     mapper->Update();
     vtkDataObject* data = mapper->GetInputDataObject(0, 0);
-    keys.emplace_back(actor, data, data ? data->GetMTime() : 0, m->GetMTime(),
+    keys.emplace_back(actor, data, data ? data->GetMTime() : 0, MatrixHash(m),
       std::max(mapper->GetMTime(), actor->GetProperty()->GetMTime()));
   });
   if (keys != in.CasterKeys)
@@ -1519,16 +1534,22 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
   st.msLowResSM = in.Timings["shadow_maps"];
   st.quality = this->PVSMQuality;
 
-  // §5.1: the static metric when only the camera moved since the last frame
+  // §5.1: the static metric when only the camera moved since the last frame:
+  // the same caster set and the same lights (a light that follows the camera
+  // moves with it, so its transformed position is part of the key)
   std::ostringstream key;
-  key.precision(17);
+  key.precision(9);
   key << in.CasterVersion;
   for (const auto& l : in.Lights)
   {
-    const ss::LightFrame& f = l.Frame;
-    key << ';' << static_cast<int>(f.type) << ',' << f.center.x + in.Origin.x << ',' << f.center.y + in.Origin.y
-        << ',' << f.center.z + in.Origin.z << ',' << f.n.x << ',' << f.n.y << ',' << f.n.z << ',' << f.u.x
-        << ',' << f.u.y << ',' << f.u.z << ',' << f.width << ',' << f.height << ',' << f.angularDiameter;
+    key << ';' << l.Light << ':' << l.Light->GetMTime() << ':' << l.Layer;
+    if (!l.Light->LightTypeIsSceneLight())
+    {
+      double p[3], f[3];
+      l.Light->GetTransformedPosition(p);
+      l.Light->GetTransformedFocalPoint(f);
+      key << ':' << p[0] << ',' << p[1] << ',' << p[2] << ',' << f[0] << ',' << f[1] << ',' << f[2];
+    }
   }
   const bool changed = key.str() != in.PVSMSceneKey;
   in.PVSMSceneKey = key.str();

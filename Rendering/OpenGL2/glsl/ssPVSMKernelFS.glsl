@@ -148,6 +148,12 @@ void main()
   }
   float t0 = 2.0 * uh.x / (quality * rho(n0));
   float t1 = 2.0 * vhy / (quality * rho(n1));
+  // Never coarser than the low-resolution map: below it the tiles would lose
+  // geometry the blocker search saw (foliage lighter in coarse tiles, seams
+  // where tiles of different resolutions meet).
+  vec2 lowTexel = e / mapSize;
+  t0 = min(t0, lowTexel.x / quality);
+  t1 = min(t1, lowTexel.y / quality);
   gl_FragData[0] = vec4(uh, vhy, 1.0);
   gl_FragData[1] = vec4(X, float(w.index), tangent);
   gl_FragData[2] = vec4(t0, t1, n0, n1);
