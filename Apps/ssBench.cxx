@@ -179,7 +179,8 @@ int Bench(const std::vector<std::string>& args)
   if (smoke)
   {
     configs = { { "hard", { "shadow_map_size=512" } }, { "pcss", { "shadow_map_size=512" } },
-      { "reference", { "reference_samples=4" } }, { "gears", { "gears_samples=4" } }, { "vtk", {} } };
+      { "reference", { "reference_samples=4" } }, { "gears", { "gears_samples=4" } },
+      { "pvsm", { "pvsm_low_resolution=256", "pvsm_max_tile=1024" } }, { "vtk", {} } };
   }
   else
   {
@@ -197,6 +198,9 @@ int Bench(const std::vector<std::string>& args)
       { "gears", { "gears_samples=8" } },
       { "gears", { "gears_samples=16" } },
       { "gears", { "gears_samples=32" } },
+      { "pvsm", { "pvsm_quality=0.5" } },
+      { "pvsm", {} },
+      { "pvsm", { "pvsm_quality=2" } },
       { "vtk", {} },
     };
   }
