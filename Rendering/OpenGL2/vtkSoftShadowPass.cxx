@@ -62,6 +62,7 @@
 #include "ssPVSMGridVS.h"
 #include "ssPVSMKernelFS.h"
 #include "ssPVSMResolveFS.h"
+#include "ssQuadLit.h"
 #include "ssShadowCommon.h"
 #include "ssVisibilityFS.h"
 
@@ -303,12 +304,13 @@ void EnsureTexture2D(vtkOpenGLRenderWindow* win, vtkSmartPointer<vtkTextureObjec
   }
 }
 
-// A fragment shader with the shared shadow code (ssShadowCommon.glsl) pasted
-// where it says //SS::Common.
+// A fragment shader with the shared shadow code pasted where it says
+// //SS::Common (ssShadowCommon.glsl) and //SS::QuadLit (ssQuadLit.glsl).
 std::string WithCommon(const char* fs)
 {
   std::string src(fs);
   vtkShaderProgram::Substitute(src, "//SS::Common", ssShadowCommon);
+  vtkShaderProgram::Substitute(src, "//SS::QuadLit", ssQuadLit);
   return src;
 }
 

@@ -87,9 +87,6 @@ void main()
   {
     // degenerate in the map (a sliver or a point): its grown bounding box,
     // at its nearest depth
-    q[0] = box.xy;
-    q[1] = vec2(box.z, box.y);
-    q[2] = box.zw;
     for (int t = 0; t < 2; ++t)
     {
       vec2 qq[3] = (t == 0) ? vec2[3](box.xy, vec2(box.z, box.y), box.zw)

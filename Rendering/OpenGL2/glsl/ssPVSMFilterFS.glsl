@@ -33,13 +33,20 @@ vec2 tileX(vec2 T)
   return tileRect.xy + T / tilePerUnit;
 }
 
-float texelLit(View w, ivec2 t, float bias, float maxDelta)
+// The map hooks of ssQuadLit.glsl: the current tile (children's centre
+// texels are kept inside the tile's resolution).
+float mapTexelLit(View w, ivec2 t, float bias, float maxDelta)
 {
+  t = min(t, ivec2(tileRes) - 1);
   return (planeDepth(w, tileX(vec2(t) + 0.5), maxDelta) - bias <= tileDepth(t)) ? 1.0 : 0.0;
 }
 
-// (min, max) of the receiver's plane over the quad [a, a + s]^2 (tile texels)
-vec2 planeRangeTile(View w, vec2 a, float s, float maxDelta)
+vec2 mapMinMax(View w, ivec2 q, int level)
+{
+  return texelFetch(tileMap, ivec3(q, 0), level).rg;
+}
+
+vec2 mapPlaneRange(View w, vec2 a, float s, float maxDelta)
 {
   float z00 = planeDepth(w, tileX(a), maxDelta);
   float z10 = planeDepth(w, tileX(a + vec2(s, 0.0)), maxDelta);
@@ -48,47 +55,7 @@ vec2 planeRangeTile(View w, vec2 a, float s, float maxDelta)
   return vec2(min(min(z00, z10), min(z01, z11)), max(max(z00, z10), max(z01, z11)));
 }
 
-// Lit fraction of the quad q of 2^level texels, as quadLit() in
-// ssVisibilityFS.glsl: decided by its (min, max) depth when it can be,
-// otherwise by its four children, each decided the same way or by its
-// centre texel (one centre sample per quad made streaks in foliage).
-float quadLitTile(View w, int level, ivec2 q, float bias, float maxDelta)
-{
-  if (level == 0)
-  {
-    return texelLit(w, q, bias, maxDelta);
-  }
-  float s = exp2(float(level));
-  vec2 z = planeRangeTile(w, vec2(q) * s, s, maxDelta) - bias;
-  vec2 mm = texelFetch(tileMap, ivec3(q, 0), level).rg;
-  if (z.y <= mm.x)
-  {
-    return 1.0;
-  }
-  if (z.x > mm.y)
-  {
-    return 0.0;
-  }
-  float h = 0.5 * s;
-  float sum = 0.0;
-  for (int c = 0; c < 4; ++c)
-  {
-    ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
-    vec2 b = vec2(child) * h;
-    vec2 cz = planeRangeTile(w, b, h, maxDelta) - bias;
-    vec2 cm = texelFetch(tileMap, ivec3(child, 0), level - 1).rg;
-    if (cz.y <= cm.x)
-    {
-      sum += 1.0;
-    }
-    else if (cz.x <= cm.y)
-    {
-      ivec2 t = min(ivec2(b + 0.5 * h), ivec2(tileRes) - 1);
-      sum += texelLit(w, t, bias, maxDelta);
-    }
-  }
-  return 0.25 * sum;
-}
+//SS::QuadLit
 
 void main()
 {
@@ -178,7 +145,7 @@ void main()
       }
       float o = (b - a) * oy;
       area += o;
-      lit += o * quadLitTile(w, level, ivec2(qx, qy), bias, maxDelta);
+      lit += o * quadLit(w, level, ivec2(qx, qy), bias, maxDelta);
     }
   }
   // shadow-map units, so tiles of different resolutions merge

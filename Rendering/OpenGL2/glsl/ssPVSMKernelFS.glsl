@@ -69,11 +69,8 @@ void main()
   View w = selectView(d, nrm);
   if (w.index < 0)
   {
-    // as ssVisibilityFS: behind a one-sided light no light arrives; outside
-    // every view nothing is shadowed
-    bool behind = (oneSided != 0) && (dot(d, viewN[0]) <= 0.0);
     gl_FragData[0] = vec4(0.0);
-    gl_FragData[1] = vec4(0.0, 0.0, -1.0, behind ? 0.0 : 1.0);
+    gl_FragData[1] = vec4(0.0, 0.0, -1.0, outsideViewsVisibility(d));
     gl_FragData[2] = vec4(0.0);
     return;
   }

@@ -189,6 +189,13 @@ View selectView(vec3 d, vec3 nrm)
   return w;
 }
 
+// V of a point no view holds: behind a one-sided light no light arrives;
+// outside every view (beyond the widest angle a view covers) it is unshadowed.
+float outsideViewsVisibility(vec3 d)
+{
+  return ((oneSided != 0) && (dot(d, viewN[0]) <= 0.0)) ? 0.0 : 1.0;
+}
+
 // PCSS step 1 (Fernando 2005), the blocker search: the overlap-weighted mean
 // depth of the blockers in the light's footprint on the plane of the nearest
 // caster, from the min-depth pyramid; -1 when there is none (fully lit; with

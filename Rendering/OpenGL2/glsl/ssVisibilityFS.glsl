@@ -8,54 +8,24 @@ in vec2 texCoord; // from VTK's full-screen quad
 //VTK::Output::Dec
 //SS::Common
 
-// Lit fraction of the quad q of 2^level texels. The (min, max) depth of the
-// quad decides it exactly when the receiver (its tangent plane over the
-// quad, minus the bias) is nearer than every texel (lit) or farther than every
-// texel (occluded); otherwise its four children are classified the same way
-// and a child still undecided takes the test of its centre texel. Coarse quads
-// thus stay exact where the shadow is uniform, and no fixed sampling lattice
-// shows in wide penumbrae (one centre sample per coarse quad did).
-float quadLit(View w, int level, ivec2 q, float bias, float maxDelta)
+// The map hooks of ssQuadLit.glsl: the light's layer of the shadow-map array.
+float mapTexelLit(View w, ivec2 t, float bias, float maxDelta)
 {
-  int layer = firstLayer + w.index;
-  if (level == 0)
-  {
-    float d = fetchDepth(layer, q);
-    return (planeDepth(w, texelToProjected(w, vec2(q) + 0.5), maxDelta) - bias <= d) ? 1.0 : 0.0;
-  }
-  float s = exp2(float(level));
-  vec2 z = planeRange(w, vec2(q) * s, s, maxDelta) - bias;
-  vec2 mm = fetchMinMaxDepth(layer, q, level);
-  if (z.y <= mm.x)
-  {
-    return 1.0;
-  }
-  if (z.x > mm.y)
-  {
-    return 0.0;
-  }
-  float h = 0.5 * s;
-  float sum = 0.0;
-  for (int c = 0; c < 4; ++c)
-  {
-    ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
-    vec2 b = vec2(child) * h;
-    vec2 cz = planeRange(w, b, h, maxDelta) - bias;
-    vec2 cm = fetchMinMaxDepth(layer, child, level - 1);
-    if (cz.y <= cm.x)
-    {
-      sum += 1.0;
-    }
-    else if (cz.x <= cm.y)
-    {
-      // undecided: the test of the child's centre texel
-      ivec2 t = ivec2(b + 0.5 * h);
-      float d = fetchDepth(layer, t);
-      sum += (planeDepth(w, texelToProjected(w, vec2(t) + 0.5), maxDelta) - bias <= d) ? 1.0 : 0.0;
-    }
-  }
-  return 0.25 * sum;
+  float d = fetchDepth(firstLayer + w.index, t);
+  return (planeDepth(w, texelToProjected(w, vec2(t) + 0.5), maxDelta) - bias <= d) ? 1.0 : 0.0;
 }
+
+vec2 mapMinMax(View w, ivec2 q, int level)
+{
+  return fetchMinMaxDepth(firstLayer + w.index, q, level);
+}
+
+vec2 mapPlaneRange(View w, vec2 a, float s, float maxDelta)
+{
+  return planeRange(w, a, s, maxDelta);
+}
+
+//SS::QuadLit
 
 // PVSM §4.1 eq. 2 with texel quads of 2^level texels: each quad contributes
 // its overlap with the kernel box times its lit fraction, over the box area.
@@ -113,10 +83,7 @@ void main()
   View w = selectView(d, nrm);
   if (w.index < 0)
   {
-    // Behind a one-sided light: no light arrives. Outside every view
-    // (beyond the widest angle a view covers): unshadowed.
-    bool behind = (oneSided != 0) && (dot(d, viewN[0]) <= 0.0);
-    gl_FragData[0] = vec4(behind ? 0.0 : 1.0);
+    gl_FragData[0] = vec4(outsideViewsVisibility(d));
     return;
   }
 
