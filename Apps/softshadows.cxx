@@ -66,13 +66,13 @@ const char* kUsage =
   "        [--size WxH] [--reference-samples K]\n"
   "  softshadows bench --gears --scenes a.json,... [--sizes 512x512,1024x1024]\n"
   "        [--samples 16,32] [--out DIR]\n"
-  "methods: auto (default), hard, pcf, pcss, pvsm, reference, gears, vtk, none\n"
+  "methods: auto (default), hard, pcf, pcss, pvsm, hardavg, reference, gears, vtk, none\n"
   "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
   "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"
   "         gears_samples (1..32), gears_grid, gears_raster (edge|lut),\n"
   "         gears_necessary (0|1: count Table 9's necessary assignments),\n"
   "         pvsm_quality (scale on rho), pvsm_metric (auto|dynamic|static), pvsm_grid,\n"
-  "         pvsm_max_tile, pvsm_low_resolution\n";
+  "         pvsm_max_tile, pvsm_low_resolution, average_samples (hardavg: k per side, 1..32)\n";
 
 }
 
@@ -247,12 +247,17 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
   {
     pass->SetPVSMLowResolution(ParseInt(v, what, 64, 8192));
   }
+  else if (k == "average_samples")
+  {
+    pass->SetAverageSamples(ParseInt(v, what, 1, 32));
+  }
   else
   {
     throw UsageError("--option: unknown key '" + k +
       "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
       "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, "
-      "gears_necessary, pvsm_quality, pvsm_metric, pvsm_grid, pvsm_max_tile, pvsm_low_resolution)");
+      "gears_necessary, pvsm_quality, pvsm_metric, pvsm_grid, pvsm_max_tile, pvsm_low_resolution, "
+      "average_samples)");
   }
 }
 
@@ -358,10 +363,10 @@ int Render(const std::vector<std::string>& args)
     if (std::find(later.begin(), later.end(), method) != later.end())
     {
       throw UsageError("--method " + method + ": not implemented yet (available: auto, hard, pcf, "
-                                              "pcss, pvsm, reference, gears, vtk, none)");
+                                              "pcss, pvsm, hardavg, reference, gears, vtk, none)");
     }
     throw UsageError("--method: unknown method '" + method +
-      "' (expected auto, hard, pcf, pcss, pvsm, reference, gears, vtk, none)");
+      "' (expected auto, hard, pcf, pcss, pvsm, hardavg, reference, gears, vtk, none)");
   }
   if (vtkMethod && (!visibility.empty() || !positions.empty()))
   {

@@ -24,6 +24,8 @@ const char* MethodName(Method m)
       return "gears";
     case Method::PVSM:
       return "pvsm";
+    case Method::HardAverage:
+      return "hardavg";
   }
   return "none";
 }
@@ -31,7 +33,7 @@ const char* MethodName(Method m)
 bool MethodFromName(const std::string& s, Method& out)
 {
   for (Method m : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS, Method::None, Method::Reference,
-         Method::GEARS, Method::PVSM })
+         Method::GEARS, Method::PVSM, Method::HardAverage })
   {
     if (s == MethodName(m))
     {
@@ -152,6 +154,10 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       if (in.requested == Method::PCSS && !l.frame.IsSoft())
       {
         p.reason += " (point/zero-size light: PCSS degenerates to an antialiased hard shadow)";
+      }
+      if (in.requested == Method::HardAverage && !l.frame.IsSoft())
+      {
+        p.reason += " (point/zero-size light: every sample is the same, one hard map)";
       }
     }
     else if (!l.frame.IsSoft())

@@ -19,7 +19,8 @@ enum class Method
   None = 4,
   Reference = 5, ///< ray-traced ground truth (Embree, CPU)
   GEARS = 6,     ///< exact soft shadows from per-pixel triangle lists (GEARS)
-  PVSM = 7       ///< predicted virtual soft shadow maps (adaptive tiles, anisotropic filtering)
+  PVSM = 7,      ///< predicted virtual soft shadow maps (adaptive tiles, anisotropic filtering)
+  HardAverage = 8 ///< brute force: the average of k x k hard shadow maps, one per light sample
 };
 const char* MethodName(Method m);
 /// Solved per pixel from the caster triangles (no shadow map).

@@ -143,4 +143,22 @@ glm::dvec3 RegularLightSample(const LightFrame& light, int i, int j, int k)
   const double t = (j + 0.5) / k - 0.5;
   return light.center + s * light.width * light.u + t * light.height * light.v;
 }
+
+LightFrame LightSampleFrame(const LightFrame& light, int i, int j, int k)
+{
+  LightFrame f = light;
+  if (light.type == LightType::Rect)
+  {
+    f.center = RegularLightSample(light, i, j, k);
+    f.width = f.height = 0.0;
+  }
+  else if (light.type == LightType::Directional && k >= 1)
+  {
+    // ssReference: the direction towards the light is -n + su t u + sv t v
+    const double t = 2.0 * std::tan(0.5 * light.angularDiameter);
+    const double su = (i + 0.5) / k - 0.5, sv = (j + 0.5) / k - 0.5;
+    f = MakeDirectionalLightFrame(light.n - su * t * light.u - sv * t * light.v, 0.0);
+  }
+  return f;
+}
 }

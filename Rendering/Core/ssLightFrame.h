@@ -34,6 +34,14 @@ LightFrame MakeDirectionalLightFrame(const glm::dvec3& direction, double angular
 glm::dvec3 FallbackUp(const glm::dvec3& n);
 /// Centre of cell (i, j) of a regular k x k grid on a rect light.
 glm::dvec3 RegularLightSample(const LightFrame& light, int i, int j, int k);
+
+/// Sample (i, j) of the regular k x k grid over a light, as a light without
+/// extent. The brute-force soft shadow PVSM compares against (§6: the average
+/// of 64 hard shadow maps) renders one hard map per such light. A rect light
+/// gives a zero-size rect at RegularLightSample (same facing and axes); a
+/// directional light gives the direction through cell (i, j) of its square of
+/// directions (the reference samples it the same way); a point light is itself.
+LightFrame LightSampleFrame(const LightFrame& light, int i, int j, int k);
 }
 
 #endif

@@ -418,6 +418,7 @@ public:
   std::unique_ptr<vtkOpenGLQuadHelper> KernelQuad, FilterQuad, ResolveQuad;
   ss::PVSMStats LastPVSMStats;
   int PVSMLights = 0;
+  long long HardAverageMaps = 0; // hard maps rendered by HARDAVG in the last frame
   std::string PVSMSceneKey; // casters and lights of the last PVSM frame (static metric)
 
   vtkShaderProgram* ReadyConservativeProgram(vtkOpenGLRenderWindow* win)
@@ -1411,6 +1412,11 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
         p->SetUniform2f("viewportSize", vp);
       }
     }
+    if (l.Method == ss::Method::HardAverage)
+    {
+      layer += static_cast<int>(l.Views.size()); // one map per light sample, later
+      continue;
+    }
     for (const auto& v : l.Views)
     {
       in.Shadow.Attach(in.FBO, 0, layer);
@@ -1476,7 +1482,8 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   ostate->vtkglScissor(0, 0, in.Width, in.Height);
   for (auto& l : in.Lights)
   {
-    if (l.Layer < 0 || ss::IsTriangleSolver(l.Method) || l.Method == ss::Method::PVSM)
+    if (l.Layer < 0 || ss::IsTriangleSolver(l.Method) || l.Method == ss::Method::PVSM ||
+      l.Method == ss::Method::HardAverage)
     {
       continue;
     }
@@ -1497,7 +1504,134 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   }
   in.Timings["visibility"] = Seconds(tStage, Clock::now());
   this->SolvePVSM(s);
+  this->SolveHardAverage(win, receivers, casters, S);
   this->SolveOnTriangles(win);
+}
+
+//------------------------------------------------------------------------------
+// The brute-force soft shadow PVSM §6 measures itself against: one hard shadow
+// map per sample of a regular k x k grid over the light (ss::LightSampleFrame),
+// each used at once by the hard test of the visibility shader and summed with
+// weight 1/k^2 into the light's visibility layer. Cost grows with k^2 maps of
+// ShadowMapSize^2; memory stays one map.
+void vtkSoftShadowPass::SolveHardAverage(
+  vtkOpenGLRenderWindow* win, const ss::Box& receivers, const ss::Box& casters, int S)
+{
+  auto& in = *this->Internals;
+  in.HardAverageMaps = 0;
+  bool any = false;
+  for (const auto& l : in.Lights)
+  {
+    any = any || (l.Layer >= 0 && l.Method == ss::Method::HardAverage);
+  }
+  if (!any)
+  {
+    return;
+  }
+  const auto tStage = Clock::now();
+  vtkOpenGLState* ostate = win->GetState();
+  static const std::string visibilityFS = WithCommon(ssVisibilityFS);
+  const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
+  const std::size_t vertices = in.CasterTriangles.size() / 3;
+  long long maps = 0;
+  ostate->PushFramebufferBindings();
+  in.FBO->Bind();
+  in.FBO->RemoveDepthAttachment();
+  ostate->vtkglDisable(GL_DEPTH_TEST);
+  ostate->vtkglDisable(GL_CULL_FACE);
+  ostate->vtkglEnable(GL_BLEND);
+  for (const auto& l : in.Lights)
+  {
+    if (l.Layer < 0 || l.Method != ss::Method::HardAverage)
+    {
+      continue;
+    }
+    // a point light has one sample; every other light k x k
+    const int k = l.Frame.IsSoft() ? this->AverageSamples : 1;
+    const float weight = 1.0f / static_cast<float>(k * k);
+    ostate->vtkglViewport(0, 0, in.Width, in.Height);
+    ostate->vtkglScissor(0, 0, in.Width, in.Height);
+    AttachLayer(in.FBO, in.Visibility, l.Layer);
+    in.FBO->ActivateDrawBuffers(1);
+    ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
+    ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+    for (int j = 0; j < k; ++j)
+    {
+      for (int i = 0; i < k; ++i)
+      {
+        ShadowLight sl = l;
+        sl.Frame = ss::LightSampleFrame(l.Frame, i, j, k);
+        ss::LightViewInfo info;
+        sl.Views = ss::MakeLightViews(sl.Frame, receivers, casters, info);
+        if (sl.Views.size() > l.Views.size())
+        {
+          vtkErrorMacro("A light sample needs more shadow-map views than its light; sample skipped.");
+          continue;
+        }
+        // the sample's hard map (min-blended linear depth, as every map)
+        ostate->vtkglViewport(0, 0, S, S);
+        ostate->vtkglScissor(0, 0, S, S);
+        ostate->vtkglBlendEquation(GL_MIN);
+        ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+        ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
+        win->GetShaderCache()->ReadyShaderProgram(in.CasterProgram);
+        for (std::size_t v = 0; v < sl.Views.size(); ++v)
+        {
+          in.Shadow.Attach(in.FBO, 0, l.FirstLayer + static_cast<int>(v));
+          ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+          if (vertices > 0)
+          {
+            DrawCasters(in.CasterProgram, in.CasterVAO, sl.Views[v], sl.Views[v].extent, casterOffset, vertices);
+          }
+          ++maps;
+        }
+        DepthArray::Detach();
+        // its hard test, added with weight 1/k^2
+        vtkShaderProgram* prog = ReadyQuad(in.VisibilityQuad, win, visibilityFS.c_str());
+        if (!prog)
+        {
+          vtkErrorMacro("Could not build the visibility program.");
+          ostate->PopFramebufferBindings();
+          return;
+        }
+        in.GPosition->Activate();
+        in.GNormal->Activate();
+        const int shadowUnit = in.Shadow.Bind(win);
+        prog->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
+        prog->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
+        prog->SetUniformi("shadowMaps", shadowUnit);
+        prog->SetUniformf("mapSize", static_cast<float>(S));
+        prog->SetUniformi("numLevels", in.Shadow.Levels);
+        prog->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
+        prog->SetUniformf("slopeBias", static_cast<float>(this->SlopeBias));
+        SetLightUniforms(prog, sl);
+        prog->SetUniformi("method", static_cast<int>(ss::Method::Hard));
+        ostate->vtkglViewport(0, 0, in.Width, in.Height);
+        ostate->vtkglScissor(0, 0, in.Width, in.Height);
+        AttachLayer(in.FBO, in.Visibility, l.Layer);
+        in.FBO->ActivateDrawBuffers(1);
+        ostate->vtkglBlendEquation(GL_FUNC_ADD);
+        ostate->vtkglBlendFunc(GL_CONSTANT_COLOR, GL_ONE);
+        glBlendColor(weight, weight, weight, weight);
+        in.VisibilityQuad->Render();
+        DepthArray::Unbind(win, shadowUnit);
+        in.GNormal->Deactivate();
+        in.GPosition->Deactivate();
+      }
+    }
+  }
+  glBlendColor(0.f, 0.f, 0.f, 0.f);
+  ostate->vtkglBlendEquation(GL_FUNC_ADD);
+  ostate->vtkglBlendFunc(GL_ONE, GL_ZERO);
+  ostate->vtkglDisable(GL_BLEND);
+  in.FBO->RemoveColorAttachments(1);
+  ostate->PopFramebufferBindings();
+  if (this->MeasureTimings)
+  {
+    glFinish();
+  }
+  in.Timings["hard_average"] = Seconds(tStage, Clock::now());
+  in.HardAverageMaps = maps;
 }
 
 //------------------------------------------------------------------------------
@@ -2308,6 +2442,7 @@ std::string vtkSoftShadowPass::GetStatsJSON()
     << ", \"pvsm\": {\"lights\": " << in.PVSMLights << ", \"low_resolution\": " << this->PVSMLowResolution
     << ", \"grid\": " << this->PVSMGridSize << ", \"max_tile\": " << this->PVSMMaxTileResolution
     << ", \"stats\": " << ss::PVSMStatsToJSON(in.LastPVSMStats) << "}"
+    << ", \"hardavg\": {\"samples_per_axis\": " << this->AverageSamples << ", \"maps\": " << in.HardAverageMaps << "}"
     << ", \"shadow_map_size\": " << in.Shadow.Size << ", \"lights\": [";
   first = true;
   for (const auto& l : in.Lights)
@@ -2342,6 +2477,7 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PVSMMaxTileResolution: " << this->PVSMMaxTileResolution << "\n";
   os << indent << "PVSMQuality: " << this->PVSMQuality << "\n";
   os << indent << "PVSMMetric: " << this->PVSMMetric << "\n";
+  os << indent << "AverageSamples: " << this->AverageSamples << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";

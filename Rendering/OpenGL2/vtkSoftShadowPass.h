@@ -41,6 +41,10 @@ class vtkOpenGLRenderWindow;
 class vtkInformationIntegerKey;
 class vtkProp;
 class vtkRenderPass;
+namespace ss
+{
+struct Box;
+}
 
 class SOFTSHADOWSRENDERINGOPENGL2_EXPORT vtkSoftShadowPass : public vtkOpenGLRenderPass
 {
@@ -58,16 +62,17 @@ public:
     NONE = 4, ///< no shadows (the pass only shades)
     REFERENCE = 5, ///< ray-traced ground truth: k x k light samples per pixel (Embree, CPU)
     GEARS = 6,     ///< exact soft shadows: triangles assigned to pixels by a grid, k x k bitmasks
-    PVSM = 7       ///< predicted virtual soft shadow maps: adaptive tiles, anisotropic coverage filter
+    PVSM = 7,      ///< predicted virtual soft shadow maps: adaptive tiles, anisotropic coverage filter
+    HARDAVG = 8    ///< brute force: average of AverageSamples^2 hard shadow maps, one per light sample
   };
 
   ///@{
   /**
    * The visibility solver used for every shadow-casting light.
    */
-  vtkSetClampMacro(Method, int, AUTO, PVSM);
+  vtkSetClampMacro(Method, int, AUTO, HARDAVG);
   vtkGetMacro(Method, int);
-  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm. Returns false for unknown names. */
+  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
   ///@}
@@ -132,6 +137,16 @@ public:
   vtkGetMacro(PVSMQuality, double);
   vtkSetClampMacro(PVSMMetric, int, 0, 2);
   vtkGetMacro(PVSMMetric, int);
+  ///@}
+
+  ///@{
+  /**
+   * HARDAVG: light samples per side (default 8: the 64 hard shadow maps PVSM
+   * §6 compares against). Each sample of the regular grid gets its own hard
+   * map of ShadowMapSize^2 and V is the mean of the hard tests.
+   */
+  vtkSetClampMacro(AverageSamples, int, 1, 32);
+  vtkGetMacro(AverageSamples, int);
   ///@}
 
   ///@{
@@ -258,6 +273,7 @@ protected:
   int PVSMMaxTileResolution = 4096;
   double PVSMQuality = 1.0;
   int PVSMMetric = 0;
+  int AverageSamples = 8;
   double PCFRadius = 1.5;
   int BlockerSearchSamples = 8;
   int FilterMaxQuads = 24;
@@ -276,6 +292,8 @@ private:
   void BuildMinPyramid(vtkOpenGLRenderWindow* win);
   void SolveOnTriangles(vtkOpenGLRenderWindow* win);
   void SolvePVSM(const vtkRenderState* s);
+  void SolveHardAverage(
+    vtkOpenGLRenderWindow* win, const ss::Box& receivers, const ss::Box& casters, int mapSize);
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

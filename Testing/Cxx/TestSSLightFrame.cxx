@@ -165,3 +165,48 @@ TEST(LightFrame, RegularSamplesAreCellCentres)
   EXPECT_NEAR(Dist(RegularLightSample(f, 3, 4, k), RegularLightSample(f, 4, 4, k)), f.width / k, 1e-12);
   EXPECT_NEAR(Dist(RegularLightSample(f, 3, 4, k), RegularLightSample(f, 3, 5, k)), f.height / k, 1e-12);
 }
+
+// The per-sample lights of HARDAVG: point-like, at the reference's sample
+// positions (rect) or directions (directional), and their mean is the light.
+TEST(LightFrame, SampleFramesArePointLikeAndMatchTheReference)
+{
+  const auto rect = ss::MakeRectLightFrame({ 1, 2, 5 }, { 0, 0, -1 }, { 0, 1, 0 }, { 2.0, 0.5 });
+  const int k = 4;
+  glm::dvec3 mean(0.0);
+  for (int j = 0; j < k; ++j)
+  {
+    for (int i = 0; i < k; ++i)
+    {
+      const auto f = ss::LightSampleFrame(rect, i, j, k);
+      EXPECT_EQ(f.type, ss::LightType::Rect);
+      EXPECT_FALSE(f.IsSoft());
+      EXPECT_LT(glm::length(f.center - ss::RegularLightSample(rect, i, j, k)), 1e-12);
+      EXPECT_LT(glm::length(f.n - rect.n), 1e-12);
+      mean += f.center / double(k * k);
+    }
+  }
+  EXPECT_LT(glm::length(mean - rect.center), 1e-12);
+  // corner cells sit half a cell inside the rectangle
+  const auto c = ss::LightSampleFrame(rect, 0, 0, k);
+  EXPECT_NEAR(glm::dot(c.center - rect.center, rect.u), -0.5 * 2.0 + 0.25, 1e-12);
+  EXPECT_NEAR(glm::dot(c.center - rect.center, rect.v), -0.5 * 0.5 + 0.0625, 1e-12);
+
+  const double diam = 0.2;
+  const auto dir = ss::MakeDirectionalLightFrame({ 0.3, -0.2, -1.0 }, diam);
+  const double t = 2.0 * std::tan(0.5 * diam);
+  for (int j = 0; j < k; ++j)
+  {
+    for (int i = 0; i < k; ++i)
+    {
+      const auto f = ss::LightSampleFrame(dir, i, j, k);
+      EXPECT_EQ(f.type, ss::LightType::Directional);
+      EXPECT_FALSE(f.IsSoft());
+      // ssReference's direction towards the light, sample (i, j)
+      const double su = (i + 0.5) / k - 0.5, sv = (j + 0.5) / k - 0.5;
+      const glm::dvec3 toLight = glm::normalize(-dir.n + su * t * dir.u + sv * t * dir.v);
+      EXPECT_LT(glm::length(-f.n - toLight), 1e-12);
+    }
+  }
+  const auto point = ss::MakePointLightFrame({ 0, 0, 3 });
+  EXPECT_LT(glm::length(ss::LightSampleFrame(point, 2, 1, k).center - point.center), 1e-15);
+}

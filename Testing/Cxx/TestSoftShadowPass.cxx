@@ -750,3 +750,62 @@ TEST(SoftShadowPass, PVSMConservativeRasterKeepsThinBar)
   EXPECT_GT(dark, 100);
   EXPECT_GE(kept, 0.9 * dark);
 }
+
+// HARDAVG (the brute force PVSM §6 measures against): one hard map per light
+// sample, averaged. With the reference's own 8 x 8 regular samples V must agree
+// up to the hard maps' texels at each sample's shadow edge (1/64 per sample
+// that flips), and a point light gives one map.
+TEST(SoftShadowPass, HardAverageMatchesReferenceAtSameSamples)
+{
+  auto render = [](int method, double lightSize, std::string& stats) {
+    Scene s(400, 300);
+    s.renderer->AddActor(Ground());
+    s.renderer->AddActor(Sphere(0, 0, 1.2, 0.6));
+    s.renderer->AddActor(Box(1.2, 0.6, 0.3, 0.5, 0.5, 0.6));
+    s.renderer->AddLight(RectLight(1, -1, 5, 0, 0, 0, 2.0 * lightSize, 1.2 * lightSize));
+    s.Camera(0, -7, 5);
+    s.pass->SetMethod(method);
+    s.pass->SetReferenceSamples(8);
+    s.pass->SetReferencePattern(0);
+    s.pass->SetAverageSamples(8);
+    s.pass->SetShadowMapSize(2048);
+    Frame f = s.Render();
+    stats = s.pass->GetStatsJSON();
+    return f;
+  };
+  std::string refStats, avgStats;
+  const Frame ref = render(vtkSoftShadowPass::REFERENCE, 1.0, refStats);
+  const Frame avg = render(vtkSoftShadowPass::HARDAVG, 1.0, avgStats);
+  EXPECT_NE(avgStats.find("\"hardavg\": {\"samples_per_axis\": 8, \"maps\": 64}"), std::string::npos) << avgStats;
+  ASSERT_EQ(ref.V.size(), avg.V.size());
+  std::size_t fg = 0, close = 0, penumbra = 0;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < ref.V.size(); ++i)
+  {
+    if (std::isnan(ref.V[i]))
+    {
+      EXPECT_TRUE(std::isnan(avg.V[i]));
+      continue;
+    }
+    ++fg;
+    ASSERT_TRUE(std::isfinite(avg.V[i]) && avg.V[i] >= 0.0f && avg.V[i] <= 1.0f) << avg.V[i];
+    const double d = std::abs(double(avg.V[i]) - ref.V[i]);
+    sum += d;
+    close += d <= 2.0 / 64 + 1e-4;
+    penumbra += ref.V[i] > 0.01f && ref.V[i] < 0.99f;
+  }
+  std::cout << "hardavg 8x8 vs reference 8x8: MAE " << sum / fg << ", " << close << " of " << fg
+            << " px within 2 samples\n";
+  EXPECT_GT(penumbra, fg / 20);
+  EXPECT_LT(sum / fg, 0.003);
+  EXPECT_GE(close, 0.99 * fg);
+
+  // a point light: every sample is the same, one map, a hard shadow
+  std::string pointStats;
+  const Frame point = render(vtkSoftShadowPass::HARDAVG, 0.0, pointStats);
+  EXPECT_NE(pointStats.find("\"maps\": 1}"), std::string::npos) << pointStats;
+  const Stats st = Classify(point);
+  EXPECT_EQ(st.nonFinite, 0);
+  EXPECT_GT(st.umbra, 1000);
+  EXPECT_LT(st.penumbra, st.umbra / 10);
+}
