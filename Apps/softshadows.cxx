@@ -66,6 +66,8 @@ const char* kUsage =
   "        [--size WxH] [--reference-samples K]\n"
   "  softshadows bench --gears --scenes a.json,... [--sizes 512x512,1024x1024]\n"
   "        [--samples 16,32] [--out DIR]\n"
+  "  softshadows bench --pvsm --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
+  "        [--reference-samples K]   (PVSM vs fixed PCSS vs 8x8 hard maps; cameras, lights)\n"
   "methods: auto (default), hard, pcf, pcss, pvsm, hardavg, reference, gears, vtk, none\n"
   "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
   "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"

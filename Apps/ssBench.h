@@ -36,6 +36,11 @@ int Bench(const std::vector<std::string>& args);
 /// softshadows bench --gears [--smoke] --scenes a.json,... [--sizes 512x512,1024x1024]
 ///   [--samples 16,32] [--out DIR]: GEARS against the reference at identical samples.
 int BenchGEARS(const std::vector<std::string>& args);
+/// softshadows bench --pvsm [--smoke] --scenes a.json,... [--out DIR] [--frames N] [--size WxH]
+///   [--reference-samples K]: PVSM against fixed-resolution PCSS and the average
+///   of 8x8 hard shadow maps, overview and close-up cameras, large and small
+///   light, and PVSM soft against PVSM with a point light (PVSM §6).
+int BenchPVSM(const std::vector<std::string>& args);
 }
 
 #endif

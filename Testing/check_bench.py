@@ -15,7 +15,7 @@ csv = open(os.path.join(out, "accuracy-vs-time.csv")).read().splitlines()
 if len(csv) != len(rows) + 1:
     failures.append("CSV has %d lines for %d rows" % (len(csv), len(rows)))
 methods = [r["method"] for r in rows]
-for m in ("reference", "hard", "pcss", "gears", "pvsm", "vtk"):
+for m in ("reference", "hard", "pcss", "gears", "pvsm", "hardavg", "vtk"):
     if m not in methods:
         failures.append("no %s row" % m)
 for r in rows:

@@ -48,6 +48,7 @@ ss_cli_error(gears_samples "--option gears_samples: expected an integer in \\[1,
 ss_cli_error(gears_raster "--option gears_raster: expected edge or lut" ${_ss_cli} render "${_demo}" --method gears --option gears_raster=fast)
 ss_cli_error(pvsm_metric "--option pvsm_metric: expected auto, dynamic or static" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_metric=fast)
 ss_cli_error(pvsm_quality "--option pvsm_quality: expected a value in \\[0.05, 64\\]" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_quality=0)
+ss_cli_error(average_samples "--option average_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method hardavg --option average_samples=0)
 ss_cli_error(bad_size "--size: expected WxH" ${_ss_cli} render "${_demo}" --size 640by480)
 ss_cli_error(light_out_of_range "--light 3: out of range" ${_ss_cli} render "${_demo}" --size 64x48 --light 3)
 ss_cli_error(unknown_option "--option: unknown key 'sharpness'" ${_ss_cli} render "${_demo}" --option sharpness=3)
@@ -104,3 +105,10 @@ add_test(NAME cli.bench.smoke_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bench.py" "${_ss_out}/bench_smoke")
 set_tests_properties(cli.bench.smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_smoke)
 set_tests_properties(cli.bench.smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_smoke)
+add_test(NAME cli.bench.pvsm_smoke
+  COMMAND env -u DISPLAY ${_ss_cli} bench --pvsm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
+    --size 160x120 --frames 1 --reference-samples 4 --out "${_ss_out}/bench_pvsm_smoke")
+add_test(NAME cli.bench.pvsm_smoke_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_pvsm_bench.py" "${_ss_out}/bench_pvsm_smoke" 4)
+set_tests_properties(cli.bench.pvsm_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_pvsm_smoke)
+set_tests_properties(cli.bench.pvsm_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_pvsm_smoke)
