@@ -344,6 +344,41 @@ bool SetupProjectedTriangle(const double* X, const double* Y, TriangleSetup& t)
 // rasterise. Otherwise the three edge planes and the triangle's plane are
 // used in 3-D. Returns whether any bit was set; [j0, j1] gets the rows
 // touched; fallback tells that a LUT was asked for but edge planes were used.
+// A triangle whose plane passes within eps of the ray start S (touching or
+// self-intersecting geometry) takes the reference's start rule: a hit closer
+// than eps along the ray does not count (ssReference: tnear = eps, the same
+// eps as the start offset). Exact per-sample Moeller-Trumbore in the light
+// frame, bits OR-ed into `rows`; returns whether any sample is blocked.
+bool RasterizeNearTriangle(const LightSpace& l, const glm::dvec3& B0, const glm::dvec3& B1, const glm::dvec3& B2,
+  double eps, std::uint32_t* rows)
+{
+  const int k = l.s.k;
+  const glm::dvec3 e1 = B1 - B0, e2 = B2 - B0, tv = l.S - B0;
+  const glm::dvec3 q = glm::cross(tv, e1);
+  bool any = false;
+  for (int j = 0; j < k; ++j)
+  {
+    for (int i = 0; i < k; ++i)
+    {
+      const double su = (i + 0.5) / k - 0.5, sv = (j + 0.5) / k - 0.5;
+      const glm::dvec3 d = l.s.D0 + su * l.s.Du + sv * l.s.Dv;
+      const glm::dvec3 p = glm::cross(d, e2);
+      const double det = glm::dot(e1, p);
+      if (det == 0.0)
+      {
+        continue;
+      }
+      const double a = glm::dot(tv, p) / det, b = glm::dot(d, q) / det, t = glm::dot(e2, q) / det;
+      if (a >= 0.0 && b >= 0.0 && a + b <= 1.0 && t * glm::length(d) >= eps && (!l.s.segment || t < 1.0))
+      {
+        rows[j] |= 1u << i;
+        any = true;
+      }
+    }
+  }
+  return any;
+}
+
 bool RasterizeTriangle(const LightSpace& l, const glm::dvec3& S, const glm::dvec3& B0, const glm::dvec3& B1,
   const glm::dvec3& B2, const HalfPlaneLUT* lut, std::uint32_t* rows, int& j0, int& j1, bool& fallback)
 {
@@ -1283,7 +1318,11 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
               }
               int j0 = 0, j1 = k - 1;
               bool fallback = false;
-              const bool hit = RasterizeTriangle(lf, S, B0, B1, B2, lut, target, j0, j1, fallback);
+              const glm::dvec3 pn = glm::cross(B1 - B0, B2 - B0);
+              const double pl = glm::length(pn);
+              const bool near = pl > 0.0 && std::abs(glm::dot(S - B0, pn)) < eps * pl;
+              const bool hit = near ? RasterizeNearTriangle(lf, B0, B1, B2, eps, target)
+                                    : RasterizeTriangle(lf, S, B0, B1, B2, lut, target, j0, j1, fallback);
               if (fallback)
               {
                 lutFallbacks.fetch_add(1, std::memory_order_relaxed);
