@@ -115,6 +115,64 @@ std::string Fmt(double v, int prec = 4)
   o << std::setprecision(prec) << v;
   return o.str();
 }
+
+// The flags `bench` and `bench --pvsm` share.
+struct BenchArgs
+{
+  bool smoke = false;
+  std::vector<std::string> scenes;
+  std::string out = "Documentation";
+  int frames = 3, width = 0, height = 0, k = 32;
+};
+
+BenchArgs ParseBenchArgs(const std::vector<std::string>& args, const std::string& command, int defaultK)
+{
+  BenchArgs b;
+  b.k = defaultK;
+  for (std::size_t i = 0; i < args.size(); ++i)
+  {
+    const std::string& a = args[i];
+    auto value = [&]() { return FlagValue(args, i); };
+    if (a == "--smoke")
+    {
+      b.smoke = true;
+    }
+    else if (a == "--scenes")
+    {
+      std::stringstream ss(value());
+      std::string s;
+      while (std::getline(ss, s, ','))
+      {
+        b.scenes.push_back(s);
+      }
+    }
+    else if (a == "--out")
+    {
+      b.out = value();
+    }
+    else if (a == "--frames")
+    {
+      b.frames = ParseInt(value(), "--frames", 1, 1000);
+    }
+    else if (a == "--reference-samples")
+    {
+      b.k = ParseInt(value(), "--reference-samples", 1, 64);
+    }
+    else if (a == "--size")
+    {
+      ParseSize(value(), b.width, b.height);
+    }
+    else
+    {
+      throw UsageError(command + ": unknown argument '" + a + "'");
+    }
+  }
+  if (b.scenes.empty())
+  {
+    throw UsageError(command + ": --scenes is required (comma-separated scene files)");
+  }
+  return b;
+}
 }
 
 int Bench(const std::vector<std::string>& args)
@@ -131,56 +189,11 @@ int Bench(const std::vector<std::string>& args)
     std::copy_if(args.begin(), args.end(), std::back_inserter(rest), [](const std::string& a) { return a != "--pvsm"; });
     return BenchPVSM(rest);
   }
-  bool smoke = false;
-  std::vector<std::string> scenes;
-  std::string out = "Documentation";
-  int frames = 3, width = 0, height = 0, k = 32;
-  for (std::size_t i = 0; i < args.size(); ++i)
-  {
-    const std::string& a = args[i];
-    auto value = [&]() { return FlagValue(args, i); };
-    if (a == "--smoke")
-    {
-      smoke = true;
-    }
-    else if (a == "--scenes")
-    {
-      std::stringstream ss(value());
-      std::string s;
-      while (std::getline(ss, s, ','))
-      {
-        scenes.push_back(s);
-      }
-    }
-    else if (a == "--out")
-    {
-      out = value();
-    }
-    else if (a == "--frames")
-    {
-      frames = ParseInt(value(), "--frames", 1, 1000);
-    }
-    else if (a == "--reference-samples")
-    {
-      k = ParseInt(value(), "--reference-samples", 1, 64);
-    }
-    else if (a == "--size")
-    {
-      ParseSize(value(), width, height);
-    }
-    else
-    {
-      throw UsageError("bench: unknown argument '" + a + "'");
-    }
-  }
-  if (frames < 1 || k < 1 || k > 64)
-  {
-    throw UsageError("bench: --frames must be >= 1 and --reference-samples in [1, 64]");
-  }
-  if (scenes.empty())
-  {
-    throw UsageError("bench: --scenes is required (comma-separated scene files)");
-  }
+  const BenchArgs ba = ParseBenchArgs(args, "bench", 32);
+  const bool smoke = ba.smoke;
+  const std::vector<std::string>& scenes = ba.scenes;
+  const std::string& out = ba.out;
+  const int frames = ba.frames, width = ba.width, height = ba.height, k = ba.k;
 
   std::vector<Config> configs;
   if (smoke)
@@ -759,52 +772,11 @@ struct LightSizes
 // a point (Fig. 10: soft against hard). Writes pvsm-bench.md/.json/.csv.
 int BenchPVSM(const std::vector<std::string>& args)
 {
-  bool smoke = false;
-  std::vector<std::string> scenes;
-  std::string out = "Documentation";
-  int frames = 3, width = 0, height = 0, k = 16;
-  for (std::size_t i = 0; i < args.size(); ++i)
-  {
-    const std::string& a = args[i];
-    auto value = [&]() { return FlagValue(args, i); };
-    if (a == "--smoke")
-    {
-      smoke = true;
-    }
-    else if (a == "--scenes")
-    {
-      std::stringstream ss(value());
-      std::string s;
-      while (std::getline(ss, s, ','))
-      {
-        scenes.push_back(s);
-      }
-    }
-    else if (a == "--out")
-    {
-      out = value();
-    }
-    else if (a == "--frames")
-    {
-      frames = ParseInt(value(), "--frames", 1, 1000);
-    }
-    else if (a == "--reference-samples")
-    {
-      k = ParseInt(value(), "--reference-samples", 1, 64);
-    }
-    else if (a == "--size")
-    {
-      ParseSize(value(), width, height);
-    }
-    else
-    {
-      throw UsageError("bench --pvsm: unknown argument '" + a + "'");
-    }
-  }
-  if (scenes.empty())
-  {
-    throw UsageError("bench --pvsm: --scenes is required (comma-separated scene files)");
-  }
+  const BenchArgs ba = ParseBenchArgs(args, "bench --pvsm", 16);
+  const bool smoke = ba.smoke;
+  const std::vector<std::string>& scenes = ba.scenes;
+  const std::string& out = ba.out;
+  const int frames = ba.frames, width = ba.width, height = ba.height, k = ba.k;
   struct Cfg
   {
     std::string label, method;

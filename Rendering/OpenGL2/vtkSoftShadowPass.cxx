@@ -1457,27 +1457,13 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.Visibility->SetMagnificationFilter(vtkTextureObject::Nearest);
     in.Visibility->Allocate3D(in.Width, in.Height, numShadowLights, 1, VTK_FLOAT);
   }
-  static const std::string visibilityFS = WithCommon(ssVisibilityFS);
-  vtkShaderProgram* prog = ReadyQuad(in.VisibilityQuad, win, visibilityFS.c_str());
+  int shadowUnit = -1;
+  vtkShaderProgram* prog = this->ReadyVisibilityProgram(win, S, shadowUnit);
   if (!prog)
   {
-    vtkErrorMacro("Could not build the visibility program.");
     ostate->PopFramebufferBindings();
     return;
   }
-  in.GPosition->Activate();
-  in.GNormal->Activate();
-  const int shadowUnit = in.Shadow.Bind(win);
-  prog->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
-  prog->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
-  prog->SetUniformi("shadowMaps", shadowUnit);
-  prog->SetUniformf("mapSize", static_cast<float>(S));
-  prog->SetUniformi("numLevels", in.Shadow.Levels);
-  prog->SetUniformi("searchSamples", this->BlockerSearchSamples);
-  prog->SetUniformi("maxQuads", this->FilterMaxQuads);
-  prog->SetUniformf("pcfRadius", static_cast<float>(this->PCFRadius));
-  prog->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
-  prog->SetUniformf("slopeBias", static_cast<float>(this->SlopeBias));
   ostate->vtkglViewport(0, 0, in.Width, in.Height);
   ostate->vtkglScissor(0, 0, in.Width, in.Height);
   for (auto& l : in.Lights)
@@ -1509,6 +1495,37 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 }
 
 //------------------------------------------------------------------------------
+// The full-screen visibility program (hard, PCF, PCSS) readied with the
+// G-buffer and the shadow-map array bound and every uniform that does not
+// depend on the light; null (with an error) when it does not build.
+vtkShaderProgram* vtkSoftShadowPass::ReadyVisibilityProgram(
+  vtkOpenGLRenderWindow* win, int mapSize, int& shadowUnit)
+{
+  auto& in = *this->Internals;
+  static const std::string visibilityFS = WithCommon(ssVisibilityFS);
+  vtkShaderProgram* prog = ReadyQuad(in.VisibilityQuad, win, visibilityFS.c_str());
+  if (!prog)
+  {
+    vtkErrorMacro("Could not build the visibility program.");
+    return nullptr;
+  }
+  in.GPosition->Activate();
+  in.GNormal->Activate();
+  shadowUnit = in.Shadow.Bind(win);
+  prog->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
+  prog->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
+  prog->SetUniformi("shadowMaps", shadowUnit);
+  prog->SetUniformf("mapSize", static_cast<float>(mapSize));
+  prog->SetUniformi("numLevels", in.Shadow.Levels);
+  prog->SetUniformi("searchSamples", this->BlockerSearchSamples);
+  prog->SetUniformi("maxQuads", this->FilterMaxQuads);
+  prog->SetUniformf("pcfRadius", static_cast<float>(this->PCFRadius));
+  prog->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
+  prog->SetUniformf("slopeBias", static_cast<float>(this->SlopeBias));
+  return prog;
+}
+
+//------------------------------------------------------------------------------
 // The brute-force soft shadow PVSM §6 measures itself against: one hard shadow
 // map per sample of a regular k x k grid over the light (ss::LightSampleFrame),
 // each used at once by the hard test of the visibility shader and summed with
@@ -1530,7 +1547,6 @@ void vtkSoftShadowPass::SolveHardAverage(
   }
   const auto tStage = Clock::now();
   vtkOpenGLState* ostate = win->GetState();
-  static const std::string visibilityFS = WithCommon(ssVisibilityFS);
   const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
   const std::size_t vertices = in.CasterTriangles.size() / 3;
   long long maps = 0;
@@ -1587,23 +1603,13 @@ void vtkSoftShadowPass::SolveHardAverage(
         }
         DepthArray::Detach();
         // its hard test, added with weight 1/k^2
-        vtkShaderProgram* prog = ReadyQuad(in.VisibilityQuad, win, visibilityFS.c_str());
+        int shadowUnit = -1;
+        vtkShaderProgram* prog = this->ReadyVisibilityProgram(win, S, shadowUnit);
         if (!prog)
         {
-          vtkErrorMacro("Could not build the visibility program.");
           ostate->PopFramebufferBindings();
           return;
         }
-        in.GPosition->Activate();
-        in.GNormal->Activate();
-        const int shadowUnit = in.Shadow.Bind(win);
-        prog->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
-        prog->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
-        prog->SetUniformi("shadowMaps", shadowUnit);
-        prog->SetUniformf("mapSize", static_cast<float>(S));
-        prog->SetUniformi("numLevels", in.Shadow.Levels);
-        prog->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
-        prog->SetUniformf("slopeBias", static_cast<float>(this->SlopeBias));
         SetLightUniforms(prog, sl);
         prog->SetUniformi("method", static_cast<int>(ss::Method::Hard));
         ostate->vtkglViewport(0, 0, in.Width, in.Height);

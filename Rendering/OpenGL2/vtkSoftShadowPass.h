@@ -41,6 +41,7 @@ class vtkOpenGLRenderWindow;
 class vtkInformationIntegerKey;
 class vtkProp;
 class vtkRenderPass;
+class vtkShaderProgram;
 namespace ss
 {
 struct Box;
@@ -292,6 +293,7 @@ private:
   void BuildMinPyramid(vtkOpenGLRenderWindow* win);
   void SolveOnTriangles(vtkOpenGLRenderWindow* win);
   void SolvePVSM(const vtkRenderState* s);
+  vtkShaderProgram* ReadyVisibilityProgram(vtkOpenGLRenderWindow* win, int mapSize, int& shadowUnit);
   void SolveHardAverage(
     vtkOpenGLRenderWindow* win, const ss::Box& receivers, const ss::Box& casters, int mapSize);
 
