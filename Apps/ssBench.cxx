@@ -116,6 +116,14 @@ std::string Fmt(double v, int prec = 4)
   return o.str();
 }
 
+// The OpenGL renderer string of the window's context, for the reports.
+std::string RendererName(vtkRenderWindow* win)
+{
+  const std::string caps = win->ReportCapabilities();
+  const auto p = caps.find("OpenGL renderer string:");
+  return p == std::string::npos ? "?" : caps.substr(p + 23, caps.find('\n', p) - p - 23);
+}
+
 // The flags `bench` and `bench --pvsm` share.
 struct BenchArgs
 {
@@ -264,9 +272,7 @@ int Bench(const std::vector<std::string>& args)
     const double refMs = TimeFrames(win, ren, refPass, 1);
     if (renderer == "?")
     {
-      const std::string caps = win->ReportCapabilities();
-      const auto p = caps.find("OpenGL renderer string:");
-      renderer = p == std::string::npos ? "?" : caps.substr(p + 23, caps.find('\n', p) - p - 23);
+      renderer = RendererName(win);
     }
     vtkNew<vtkFloatArray> refV;
     const bool haveRef = refPass->GetVisibilityImage(0, refV);
@@ -583,9 +589,7 @@ int BenchGEARS(const std::vector<std::string>& args)
         row["reference_ms"] = TimeFrames(win, ren, ref, 1);
         if (renderer == "?")
         {
-          const std::string caps = win->ReportCapabilities();
-          const auto p = caps.find("OpenGL renderer string:");
-          renderer = p == std::string::npos ? "?" : caps.substr(p + 23, caps.find('\n', p) - p - 23);
+          renderer = RendererName(win);
         }
         const json refStats = json::parse(ref->GetStatsJSON());
         row["reference_solver_ms"] = refStats["timings_ms"].value("reference", 0.0);
@@ -845,9 +849,7 @@ int BenchPVSM(const std::vector<std::string>& args)
       const double refMs = TimeFrames(win, ren, ref, 1);
       if (renderer == "?")
       {
-        const std::string caps = win->ReportCapabilities();
-        const auto p = caps.find("OpenGL renderer string:");
-        renderer = p == std::string::npos ? "?" : caps.substr(p + 23, caps.find('\n', p) - p - 23);
+        renderer = RendererName(win);
       }
       vtkNew<vtkFloatArray> refV;
       const bool haveRef = ref->GetVisibilityImage(0, refV);
