@@ -71,7 +71,7 @@ const char* kUsage =
   "methods: auto (default), hard, pcf, pcss, pvsm, hardavg, reference, gears, vtk, none\n"
   "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
   "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"
-  "         gears_samples (1..32), gears_grid, gears_raster (edge|lut),\n"
+  "         gears_samples (1..32), gears_grid, gears_raster (edge|lut), gears_backend (cpu|gl),\n"
   "         gears_necessary (0|1: count Table 9's necessary assignments),\n"
   "         pvsm_quality (scale on rho), pvsm_metric (auto|dynamic|static), pvsm_grid,\n"
   "         pvsm_max_tile, pvsm_low_resolution, average_samples (hardavg: k per side, 1..32)\n";
@@ -216,6 +216,14 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
     }
     pass->SetGearsRaster(v == "lut" ? 1 : 0);
   }
+  else if (k == "gears_backend")
+  {
+    if (v != "cpu" && v != "gl")
+    {
+      throw UsageError(what + ": expected cpu or gl, got '" + v + "'");
+    }
+    pass->SetGearsBackend(v == "gl" ? vtkSoftShadowPass::GEARS_BACKEND_GL : vtkSoftShadowPass::GEARS_BACKEND_CPU);
+  }
   else if (k == "gears_necessary")
   {
     pass->SetGearsCountNecessary(ParseInt(v, what, 0, 1) != 0);
@@ -257,7 +265,7 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
   {
     throw UsageError("--option: unknown key '" + k +
       "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
-      "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, "
+      "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, gears_backend, "
       "gears_necessary, pvsm_quality, pvsm_metric, pvsm_grid, pvsm_max_tile, pvsm_low_resolution, "
       "average_samples)");
   }

@@ -599,9 +599,10 @@ int BenchGEARS(const std::vector<std::string>& args)
         ref->ReleaseGraphicsResources(win);
         const std::size_t n = static_cast<std::size_t>(refV->GetNumberOfTuples());
 
-        auto runGears = [&](int raster, bool necessary, vtkFloatArray* v, json& stats) {
+        auto runGears = [&](int raster, bool necessary, vtkFloatArray* v, json& stats, int backend = 0) {
           vtkNew<vtkSoftShadowPass> g;
           g->SetMethod(vtkSoftShadowPass::GEARS);
+          g->SetGearsBackend(backend);
           g->SetGearsSamples(k);
           g->SetGearsRaster(raster);
           g->SetGearsCountNecessary(necessary);
@@ -637,6 +638,23 @@ int BenchGEARS(const std::vector<std::string>& args)
         const auto err = ss::CompareVisibility(gv->GetPointer(0), refV->GetPointer(0), n);
         row["mae"] = err.all.mae;
         row["ratio"] = row["reference_solver_ms"].get<double>() / std::max(row["gears_solver_ms"].get<double>(), 1e-9);
+        // the GL compute backend on the same inputs: time and identity with the CPU's V
+        vtkNew<vtkFloatArray> glv;
+        json glstats;
+        runGears(0, false, glv, glstats, vtkSoftShadowPass::GEARS_BACKEND_GL);
+        row["gl_backend"] = glstats["gears"]["backend"];
+        row["gl_note"] = glstats["gears"]["backend_note"];
+        row["gl_solver_ms"] = glstats["timings_ms"].value("gears", 0.0);
+        row["gl_stats"] = glstats["gears"]["stats"];
+        std::size_t same = 0;
+        for (std::size_t i = 0; i < n; ++i)
+        {
+          const float a = gv->GetValue(i), b = glv->GetValue(i);
+          same += (a == b) || (std::isnan(a) && std::isnan(b));
+        }
+        row["gl_identical_fraction"] = n ? double(same) / n : 1.0;
+        row["gl_ratio"] =
+          row["reference_solver_ms"].get<double>() / std::max(row["gl_solver_ms"].get<double>(), 1e-9);
         // Table 9: necessary assignments (an extra, untimed run)
         runGears(0, true, nv, nstats);
         row["assignments_necessary"] = nstats["gears"]["stats"]["assignments"]["necessary"];
@@ -670,24 +688,47 @@ int BenchGEARS(const std::vector<std::string>& args)
      << "regular light samples, the same pixel samples and the same start offset, so V should be "
      << "equal up to samples that graze an edge. Times are the solver's own (`timings_ms` of the "
      << "pass: G-buffer readback excluded), one frame after a warm-up frame; the reference is Embree 3 "
-     << "with 16-ray packets on all cores, GEARS is the CPU backend (TBB). Raw data: `gears-bench.json`.\n\n"
+     << "with 16-ray packets on all cores; GEARS CPU is the TBB backend, GEARS GL the GL 4.3 compute "
+     << "backend in the same window (on this machine's GL renderer, so on llvmpipe it runs on the same "
+     << "CPU cores). \"GL = CPU\": pixels whose V is bit-identical between the two backends. Raw data: "
+     << "`gears-bench.json`.\n\n"
      << "## Time and equality (the paper's Table 10 question)\n\n"
-     << "| scene | triangles | size | k | reference ms | GEARS ms | speed-up | V equal | max diff (samples) | MAE |\n"
-     << "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|\n";
+     << "| scene | triangles | size | k | reference ms | GEARS CPU ms | speed-up | GEARS GL ms | speed-up GL "
+     << "| GL = CPU | V equal | max diff (samples) | MAE |\n"
+     << "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : data)
   {
+    const bool onGL = r.value("gl_backend", std::string()) == "gl";
     md << "| " << r["scene"].get<std::string>() << " | " << r["triangles"] << " | " << r["width"] << "x"
        << r["height"] << " | " << r["k"] << " | " << Fmt(r["reference_solver_ms"].get<double>()) << " | "
        << Fmt(r["gears_solver_ms"].get<double>()) << " | " << Fmt(r["ratio"].get<double>(), 3) << "x | "
+       << (onGL ? Fmt(r["gl_solver_ms"].get<double>()) : "CPU fallback: " + r["gl_note"].get<std::string>())
+       << " | " << (onGL ? Fmt(r["gl_ratio"].get<double>(), 3) + "x" : "-") << " | "
+       << Fmt(100.0 * r["gl_identical_fraction"].get<double>(), 6) << "% | "
        << Fmt(100.0 * r["equal_fraction"].get<double>(), 6) << "% | " << Fmt(r["max_diff_samples"].get<double>(), 3)
        << " | " << Fmt(r["mae"].get<double>(), 3) << " |\n";
   }
-  md << "\n## Stage times, ms (Table 2)\n\n"
+  md << "\n## Stage times of the CPU backend, ms (Table 2)\n\n"
      << "| scene | size | k | project pixels | prefix sum (pass 1) | relate tris to cells | sort pairs | bitmask raster |\n"
      << "|---|---|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : data)
   {
     const auto& ms = r["gears_stats"]["ms"];
+    md << "| " << r["scene"].get<std::string>() << " | " << r["width"] << "x" << r["height"] << " | " << r["k"]
+       << " | " << Fmt(ms["project"].get<double>(), 3) << " | " << Fmt(ms["prefix_sum"].get<double>(), 3) << " | "
+       << Fmt(ms["relate"].get<double>(), 3) << " | " << Fmt(ms["sort"].get<double>(), 3) << " | "
+       << Fmt(ms["raster"].get<double>(), 3) << " |\n";
+  }
+  md << "\n## Stage times of the GL backend, ms (Table 2; glFinish after each stage)\n\n"
+     << "| scene | size | k | project pixels | prefix sum (pass 1) | relate tris to cells | sort pairs | bitmask raster |\n"
+     << "|---|---|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& r : data)
+  {
+    if (r.value("gl_backend", std::string()) != "gl")
+    {
+      continue;
+    }
+    const auto& ms = r["gl_stats"]["ms"];
     md << "| " << r["scene"].get<std::string>() << " | " << r["width"] << "x" << r["height"] << " | " << r["k"]
        << " | " << Fmt(ms["project"].get<double>(), 3) << " | " << Fmt(ms["prefix_sum"].get<double>(), 3) << " | "
        << Fmt(ms["relate"].get<double>(), 3) << " | " << Fmt(ms["sort"].get<double>(), 3) << " | "

@@ -49,9 +49,7 @@ bool IsTriangleSolver(Method m)
   return m == Method::Reference || m == Method::GEARS;
 }
 
-namespace
-{
-std::string Escape(const std::string& s)
+std::string JSONEscape(const std::string& s)
 {
   std::string o;
   for (char c : s)
@@ -72,18 +70,17 @@ std::string Escape(const std::string& s)
   }
   return o;
 }
-}
 
 std::string EffectPlan::ToJSON() const
 {
   std::ostringstream o;
   o << "{\"shadow_work\": " << (shadowWork ? "true" : "false")
-    << ", \"reuse\": " << (reuse ? "true" : "false") << ", \"reason\": \"" << Escape(reason)
+    << ", \"reuse\": " << (reuse ? "true" : "false") << ", \"reason\": \"" << JSONEscape(reason)
     << "\", \"lights\": [";
   for (std::size_t i = 0; i < lights.size(); ++i)
   {
     o << (i ? ", " : "") << "{\"method\": \"" << MethodName(lights[i].method)
-      << "\", \"reason\": \"" << Escape(lights[i].reason) << "\"}";
+      << "\", \"reason\": \"" << JSONEscape(lights[i].reason) << "\"}";
   }
   o << "]}";
   return o.str();

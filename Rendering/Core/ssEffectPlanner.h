@@ -64,6 +64,8 @@ struct EffectPlan
 };
 
 EffectPlan MakeEffectPlan(const PlannerInput& in);
+/// s as the inside of a JSON string (quotes, backslashes, newlines escaped; other control characters dropped).
+std::string JSONEscape(const std::string& s);
 }
 
 #endif

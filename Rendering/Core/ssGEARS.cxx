@@ -443,40 +443,6 @@ bool RasterizeTriangle(const LightSpace& l, const glm::dvec3& S, const glm::dvec
   return SetupTriangle(l.s, S, B0, B1, B2, ts) && RasterSetup(ts, k, j0, j1, rows);
 }
 
-// ---------------------------------------------------------------------------
-// Camera C and grid G of one face [§3.1]. Perspective for rect and point
-// lights (eye behind the light, image plane parallel to it, axes along its
-// edges), orthographic along the light direction for directional lights.
-struct GridCamera
-{
-  bool ortho = false;
-  glm::dvec3 E{ 0.0 }, Lc{ 0.0 }, u{ 1, 0, 0 }, v{ 0, 1, 0 }, n{ 0, 0, 1 };
-  double eyeDepth = 0.0; // depth of E below the light plane (perspective)
-  double gx0 = 0, gy0 = 0, sx = 1, sy = 1;
-  int G = 1;
-
-  // depth of X: distance in front of the light plane (rect, point), or along
-  // the light's direction (directional)
-  double Depth(const glm::dvec3& X) const { return glm::dot(X - Lc, n); }
-  glm::dvec2 Project(const glm::dvec3& X) const
-  {
-    const glm::dvec3 r = X - (ortho ? Lc : E);
-    if (ortho)
-    {
-      return { glm::dot(r, u), glm::dot(r, v) };
-    }
-    const double z = glm::dot(r, n);
-    return { glm::dot(r, u) / z, glm::dot(r, v) / z };
-  }
-  glm::dvec2 ToGrid(const glm::dvec2& p) const { return { (p.x - gx0) * sx, (p.y - gy0) * sy }; }
-  int Cell(const glm::dvec2& g) const
-  {
-    const int x = std::clamp(static_cast<int>(std::floor(g.x)), 0, G - 1);
-    const int y = std::clamp(static_cast<int>(std::floor(g.y)), 0, G - 1);
-    return y * G + x;
-  }
-};
-
 // 2-D range-maximum table over the grid's cell max depths: O(1) P_far queries.
 struct RangeMax
 {
@@ -556,6 +522,7 @@ struct GearsSolver::Impl
   std::vector<std::size_t> Input;  // input index per triangle
   std::size_t Skipped = 0;
   bool Translucent = false;
+  std::uint64_t Version = 0;
   mutable std::mutex LUTMutex;
   mutable std::unique_ptr<HalfPlaneLUT> Table;
   struct Scratch
@@ -611,6 +578,8 @@ void GearsSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::vect
   P->Opacity.reserve(sel.kept);
   P->Input.reserve(sel.kept);
   P->Translucent = false;
+  static std::atomic<std::uint64_t> versions{ 0 };
+  P->Version = ++versions;
   for (std::size_t t = 0; t < nt; ++t)
   {
     const float a = TriangleOpacity(opacity, t);
@@ -658,6 +627,89 @@ glm::dvec3 GearsSolver::RayStart(const glm::dvec3& p, const glm::dvec3& normal) 
 std::array<glm::dvec3, 3> GearsSolver::Triangle(std::size_t t) const
 {
   return { P->Center + P->Vertex(t, 0), P->Center + P->Vertex(t, 1), P->Center + P->Vertex(t, 2) };
+}
+
+int GearsGridCamera::Cell(const glm::dvec2& g) const
+{
+  const int x = std::clamp(static_cast<int>(std::floor(g.x)), 0, G - 1);
+  const int y = std::clamp(static_cast<int>(std::floor(g.y)), 0, G - 1);
+  return y * G + x;
+}
+
+GearsGridCamera GearsFaceCamera(const LightFrame& L, int f, glm::dvec3 lo, glm::dvec3 hi, double eyeDistance)
+{
+  GearsGridCamera C;
+  C.Lc = L.center;
+  if (L.type == LightType::Point)
+  {
+    const int axis = f / 2;
+    glm::dvec3 nn(0.0);
+    nn[axis] = (f % 2) ? -1.0 : 1.0;
+    C.n = nn;
+    C.u = glm::dvec3(0.0);
+    C.u[(axis + 1) % 3] = 1.0;
+    C.v = glm::cross(C.n, C.u);
+  }
+  else
+  {
+    C.n = L.n;
+    C.u = L.u;
+    C.v = L.v;
+  }
+  C.ortho = L.type == LightType::Directional;
+  if (C.ortho)
+  {
+    return C;
+  }
+  // 3-D AABB of the pixel samples and the light corners; its centre O
+  const double diag = (L.type == LightType::Rect) ? std::hypot(L.width, L.height) : 0.0;
+  for (int c = 0; c < 4; ++c)
+  {
+    const glm::dvec3 corner = L.center + ((c & 1) ? 0.5 : -0.5) * L.width * L.u * double(diag > 0) +
+      ((c & 2) ? 0.5 : -0.5) * L.height * L.v * double(diag > 0);
+    lo = glm::min(lo, corner);
+    hi = glm::max(hi, corner);
+  }
+  // Eye on the line from O through the light centre, |C L_m| proportional
+  // to the light's diagonal, so C is the light point for a point light
+  // [§3.1]. If that line grazes the light plane the eye would sit almost
+  // in it; then it is moved onto the light's axis (any eye behind the
+  // light plane is conservative; this one keeps projections bounded).
+  const glm::dvec3 O = 0.5 * (lo + hi);
+  glm::dvec3 dir = L.center - O;
+  const double dl = glm::length(dir);
+  dir = dl > 0.0 ? dir / dl : -C.n;
+  if (glm::dot(dir, C.n) > -0.25)
+  {
+    dir = -C.n;
+  }
+  C.E = L.center + dir * (eyeDistance * diag);
+  C.eyeDepth = -glm::dot(C.E - L.center, C.n);
+  return C;
+}
+
+void GearsFitGrid(GearsGridCamera& C, int G, double x0, double x1, double y0, double y1)
+{
+  C.G = G;
+  const double pad = 1e-9 * std::max({ 1.0, std::abs(x0), std::abs(x1), std::abs(y0), std::abs(y1) });
+  const double wx = std::max(x1 - x0, pad), wy = std::max(y1 - y0, pad);
+  C.gx0 = x0 - 1e-6 * wx;
+  C.gy0 = y0 - 1e-6 * wy;
+  C.sx = G / (wx * (1.0 + 2e-6));
+  C.sy = G / (wy * (1.0 + 2e-6));
+}
+
+GearsTriangleData GearsSolver::Data() const
+{
+  GearsTriangleData d;
+  d.vertices = P->V.data();
+  d.opacity = P->Opacity.data();
+  d.count = P->Opacity.size();
+  d.center = P->Center;
+  d.extent = P->Extent;
+  d.translucent = P->Translucent;
+  d.version = P->Version;
+  return d;
 }
 
 namespace
@@ -826,27 +878,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   for (int f = 0; f < numFaces; ++f)
   {
     auto t0 = Clock::now();
-    // --- 3.1: camera C
-    GridCamera C;
-    C.G = G;
-    C.Lc = L.center;
-    if (L.type == LightType::Point)
-    {
-      const int axis = f / 2;
-      glm::dvec3 nn(0.0);
-      nn[axis] = (f % 2) ? -1.0 : 1.0;
-      C.n = nn;
-      C.u = glm::dvec3(0.0);
-      C.u[(axis + 1) % 3] = 1.0;
-      C.v = glm::cross(C.n, C.u);
-    }
-    else
-    {
-      C.n = L.n;
-      C.u = L.u;
-      C.v = L.v;
-    }
-    C.ortho = L.type == LightType::Directional;
+    // --- 3.1: camera C, from the 3-D AABB of the face's pixel samples
     std::vector<std::size_t> pix;
     for (std::size_t i = 0; i < n; ++i)
     {
@@ -859,41 +891,19 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     {
       continue;
     }
-    // 3-D AABB of the pixel samples and the light corners; its centre O
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    double maxDepth = 0.0;
     for (std::size_t i : pix)
     {
       lo = glm::min(lo, start[i]);
       hi = glm::max(hi, start[i]);
+    }
+    GearsGridCamera C = GearsFaceCamera(L, f, lo, hi, opt.eyeDistance);
+    double maxDepth = 0.0;
+    for (std::size_t i : pix)
+    {
       maxDepth = std::max(maxDepth, C.Depth(start[i]));
     }
     const double diag = (L.type == LightType::Rect) ? std::hypot(L.width, L.height) : 0.0;
-    if (!C.ortho)
-    {
-      for (int c = 0; c < 4; ++c)
-      {
-        const glm::dvec3 corner = L.center + ((c & 1) ? 0.5 : -0.5) * L.width * L.u * double(diag > 0) +
-          ((c & 2) ? 0.5 : -0.5) * L.height * L.v * double(diag > 0);
-        lo = glm::min(lo, corner);
-        hi = glm::max(hi, corner);
-      }
-      // Eye on the line from O through the light centre, |C L_m| proportional
-      // to the light's diagonal, so C is the light point for a point light
-      // [§3.1]. If that line grazes the light plane the eye would sit almost
-      // in it; then it is moved onto the light's axis (any eye behind the
-      // light plane is conservative; this one keeps projections bounded).
-      const glm::dvec3 O = 0.5 * (lo + hi);
-      glm::dvec3 dir = L.center - O;
-      const double dl = glm::length(dir);
-      dir = dl > 0.0 ? dir / dl : -C.n;
-      if (glm::dot(dir, C.n) > -0.25)
-      {
-        dir = -C.n;
-      }
-      C.E = L.center + dir * (opt.eyeDistance * diag);
-      C.eyeDepth = -glm::dot(C.E - L.center, C.n);
-    }
     // --- 3.2: pixel samples to cells, cell max depth. Grid G = 2-D AABB of
     // the projected samples.
     std::vector<glm::dvec2> proj(pix.size());
@@ -906,12 +916,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
       y0 = std::min(y0, proj[q].y);
       y1 = std::max(y1, proj[q].y);
     }
-    const double pad = 1e-9 * std::max({ 1.0, std::abs(x0), std::abs(x1), std::abs(y0), std::abs(y1) });
-    const double wx = std::max(x1 - x0, pad), wy = std::max(y1 - y0, pad);
-    C.gx0 = x0 - 1e-6 * wx;
-    C.gy0 = y0 - 1e-6 * wy;
-    C.sx = G / (wx * (1.0 + 2e-6));
-    C.sy = G / (wy * (1.0 + 2e-6));
+    GearsFitGrid(C, G, x0, x1, y0, y1);
     const std::size_t NC = static_cast<std::size_t>(G) * G;
     std::vector<std::uint32_t> cellCount(NC + 1, 0), cellStart(NC + 1, 0);
     std::vector<std::uint32_t> pixCell(pix.size());

@@ -60,6 +60,58 @@ struct GearsStats
 /// a set bit is a blocked (or below-horizon) light sample.
 using GearsMask = std::array<std::uint32_t, 32>;
 
+/// Camera C and grid G of one face [§3.1, §3.2], shared by the CPU solver and
+/// the GL compute backend. Perspective for rect and point lights (eye behind
+/// the light, image plane parallel to it, axes along its edges), orthographic
+/// along the light direction for directional lights. All positions are in the
+/// solver's frame (relative to the caster centre).
+struct GearsGridCamera
+{
+  bool ortho = false;
+  glm::dvec3 E{ 0.0 }, Lc{ 0.0 }, u{ 1, 0, 0 }, v{ 0, 1, 0 }, n{ 0, 0, 1 };
+  double eyeDepth = 0.0; ///< depth of E below the light plane (perspective)
+  double gx0 = 0, gy0 = 0, sx = 1, sy = 1;
+  int G = 1;
+
+  /// Depth of X: distance in front of the light plane (rect, point), or along
+  /// the light's direction (directional).
+  double Depth(const glm::dvec3& X) const { return glm::dot(X - Lc, n); }
+  glm::dvec2 Project(const glm::dvec3& X) const
+  {
+    const glm::dvec3 r = X - (ortho ? Lc : E);
+    if (ortho)
+    {
+      return { glm::dot(r, u), glm::dot(r, v) };
+    }
+    const double z = glm::dot(r, n);
+    return { glm::dot(r, u) / z, glm::dot(r, v) / z };
+  }
+  glm::dvec2 ToGrid(const glm::dvec2& p) const { return { (p.x - gx0) * sx, (p.y - gy0) * sy }; }
+  int Cell(const glm::dvec2& g) const;
+};
+
+/// Face `face`'s axes (rect, directional: the light's; point: cube face
+/// +x -x +y -y +z -z) and eye, from the 3-D AABB [lo, hi] of the face's pixel
+/// samples; the light corners are added here [§3.1]. L is relative to the
+/// solver's frame.
+GearsGridCamera GearsFaceCamera(const LightFrame& L, int face, glm::dvec3 lo, glm::dvec3 hi, double eyeDistance);
+/// Fits the G x G grid to the 2-D AABB [x0, x1] x [y0, y1] of the projected
+/// samples, with a hair of margin [§3.2].
+void GearsFitGrid(GearsGridCamera& C, int G, double x0, double x1, double y0, double y1);
+
+/// The solver's triangles as the GL backend uploads them: 9 floats per
+/// triangle relative to `center`, one opacity per triangle.
+struct GearsTriangleData
+{
+  const float* vertices = nullptr;
+  const float* opacity = nullptr;
+  std::size_t count = 0;
+  glm::dvec3 center{ 0.0 };
+  double extent = 1.0;  ///< scene size; eps = 1e-5 extent
+  bool translucent = false;
+  std::uint64_t version = 0; ///< changes with every SetTriangles (for caches)
+};
+
 /// The assignment built by step 3, exposed for tests and tools.
 struct GearsAssignment
 {
@@ -112,6 +164,8 @@ public:
   glm::dvec3 RayStart(const glm::dvec3& p, const glm::dvec3& normal) const;
   /// Triangle t's world vertices (after SetTriangles' filtering).
   std::array<glm::dvec3, 3> Triangle(std::size_t t) const;
+  /// The triangles as stored (for the GL backend, which uploads them).
+  GearsTriangleData Data() const;
 
 private:
   struct Impl;

@@ -48,6 +48,7 @@
 #include "ssEffectPlanner.h"
 #include "ssLightFrame.h"
 #include "ssGEARS.h"
+#include "ssGearsGL.h"
 #include "ssPVSM.h"
 #include "ssReference.h"
 #include "ssShadowView.h"
@@ -482,6 +483,12 @@ public:
   // GEARS (CPU): its triangles are re-read when the caster set changes.
   std::unique_ptr<ss::GearsSolver> Gears;
   unsigned long GearsVersion = 0;
+  // GEARS (GL compute backend, ssGearsGL): the backend the last frame used,
+  // and why it was not the one asked for.
+  std::unique_ptr<ss::GearsGL> GearsGL;
+  std::string GearsBackendUsed = "cpu";
+  std::string GearsBackendNote;
+  std::string GearsWarned;
   ss::GearsStats LastGearsStats; // summed over the GEARS lights of the frame
   int GearsLights = 0;
   void AccumulateGearsStats(const ss::GearsStats& st)
@@ -640,6 +647,11 @@ public:
         (*vao)->ReleaseGraphicsResources();
         *vao = nullptr;
       }
+    }
+    if (this->GearsGL)
+    {
+      this->GearsGL->ReleaseGraphicsResources();
+      this->GearsGL.reset();
     }
     this->ConservativeProgram = nullptr;
     this->GridProgram = nullptr;
@@ -1998,6 +2010,8 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
   in.LastReferenceStats = ss::ReferenceStats{};
   in.LastGearsStats = ss::GearsStats{};
   in.GearsLights = 0;
+  in.GearsBackendUsed = "cpu";
+  in.GearsBackendNote.clear();
   if (!anyRef && !anyGears)
   {
     return;
@@ -2082,7 +2096,33 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
     else
     {
       ss::GearsStats st;
-      V = in.Gears->Solve(world, in.Origin, pos.data(), nrm.data(), n, gopt, &st);
+      bool onGPU = false;
+      if (this->GearsBackend == GEARS_BACKEND_GL)
+      {
+        if (!in.GearsGL)
+        {
+          in.GearsGL.reset(new ss::GearsGL);
+        }
+        // raw GL programs: VTK's shader cache must rebind its own afterwards
+        win->GetShaderCache()->ReleaseCurrentShader();
+        std::string why;
+        onGPU = in.GearsGL->Solve(*in.Gears, world, in.Origin, pos.data(), nrm.data(), n, gopt, V, &st, nullptr, &why);
+        vtkOpenGLCheckErrorMacro("after the GEARS compute backend");
+        if (!onGPU)
+        {
+          in.GearsBackendNote = why;
+          if (in.GearsWarned != why)
+          {
+            vtkWarningMacro(<< why << "; GEARS runs on the CPU.");
+            in.GearsWarned = why;
+          }
+        }
+      }
+      if (!onGPU)
+      {
+        V = in.Gears->Solve(world, in.Origin, pos.data(), nrm.data(), n, gopt, &st);
+      }
+      in.GearsBackendUsed = onGPU ? "gl" : "cpu";
       in.AccumulateGearsStats(st);
       msGears += Seconds(tl, Clock::now());
     }
@@ -2442,7 +2482,9 @@ std::string vtkSoftShadowPass::GetStatsJSON()
     << ", \"rays\": " << in.LastReferenceStats.rays << ", \"rays_per_second\": "
     << in.LastReferenceStats.raysPerSecond << "}"
     << ", \"gears\": {\"samples_per_axis\": " << this->GearsSamples << ", \"grid\": " << this->GearsGrid
-    << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \"cpu\""
+    << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \"" << in.GearsBackendUsed << "\", \"backend_requested\": \""
+    << (this->GearsBackend == GEARS_BACKEND_GL ? "gl" : "cpu") << "\", \"backend_note\": \""
+    << ss::JSONEscape(in.GearsBackendNote) << "\""
     << ", \"lights\": " << in.GearsLights
     << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}"
     << ", \"pvsm\": {\"lights\": " << in.PVSMLights << ", \"low_resolution\": " << this->PVSMLowResolution
@@ -2478,6 +2520,7 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GearsSamples: " << this->GearsSamples << "\n";
   os << indent << "GearsGrid: " << this->GearsGrid << "\n";
   os << indent << "GearsRaster: " << (this->GearsRaster ? "lut" : "edge") << "\n";
+  os << indent << "GearsBackend: " << (this->GearsBackend == GEARS_BACKEND_GL ? "gl" : "cpu") << "\n";
   os << indent << "PVSMLowResolution: " << this->PVSMLowResolution << "\n";
   os << indent << "PVSMGridSize: " << this->PVSMGridSize << "\n";
   os << indent << "PVSMMaxTileResolution: " << this->PVSMMaxTileResolution << "\n";

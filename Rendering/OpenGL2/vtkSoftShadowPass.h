@@ -67,6 +67,13 @@ public:
     HARDAVG = 8    ///< brute force: average of AverageSamples^2 hard shadow maps, one per light sample
   };
 
+  /** GEARS backends (SetGearsBackend). */
+  enum GearsBackends
+  {
+    GEARS_BACKEND_CPU = 0,
+    GEARS_BACKEND_GL = 1
+  };
+
   ///@{
   /**
    * The visibility solver used for every shadow-casting light.
@@ -116,6 +123,16 @@ public:
   /** Count the paper's "necessary" assignments (Table 9) in the stats; slower (no early exit). */
   vtkSetMacro(GearsCountNecessary, bool);
   vtkGetMacro(GearsCountNecessary, bool);
+  /**
+   * Where GEARS runs: GEARS_BACKEND_CPU (Rendering/Core, TBB; the default) or
+   * GEARS_BACKEND_GL (GL 4.3 compute shaders in this window's context; the
+   * same bitmasks). The GL backend runs edge-plane rasterisation only; with
+   * GearsRaster 1 (LUT), on a context older than 4.3, or beyond the context's
+   * buffer limits the frame uses the CPU and the stats say why
+   * (gears.backend, gears.backend_note), with one warning.
+   */
+  vtkSetClampMacro(GearsBackend, int, 0, 1);
+  vtkGetMacro(GearsBackend, int);
   ///@}
 
   ///@{
@@ -269,6 +286,7 @@ protected:
   int GearsGrid = 128;
   int GearsRaster = 0;
   bool GearsCountNecessary = false;
+  int GearsBackend = 0;
   int PVSMLowResolution = 1024;
   int PVSMGridSize = 64;
   int PVSMMaxTileResolution = 4096;

@@ -46,6 +46,7 @@ ss_cli_error(unknown_method "--method: unknown method 'fancy'" ${_ss_cli} render
 ss_cli_error(later_method "--method vpcss: not implemented yet" ${_ss_cli} render "${_demo}" --method vpcss)
 ss_cli_error(gears_samples "--option gears_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method gears --option gears_samples=64)
 ss_cli_error(gears_raster "--option gears_raster: expected edge or lut" ${_ss_cli} render "${_demo}" --method gears --option gears_raster=fast)
+ss_cli_error(gears_backend "--option gears_backend: expected cpu or gl" ${_ss_cli} render "${_demo}" --method gears --option gears_backend=cuda)
 ss_cli_error(pvsm_metric "--option pvsm_metric: expected auto, dynamic or static" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_metric=fast)
 ss_cli_error(pvsm_quality "--option pvsm_quality: expected a value in \\[0.05, 64\\]" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_quality=0)
 ss_cli_error(average_samples "--option average_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method hardavg --option average_samples=0)

@@ -64,6 +64,12 @@ void vtkPVSoftShadowView::SetShadowMapSize(int size)
   this->Modified();
 }
 
+void vtkPVSoftShadowView::SetGearsBackend(int backend)
+{
+  this->ShadowPass->SetGearsBackend(backend);
+  this->Modified();
+}
+
 void vtkPVSoftShadowView::SetShadowLight(bool on)
 {
   this->ShadowLight = on;

@@ -33,7 +33,7 @@ public:
   vtkTypeMacro(vtkPVSoftShadowView, vtkPVRenderView);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  /** Visibility solver: 0 auto, 1 hard, 2 pcf, 3 pcss, 4 none, 5 reference. */
+  /** Visibility solver: 0 auto, 1 hard, 2 pcf, 3 pcss, 4 none, 5 reference, 6 gears, 7 pvsm, 8 hardavg. */
   void SetMethod(int method);
   int GetMethod();
 
@@ -43,6 +43,9 @@ public:
 
   /** Shadow map resolution (rounded up to a power of two). */
   void SetShadowMapSize(int size);
+
+  /** Where GEARS runs: 0 CPU, 1 GL compute (vtkSoftShadowPass::SetGearsBackend). */
+  void SetGearsBackend(int backend);
 
   /** Whether the view adds its own shadow (area) light above the data. */
   void SetShadowLight(bool on);

@@ -1,0 +1,721 @@
+// GEARS on the GPU (GL 4.3 compute). The kernels are in glsl/ssGearsCS.glsl;
+// this file sizes the buffers, dispatches the stages in the order of the CPU
+// backend (Rendering/Core/ssGEARS.cxx) and collects the paper's statistics.
+#include "ssGearsGL.h"
+
+#include "ssGearsCS.h"
+#include "vtk_glew.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace ss
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double Ms(Clock::time_point a, Clock::time_point b)
+{
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// SSBO binding points (glsl/ssGearsCS.glsl)
+enum Binding
+{
+  BTriV = 0,
+  BTriA,
+  BPos,
+  BNrm,
+  BSmp,
+  BFace,
+  BVis,
+  BRed,
+  BPixCell,
+  BCellCnt,
+  BCellDep,
+  BSat,
+  BRmq,
+  BBox,
+  BOff,
+  BPairTri,
+  BPairCell,
+  BCellBegin,
+  BCursor,
+  BSorted,
+  BMasks,
+  BNec,
+  BScanData,
+  BScanSums,
+  NumBindings
+};
+
+constexpr GLuint kWG = 64;        // work group size of the per-item kernels
+constexpr GLuint kScanWG = 256;   // scan: 4 x 256 = 1024 elements per group
+constexpr std::size_t kScanElems = 1024;
+
+std::uint32_t Ord(float f)
+{
+  std::uint32_t b;
+  std::memcpy(&b, &f, 4);
+  return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+}
+float Unord(std::uint32_t u)
+{
+  const std::uint32_t b = (u & 0x80000000u) ? (u & 0x7FFFFFFFu) : ~u;
+  float f;
+  std::memcpy(&f, &b, 4);
+  return f;
+}
+}
+
+struct GearsGL::Impl
+{
+  struct Buffer
+  {
+    GLuint id = 0;
+    std::size_t capacity = 0;
+  };
+  Buffer Buf[NumBindings];
+  std::vector<Buffer> ScanSums; // one per recursion level
+  std::map<std::string, GLuint> Programs;
+  std::map<std::pair<GLuint, std::string>, GLint> Locations;
+  std::uint64_t TriVersion = 0;
+  GLint MaxBlock = 0;
+  GLuint Current = 0;
+
+  void Ensure(Buffer& b, std::size_t bytes)
+  {
+    bytes = std::max<std::size_t>(bytes, 16);
+    if (!b.id)
+    {
+      glGenBuffers(1, &b.id);
+    }
+    if (b.capacity < bytes)
+    {
+      const std::size_t cap = std::max(bytes, b.capacity + b.capacity / 2);
+      glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id);
+      glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(cap), nullptr, GL_DYNAMIC_COPY);
+      b.capacity = cap;
+    }
+  }
+  void Upload(Buffer& b, const void* data, std::size_t bytes)
+  {
+    Ensure(b, bytes);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id);
+    if (bytes)
+    {
+      glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(bytes), data);
+    }
+  }
+  void Fill(Buffer& b, std::size_t bytes, std::uint32_t value)
+  {
+    Ensure(b, bytes);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id);
+    glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, 0, static_cast<GLsizeiptr>((bytes + 3) / 4 * 4),
+      GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
+  }
+  void Download(Buffer& b, void* out, std::size_t bytes, std::size_t offset = 0)
+  {
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), out);
+  }
+  std::uint32_t ReadUint(Buffer& b, std::size_t index)
+  {
+    std::uint32_t v = 0;
+    Download(b, &v, 4, 4 * index);
+    return v;
+  }
+  void BindAll()
+  {
+    for (int i = 0; i < NumBindings; ++i)
+    {
+      if (Buf[i].id)
+      {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(i), Buf[i].id);
+      }
+    }
+  }
+
+  GLuint Program(const std::string& kernel, int kmax, bool translucent, std::string* why)
+  {
+    const GLuint wg = (kernel == "K_SCAN_BLOCK" || kernel == "K_SCAN_ADD") ? kScanWG : kWG;
+    std::ostringstream head;
+    head << "#version 430\n#define " << kernel << "\n#define WG " << wg << "\n#define KMAX " << kmax << "\n";
+    if (translucent)
+    {
+      head << "#define TRANSLUCENT\n";
+    }
+    const std::string key = head.str();
+    auto it = Programs.find(key);
+    if (it != Programs.end())
+    {
+      return it->second;
+    }
+    const std::string src = key + ssGearsCS;
+    const char* text = src.c_str();
+    const GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
+    glShaderSource(sh, 1, &text, nullptr);
+    glCompileShader(sh);
+    GLint ok = 0;
+    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    auto log = [](GLuint obj, bool shader) {
+      GLint len = 0;
+      shader ? glGetShaderiv(obj, GL_INFO_LOG_LENGTH, &len) : glGetProgramiv(obj, GL_INFO_LOG_LENGTH, &len);
+      std::string s(static_cast<std::size_t>(std::max(len, 1)), '\0');
+      shader ? glGetShaderInfoLog(obj, len, nullptr, &s[0]) : glGetProgramInfoLog(obj, len, nullptr, &s[0]);
+      return s;
+    };
+    if (!ok)
+    {
+      if (why)
+      {
+        *why = "GEARS GL: " + kernel + " does not compile: " + log(sh, true);
+      }
+      glDeleteShader(sh);
+      return 0;
+    }
+    const GLuint prog = glCreateProgram();
+    glAttachShader(prog, sh);
+    glLinkProgram(prog);
+    glDeleteShader(sh);
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok)
+    {
+      if (why)
+      {
+        *why = "GEARS GL: " + kernel + " does not link: " + log(prog, false);
+      }
+      glDeleteProgram(prog);
+      return 0;
+    }
+    Programs[key] = prog;
+    return prog;
+  }
+
+  GLint Loc(const char* name)
+  {
+    const auto key = std::make_pair(Current, std::string(name));
+    auto it = Locations.find(key);
+    if (it != Locations.end())
+    {
+      return it->second;
+    }
+    const GLint l = glGetUniformLocation(Current, name);
+    Locations[key] = l;
+    return l;
+  }
+  void Use(GLuint prog)
+  {
+    Current = prog;
+    glUseProgram(prog);
+  }
+  void U(const char* n, int v) { glUniform1i(Loc(n), v); }
+  void Uu(const char* n, std::uint32_t v) { glUniform1ui(Loc(n), v); }
+  void Ud(const char* n, double v) { glUniform1d(Loc(n), v); }
+  void U3(const char* n, const glm::dvec3& v) { glUniform3d(Loc(n), v.x, v.y, v.z); }
+
+  // groups work groups, split over x and y (at most 65535 per axis)
+  void Dispatch(std::size_t groups)
+  {
+    if (!groups)
+    {
+      return;
+    }
+    BindAll();
+    const GLuint gx = static_cast<GLuint>(std::min<std::size_t>(groups, 65535));
+    const GLuint gy = static_cast<GLuint>((groups + gx - 1) / gx);
+    glDispatchCompute(gx, gy, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+  // one invocation per item of the current program (uN = items)
+  void Items(std::size_t items)
+  {
+    Uu("uN", static_cast<std::uint32_t>(items));
+    Dispatch((items + kWG - 1) / kWG);
+  }
+
+  // In-place exclusive prefix sum of `count` uints of buffer b [§4.2]:
+  // blocks of 1024 scanned in shared memory, their totals scanned
+  // recursively and added back.
+  bool Scan(Buffer& b, std::size_t count, std::size_t level, std::string* why)
+  {
+    const std::size_t blocks = (count + kScanElems - 1) / kScanElems;
+    if (ScanSums.size() <= level)
+    {
+      ScanSums.resize(level + 1);
+    }
+    Ensure(ScanSums[level], 4 * blocks);
+    const GLuint block = Program("K_SCAN_BLOCK", 1, false, why), add = Program("K_SCAN_ADD", 1, false, why);
+    if (!block || !add)
+    {
+      return false;
+    }
+    Buffer savedData = Buf[BScanData], savedSums = Buf[BScanSums];
+    Buf[BScanData] = b;
+    Buf[BScanSums] = ScanSums[level];
+    Use(block);
+    Uu("uN", static_cast<std::uint32_t>(count));
+    Dispatch(blocks);
+    Buf[BScanData] = savedData;
+    Buf[BScanSums] = savedSums;
+    if (blocks > 1)
+    {
+      Buffer sums = ScanSums[level];
+      if (!Scan(sums, blocks, level + 1, why))
+      {
+        return false;
+      }
+      Buf[BScanData] = b;
+      Buf[BScanSums] = ScanSums[level];
+      Use(add);
+      Uu("uN", static_cast<std::uint32_t>(count));
+      Dispatch((count + kScanWG - 1) / kScanWG);
+      Buf[BScanData] = savedData;
+      Buf[BScanSums] = savedSums;
+    }
+    return true;
+  }
+
+  void Release()
+  {
+    for (auto& p : Programs)
+    {
+      glDeleteProgram(p.second);
+    }
+    Programs.clear();
+    Locations.clear();
+    for (auto& b : Buf)
+    {
+      if (b.id)
+      {
+        glDeleteBuffers(1, &b.id);
+      }
+      b = Buffer{};
+    }
+    for (auto& b : ScanSums)
+    {
+      if (b.id)
+      {
+        glDeleteBuffers(1, &b.id);
+      }
+    }
+    ScanSums.clear();
+    TriVersion = 0;
+  }
+};
+
+GearsGL::GearsGL()
+  : P(new Impl)
+{
+}
+
+GearsGL::~GearsGL() = default;
+
+bool GearsGL::Supported(std::string* why)
+{
+  GLint major = 0, minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &major);
+  glGetIntegerv(GL_MINOR_VERSION, &minor);
+  if (major * 10 + minor < 43 || !glDispatchCompute || !glClearBufferSubData || !glUniform1d)
+  {
+    if (why)
+    {
+      std::ostringstream o;
+      o << "GEARS GL backend needs OpenGL 4.3 (compute shaders, SSBOs, doubles); this context is " << major << "."
+        << minor;
+      *why = o.str();
+    }
+    return false;
+  }
+  return true;
+}
+
+void GearsGL::ReleaseGraphicsResources()
+{
+  P->Release();
+}
+
+bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const glm::dvec3& origin,
+  const float* positions, const float* normals, std::size_t n, const GearsOptions& opt, std::vector<float>& V,
+  GearsStats* statsOut, std::vector<GearsMask>* masksOut, std::string* why)
+{
+  const auto tStart = Clock::now();
+  Impl& I = *P;
+  const int k = (light.type == LightType::Point) ? 1 : std::clamp(opt.k, 1, 32);
+  if (opt.raster == GearsRaster::LUT && k > 1)
+  {
+    if (why)
+    {
+      *why = "GEARS GL backend rasterises by edge planes only (LUT: CPU)";
+    }
+    return false;
+  }
+  if (!Supported(why))
+  {
+    return false;
+  }
+  if (!I.MaxBlock)
+  {
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &I.MaxBlock);
+  }
+  const std::size_t maxBlock = static_cast<std::size_t>(std::max(I.MaxBlock, 1 << 24));
+  auto fits = [&](std::size_t bytes, const char* what) {
+    if (bytes <= maxBlock)
+    {
+      return true;
+    }
+    if (why)
+    {
+      std::ostringstream o;
+      o << "GEARS GL backend: " << what << " need " << bytes << " bytes, more than this context's SSBO limit of "
+        << maxBlock;
+      *why = o.str();
+    }
+    return false;
+  };
+  const GearsTriangleData D = solver.Data();
+  const std::size_t NT = D.count;
+  const int G = std::clamp(opt.grid, 1, 4096);
+  const std::size_t NC = static_cast<std::size_t>(G) * G;
+  int levels = 1;
+  while ((1 << levels) <= G)
+  {
+    ++levels;
+  }
+  if (!fits(48 * n, "pixel samples") || !fits(9 * 4 * NT, "triangles") ||
+    (masksOut && !fits(128 * n, "bitmasks")) ||
+    (opt.retractToFarthest && !fits(4 * NC * levels * levels, "the grid's range-maximum table")) ||
+    n > 0xFFFFFFF0u || NT > 0xFFFFFFF0u)
+  {
+    return false;
+  }
+  const bool translucent = D.translucent;
+  const char* names[] = { "K_START", "K_PROJECT", "K_CELL", "K_SAT_ROWS", "K_SAT_COLS", "K_RMQ", "K_PASS1",
+    "K_PASS2", "K_HIST", "K_SCATTER", "K_CELLSORT", "K_RASTER" };
+  std::map<std::string, GLuint> prog;
+  for (const char* nm : names)
+  {
+    const bool raster = std::strcmp(nm, "K_RASTER") == 0;
+    prog[nm] = I.Program(nm, raster ? k : 1, raster && translucent, why);
+    if (!prog[nm])
+    {
+      return false;
+    }
+  }
+
+  GearsStats st;
+  st.triangles = NT;
+  const std::uint32_t fullRow = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
+  const double eps = 1e-5 * D.extent;
+  LightFrame L = light;
+  L.center -= D.center;
+  const glm::dvec3 rel = origin - D.center;
+  const double T = (L.type == LightType::Directional) ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
+  const int type = L.type == LightType::Rect ? 0 : (L.type == LightType::Directional ? 1 : 2);
+
+  // --- inputs
+  if (I.TriVersion != D.version || !I.Buf[BTriV].id)
+  {
+    I.Upload(I.Buf[BTriV], D.vertices, 9 * 4 * NT);
+    I.Upload(I.Buf[BTriA], D.opacity, 4 * NT);
+    I.TriVersion = D.version;
+  }
+  I.Upload(I.Buf[BPos], positions, 12 * n);
+  if (normals)
+  {
+    I.Upload(I.Buf[BNrm], normals, 12 * n);
+  }
+  else
+  {
+    I.Fill(I.Buf[BNrm], 12 * n, 0u);
+  }
+  I.Ensure(I.Buf[BSmp], 48 * n);
+  I.Ensure(I.Buf[BFace], 4 * n);
+  const float nanf = std::numeric_limits<float>::quiet_NaN();
+  std::uint32_t nanBits;
+  std::memcpy(&nanBits, &nanf, 4);
+  I.Fill(I.Buf[BVis], 4 * n, nanBits);
+  std::vector<std::uint32_t> red(64, 0u);
+  for (int f = 0; f < 6; ++f)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      red[8 * f + c] = 0xFFFFFFFFu;
+    }
+    red[8 * f + 6] = Ord(0.0f);
+  }
+  I.Upload(I.Buf[BRed], red.data(), 4 * red.size());
+  I.Ensure(I.Buf[BPixCell], 4 * n);
+  if (masksOut)
+  {
+    I.Fill(I.Buf[BMasks], 128 * n, 0u);
+  }
+  if (opt.countNecessary)
+  {
+    I.Fill(I.Buf[BNec], 4 * n, 0u);
+  }
+  // every binding needs a buffer, even where a kernel does not use it
+  for (int b = 0; b < NumBindings; ++b)
+  {
+    I.Ensure(I.Buf[b], 16);
+  }
+
+  // --- step 2: pixel samples, per-face 3-D AABBs and far depths
+  auto t0 = Clock::now();
+  I.Use(prog["K_START"]);
+  I.U3("uRel", rel);
+  I.U3("uLc", L.center);
+  I.U3("uLn", L.n);
+  I.Ud("uEps", eps);
+  I.U("uType", type);
+  I.U("uWriteMasks", masksOut ? 1 : 0);
+  I.Uu("uFullRow", fullRow);
+  I.Items(n);
+  I.Download(I.Buf[BRed], red.data(), 4 * 56);
+
+  const int numFaces = (L.type == LightType::Point) ? 6 : 1;
+  double assignmentsTotal = 0, assignmentsNecessary = 0;
+  std::size_t sumTrisPerCell = 0;
+  const double diag = (L.type == LightType::Rect) ? std::hypot(L.width, L.height) : 0.0;
+  glFinish();
+  auto t1 = Clock::now();
+  st.msProject += Ms(t0, t1);
+  for (int f = 0; f < numFaces; ++f)
+  {
+    t0 = Clock::now();
+    if (red[8 * f] == 0xFFFFFFFFu)
+    {
+      continue; // no pixel sample on this face
+    }
+    glm::dvec3 lo, hi;
+    for (int c = 0; c < 3; ++c)
+    {
+      lo[c] = Unord(red[8 * f + c]);
+      hi[c] = Unord(red[8 * f + 3 + c]);
+    }
+    GearsGridCamera C = GearsFaceCamera(L, f, lo, hi, opt.eyeDistance);
+    const double maxDepth = Unord(red[8 * f + 6]);
+    auto cameraUniforms = [&]() {
+      I.U("uFace", f);
+      I.U("uG", G);
+      I.U("uOrtho", C.ortho ? 1 : 0);
+      I.U3("uE", C.E);
+      I.U3("uLc", C.Lc);
+      I.U3("uU", C.u);
+      I.U3("uV", C.v);
+      I.U3("uNrm", C.n);
+      I.Ud("uGx0", C.gx0);
+      I.Ud("uGy0", C.gy0);
+      I.Ud("uSx", C.sx);
+      I.Ud("uSy", C.sy);
+    };
+    // --- 3.2: the grid over the projected samples, samples to cells
+    const std::uint32_t init2[4] = { 0xFFFFFFFFu, 0xFFFFFFFFu, 0u, 0u };
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, I.Buf[BRed].id);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 48, 16, init2);
+    I.Use(prog["K_PROJECT"]);
+    cameraUniforms();
+    I.Items(n);
+    std::uint32_t box2[4];
+    I.Download(I.Buf[BRed], box2, 16, 4 * 48);
+    GearsFitGrid(C, G, Unord(box2[0]), Unord(box2[2]), Unord(box2[1]), Unord(box2[3]));
+    I.Fill(I.Buf[BCellCnt], 4 * NC, 0u);
+    I.Fill(I.Buf[BCellDep], 4 * NC, Ord(-std::numeric_limits<float>::infinity()));
+    I.Use(prog["K_CELL"]);
+    cameraUniforms();
+    I.Items(n);
+    std::vector<std::uint32_t> cellCount(NC);
+    I.Download(I.Buf[BCellCnt], cellCount.data(), 4 * NC);
+    std::size_t samples = 0, nonEmpty = 0;
+    for (std::size_t c = 0; c < NC; ++c)
+    {
+      samples += cellCount[c];
+      nonEmpty += cellCount[c] > 0;
+      st.samplesPerCellMax = std::max<std::size_t>(st.samplesPerCellMax, cellCount[c]);
+    }
+    st.samples += samples;
+    st.gridCells += NC;
+    st.nonEmptyCells += nonEmpty;
+    // summed-area table of non-empty cells, range-maximum table of far depths
+    I.Fill(I.Buf[BSat], 4 * (G + 1) * (G + 1), 0u);
+    I.Use(prog["K_SAT_ROWS"]);
+    I.U("uG", G);
+    I.Items(G);
+    I.Use(prog["K_SAT_COLS"]);
+    I.U("uG", G);
+    I.Items(G);
+    if (opt.retractToFarthest)
+    {
+      I.Ensure(I.Buf[BRmq], 4 * NC * levels * levels);
+      I.Use(prog["K_RMQ"]);
+      I.U("uG", G);
+      I.U("uL", levels);
+      for (int ly = 0; ly < levels; ++ly)
+      {
+        for (int lx = 0; lx < levels; ++lx)
+        {
+          I.U("uLx", lx);
+          I.U("uLy", ly);
+          I.Items(NC);
+        }
+      }
+    }
+    glFinish();
+    t1 = Clock::now();
+    st.msProject += Ms(t0, t1);
+
+    // --- 3.3 pass 1 and the prefix sum of cellsN
+    I.Ensure(I.Buf[BBox], 16 * NT);
+    I.Fill(I.Buf[BOff], 4 * (NT + 1), 0u);
+    const std::uint32_t zero = 0;
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, I.Buf[BRed].id);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 56, 4, &zero);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 57, 4, &zero);
+    I.Use(prog["K_PASS1"]);
+    cameraUniforms();
+    I.U("uL", levels);
+    I.Ud("uMaxDepth", maxDepth);
+    I.Ud("uMinDepth", 1e-9 * std::max(D.extent, diag));
+    I.U("uCorners", (L.type == LightType::Point) ? 1 : 4);
+    I.U("uRetract", opt.retractToFarthest ? 1 : 0);
+    {
+      double corner[12], away[12];
+      for (int c = 0; c < 4; ++c)
+      {
+        const double a = (c & 1) ? 0.5 : -0.5, b = (c & 2) ? 0.5 : -0.5;
+        const glm::dvec3 co = L.center + a * L.width * L.u + b * L.height * L.v;
+        const glm::dvec3 aw = L.n - a * T * L.u - b * T * L.v;
+        for (int q = 0; q < 3; ++q)
+        {
+          corner[3 * c + q] = co[q];
+          away[3 * c + q] = aw[q];
+        }
+      }
+      glUniform3dv(I.Loc("uCorner"), 4, corner);
+      glUniform3dv(I.Loc("uAway"), 4, away);
+    }
+    I.Items(NT);
+    if (!I.Scan(I.Buf[BOff], NT + 1, 0, why))
+    {
+      return false;
+    }
+    const std::size_t numPairs = I.ReadUint(I.Buf[BOff], NT);
+    st.fullGridTriangles += I.ReadUint(I.Buf[BRed], 56);
+    if (I.ReadUint(I.Buf[BRed], 57))
+    {
+      if (why)
+      {
+        *why = "GEARS GL backend: more than 2^32 (triangle, cell) pairs";
+      }
+      return false;
+    }
+    if (!fits(4 * numPairs, "the (triangle, cell) pairs"))
+    {
+      return false;
+    }
+    st.pairs += numPairs;
+    glFinish();
+    auto t2 = Clock::now();
+    st.msPrefixSum += Ms(t1, t2);
+
+    // --- 3.3 pass 2: the pairs
+    I.Ensure(I.Buf[BPairTri], 4 * numPairs);
+    I.Ensure(I.Buf[BPairCell], 4 * numPairs);
+    I.Use(prog["K_PASS2"]);
+    I.U("uG", G);
+    I.Items(NT);
+    glFinish();
+    auto t3 = Clock::now();
+    st.msRelate += Ms(t2, t3);
+
+    // --- sort on the cell: counting sort (histogram, prefix sum, scatter)
+    I.Fill(I.Buf[BCellBegin], 4 * (NC + 1), 0u);
+    I.Fill(I.Buf[BCursor], 4 * NC, 0u);
+    I.Ensure(I.Buf[BSorted], 4 * numPairs);
+    I.Use(prog["K_HIST"]);
+    I.Items(numPairs);
+    if (!I.Scan(I.Buf[BCellBegin], NC + 1, 0, why))
+    {
+      return false;
+    }
+    I.Use(prog["K_SCATTER"]);
+    I.Items(numPairs);
+    if (translucent)
+    {
+      I.Use(prog["K_CELLSORT"]);
+      I.Items(NC);
+    }
+    std::vector<std::uint32_t> cellBegin(NC + 1);
+    I.Download(I.Buf[BCellBegin], cellBegin.data(), 4 * (NC + 1));
+    for (std::size_t c = 0; c < NC; ++c)
+    {
+      if (cellCount[c])
+      {
+        const std::size_t nt = cellBegin[c + 1] - cellBegin[c];
+        st.trianglesPerCellMax = std::max(st.trianglesPerCellMax, nt);
+        sumTrisPerCell += nt;
+        assignmentsTotal += static_cast<double>(nt) * cellCount[c];
+      }
+    }
+    glFinish();
+    auto t4 = Clock::now();
+    st.msSort += Ms(t3, t4);
+
+    // --- step 4: the bitmasks
+    const bool dirLight = L.type == LightType::Directional;
+    const double W = dirLight ? T : L.width, H = dirLight ? T : L.height;
+    const double hx = (0.5 - 0.5 / k) * W, hy = (0.5 - 0.5 / k) * H;
+    const double slackX = 1e-7 * (W / k) + 1e-12 * D.extent, slackY = 1e-7 * (H / k) + 1e-12 * D.extent;
+    I.Use(prog["K_RASTER"]);
+    cameraUniforms();
+    I.U("uK", k);
+    I.U("uDir", dirLight ? 1 : 0);
+    I.U("uCountNecessary", opt.countNecessary ? 1 : 0);
+    I.U("uWriteMasks", masksOut ? 1 : 0);
+    I.Uu("uFullRow", fullRow);
+    I.Ud("uW", W);
+    I.Ud("uH", H);
+    I.Ud("uEps", eps);
+    I.Ud("uXlo", -hx - slackX);
+    I.Ud("uXhi", hx + slackX);
+    I.Ud("uYlo", -hy - slackY);
+    I.Ud("uYhi", hy + slackY);
+    I.Items(n);
+    glFinish();
+    st.msRaster += Ms(t4, Clock::now());
+  }
+  V.resize(n);
+  I.Download(I.Buf[BVis], V.data(), 4 * n);
+  if (masksOut)
+  {
+    masksOut->assign(n, GearsMask{});
+    I.Download(I.Buf[BMasks], masksOut->data(), 128 * n);
+  }
+  if (opt.countNecessary)
+  {
+    std::vector<std::uint32_t> nec(n);
+    I.Download(I.Buf[BNec], nec.data(), 4 * n);
+    for (std::uint32_t v : nec)
+    {
+      assignmentsNecessary += v;
+    }
+  }
+  glUseProgram(0);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  st.trianglesPerCellAvg = st.nonEmptyCells ? static_cast<double>(sumTrisPerCell) / st.nonEmptyCells : 0.0;
+  st.samplesPerCellAvg = st.nonEmptyCells ? static_cast<double>(st.samples) / st.nonEmptyCells : 0.0;
+  st.assignmentsTotal = assignmentsTotal;
+  st.assignmentsNecessary = opt.countNecessary ? assignmentsNecessary : -1.0;
+  st.msTotal = Ms(tStart, Clock::now());
+  if (statsOut)
+  {
+    *statsOut = st;
+  }
+  return true;
+}
+}
