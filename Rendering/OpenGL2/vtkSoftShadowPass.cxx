@@ -2338,6 +2338,12 @@ vtkMTimeType vtkSoftShadowPass::GetShaderStageMTime()
 }
 
 //------------------------------------------------------------------------------
+const char* vtkSoftShadowPass::GetLastGearsBackend()
+{
+  return this->Internals->GearsBackendUsed.c_str();
+}
+
+//------------------------------------------------------------------------------
 void vtkSoftShadowPass::ReleaseGraphicsResources(vtkWindow* w)
 {
   this->Internals->Release(w);

@@ -133,6 +133,8 @@ public:
    */
   vtkSetClampMacro(GearsBackend, int, 0, 1);
   vtkGetMacro(GearsBackend, int);
+  /** The backend GEARS ran on in the last frame ("cpu" or "gl"; "cpu" before any GEARS frame). */
+  const char* GetLastGearsBackend();
   ///@}
 
   ///@{

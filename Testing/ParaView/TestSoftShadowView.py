@@ -79,6 +79,27 @@ if not shadowed < 0.8 * plain_under:
     print("FAIL: not darker than the plain render view")
     failures += 1
 
+# GEARS on the GL compute backend through the view's property: exact soft
+# shadows, the same darkening under the sphere, and the pass ran it on the GPU
+view.Method = "gears"
+view.GearsBackend = "gl"
+Render(view)
+gears_shot = os.path.join(tempdir, "ParaViewSoftShadowViewGearsGL.png")
+SaveScreenshot(gears_shot, view, ImageResolution=[400, 300])
+gears_under = ground_brightness(gears_shot, under)
+gears_lit = ground_brightness(gears_shot, far)
+view.UpdatePropertyInformation()
+backend = view.GetPropertyValue("GearsBackendInUse")
+print("gears (%s backend): ground under sphere %.1f, far ground %.1f" % (backend, gears_under, gears_lit))
+if backend != "gl":
+    print("FAIL: the Gears Backend property did not reach the pass")
+    failures += 1
+if not gears_under < 0.8 * gears_lit:
+    print("FAIL: no GEARS shadow under the sphere")
+    failures += 1
+view.Method = "pcss"
+Render(view)
+
 t = vtkTesting()
 for a in ("-V", baseline, "-T", tempdir):
     t.AddArgument(a)

@@ -70,6 +70,11 @@ void vtkPVSoftShadowView::SetGearsBackend(int backend)
   this->Modified();
 }
 
+const char* vtkPVSoftShadowView::GetGearsBackendInUse()
+{
+  return this->ShadowPass->GetLastGearsBackend();
+}
+
 void vtkPVSoftShadowView::SetShadowLight(bool on)
 {
   this->ShadowLight = on;

@@ -46,6 +46,8 @@ public:
 
   /** Where GEARS runs: 0 CPU, 1 GL compute (vtkSoftShadowPass::SetGearsBackend). */
   void SetGearsBackend(int backend);
+  /** The backend GEARS ran on in the last frame: "cpu" or "gl". */
+  const char* GetGearsBackendInUse();
 
   /** Whether the view adds its own shadow (area) light above the data. */
   void SetShadowLight(bool on);
