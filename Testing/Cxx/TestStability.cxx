@@ -50,11 +50,12 @@ using Builder = std::function<void(Scene&)>;
 // Runs every method on the scene and checks the bounds (method -> max MAE).
 void RunCase(const char* name, const Builder& build, const std::map<int, double>& bounds)
 {
-  auto render = [&](int method, int k) {
+  auto render = [&](int method, int k, int gearsBackend = vtkSoftShadowPass::GEARS_BACKEND_CPU) {
     Scene s(320, 240);
     build(s);
     s.pass->SetMethod(method);
     s.pass->SetReferenceSamples(k);
+    s.pass->SetGearsBackend(gearsBackend);
     return s.Render();
   };
   const Frame refArea = render(vtkSoftShadowPass::REFERENCE, 16);
@@ -91,6 +92,19 @@ void RunCase(const char* name, const Builder& build, const std::map<int, double>
     if (foreground > 0)
     {
       EXPECT_GT(e.compared, foreground / 2) << name;
+    }
+    if (mb.first == vtkSoftShadowPass::GEARS)
+    {
+      // the GL compute backend: the same V as the CPU backend in every pixel
+      const Frame g = render(mb.first, 16, vtkSoftShadowPass::GEARS_BACKEND_GL);
+      ASSERT_EQ(g.V.size(), f.V.size()) << name;
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < f.V.size(); ++i)
+      {
+        differ += !(g.V[i] == f.V[i] || (std::isnan(g.V[i]) && std::isnan(f.V[i])));
+      }
+      std::cout << "stability " << name << " gears (GL backend): " << differ << " px differ from the CPU backend\n";
+      EXPECT_EQ(differ, 0u) << name;
     }
   }
 }
