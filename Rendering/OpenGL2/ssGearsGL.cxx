@@ -51,12 +51,20 @@ enum Binding
   BNec,
   BScanData,
   BScanSums,
+  BTriL,
   NumBindings
 };
 
 constexpr GLuint kWG = 64;        // work group size of the per-item kernels
 constexpr GLuint kScanWG = 256;   // scan: 4 x 256 = 1024 elements per group
 constexpr std::size_t kScanElems = 1024;
+// Mesa's llvmpipe ends an invocation after 65535 loop iterations in all
+// (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop of a shader) and gives
+// no error. So no kernel loops without bound: the bitmask kernel takes a
+// pixel's cell list in chunks of kChunk triangles (about 50 iterations each
+// at k = 32), and pass 2 loops over at most G + G^2 cells.
+constexpr std::uint32_t kChunk = 512;
+constexpr int kMaxGrid = 240;
 
 std::uint32_t Ord(float f)
 {
@@ -141,15 +149,11 @@ struct GearsGL::Impl
     }
   }
 
-  GLuint Program(const std::string& kernel, int kmax, bool translucent, std::string* why)
+  GLuint Program(const std::string& kernel, std::string* why)
   {
     const GLuint wg = (kernel == "K_SCAN_BLOCK" || kernel == "K_SCAN_ADD") ? kScanWG : kWG;
     std::ostringstream head;
-    head << "#version 430\n#define " << kernel << "\n#define WG " << wg << "\n#define KMAX " << kmax << "\n";
-    if (translucent)
-    {
-      head << "#define TRANSLUCENT\n";
-    }
+    head << "#version 430\n#define " << kernel << "\n#define WG " << wg << "\n";
     const std::string key = head.str();
     auto it = Programs.find(key);
     if (it != Programs.end())
@@ -250,7 +254,7 @@ struct GearsGL::Impl
       ScanSums.resize(level + 1);
     }
     Ensure(ScanSums[level], 4 * blocks);
-    const GLuint block = Program("K_SCAN_BLOCK", 1, false, why), add = Program("K_SCAN_ADD", 1, false, why);
+    const GLuint block = Program("K_SCAN_BLOCK", why), add = Program("K_SCAN_ADD", why);
     if (!block || !add)
     {
       return false;
@@ -359,6 +363,25 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   {
     return false;
   }
+  if (solver.Data().translucent)
+  {
+    // per-sample transmittance (k^2 floats per pixel) cannot persist between
+    // the chunked raster dispatches
+    if (why)
+    {
+      *why = "GEARS GL backend: translucent casters run on the CPU backend";
+    }
+    return false;
+  }
+  if (std::clamp(opt.grid, 1, 4096) > kMaxGrid)
+  {
+    if (why)
+    {
+      *why = "GEARS GL backend: grids above " + std::to_string(kMaxGrid) +
+        " cells per side run on the CPU (a full-grid triangle's pair loop would pass llvmpipe's 65535-iteration budget)";
+    }
+    return false;
+  }
   if (!I.MaxBlock)
   {
     glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &I.MaxBlock);
@@ -387,21 +410,18 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   {
     ++levels;
   }
-  if (!fits(48 * n, "pixel samples") || !fits(9 * 4 * NT, "triangles") ||
-    (masksOut && !fits(128 * n, "bitmasks")) ||
+  if (!fits(48 * n, "pixel samples") || !fits(9 * 4 * NT, "triangles") || !fits(128 * n, "bitmasks") ||
     (opt.retractToFarthest && !fits(4 * NC * levels * levels, "the grid's range-maximum table")) ||
     n > 0xFFFFFFF0u || NT > 0xFFFFFFF0u)
   {
     return false;
   }
-  const bool translucent = D.translucent;
   const char* names[] = { "K_START", "K_PROJECT", "K_CELL", "K_SAT_ROWS", "K_SAT_COLS", "K_RMQ", "K_PASS1",
-    "K_PASS2", "K_HIST", "K_SCATTER", "K_CELLSORT", "K_RASTER" };
+    "K_PASS2", "K_HIST", "K_SCATTER", "K_TOLIGHT", "K_RASTER", "K_FINISH" };
   std::map<std::string, GLuint> prog;
   for (const char* nm : names)
   {
-    const bool raster = std::strcmp(nm, "K_RASTER") == 0;
-    prog[nm] = I.Program(nm, raster ? k : 1, raster && translucent, why);
+    prog[nm] = I.Program(nm, why);
     if (!prog[nm])
     {
       return false;
@@ -451,10 +471,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   }
   I.Upload(I.Buf[BRed], red.data(), 4 * red.size());
   I.Ensure(I.Buf[BPixCell], 4 * n);
-  if (masksOut)
-  {
-    I.Fill(I.Buf[BMasks], 128 * n, 0u);
-  }
+  I.Fill(I.Buf[BMasks], 128 * n, 0u); // the bitmasks: the raster's state between chunks
   if (opt.countNecessary)
   {
     I.Fill(I.Buf[BNec], 4 * n, 0u);
@@ -473,7 +490,6 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   I.U3("uLn", L.n);
   I.Ud("uEps", eps);
   I.U("uType", type);
-  I.U("uWriteMasks", masksOut ? 1 : 0);
   I.Uu("uFullRow", fullRow);
   I.Items(n);
   I.Download(I.Buf[BRed], red.data(), 4 * 56);
@@ -645,18 +661,15 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     }
     I.Use(prog["K_SCATTER"]);
     I.Items(numPairs);
-    if (translucent)
-    {
-      I.Use(prog["K_CELLSORT"]);
-      I.Items(NC);
-    }
     std::vector<std::uint32_t> cellBegin(NC + 1);
     I.Download(I.Buf[BCellBegin], cellBegin.data(), 4 * (NC + 1));
+    std::size_t longestList = 0;
     for (std::size_t c = 0; c < NC; ++c)
     {
       if (cellCount[c])
       {
         const std::size_t nt = cellBegin[c + 1] - cellBegin[c];
+        longestList = std::max(longestList, nt);
         st.trianglesPerCellMax = std::max(st.trianglesPerCellMax, nt);
         sumTrisPerCell += nt;
         assignmentsTotal += static_cast<double>(nt) * cellCount[c];
@@ -671,12 +684,21 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     const double W = dirLight ? T : L.width, H = dirLight ? T : L.height;
     const double hx = (0.5 - 0.5 / k) * W, hy = (0.5 - 0.5 / k) * H;
     const double slackX = 1e-7 * (W / k) + 1e-12 * D.extent, slackY = 1e-7 * (H / k) + 1e-12 * D.extent;
+    // the triangles in the light's frame once per face, when the buffer fits
+    const bool pre = 72 * NT <= maxBlock;
+    if (pre)
+    {
+      I.Ensure(I.Buf[BTriL], 72 * NT);
+      I.Use(prog["K_TOLIGHT"]);
+      cameraUniforms();
+      I.Items(NT);
+    }
     I.Use(prog["K_RASTER"]);
     cameraUniforms();
+    I.U("uPre", pre ? 1 : 0);
     I.U("uK", k);
     I.U("uDir", dirLight ? 1 : 0);
     I.U("uCountNecessary", opt.countNecessary ? 1 : 0);
-    I.U("uWriteMasks", masksOut ? 1 : 0);
     I.Uu("uFullRow", fullRow);
     I.Ud("uW", W);
     I.Ud("uH", H);
@@ -685,6 +707,17 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Ud("uXhi", hx + slackX);
     I.Ud("uYlo", -hy - slackY);
     I.Ud("uYhi", hy + slackY);
+    I.Uu("uChunkSize", kChunk);
+    const std::size_t chunks = std::max<std::size_t>(1, (longestList + kChunk - 1) / kChunk);
+    for (std::size_t ch = 0; ch < chunks; ++ch)
+    {
+      I.Uu("uChunk", static_cast<std::uint32_t>(ch));
+      I.Items(n);
+    }
+    I.Use(prog["K_FINISH"]);
+    I.U("uFace", f);
+    I.U("uK", k);
+    I.Uu("uFullRow", fullRow);
     I.Items(n);
     glFinish();
     st.msRaster += Ms(t4, Clock::now());

@@ -42,8 +42,15 @@ public:
   /// Same contract as GearsSolver::Solve for solver's triangles. Returns
   /// false and says why for what it does not run, so that the caller can use
   /// the CPU backend: LUT rasterisation (GLSL has no double-precision atan2,
-  /// so the table lookups would differ from the CPU's), a context without
+  /// so the table lookups would differ from the CPU's), translucent casters
+  /// (their per-sample transmittance cannot persist between the chunked
+  /// bitmask dispatches), grids above 240 cells per side, a context without
   /// compute shaders, or buffers beyond the context's SSBO size limit.
+  ///
+  /// No kernel loops without bound: Mesa's llvmpipe silently ends an
+  /// invocation after 65535 loop iterations in all, so the bitmask kernel
+  /// takes each cell's triangle list in chunks of 512 (state kept in a
+  /// buffer between dispatches).
   bool Solve(const GearsSolver& solver, const LightFrame& light, const glm::dvec3& origin,
     const float* positions, const float* normals, std::size_t n, const GearsOptions& options,
     std::vector<float>& V, GearsStats* stats = nullptr, std::vector<GearsMask>* masks = nullptr,

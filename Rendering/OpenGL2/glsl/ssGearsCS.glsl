@@ -100,13 +100,18 @@ uniform int uG;      // grid resolution
 #define USE_Cursor
 #define USE_Sorted
 #endif
-#ifdef K_CELLSORT
-#define USE_CellBegin
-#define USE_Sorted
+#ifdef K_FINISH
+#define USE_Face
+#define USE_Vis
+#define USE_Masks
+#endif
+#ifdef K_TOLIGHT
+#define USE_TriV
+#define USE_TriL
 #endif
 #ifdef K_RASTER
+#define USE_TriL
 #define USE_TriV
-#define USE_TriA
 #define USE_Smp
 #define USE_Face
 #define USE_Vis
@@ -188,6 +193,9 @@ layout(std430, binding = 22) buffer ScanData { uint scanData[]; };
 #endif
 #ifdef USE_ScanSums
 layout(std430, binding = 23) buffer ScanSums { uint scanSums[]; };
+#endif
+#ifdef USE_TriL
+layout(std430, binding = 24) buffer TriL { double triL[]; };          // 9 per triangle, light frame
 #endif
 
 // Red layout: face f (0..5) at 8 f: min x y z, max x y z, max depth;
@@ -293,6 +301,32 @@ dvec3 Start(uint i)
 }
 #endif
 
+// world (caster frame) to the light's frame, as ssGEARS.cxx's toLight
+dvec3 ToLight(dvec3 X)
+{
+  dvec3 r = Sub(X, uLc);
+  return dvec3(Dot(r, uU), Dot(r, uV), Dot(r, uNrm));
+}
+
+#ifdef K_TOLIGHT
+// per face, every triangle's vertices in the light's frame once (the CPU
+// backend does this once per cell), instead of once per pixel and triangle
+void main()
+{
+  uint t = GID();
+  if (t < uN)
+  {
+    for (int m = 0; m < 3; ++m)
+    {
+      dvec3 B = ToLight(dvec3(triV[9 * t + 3 * m], triV[9 * t + 3 * m + 1], triV[9 * t + 3 * m + 2]));
+      triL[9 * t + 3 * m] = B.x;
+      triL[9 * t + 3 * m + 1] = B.y;
+      triL[9 * t + 3 * m + 2] = B.z;
+    }
+  }
+}
+#endif
+
 #if defined(K_START) || defined(K_PROJECT)
 shared uint sRed[56];
 bool IsMinSlot(uint q)
@@ -331,7 +365,6 @@ void SharedFlush()
 uniform dvec3 uRel, uLn;   // frame origin - caster centre; light normal
 uniform double uEps;
 uniform int uType;          // 0 rect, 1 directional, 2 point
-uniform int uWriteMasks;
 uniform uint uFullRow;
 void main()
 {
@@ -350,13 +383,10 @@ void main()
       N = (l > 0.0 && FiniteD(l)) ? Nn : dvec3(0.0);
       if (uType == 0 && Dot(Sub(p, uLc), uLn) <= 0.0)
       {
-        vis[i] = 0.0; // behind the one-sided light
-        if (uWriteMasks != 0)
+        vis[i] = 0.0; // behind the one-sided light: every sample hidden
+        for (int j = 0; j < 32; ++j)
         {
-          for (int j = 0; j < 32; ++j)
-          {
-            masks[32 * i + j] = uFullRow;
-          }
+          masks[32 * i + j] = uFullRow;
         }
       }
       else
@@ -735,55 +765,14 @@ void main()
 }
 #endif
 
-#ifdef K_CELLSORT
-// Translucent casters only: each cell's triangles in ascending id (heap
-// sort), the CPU's order, so transmittance products round identically.
-void main()
-{
-  uint c = GID();
-  if (c >= uN)
-  {
-    return;
-  }
-  uint a = cellBegin[c];
-  int n = int(cellBegin[c + 1u] - a);
-  for (int start = n / 2 - 1; start > -n; --start)
-  {
-    // first heapify (start >= 0), then pop the maximum to end = n + start
-    int root = start >= 0 ? start : 0;
-    int end = start >= 0 ? n : n + start;
-    if (start < 0)
-    {
-      uint tmp = sorted[a];
-      sorted[a] = sorted[a + uint(end)];
-      sorted[a + uint(end)] = tmp;
-    }
-    while (2 * root + 1 < end)
-    {
-      int child = 2 * root + 1;
-      if (child + 1 < end && sorted[a + uint(child)] < sorted[a + uint(child + 1)])
-      {
-        ++child;
-      }
-      if (sorted[a + uint(root)] >= sorted[a + uint(child)])
-      {
-        break;
-      }
-      uint tmp = sorted[a + uint(root)];
-      sorted[a + uint(root)] = sorted[a + uint(child)];
-      sorted[a + uint(child)] = tmp;
-      root = child;
-    }
-  }
-}
-#endif
 
 #ifdef K_RASTER
 // Step 4 [§4.2]: per pixel sample the k x k bitmask of hidden light samples
 // from its cell's triangles, in the light's frame (origin L_c, axes u v n).
 // The arithmetic repeats RasterizeTriangle / RasterizeNearTriangle /
 // RasterSetup of ssGEARS.cxx operation for operation.
-uniform int uK, uDir, uCountNecessary, uWriteMasks;
+uniform int uK, uDir, uCountNecessary;
+uniform int uPre; // the triangles' light-frame vertices are in triL (K_TOLIGHT)
 uniform uint uFullRow;
 uniform double uW, uH, uEps, uXlo, uXhi, uYlo, uYhi;
 
@@ -844,10 +833,36 @@ void IndexRange(double lo, double hi, out int a, out int b)
 
 uint rows[32];
 uint tmpRows[32];
+int gFull; // rows of `rows` that are full (umbra when == k)
+void OrRow(int j, uint bits)
+{
+  bool was = rows[j] == uFullRow;
+  rows[j] |= bits;
+  gFull += (!was && rows[j] == uFullRow) ? 1 : 0;
+}
 
 // constraints: edge[3] (+ cross) as in TriangleSetup
 Affine gF[4];
 bool gHasCross;
+
+void EdgeConstraint(int m, double Pm, double Qm, int j, inout double lo, inout double hi, inout bool ok)
+{
+  double B = gF[m].B;
+  precise double x = Pm + Qm * double(j);
+  if (B > 0.0)
+  {
+    lo = max(lo, x);
+  }
+  else if (B < 0.0)
+  {
+    hi = min(hi, x);
+  }
+  else
+  {
+    precise double f = gF[m].A + gF[m].C * double(j);
+    ok = ok && f >= 0.0;
+  }
+}
 
 bool RasterSetup(int j0, int j1, bool toTmp)
 {
@@ -866,24 +881,10 @@ bool RasterSetup(int j0, int j1, bool toTmp)
   {
     precise double lo = -1e300LF, hi = 1e300LF;
     bool ok = true;
-    for (int m = 0; m < 3; ++m)
-    {
-      double B = gF[m].B;
-      precise double x = P[m] + Q[m] * double(j);
-      if (B > 0.0)
-      {
-        lo = max(lo, x);
-      }
-      else if (B < 0.0)
-      {
-        hi = min(hi, x);
-      }
-      else
-      {
-        precise double f = gF[m].A + gF[m].C * double(j);
-        ok = ok && f >= 0.0;
-      }
-    }
+    // the three edges written out (no loop: llvmpipe's loop budget)
+    EdgeConstraint(0, P[0], Q[0], j, lo, hi, ok);
+    EdgeConstraint(1, P[1], Q[1], j, lo, hi, ok);
+    EdgeConstraint(2, P[2], Q[2], j, lo, hi, ok);
     bool strictLo = false, strictHi = false;
     if (nf == 4)
     {
@@ -914,7 +915,7 @@ bool RasterSetup(int j0, int j1, bool toTmp)
       }
       else
       {
-        rows[j] |= RowBits(il, ih);
+        OrRow(j, RowBits(il, ih));
       }
       any = true;
     }
@@ -1015,51 +1016,67 @@ bool RasterizeTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp, out in
 
 // the reference's start rule near the triangle's plane: per-sample
 // Moeller-Trumbore, hits closer than eps ignored (RasterizeNearTriangle)
+// One light sample of RasterizeNearTriangle (the reference's Moeller-Trumbore
+// with tnear = eps), for sample i of the current row.
+dvec3 gE1, gE2, gTv, gQ;
+bool NearSample(int i, double sv)
+{
+  precise double su = (double(i) + 0.5LF) / double(uK) - 0.5LF;
+  precise dvec3 d = gD0 + su * gDu + sv * gDv;
+  dvec3 p = Cross(d, gE2);
+  precise double det = Dot(gE1, p);
+  if (det == 0.0)
+  {
+    return false;
+  }
+  precise double a = Dot(gTv, p) / det;
+  precise double b = Dot(d, gQ) / det;
+  precise double t = Dot(gE2, gQ) / det;
+  precise double tl = t * sqrt(Dot(d, d));
+  return a >= 0.0 && b >= 0.0 && a + b <= 1.0 && tl >= uEps && (uDir != 0 || t < 1.0);
+}
+#define NEAR1(I) if ((I) < uK && NearSample(I, sv)) { rb |= 1u << uint(I); }
+#define NEAR4(I) NEAR1(I) NEAR1((I) + 1) NEAR1((I) + 2) NEAR1((I) + 3)
+#define NEAR16(I) NEAR4(I) NEAR4((I) + 4) NEAR4((I) + 8) NEAR4((I) + 12)
+
+// the reference's start rule near the triangle's plane: per-sample
+// Moeller-Trumbore, hits closer than eps ignored (RasterizeNearTriangle).
+// The samples of a row are written out, not looped over: llvmpipe ends any
+// invocation after 65535 loop iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS,
+// shared by every loop of a shader), so per-triangle loops stay at k.
 bool RasterizeNearTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
 {
-  dvec3 e1 = Sub(B1, B0), e2 = Sub(B2, B0), tv = Sub(S, B0);
-  dvec3 q = Cross(tv, e1);
+  gE1 = Sub(B1, B0);
+  gE2 = Sub(B2, B0);
+  gTv = Sub(S, B0);
+  gQ = Cross(gTv, gE1);
   bool any = false;
   for (int j = 0; j < uK; ++j)
   {
-    for (int i = 0; i < uK; ++i)
+    precise double sv = (double(j) + 0.5LF) / double(uK) - 0.5LF;
+    uint rb = 0u;
+    NEAR16(0)
+    NEAR16(16)
+    if (rb != 0u)
     {
-      precise double su = (double(i) + 0.5LF) / double(uK) - 0.5LF;
-      precise double sv = (double(j) + 0.5LF) / double(uK) - 0.5LF;
-      precise dvec3 d = gD0 + su * gDu + sv * gDv;
-      dvec3 p = Cross(d, e2);
-      precise double det = Dot(e1, p);
-      if (det == 0.0)
+      if (toTmp)
       {
-        continue;
+        tmpRows[j] |= rb;
       }
-      precise double a = Dot(tv, p) / det;
-      precise double b = Dot(d, q) / det;
-      precise double t = Dot(e2, q) / det;
-      precise double tl = t * sqrt(Dot(d, d));
-      if (a >= 0.0 && b >= 0.0 && a + b <= 1.0 && tl >= uEps && (uDir != 0 || t < 1.0))
+      else
       {
-        if (toTmp)
-        {
-          tmpRows[j] |= 1u << uint(i);
-        }
-        else
-        {
-          rows[j] |= 1u << uint(i);
-        }
-        any = true;
+        OrRow(j, rb);
       }
+      any = true;
     }
   }
   return any;
 }
 
-dvec3 ToLight(dvec3 X)
-{
-  dvec3 r = Sub(X, uLc);
-  return dvec3(Dot(r, uU), Dot(r, uV), Dot(r, uNrm));
-}
 
+// Chunk uChunk of the pixel's cell list (uChunkSize triangles): the rows
+// persist in masks[] between chunks and K_FINISH turns them into V.
+uniform uint uChunk, uChunkSize;
 void main()
 {
   uint i = GID();
@@ -1068,6 +1085,12 @@ void main()
     return;
   }
   uint c = pixCell[i];
+  uint a0 = cellBegin[c] + uChunk * uChunkSize;
+  uint end = min(cellBegin[c + 1u], a0 + uChunkSize);
+  if (uChunk > 0u && a0 >= end)
+  {
+    return; // this cell's list ended in an earlier chunk
+  }
   dvec3 S = ToLight(Start(i));
   gD0 = uDir != 0 ? dvec3(0.0, 0.0, -1.0) : -S;
   gDu = dvec3(uW, 0.0, 0.0);
@@ -1076,53 +1099,58 @@ void main()
   {
     rows[j] = 0u;
   }
-  // light samples below the tangent plane are not seen (reference rule)
-  dvec3 Nw = dvec3(smp[6 * i + 3], smp[6 * i + 4], smp[6 * i + 5]);
-  if (Nw != dvec3(0.0))
+  if (uChunk == 0u)
   {
-    dvec3 N = dvec3(Dot(Nw, uU), Dot(Nw, uV), Dot(Nw, uNrm));
-    Affine below = MakeAffine(-N, 0.0LF);
-    for (int j = 0; j < uK; ++j)
+    // light samples below the tangent plane are not seen (reference rule)
+    dvec3 Nw = dvec3(smp[6 * i + 3], smp[6 * i + 4], smp[6 * i + 5]);
+    if (Nw != dvec3(0.0))
     {
-      precise double blo = -1e300LF, bhi = 1e300LF;
-      precise double a = below.A + below.C * double(j);
-      double b = below.B;
-      if (b > 0.0)
+      dvec3 N = dvec3(Dot(Nw, uU), Dot(Nw, uV), Dot(Nw, uNrm));
+      Affine below = MakeAffine(-N, 0.0LF);
+      for (int j = 0; j < uK; ++j)
       {
-        blo = max(blo, -a / b);
-      }
-      else if (b < 0.0)
-      {
-        bhi = min(bhi, a / -b);
-      }
-      else if (!(a > 0.0))
-      {
-        blo = 1.0;
-        bhi = 0.0;
-      }
-      int il, ih;
-      if (IntRange(blo, bhi, b > 0.0, b < 0.0, il, ih))
-      {
-        rows[j] |= RowBits(il, ih);
+        precise double blo = -1e300LF, bhi = 1e300LF;
+        precise double a = below.A + below.C * double(j);
+        double b = below.B;
+        if (b > 0.0)
+        {
+          blo = max(blo, -a / b);
+        }
+        else if (b < 0.0)
+        {
+          bhi = min(bhi, a / -b);
+        }
+        else if (!(a > 0.0))
+        {
+          blo = 1.0;
+          bhi = 0.0;
+        }
+        int il, ih;
+        if (IntRange(blo, bhi, b > 0.0, b < 0.0, il, ih))
+        {
+          rows[j] |= RowBits(il, ih);
+        }
       }
     }
   }
-  int fullRows = 0;
+  else
+  {
+    for (int j = 0; j < uK; ++j)
+    {
+      rows[j] = masks[32u * i + uint(j)];
+    }
+  }
+  gFull = 0;
   for (int j = 0; j < uK; ++j)
   {
-    fullRows += rows[j] == uFullRow ? 1 : 0;
+    gFull += rows[j] == uFullRow ? 1 : 0;
   }
-#ifdef TRANSLUCENT
-  float trans[KMAX * KMAX];
-  bool haveTrans = false;
-#endif
   uint necessary = 0u;
   bool dirLight = uDir != 0;
   double sx = S.x, sy = S.y, sd = S.z;
-  uint end = cellBegin[c + 1u];
-  for (uint a = cellBegin[c]; a < end; ++a)
+  for (uint a = a0; a < end; ++a)
   {
-    if (fullRows == uK && uCountNecessary == 0)
+    if (gFull == uK && uCountNecessary == 0)
     {
       break; // umbra: no further triangle changes V
     }
@@ -1130,7 +1158,8 @@ void main()
     dvec3 Bv[3];
     for (int m = 0; m < 3; ++m)
     {
-      Bv[m] = ToLight(dvec3(triV[9 * tri + 3 * m], triV[9 * tri + 3 * m + 1], triV[9 * tri + 3 * m + 2]));
+      Bv[m] = uPre != 0 ? dvec3(triL[9 * tri + 3 * m], triL[9 * tri + 3 * m + 1], triL[9 * tri + 3 * m + 2])
+                        : ToLight(dvec3(triV[9 * tri + 3 * m], triV[9 * tri + 3 * m + 1], triV[9 * tri + 3 * m + 2]));
     }
     // cheap rejection (the CPU's candidate filter)
     int out0 = 0, out1 = 0, out2 = 0, out3 = 0, valid = 0, beyondPixel = 0, behindLight = 0;
@@ -1155,8 +1184,8 @@ void main()
     {
       continue;
     }
-    float alpha = triA[tri];
-    bool toTmp = alpha < 1.0 || uCountNecessary != 0;
+    // opaque casters only (translucent scenes run on the CPU backend)
+    bool toTmp = uCountNecessary != 0;
     if (toTmp)
     {
       for (int j = 0; j < uK; ++j)
@@ -1172,78 +1201,43 @@ void main()
     bool near = pl > 0.0 && dist < lim;
     bool hit = near ? RasterizeNearTriangle(S, Bv[0], Bv[1], Bv[2], toTmp)
                     : RasterizeTriangle(S, Bv[0], Bv[1], Bv[2], toTmp, j0, j1);
-    if (hit && uCountNecessary != 0)
+    if (hit && toTmp)
     {
       ++necessary;
-    }
-#ifdef TRANSLUCENT
-    if (alpha < 1.0 && hit)
-    {
-      if (!haveTrans)
-      {
-        for (int q = 0; q < uK * uK; ++q)
-        {
-          trans[q] = 1.0;
-        }
-        haveTrans = true;
-      }
-      precise float keep = 1.0 - alpha;
       for (int j = j0; j <= j1; ++j)
       {
-        for (uint bits = tmpRows[j]; bits != 0u; bits &= bits - 1u)
-        {
-          int ii = findLSB(bits);
-          precise float tr = trans[j * uK + ii] * keep;
-          trans[j * uK + ii] = tr;
-        }
+        OrRow(j, tmpRows[j]);
       }
-      continue;
     }
+  }
+  for (int j = 0; j < uK; ++j)
+  {
+    masks[32u * i + uint(j)] = rows[j];
+  }
+  if (uCountNecessary != 0)
+  {
+    nec[i] += necessary;
+  }
+}
 #endif
-    if (hit)
-    {
-      if (toTmp)
-      {
-        for (int j = j0; j <= j1; ++j)
-        {
-          rows[j] |= tmpRows[j];
-        }
-      }
-      fullRows = 0;
-      for (int j = 0; j < uK; ++j)
-      {
-        fullRows += rows[j] == uFullRow ? 1 : 0;
-      }
-    }
+
+#ifdef K_FINISH
+// V from the rows of K_RASTER: the fraction of light samples not hidden
+uniform int uK;
+uniform uint uFullRow;
+void main()
+{
+  uint i = GID();
+  if (i >= uN || pixFace[i] != uFace)
+  {
+    return;
   }
   precise double visible = 0.0LF;
   for (int j = 0; j < uK; ++j)
   {
-    uint lit = ~rows[j] & uFullRow;
-#ifdef TRANSLUCENT
-    if (haveTrans)
-    {
-      for (uint bits = lit; bits != 0u; bits &= bits - 1u)
-      {
-        visible += double(trans[j * uK + findLSB(bits)]);
-      }
-      continue;
-    }
-#endif
-    visible += double(bitCount(lit));
+    visible += double(bitCount(~masks[32u * i + uint(j)] & uFullRow));
   }
   precise double kk = double(uK) * double(uK);
   vis[i] = float(visible / kk);
-  if (uWriteMasks != 0)
-  {
-    for (int j = 0; j < 32; ++j)
-    {
-      masks[32 * i + j] = rows[j];
-    }
-  }
-  if (uCountNecessary != 0)
-  {
-    nec[i] = necessary;
-  }
 }
 #endif
