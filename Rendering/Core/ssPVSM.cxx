@@ -327,8 +327,11 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
   const int s = 1 << l;
   auto X = [&](double i) { return tile.rect[0] + i / sx; };
   auto Y = [&](double j) { return tile.rect[1] + j / sy; };
-  auto texelLit = [&](int i, int j) {
-    return receiverDepth(X(i + 0.5), Y(j + 0.5)) - bias <= Depth(tile, i, j) ? 1.0 : 0.0;
+  // the bias scales with the size (texels) of the quad being tested, as in
+  // ssQuadLit.glsl: a quad of ss texels samples the map like a map ss times
+  // coarser, and the receiver departs from its plane over that size
+  auto texelLit = [&](int i, int j, double b) {
+    return receiverDepth(X(i + 0.5), Y(j + 0.5)) - b <= Depth(tile, i, j) ? 1.0 : 0.0;
   };
   // (min, max) depth of the texels of quad (qx, qy) of size ss, and of the
   // receiver's plane over it (minus the bias)
@@ -353,15 +356,15 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
     const double z00 = receiverDepth(X(qx * ss), Y(qy * ss)), z10 = receiverDepth(X((qx + 1) * ss), Y(qy * ss));
     const double z01 = receiverDepth(X(qx * ss), Y((qy + 1) * ss));
     const double z11 = receiverDepth(X((qx + 1) * ss), Y((qy + 1) * ss));
-    zlo = std::min({ z00, z10, z01, z11 }) - bias;
-    zhi = std::max({ z00, z10, z01, z11 }) - bias;
+    zlo = std::min({ z00, z10, z01, z11 }) - bias * ss;
+    zhi = std::max({ z00, z10, z01, z11 }) - bias * ss;
   };
   // as quadLitTile() in the shader: the quad's (min, max) decides it, or its
   // four children do, each by its own (min, max) or its centre texel
   auto quadLit = [&](int qx, int qy) {
     if (s == 1)
     {
-      return texelLit(qx, qy);
+      return texelLit(qx, qy, bias);
     }
     double dmin, dmax, zlo, zhi;
     depthRange(qx, qy, s, dmin, dmax);
@@ -387,7 +390,7 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
       }
       else if (zlo <= dmax)
       {
-        sum += texelLit(std::min(cx * hs + hs / 2, tile.w - 1), std::min(cy * hs + hs / 2, tile.h - 1));
+        sum += texelLit(std::min(cx * hs + hs / 2, tile.w - 1), std::min(cy * hs + hs / 2, tile.h - 1), bias * hs);
       }
     }
     return 0.25 * sum;

@@ -152,7 +152,10 @@ struct CoverageAccum
 /// (receiverDepth(X) - bias <= texel depth, X the texel centre in shadow-map
 /// space). Kernels wider than maxQuads texels use panels and rows of 2^l
 /// texels whose (min, max) depth decides them when it can and whose centre
-/// texel decides them otherwise, as the shader does. A kernel below 1e-3
+/// texel decides them otherwise, as the shader does; the bias of a test on a
+/// quad of s texels is s * bias. (The shader's receiverDepth is the tangent
+/// plane lowered by 0.05 of the lateral distance from the kernel centre; a
+/// caller passes whatever receiverDepth it wants.) A kernel below 1e-3
 /// texel in either direction is widened to that (an exact point has no area).
 CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, const KernelAxes& h,
   const std::function<double(double, double)>& receiverDepth, double bias, int maxQuads);

@@ -18,6 +18,8 @@ in vec2 texCoord; // from VTK's full-screen quad
 //SS::Common
 
 vec2 tilePerUnit;
+vec2 kernelCentre;  // shadow-map units
+float unitWorldG;   // world units per shadow-map unit at the receiver
 
 float tileDepth(ivec2 t)
 {
@@ -33,12 +35,22 @@ vec2 tileX(vec2 T)
   return tileRect.xy + T / tilePerUnit;
 }
 
+// The receiver's depth at X for the shadow test: its tangent plane, lowered
+// by 0.05 of the lateral distance from the kernel centre (a 3 degree cone).
+// A faceted surface deviates from the smooth normal's plane in proportion to
+// that distance; without the cone its own facets hid the light from it
+// (acne on a lit isosurface, growing with the tile resolution).
+float tolerantDepth(View w, vec2 X, float maxDelta)
+{
+  return planeDepth(w, X, maxDelta) - 0.05 * length(X - kernelCentre) * unitWorldG;
+}
+
 // The map hooks of ssQuadLit.glsl: the current tile (children's centre
 // texels are kept inside the tile's resolution).
 float mapTexelLit(View w, ivec2 t, float bias, float maxDelta)
 {
   t = min(t, ivec2(tileRes) - 1);
-  return (planeDepth(w, tileX(vec2(t) + 0.5), maxDelta) - bias <= tileDepth(t)) ? 1.0 : 0.0;
+  return (tolerantDepth(w, tileX(vec2(t) + 0.5), maxDelta) - bias <= tileDepth(t)) ? 1.0 : 0.0;
 }
 
 vec2 mapMinMax(View w, ivec2 q, int level)
@@ -48,10 +60,10 @@ vec2 mapMinMax(View w, ivec2 q, int level)
 
 vec2 mapPlaneRange(View w, vec2 a, float s, float maxDelta)
 {
-  float z00 = planeDepth(w, tileX(a), maxDelta);
-  float z10 = planeDepth(w, tileX(a + vec2(s, 0.0)), maxDelta);
-  float z01 = planeDepth(w, tileX(a + vec2(0.0, s)), maxDelta);
-  float z11 = planeDepth(w, tileX(a + vec2(s)), maxDelta);
+  float z00 = tolerantDepth(w, tileX(a), maxDelta);
+  float z10 = tolerantDepth(w, tileX(a + vec2(s, 0.0)), maxDelta);
+  float z01 = tolerantDepth(w, tileX(a + vec2(0.0, s)), maxDelta);
+  float z11 = tolerantDepth(w, tileX(a + vec2(s)), maxDelta);
   return vec2(min(min(z00, z10), min(z01, z11)), max(max(z00, z10), max(z01, z11)));
 }
 
@@ -83,6 +95,8 @@ void main()
   w.n = vec3(dot(nrm, viewU[view]), dot(nrm, viewV[view]), dot(nrm, viewN[view]));
   tilePerUnit = tileRes / (tileRect.zw - tileRect.xy);
   float unitWorld = (orthographic != 0) ? 1.0 : w.p.z;
+  unitWorldG = unitWorld;
+  kernelCentre = c;
   float texelWorld = max(1.0 / tilePerUnit.x, 1.0 / tilePerUnit.y) * unitWorld;
   float bias = texelWorld * constantBias;
   float maxDelta = 10.0 * (max(hw, hh) * unitWorld + texelWorld);

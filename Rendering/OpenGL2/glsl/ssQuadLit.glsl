@@ -11,6 +11,13 @@
 // and a child still undecided takes the test of its centre texel. Coarse quads
 // thus stay exact where the shadow is uniform, and no fixed sampling lattice
 // shows in wide penumbrae (one centre sample per coarse quad did).
+// The depth bias scales with the quad's size in texels: a quad of s texels
+// samples the map as a map s times coarser would, and the receiver's surface
+// departs from its tangent plane over that size, not over one texel. With a
+// one-texel bias, fine PVSM tiles under wide kernels let a faceted surface
+// shadow itself (acne growing with the tile resolution; iso close-up MAE
+// 0.051 -> 0.015 with this alone). Level 0 keeps the one-texel bias, so
+// contact shadows (small kernels) are unchanged.
 float quadLit(View w, int level, ivec2 q, float bias, float maxDelta)
 {
   if (level == 0)
@@ -18,7 +25,7 @@ float quadLit(View w, int level, ivec2 q, float bias, float maxDelta)
     return mapTexelLit(w, q, bias, maxDelta);
   }
   float s = exp2(float(level));
-  vec2 z = mapPlaneRange(w, vec2(q) * s, s, maxDelta) - bias;
+  vec2 z = mapPlaneRange(w, vec2(q) * s, s, maxDelta) - bias * s;
   vec2 mm = mapMinMax(w, q, level);
   if (z.y <= mm.x)
   {
@@ -34,7 +41,7 @@ float quadLit(View w, int level, ivec2 q, float bias, float maxDelta)
   {
     ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
     vec2 b = vec2(child) * h;
-    vec2 cz = mapPlaneRange(w, b, h, maxDelta) - bias;
+    vec2 cz = mapPlaneRange(w, b, h, maxDelta) - bias * h;
     vec2 cm = mapMinMax(w, child, level - 1);
     if (cz.y <= cm.x)
     {
@@ -43,7 +50,7 @@ float quadLit(View w, int level, ivec2 q, float bias, float maxDelta)
     else if (cz.x <= cm.y)
     {
       // undecided: the test of the child's centre texel
-      sum += mapTexelLit(w, ivec2(b + 0.5 * h), bias, maxDelta);
+      sum += mapTexelLit(w, ivec2(b + 0.5 * h), bias * h, maxDelta);
     }
   }
   return 0.25 * sum;
