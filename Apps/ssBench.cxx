@@ -124,6 +124,37 @@ std::string RendererName(vtkRenderWindow* win)
   return p == std::string::npos ? "?" : caps.substr(p + 23, caps.find('\n', p) - p - 23);
 }
 
+// The ray-traced reference at k x k regular light samples, one timed frame
+// (all three benches start from it): its time, V, caster triangles and stats.
+// Fills `renderer` on first use; releases the pass's GL resources.
+struct ReferenceFrame
+{
+  double ms = 0.0;
+  vtkNew<vtkFloatArray> V;
+  bool haveV = false;
+  std::size_t pixels = 0;
+  std::size_t triangles = 0;
+  json stats;
+};
+void RunReference(vtkRenderWindow* win, vtkRenderer* ren, int k, std::string& renderer, ReferenceFrame& out)
+{
+  vtkNew<vtkSoftShadowPass> ref;
+  ref->SetMethod(vtkSoftShadowPass::REFERENCE);
+  ref->SetReferenceSamples(k);
+  ref->SetReferencePattern(0);
+  ren->SetPass(ref);
+  out.ms = TimeFrames(win, ren, ref, 1);
+  if (renderer == "?")
+  {
+    renderer = RendererName(win);
+  }
+  out.haveV = ref->GetVisibilityImage(0, out.V);
+  out.pixels = static_cast<std::size_t>(out.V->GetNumberOfTuples());
+  out.triangles = static_cast<std::size_t>(ref->GetLastNumberOfCasterTriangles());
+  out.stats = json::parse(ref->GetStatsJSON());
+  ref->ReleaseGraphicsResources(win);
+}
+
 // The flags `bench` and `bench --pvsm` share.
 struct BenchArgs
 {
@@ -265,19 +296,13 @@ int Bench(const std::vector<std::string>& args)
 
     // --- the reference, once
     progress(scene, "reference k=" + std::to_string(k));
-    vtkNew<vtkSoftShadowPass> refPass;
-    refPass->SetMethod(vtkSoftShadowPass::REFERENCE);
-    refPass->SetReferenceSamples(k);
-    ren->SetPass(refPass);
-    const double refMs = TimeFrames(win, ren, refPass, 1);
-    if (renderer == "?")
-    {
-      renderer = RendererName(win);
-    }
-    vtkNew<vtkFloatArray> refV;
-    const bool haveRef = refPass->GetVisibilityImage(0, refV);
-    const std::size_t n = static_cast<std::size_t>(refV->GetNumberOfTuples());
-    const std::size_t tris = static_cast<std::size_t>(refPass->GetLastNumberOfCasterTriangles());
+    ReferenceFrame reference;
+    RunReference(win, ren, k, renderer, reference);
+    const double refMs = reference.ms;
+    vtkFloatArray* refV = reference.V;
+    const bool haveRef = reference.haveV;
+    const std::size_t n = reference.pixels;
+    const std::size_t tris = reference.triangles;
     {
       Row r;
       r.scene = name;
@@ -287,11 +312,9 @@ int Bench(const std::vector<std::string>& args)
       r.height = win->GetSize()[1];
       r.triangles = tris;
       r.ms = refMs;
-      r.note = Fmt(json::parse(refPass->GetStatsJSON())["reference"]["rays_per_second"].get<double>(), 3) +
-        " rays/s";
+      r.note = Fmt(reference.stats["reference"]["rays_per_second"].get<double>(), 3) + " rays/s";
       rows.push_back(r);
     }
-    refPass->ReleaseGraphicsResources(win);
 
     // --- every configuration on the same pixels
     for (const auto& cfg : configs)
@@ -581,23 +604,13 @@ int BenchGEARS(const std::vector<std::string>& args)
                   << std::string(20, ' ') << std::flush;
         json row{ { "scene", name }, { "width", size.first }, { "height", size.second }, { "k", k } };
         // the reference at the same regular samples
-        vtkNew<vtkSoftShadowPass> ref;
-        ref->SetMethod(vtkSoftShadowPass::REFERENCE);
-        ref->SetReferenceSamples(k);
-        ref->SetReferencePattern(0);
-        ren->SetPass(ref);
-        row["reference_ms"] = TimeFrames(win, ren, ref, 1);
-        if (renderer == "?")
-        {
-          renderer = RendererName(win);
-        }
-        const json refStats = json::parse(ref->GetStatsJSON());
-        row["reference_solver_ms"] = refStats["timings_ms"].value("reference", 0.0);
-        row["triangles"] = ref->GetLastNumberOfCasterTriangles();
-        vtkNew<vtkFloatArray> refV;
-        ref->GetVisibilityImage(0, refV);
-        ref->ReleaseGraphicsResources(win);
-        const std::size_t n = static_cast<std::size_t>(refV->GetNumberOfTuples());
+        ReferenceFrame reference;
+        RunReference(win, ren, k, renderer, reference);
+        row["reference_ms"] = reference.ms;
+        row["reference_solver_ms"] = reference.stats["timings_ms"].value("reference", 0.0);
+        row["triangles"] = reference.triangles;
+        vtkFloatArray* refV = reference.V;
+        const std::size_t n = reference.pixels;
 
         auto runGears = [&](int raster, bool necessary, vtkFloatArray* v, json& stats, int backend = 0) {
           vtkNew<vtkSoftShadowPass> g;
@@ -883,27 +896,20 @@ int BenchPVSM(const std::vector<std::string>& args)
       };
       std::cerr << "\r" << name << " " << var.camera << " " << var.light << ": reference" << std::string(20, ' ')
                 << std::flush;
-      vtkNew<vtkSoftShadowPass> ref;
-      ref->SetMethod(vtkSoftShadowPass::REFERENCE);
-      ref->SetReferenceSamples(k);
-      ren->SetPass(ref);
-      const double refMs = TimeFrames(win, ren, ref, 1);
-      if (renderer == "?")
-      {
-        renderer = RendererName(win);
-      }
-      vtkNew<vtkFloatArray> refV;
-      const bool haveRef = ref->GetVisibilityImage(0, refV);
-      const std::size_t n = static_cast<std::size_t>(refV->GetNumberOfTuples());
+      ReferenceFrame reference;
+      RunReference(win, ren, k, renderer, reference);
+      const double refMs = reference.ms;
+      vtkFloatArray* refV = reference.V;
+      const bool haveRef = reference.haveV;
+      const std::size_t n = reference.pixels;
       {
         json r = base();
         r["config"] = "reference";
         r["settings"] = "k=" + std::to_string(k);
         r["ms"] = refMs;
-        r["triangles"] = ref->GetLastNumberOfCasterTriangles();
+        r["triangles"] = reference.triangles;
         data.push_back(r);
       }
-      ref->ReleaseGraphicsResources(win);
 
       auto run = [&](const Cfg& cfg, bool compare) {
         std::cerr << "\r" << name << " " << var.camera << " " << var.light << ": " << cfg.label
