@@ -111,6 +111,17 @@ TexelPrediction PredictTexelSize(const KernelAxes& h, const glm::dvec2& uPhi, co
   return p;
 }
 
+namespace
+{
+// One SMTG cell's texel size; +inf when no pixel needs it (not finite and
+// positive, or the GPU's 3e38 clear value)
+double GridCell(float t)
+{
+  return (std::isfinite(t) && t > 0.0f && t < 1.0e38f) ? static_cast<double>(t)
+                                                        : std::numeric_limits<double>::infinity();
+}
+}
+
 TileGridPyramid::TileGridPyramid(const float* texels, int size)
   : G(size)
 {
@@ -119,15 +130,10 @@ TileGridPyramid::TileGridPyramid(const float* texels, int size)
     this->G = 0;
     return;
   }
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<glm::dvec2> base(static_cast<std::size_t>(size) * size, glm::dvec2(inf));
+  std::vector<glm::dvec2> base(static_cast<std::size_t>(size) * size);
   for (std::size_t i = 0; i < base.size(); ++i)
   {
-    for (int d = 0; d < 2; ++d)
-    {
-      const double t = texels[2 * i + d];
-      base[i][d] = (std::isfinite(t) && t > 0.0) ? t : inf;
-    }
+    base[i] = glm::dvec2(GridCell(texels[2 * i]), GridCell(texels[2 * i + 1]));
   }
   this->Level.push_back(std::move(base));
   for (int s = size / 2; s >= 1; s /= 2)
@@ -142,6 +148,36 @@ TileGridPyramid::TileGridPyramid(const float* texels, int size)
         lv[y * s + x] = glm::min(glm::min(below[2 * y * b + 2 * x], below[2 * y * b + 2 * x + 1]),
           glm::min(below[(2 * y + 1) * b + 2 * x], below[(2 * y + 1) * b + 2 * x + 1]));
       }
+    }
+    this->Level.push_back(std::move(lv));
+  }
+}
+
+TileGridPyramid::TileGridPyramid(const std::vector<std::vector<float>>& levels, int size)
+  : G(size)
+{
+  int count = 0;
+  for (int s = size; s >= 1; s /= 2)
+  {
+    ++count;
+  }
+  bool ok = size > 0 && (size & (size - 1)) == 0 && static_cast<int>(levels.size()) == count;
+  for (int l = 0; ok && l < count; ++l)
+  {
+    const std::size_t s = static_cast<std::size_t>(size >> l);
+    ok = levels[l].size() == s * s * 2;
+  }
+  if (!ok)
+  {
+    this->G = 0;
+    return;
+  }
+  for (const auto& in : levels)
+  {
+    std::vector<glm::dvec2> lv(in.size() / 2);
+    for (std::size_t i = 0; i < lv.size(); ++i)
+    {
+      lv[i] = glm::dvec2(GridCell(in[2 * i]), GridCell(in[2 * i + 1]));
     }
     this->Level.push_back(std::move(lv));
   }

@@ -94,6 +94,11 @@ public:
   /// texels: G*G*2 floats (texel0, texel1 per cell, row-major, y up); G a
   /// power of two. Non-finite or non-positive values count as empty.
   TileGridPyramid(const float* texels, int G);
+  /// All levels given, as the GPU builds them (§5.2 step 5): levels[l] holds
+  /// (G>>l)^2 x 2 floats; values that are not finite and positive, or are
+  /// >= 1e38 (the GPU's stand-in for +inf), count as empty. G = 0 (an empty
+  /// pyramid) when the level count or any level's size does not match G.
+  TileGridPyramid(const std::vector<std::vector<float>>& levels, int G);
   int Size() const { return this->G; }
   int Levels() const { return static_cast<int>(this->Level.size()); }
   /// min texel size along axis d over cells [x0,x1) x [y0,y1), any rectangle.

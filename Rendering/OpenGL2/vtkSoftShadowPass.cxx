@@ -245,10 +245,11 @@ vtkShaderProgram* ReadyQuad(
   return (prog && prog->GetCompiled()) ? prog : nullptr;
 }
 
-// Levels 1.. of the (min, max) pyramid of `array` over its [0,w) x [0,h)
-// corner (a virtual PVSM tile uses only part of its texture).
+// Levels 1.. of the pyramid of `array` over its [0,w) x [0,h) corner (a
+// virtual PVSM tile uses only part of its texture): mode 0, depth (min, max);
+// mode 1, PVSM's tile grid (min, min) -- see ssMinReduceFS.glsl.
 bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo,
-  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const DepthArray& array, int w, int h)
+  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const DepthArray& array, int w, int h, int mode = 0)
 {
   vtkOpenGLState* ostate = win->GetState();
   vtkShaderProgram* prog = ReadyQuad(quad, win, ssMinReduceFS);
@@ -258,6 +259,7 @@ bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* f
   }
   const int unit = array.Bind(win);
   prog->SetUniformi("src", unit);
+  prog->SetUniformi("mode", mode);
   for (int level = 1; level < array.Levels; ++level)
   {
     // sample only the level below the one written
@@ -413,7 +415,8 @@ public:
   unsigned long ConservativeVAOUploads = 0;
   vtkSmartPointer<vtkTextureObject> Kernel[3]; // RGBA32F, screen size
   vtkSmartPointer<vtkTextureObject> Accum;     // RG32F (V·A, A), screen size
-  vtkSmartPointer<vtkTextureObject> Grid;      // RG32F SMTG
+  DepthArray Grid; // RG32F SMTG and its pyramid (one layer, all levels)
+  std::vector<std::vector<float>> LastGridLevels; // the last view's SMTG pyramid as read back
   vtkShaderProgram* GridProgram = nullptr;
   vtkSmartPointer<vtkOpenGLVertexArrayObject> EmptyVAO;
   std::unique_ptr<vtkOpenGLQuadHelper> KernelQuad, FilterQuad, ResolveQuad;
@@ -536,10 +539,10 @@ public:
     tex(this->GDepth);
     n += this->Shadow.Handle != 0 ? 1 : 0;
     n += this->Tile.Handle != 0 ? 1 : 0;
+    n += this->Grid.Handle != 0 ? 1 : 0;
     n += this->ReduceQuad ? 1 : 0;
     tex(this->Visibility);
-    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get(),
-           this->Grid.Get() })
+    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
     {
       tex(t);
     }
@@ -562,14 +565,13 @@ public:
     tex(this->GPosition, 16);
     tex(this->GNormal, 16);
     tex(this->GDepth, 4);
-    b += this->Shadow.Bytes() + this->Tile.Bytes();
+    b += this->Shadow.Bytes() + this->Tile.Bytes() + this->Grid.Bytes();
     tex(this->Visibility, 4);
     for (int i = 0; i < 3; ++i)
     {
       tex(this->Kernel[i], 16);
     }
     tex(this->Accum, 8);
-    tex(this->Grid, 8);
     if (this->CasterUploaded)
     {
       b += static_cast<long long>(this->CasterTriangles.size()) * 4;
@@ -581,6 +583,8 @@ public:
   {
     this->Shadow.Release();
     this->Tile.Release();
+    this->Grid.Release();
+    this->LastGridLevels.clear();
     if (this->ReduceQuad)
     {
       this->ReduceQuad->ReleaseGraphicsResources(w);
@@ -618,8 +622,7 @@ public:
       this->VisibilityQuad->ReleaseGraphicsResources(w);
       this->VisibilityQuad.reset();
     }
-    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get(),
-           this->Grid.Get() })
+    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
     {
       if (t)
       {
@@ -631,7 +634,6 @@ public:
       t = nullptr;
     }
     this->Accum = nullptr;
-    this->Grid = nullptr;
     for (auto* q : { &this->KernelQuad, &this->FilterQuad, &this->ResolveQuad })
     {
       if (*q)
@@ -1725,7 +1727,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
   {
     G *= 2;
   }
-  EnsureTexture2D(win, in.Grid, G, G, 2);
+  in.Grid.Ensure(G, 1);
   GLint maxTexture = 4096;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
   int tileMax = std::min(this->PVSMMaxTileResolution, static_cast<int>(maxTexture));
@@ -1835,7 +1837,9 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
       const ss::ShadowView& view = l.Views[vi];
       // --- step 4: the SMTG, one point per pixel, min-blended
       t0 = Clock::now();
-      target(in.Grid, G, G);
+      in.Grid.Attach(in.FBO, 0, 0);
+      ostate->vtkglViewport(0, 0, G, G);
+      ostate->vtkglScissor(0, 0, G, G);
       ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
       ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
       in.GridProgram = win->GetShaderCache()->ReadyShaderProgram(ssPVSMGridVS, ssPVSMGridFS, "");
@@ -1869,16 +1873,22 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
       glDisable(GL_PROGRAM_POINT_SIZE);
       ostate->vtkglBlendEquation(GL_FUNC_ADD);
       ostate->vtkglDisable(GL_BLEND);
-      // --- step 5: the grid to the host, its pyramid; step 6: the kd-tree
-      std::vector<float> grid(static_cast<std::size_t>(G) * G * 2);
-      in.FBO->ActivateReadBuffer(0);
+      // --- step 5: the SMTG pyramid on the GPU (the paper's one change to
+      // [GW07]), then all its levels (4/3 G^2 texels) to the host for the
+      // kd-tree of step 6
+      BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Grid, G, G, 1);
+      in.LastGridLevels.assign(static_cast<std::size_t>(in.Grid.Levels), {});
       glPixelStorei(GL_PACK_ALIGNMENT, 1);
-      glReadPixels(0, 0, G, G, GL_RG, GL_FLOAT, grid.data());
-      for (float& g : grid)
+      for (int level = 0; level < in.Grid.Levels; ++level)
       {
-        g = (g >= 1e38f) ? std::numeric_limits<float>::infinity() : g;
+        const int sz = std::max(1, G >> level);
+        in.Grid.Attach(in.FBO, level, 0);
+        in.FBO->ActivateReadBuffer(0);
+        in.LastGridLevels[level].resize(static_cast<std::size_t>(sz) * sz * 2);
+        glReadPixels(0, 0, sz, sz, GL_RG, GL_FLOAT, in.LastGridLevels[level].data());
       }
-      const ss::TileGridPyramid pyramid(grid.data(), G);
+      DepthArray::Detach();
+      const ss::TileGridPyramid pyramid(in.LastGridLevels, G);
       const double extent[4] = { view.extent.x0, view.extent.y0, view.extent.x1, view.extent.y1 };
       const std::vector<ss::ShadowTile> tiles = ss::BuildShadowTiles(pyramid, extent, tileMax);
       t1 = Clock::now();
@@ -2439,6 +2449,25 @@ bool vtkSoftShadowPass::GetPositionsImage(vtkFloatArray* out)
       out->SetComponent(static_cast<vtkIdType>(i), c, fg ? v[4 * i + c] : nan);
     }
   }
+  return true;
+}
+
+int vtkSoftShadowPass::GetLastPVSMTileGridLevels()
+{
+  return static_cast<int>(this->Internals->LastGridLevels.size());
+}
+
+bool vtkSoftShadowPass::GetLastPVSMTileGridLevel(int level, vtkFloatArray* out)
+{
+  const auto& levels = this->Internals->LastGridLevels;
+  if (!out || level < 0 || level >= static_cast<int>(levels.size()))
+  {
+    return false;
+  }
+  const std::vector<float>& l = levels[static_cast<std::size_t>(level)];
+  out->SetNumberOfComponents(2);
+  out->SetNumberOfTuples(static_cast<vtkIdType>(l.size() / 2));
+  std::copy(l.begin(), l.end(), out->GetPointer(0));
   return true;
 }
 

@@ -251,6 +251,16 @@ public:
   int GetNumberOfShadowLights();
   bool GetVisibilityImage(int shadowLight, vtkFloatArray* out);
   bool GetPositionsImage(vtkFloatArray* out);
+  /**
+   * PVSM's shadow map tile grid pyramid of the last view solved, as built on
+   * the GPU and read back (§5.2 step 5): level l has (G/2^l)^2 cells of 2
+   * components (the smallest predicted texel size per axis; values >= 1e38
+   * mean no pixel needs the cell). GetLastPVSMTileGridLevels is 0 before a
+   * PVSM frame; GetLastPVSMTileGridLevel returns false for a level that does
+   * not exist.
+   */
+  int GetLastPVSMTileGridLevels();
+  bool GetLastPVSMTileGridLevel(int level, vtkFloatArray* out);
   int GetLastWidth();
   int GetLastHeight();
   void GetLastPositionsOrigin(double origin[3]);

@@ -5,6 +5,7 @@
 
 #include "ssAnalytic.h"
 #include "ssLightFrame.h"
+#include "ssPVSM.h"
 
 #include "vtkImageData.h"
 #include "vtkLightCollection.h"
@@ -739,6 +740,76 @@ TEST(SoftShadowPass, PVSMBaselineAndMetricSwitch)
   s.renderer->GetActiveCamera()->Azimuth(-2.0);
   s.Render();
   EXPECT_NE(s.pass->GetStatsJSON().find("\"metric\": \"dynamic\""), std::string::npos);
+}
+
+// PVSM §5.2 step 5: the SMTG pyramid is built on the GPU. Every level read
+// back must hold exactly the minimum over its block of level 0, as Core's
+// TileGridPyramid defines it (the kd-tree of step 6 reads those levels), and
+// the grid must have both cells that need shadowing and cells that do not.
+TEST(SoftShadowPass, PVSMTileGridPyramidOnGPUEqualsCPU)
+{
+  Scene s(400, 300);
+  s.renderer->AddActor(Ground());
+  s.renderer->AddActor(Sphere(0, 0, 1.2, 0.6));
+  s.renderer->AddActor(Box(1.2, 0.6, 0.3, 0.5, 0.5, 0.6));
+  s.renderer->AddLight(RectLight(1, -1, 5, 0, 0, 0, 2.0, 1.2));
+  s.Camera(0, -7, 5);
+  s.pass->SetMethod(vtkSoftShadowPass::PVSM);
+  s.pass->SetPVSMGridSize(64);
+  EXPECT_EQ(s.pass->GetLastPVSMTileGridLevels(), 0);
+  s.Render();
+  ASSERT_EQ(s.pass->GetLastPVSMTileGridLevels(), 7); // 64, 32, ..., 1
+  vtkNew<vtkFloatArray> level;
+  ASSERT_TRUE(s.pass->GetLastPVSMTileGridLevel(0, level));
+  ASSERT_EQ(level->GetNumberOfTuples(), 64 * 64);
+  const ss::TileGridPyramid cpu(level->GetPointer(0), 64);
+  int finite = 0, empty = 0;
+  for (vtkIdType i = 0; i < level->GetNumberOfTuples(); ++i)
+  {
+    (level->GetValue(2 * i) < 1e38f ? finite : empty)++;
+  }
+  EXPECT_GT(finite, 0);
+  EXPECT_GT(empty, 0);
+  std::vector<std::vector<float>> gpu;
+  int mismatches = 0;
+  for (int l = 0; l < 7; ++l)
+  {
+    ASSERT_TRUE(s.pass->GetLastPVSMTileGridLevel(l, level));
+    const int n = 64 >> l, b = 1 << l;
+    ASSERT_EQ(level->GetNumberOfTuples(), n * n);
+    gpu.emplace_back(level->GetPointer(0), level->GetPointer(0) + 2 * n * n);
+    for (int y = 0; y < n; ++y)
+    {
+      for (int x = 0; x < n; ++x)
+      {
+        for (int d = 0; d < 2; ++d)
+        {
+          const float g = level->GetValue(2 * (y * n + x) + d);
+          const double want = cpu.MinTexel(d, x * b, y * b, (x + 1) * b, (y + 1) * b);
+          const double got = g < 1e38f ? static_cast<double>(g) : std::numeric_limits<double>::infinity();
+          mismatches += (got == want) ? 0 : 1;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_FALSE(s.pass->GetLastPVSMTileGridLevel(7, level));
+  // the kd-tree over the GPU's levels equals the one over the CPU's pyramid
+  const double extent[4] = { -1.0, -1.0, 1.0, 1.0 };
+  const ss::TileGridPyramid fromGPU(gpu, 64);
+  ASSERT_EQ(fromGPU.Size(), 64);
+  const auto a = ss::BuildShadowTiles(fromGPU, extent, 512), c = ss::BuildShadowTiles(cpu, extent, 512);
+  ASSERT_EQ(a.size(), c.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+  {
+    EXPECT_EQ(a[i].x0, c[i].x0);
+    EXPECT_EQ(a[i].y1, c[i].y1);
+    EXPECT_EQ(a[i].resX, c[i].resX);
+    EXPECT_EQ(a[i].resY, c[i].resY);
+  }
+  // releasing drops the read-back pyramid with the GPU resources
+  s.pass->ReleaseGraphicsResources(s.window);
+  EXPECT_EQ(s.pass->GetLastPVSMTileGridLevels(), 0);
 }
 
 // PVSM on a lit, coarsely faceted surface with smooth normals under a large
