@@ -1,6 +1,7 @@
 """Checks what `softshadows bench --pvsm --smoke` wrote: for every camera
 (overview, close-up) and light (large, small) a reference row and measured
 pvsm, fixed-PCSS and hardavg rows with positive times, finite errors in [0, 1]
+(the picture error at most the V error)
 and no non-finite visibility; hardavg rendered k x k maps; the point-light
 PVSM rows for the large light; the report with both tables."""
 import json
@@ -27,9 +28,12 @@ for cam in ("overview", "close-up"):
             if not (r["ms"] > 0 and math.isfinite(r["ms"])):
                 failures.append("bad time in %s" % r)
             if c in ("pvsm", "pcss fixed", "hardavg"):
-                for k in ("mae", "max", "penumbra_mae"):
+                for k in ("mae", "max", "penumbra_mae", "picture_mae"):
                     if not (k in r and 0.0 <= r[k] <= 1.0):
                         failures.append("bad %s in %s" % (k, r))
+                # the picture error weights V's error by a factor in [0, 1]
+                if "picture_mae" in r and "mae" in r and r["picture_mae"] > r["mae"] + 1e-12:
+                    failures.append("picture error above the V error in %s" % r)
                 if r.get("nonfinite", 1) != 0:
                     failures.append("non-finite visibility in %s" % r)
         if "hardavg" in got and got["hardavg"].get("maps") != maps_expected:

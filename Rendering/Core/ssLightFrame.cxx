@@ -1,6 +1,8 @@
 #include "ssLightFrame.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -160,5 +162,27 @@ LightFrame LightSampleFrame(const LightFrame& light, int i, int j, int k)
     f = MakeDirectionalLightFrame(light.n - su * t * light.u - sv * t * light.v, 0.0);
   }
   return f;
+}
+
+double DiffuseCosine(const LightFrame& light, const glm::dvec3& p, const glm::dvec3& nrm, const glm::dvec3& eye)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double nl = glm::length(nrm);
+  if (!Finite(nrm) || !Finite(p) || !(nl > 0.0))
+  {
+    return nan;
+  }
+  glm::dvec3 n = nrm / nl;
+  if (glm::dot(n, eye - p) < 0.0)
+  {
+    n = -n;
+  }
+  const glm::dvec3 l = light.type == LightType::Directional ? -light.n : light.center - p;
+  const double ll = glm::length(l);
+  if (!(ll > 0.0))
+  {
+    return nan;
+  }
+  return std::max(0.0, glm::dot(n, l / ll));
 }
 }

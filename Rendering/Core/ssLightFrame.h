@@ -42,6 +42,14 @@ glm::dvec3 RegularLightSample(const LightFrame& light, int i, int j, int k);
 /// directional light gives the direction through cell (i, j) of its square of
 /// directions (the reference samples it the same way); a point light is itself.
 LightFrame LightSampleFrame(const LightFrame& light, int i, int j, int k);
+
+/// The factor VTK's diffuse lighting multiplies a light's V with at point p
+/// (normal nrm, seen from eye): max(0, n . l), l the unit vector towards the
+/// light's centre (against the direction of a directional light), n = nrm
+/// normalised and turned towards the eye as VTK's shaders do for back faces.
+/// Where it is 0 the picture does not depend on V. NaN for a non-finite or
+/// zero normal, or a point at the light's centre.
+double DiffuseCosine(const LightFrame& light, const glm::dvec3& p, const glm::dvec3& nrm, const glm::dvec3& eye);
 }
 
 #endif

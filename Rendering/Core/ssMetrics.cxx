@@ -31,10 +31,10 @@ ErrorStats Summarize(std::vector<double>& e)
 }
 }
 
-VisibilityErrors CompareVisibility(const float* a, const float* r, std::size_t n)
+VisibilityErrors CompareVisibility(const float* a, const float* r, std::size_t n, const float* weights)
 {
   VisibilityErrors out;
-  std::vector<double> all, pen;
+  std::vector<double> all, pen, shaded;
   all.reserve(n);
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -57,9 +57,14 @@ VisibilityErrors CompareVisibility(const float* a, const float* r, std::size_t n
     {
       pen.push_back(e);
     }
+    if (weights && std::isfinite(weights[i]))
+    {
+      shaded.push_back(e * weights[i]);
+    }
   }
   out.all = Summarize(all);
   out.penumbra = Summarize(pen);
+  out.shaded = Summarize(shaded);
   return out;
 }
 }

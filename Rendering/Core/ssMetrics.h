@@ -17,12 +17,20 @@ struct VisibilityErrors
 {
   ErrorStats all;      ///< pixels where both are finite
   ErrorStats penumbra; ///< the same restricted to 0.01 < reference < 0.99
+  /// |A - R| times the diffuse factor the renderer multiplies V with (the
+  /// error in the light's contribution to the picture, in units of its
+  /// unshadowed irradiance); only when weights were given, over the pixels
+  /// where the weight is finite as well
+  ErrorStats shaded;
   std::size_t nonFinite = 0;          ///< Inf in A, or NaN in A where the reference is finite
   std::size_t backgroundMismatch = 0; ///< finite in one, NaN in the other
 };
 
-/// Compares A with the reference R (same size; NaN is background).
-VisibilityErrors CompareVisibility(const float* a, const float* reference, std::size_t n);
+/// Compares A with the reference R (same size; NaN is background). weights
+/// (optional, n values): the per-pixel factor V enters the picture with
+/// (ss::DiffuseCosine), for VisibilityErrors::shaded.
+VisibilityErrors CompareVisibility(
+  const float* a, const float* reference, std::size_t n, const float* weights = nullptr);
 }
 
 #endif

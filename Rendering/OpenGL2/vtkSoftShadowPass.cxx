@@ -464,6 +464,7 @@ public:
   int Width = 0, Height = 0;
   int ViewportOrigin[2] = { 0, 0 };
   glm::dvec3 Origin{ 0.0 };
+  glm::dvec3 Eye{ 0.0 }; // the camera position, relative to Origin
   std::map<vtkProp*, int> PropIds;
   std::vector<ShadowLight> Lights;
   ss::EffectPlan Plan;
@@ -937,6 +938,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   {
     in.Origin = glm::dvec3(this->PositionsOrigin[0], this->PositionsOrigin[1], this->PositionsOrigin[2]);
   }
+  in.Eye = glm::dvec3(cam->GetPosition()[0], cam->GetPosition()[1], cam->GetPosition()[2]) - in.Origin;
 
   // --- caster set, rebuilt only when a prop, its data or its transform changed
   auto tStage = Clock::now();
@@ -2428,12 +2430,9 @@ bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
 bool vtkSoftShadowPass::GetPositionsImage(vtkFloatArray* out)
 {
   auto& in = *this->Internals;
-  if (!out || !in.HaveResults || !in.Window)
-  {
-    return false;
-  }
   std::vector<float> v;
-  if (!ReadLayer(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, v))
+  if (!out || !in.HaveResults || !in.Window ||
+    !ReadLayer(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, v))
   {
     return false;
   }
@@ -2448,6 +2447,34 @@ bool vtkSoftShadowPass::GetPositionsImage(vtkFloatArray* out)
     {
       out->SetComponent(static_cast<vtkIdType>(i), c, fg ? v[4 * i + c] : nan);
     }
+  }
+  return true;
+}
+
+bool vtkSoftShadowPass::GetDiffuseCosineImage(int shadowLight, vtkFloatArray* out)
+{
+  auto& in = *this->Internals;
+  const ShadowLight* light = nullptr;
+  for (const auto& l : in.Lights)
+  {
+    light = (l.Layer == shadowLight && shadowLight >= 0) ? &l : light;
+  }
+  std::vector<float> p, nrm;
+  if (!out || !light || !in.HaveResults || !in.Window ||
+    !ReadLayer(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, p) ||
+    !ReadLayer(in.Window, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm) || p.size() != nrm.size())
+  {
+    return false;
+  }
+  const std::size_t n = p.size() / 4;
+  out->SetNumberOfComponents(1);
+  out->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const glm::dvec3 x(p[4 * i], p[4 * i + 1], p[4 * i + 2]), nv(nrm[4 * i], nrm[4 * i + 1], nrm[4 * i + 2]);
+    const double c = p[4 * i + 3] > 0.0f ? ss::DiffuseCosine(light->Frame, x, nv, in.Eye)
+                                         : std::numeric_limits<double>::quiet_NaN();
+    out->SetValue(static_cast<vtkIdType>(i), static_cast<float>(c));
   }
   return true;
 }

@@ -252,6 +252,14 @@ public:
   bool GetVisibilityImage(int shadowLight, vtkFloatArray* out);
   bool GetPositionsImage(vtkFloatArray* out);
   /**
+   * The factor VTK's diffuse lighting multiplies the given shadow light's V
+   * with, per pixel (1 component, background NaN): max(0, n . l) with l
+   * towards the light's centre and n turned towards the camera
+   * (ss::DiffuseCosine). Where it is 0, V does not change the picture; the
+   * benches weight V's error with it for the error in the picture.
+   */
+  bool GetDiffuseCosineImage(int shadowLight, vtkFloatArray* out);
+  /**
    * PVSM's shadow map tile grid pyramid of the last view solved, as built on
    * the GPU and read back (§5.2 step 5): level l has (G/2^l)^2 cells of 2
    * components (the smallest predicted texel size per axis; values >= 1e38

@@ -9,7 +9,8 @@ add_executable(TestSoftShadowsCore
   TestSSShadowView.cxx
   TestSSReference.cxx
   TestSSGEARS.cxx
-  TestSSPVSM.cxx)
+  TestSSPVSM.cxx
+  TestSSMetrics.cxx)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
 include(GoogleTest)

@@ -159,6 +159,59 @@ TEST(PVSM, PredictionOfAnAxisAlignedKernel)
   EXPECT_TRUE(std::isfinite(g.texel0) && std::isfinite(g.texel1));
 }
 
+// The pyramid as the GPU hands it over (all levels, 3e38 for empty) reads
+// the same as the one Core builds from level 0; malformed levels give an
+// empty pyramid, never a read out of bounds.
+TEST(PVSM, PyramidFromLevelsEqualsBuiltPyramid)
+{
+  const int G = 16;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> U(0.01f, 1.0f);
+  std::vector<float> t(2 * G * G);
+  for (float& v : t)
+  {
+    v = (rng() % 4 == 0) ? 3.0e38f : U(rng);
+  }
+  const TileGridPyramid built(t.data(), G);
+  std::vector<std::vector<float>> levels;
+  for (int l = 0; l < built.Levels(); ++l)
+  {
+    const int n = G >> l, b = 1 << l;
+    std::vector<float> lv(2 * n * n);
+    for (int y = 0; y < n; ++y)
+    {
+      for (int x = 0; x < n; ++x)
+      {
+        for (int d = 0; d < 2; ++d)
+        {
+          const double m = built.MinTexel(d, x * b, y * b, (x + 1) * b, (y + 1) * b);
+          lv[2 * (y * n + x) + d] = std::isfinite(m) ? static_cast<float>(m) : 3.0e38f;
+        }
+      }
+    }
+    levels.push_back(lv);
+  }
+  const TileGridPyramid given(levels, G);
+  ASSERT_EQ(given.Size(), G);
+  ASSERT_EQ(given.Levels(), built.Levels());
+  for (int it = 0; it < 500; ++it)
+  {
+    const int x0 = rng() % G, y0 = rng() % G;
+    const int x1 = x0 + 1 + rng() % (G - x0), y1 = y0 + 1 + rng() % (G - y0);
+    for (int d = 0; d < 2; ++d)
+    {
+      EXPECT_EQ(given.MinTexel(d, x0, y0, x1, y1), built.MinTexel(d, x0, y0, x1, y1));
+    }
+  }
+  auto shortLevel = levels;
+  shortLevel[2].pop_back();
+  EXPECT_EQ(TileGridPyramid(shortLevel, G).Size(), 0);
+  auto missing = levels;
+  missing.pop_back();
+  EXPECT_EQ(TileGridPyramid(missing, G).Size(), 0);
+  EXPECT_EQ(TileGridPyramid(levels, 12).Size(), 0);
+}
+
 TEST(PVSM, PyramidMinimumEqualsBruteForce)
 {
   const int G = 32;

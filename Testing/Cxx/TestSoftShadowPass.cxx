@@ -618,6 +618,58 @@ TEST(SoftShadowPass, ReferenceMatchesAnalytic)
   }
 }
 
+// The diffuse factor the benches weight V's error with: on the ground it is
+// the cosine towards the light's centre computed from the pixel's position,
+// a box face turned away from the centre gets exactly 0, and nothing is NaN
+// on the foreground or outside [0, 1].
+TEST(SoftShadowPass, DiffuseCosineImageMatchesGeometry)
+{
+  Scene s(320, 240);
+  s.renderer->AddActor(Ground());
+  s.renderer->AddActor(Box(1.0, 0.0, 0.5, 1.0, 1.0, 1.0));
+  s.renderer->AddLight(RectLight(0, 0, 3, 0, 0, 0, 2.0, 2.0));
+  s.Camera(6, -6, 4);
+  s.pass->SetMethod(vtkSoftShadowPass::PCSS);
+  const Frame f = s.Render();
+  vtkNew<vtkFloatArray> cosine;
+  ASSERT_TRUE(s.pass->GetDiffuseCosineImage(0, cosine));
+  vtkNew<vtkFloatArray> other;
+  EXPECT_FALSE(s.pass->GetDiffuseCosineImage(1, other));
+  EXPECT_FALSE(s.pass->GetDiffuseCosineImage(-1, other));
+  ASSERT_EQ(cosine->GetNumberOfTuples(), static_cast<vtkIdType>(f.width) * f.height);
+  int ground = 0, turnedAway = 0, bad = 0;
+  double maxErr = 0.0;
+  for (int i = 0; i < f.width * f.height; ++i)
+  {
+    const glm::dvec3 p = glm::dvec3(f.P[3 * i], f.P[3 * i + 1], f.P[3 * i + 2]) +
+      glm::dvec3(f.origin[0], f.origin[1], f.origin[2]);
+    const double c = cosine->GetValue(i);
+    if (!std::isfinite(p.x))
+    {
+      bad += std::isnan(c) ? 0 : 1; // background stays NaN
+      continue;
+    }
+    bad += (std::isfinite(c) && c >= 0.0 && c <= 1.0) ? 0 : 1;
+    const bool onBox = p.x > 0.5 - 1e-3 && p.x < 1.5 + 1e-3 && p.y > -0.5 - 1e-3 && p.y < 0.5 + 1e-3;
+    if (std::abs(p.z) < 1e-3 && !onBox)
+    {
+      ++ground;
+      const double e = std::abs(c - 3.0 / glm::length(glm::dvec3(0, 0, 3) - p));
+      maxErr = std::max(maxErr, e);
+    }
+    else if (std::abs(p.x - 1.5) < 1e-3 && p.z > 0.01)
+    {
+      turnedAway += (c == 0.0) ? 1 : 0;
+    }
+  }
+  std::cout << "diffuse cosine: " << ground << " ground px, max error " << maxErr << ", " << turnedAway
+            << " px on the face turned away\n";
+  EXPECT_GT(ground, 20000);
+  EXPECT_LT(maxErr, 1e-4);
+  EXPECT_GT(turnedAway, 500);
+  EXPECT_EQ(bad, 0);
+}
+
 // GEARS in the pass: the reference's own 16 x 16 regular samples give the
 // same V (up to samples grazing an edge), and the picture is a baseline.
 TEST(SoftShadowPass, GEARSEqualsReferenceAndBaseline)
