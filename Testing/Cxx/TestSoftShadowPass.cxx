@@ -768,15 +768,21 @@ TEST(SoftShadowPass, PVSMAccuracyParallelPlanesAndStats)
     });
 }
 
-TEST(SoftShadowPass, PVSMBaselineAndMetricSwitch)
+// The PVSM baseline scene: ground, sphere and box under a 2 x 1.2 rect light.
+static void SpherePlaneBoxPVSM(Scene& s)
 {
-  Scene s(400, 300);
   s.renderer->AddActor(Ground());
   s.renderer->AddActor(Sphere(0, 0, 1.2, 0.6));
   s.renderer->AddActor(Box(1.2, 0.6, 0.3, 0.5, 0.5, 0.6));
   s.renderer->AddLight(RectLight(1, -1, 5, 0, 0, 0, 2.0, 1.2));
   s.Camera(0, -7, 5);
   s.pass->SetMethod(vtkSoftShadowPass::PVSM);
+}
+
+TEST(SoftShadowPass, PVSMBaselineAndMetricSwitch)
+{
+  Scene s(400, 300);
+  SpherePlaneBoxPVSM(s);
   const Frame first = s.Render();
   EXPECT_EQ(Classify(first).nonFinite, 0);
   // first frame: nothing to compare with, the conservative dynamic metric
@@ -801,12 +807,7 @@ TEST(SoftShadowPass, PVSMBaselineAndMetricSwitch)
 TEST(SoftShadowPass, PVSMTileGridPyramidOnGPUEqualsCPU)
 {
   Scene s(400, 300);
-  s.renderer->AddActor(Ground());
-  s.renderer->AddActor(Sphere(0, 0, 1.2, 0.6));
-  s.renderer->AddActor(Box(1.2, 0.6, 0.3, 0.5, 0.5, 0.6));
-  s.renderer->AddLight(RectLight(1, -1, 5, 0, 0, 0, 2.0, 1.2));
-  s.Camera(0, -7, 5);
-  s.pass->SetMethod(vtkSoftShadowPass::PVSM);
+  SpherePlaneBoxPVSM(s);
   s.pass->SetPVSMGridSize(64);
   EXPECT_EQ(s.pass->GetLastPVSMTileGridLevels(), 0);
   s.Render();
