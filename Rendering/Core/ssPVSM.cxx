@@ -481,7 +481,8 @@ std::string PVSMStatsToJSON(const PVSMStats& s)
   {
     o << (i ? ", " : "") << "[" << s.tileResolutions[i].first << ", " << s.tileResolutions[i].second << "]";
   }
-  o << "], \"texels_rendered\": " << s.texelsRendered << ", \"shadow_memory_bytes\": " << s.shadowMemoryBytes
+  o << "], \"texels_rendered\": " << s.texelsRendered << ", \"tile_triangles_drawn\": " << s.tileTrianglesDrawn
+    << ", \"shadow_memory_bytes\": " << s.shadowMemoryBytes
     << ", \"metric\": \"" << s.metric << "\", \"quality\": " << s.quality << "}";
   return o.str();
 }

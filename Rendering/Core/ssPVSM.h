@@ -173,6 +173,7 @@ struct PVSMStats
   std::size_t tiles = 0, clampedTiles = 0;
   std::vector<std::pair<int, int>> tileResolutions;
   double texelsRendered = 0;
+  double tileTrianglesDrawn = 0; ///< caster triangles drawn into the tiles, summed
   double shadowMemoryBytes = 0;
   std::string metric;
   double quality = 1.0;

@@ -45,6 +45,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "ssCasterClusters.h"
 #include "ssEffectPlanner.h"
 #include "ssLightFrame.h"
 #include "ssGEARS.h"
@@ -365,8 +366,10 @@ void SetLightUniforms(vtkShaderProgram* prog, const ShadowLight& l)
 
 // Draws the caster set into the bound target as seen by `view`, over the
 // shadow-map window `extent` (the whole view, or one PVSM tile).
+// `ranges` (first triangle, count), when given, draws only those triangles.
 void DrawCasters(vtkShaderProgram* p, vtkOpenGLVertexArrayObject* vao, const ss::ShadowView& v,
-  const ss::Rect& extent, const glm::dvec3& casterOffset, std::size_t vertices)
+  const ss::Rect& extent, const glm::dvec3& casterOffset, std::size_t vertices,
+  const std::vector<std::pair<std::size_t, std::size_t>>* ranges = nullptr)
 {
   p->SetUniform3f("casterOffset", glm::value_ptr(glm::vec3(casterOffset)));
   p->SetUniform3f("viewOrigin", glm::value_ptr(glm::vec3(v.origin)));
@@ -378,7 +381,21 @@ void DrawCasters(vtkShaderProgram* p, vtkOpenGLVertexArrayObject* vao, const ss:
   p->SetUniform4f("extent", e);
   p->SetUniformi("orthographic", v.orthographic ? 1 : 0);
   vao->Bind();
-  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices));
+  if (!ranges)
+  {
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices));
+  }
+  else if (!ranges->empty())
+  {
+    std::vector<GLint> first;
+    std::vector<GLsizei> count;
+    for (const auto& r : *ranges)
+    {
+      first.push_back(static_cast<GLint>(3 * r.first));
+      count.push_back(static_cast<GLsizei>(3 * r.second));
+    }
+    glMultiDrawArrays(GL_TRIANGLES, first.data(), count.data(), static_cast<GLsizei>(first.size()));
+  }
   vao->Release();
 }
 
@@ -480,6 +497,9 @@ public:
   std::vector<CasterKey> CasterKeys;
   std::vector<float> CasterTriangles; // 9 floats per triangle
   std::vector<float> CasterOpacity;   // per triangle
+  // The triangles above in the order of their clusters (world bounds), so a
+  // PVSM tile draws only the clusters that reach it (vtkSoftShadowPass::PVSMTileCulling).
+  ss::TriangleClusters CasterClusters;
   // Ray-traced reference (CPU): its scene is rebuilt when the caster set changes.
   std::unique_ptr<ss::ReferenceSolver> Reference;
   unsigned long ReferenceVersion = 0;
@@ -996,15 +1016,28 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
       in.CasterBox.Add(p);
     }
     in.CasterOrigin = in.CasterBox.Empty() ? glm::dvec3(0.0) : in.CasterBox.Center();
+    // Clusters of at most 1024 triangles (a few thousand on a 5M-triangle
+    // set: the per-tile test stays well under a millisecond); every solver
+    // sees the triangles in cluster order (the order changes no result: maps
+    // are min-blended, GEARS and the reference take unions).
+    in.CasterClusters = ss::ClusterTriangles(tris, 1024);
     in.CasterTriangles.resize(tris.size() * 3);
-    for (std::size_t i = 0; i < tris.size(); ++i)
+    in.CasterOpacity.assign(in.CasterClusters.order.size(), 1.0f);
+    for (std::size_t t = 0; t < in.CasterClusters.order.size(); ++t)
     {
-      const glm::dvec3 r = tris[i] - in.CasterOrigin;
-      in.CasterTriangles[3 * i + 0] = static_cast<float>(r.x);
-      in.CasterTriangles[3 * i + 1] = static_cast<float>(r.y);
-      in.CasterTriangles[3 * i + 2] = static_cast<float>(r.z);
+      const std::size_t from = in.CasterClusters.order[t];
+      if (from < opacities.size())
+      {
+        in.CasterOpacity[t] = opacities[from];
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        const glm::dvec3 r = tris[3 * from + k] - in.CasterOrigin;
+        in.CasterTriangles[9 * t + 3 * k + 0] = static_cast<float>(r.x);
+        in.CasterTriangles[9 * t + 3 * k + 1] = static_cast<float>(r.y);
+        in.CasterTriangles[9 * t + 3 * k + 2] = static_cast<float>(r.z);
+      }
     }
-    in.CasterOpacity = std::move(opacities);
     in.CasterKeys = keys;
     in.CasterUploaded = false;
     ++in.CasterVersion;
@@ -1912,7 +1945,22 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
           ostate->vtkglBlendEquation(GL_MIN);
           ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
           const ss::Rect r{ tile.rect[0], tile.rect[1], tile.rect[2], tile.rect[3] };
-          DrawCasters(in.CasterProgram, in.CasterVAO, view, r, casterOffset, in.CasterTriangles.size() / 3);
+          if (this->PVSMTileCulling)
+          {
+            // only the clusters whose light-space bounds reach the tile; the
+            // pad (1e-3 of the tile) covers the GPU's float projection
+            const auto ranges = ss::VisibleTriangleRanges(in.CasterClusters, view, -in.Origin, r, 1e-3);
+            for (const auto& range : ranges)
+            {
+              st.tileTrianglesDrawn += static_cast<double>(range.second);
+            }
+            DrawCasters(in.CasterProgram, in.CasterVAO, view, r, casterOffset, 0, &ranges);
+          }
+          else
+          {
+            st.tileTrianglesDrawn += static_cast<double>(in.NumberOfTriangles());
+            DrawCasters(in.CasterProgram, in.CasterVAO, view, r, casterOffset, in.CasterTriangles.size() / 3);
+          }
           ostate->vtkglBlendEquation(GL_FUNC_ADD);
           ostate->vtkglDisable(GL_BLEND);
         }
@@ -2588,6 +2636,7 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PVSMMaxTileResolution: " << this->PVSMMaxTileResolution << "\n";
   os << indent << "PVSMQuality: " << this->PVSMQuality << "\n";
   os << indent << "PVSMMetric: " << this->PVSMMetric << "\n";
+  os << indent << "PVSMTileCulling: " << this->PVSMTileCulling << "\n";
   os << indent << "AverageSamples: " << this->AverageSamples << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";

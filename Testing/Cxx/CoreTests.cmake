@@ -10,7 +10,8 @@ add_executable(TestSoftShadowsCore
   TestSSReference.cxx
   TestSSGEARS.cxx
   TestSSPVSM.cxx
-  TestSSMetrics.cxx)
+  TestSSMetrics.cxx
+  TestSSCasterClusters.cxx)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
 include(GoogleTest)

@@ -917,6 +917,62 @@ TEST(SoftShadowPass, PVSMNoAcneOnFacetedLitSurface)
   EXPECT_LT(dark, lit / 200);
 }
 
+// Per-tile caster culling: each PVSM tile draws only the caster clusters whose
+// light-space bounds reach it. The maps, and so V, must be the same as when
+// every tile draws the whole set, while far fewer triangles are drawn.
+TEST(SoftShadowPass, PVSMTileCullingKeepsTheMapsAndDrawsLess)
+{
+  auto render = [](bool culling, double& drawn, int& tiles) {
+    Scene s(400, 300);
+    s.renderer->AddActor(Ground(6.0));
+    for (int j = 0; j < 5; ++j)
+    {
+      for (int i = 0; i < 5; ++i)
+      {
+        s.renderer->AddActor(Sphere(-4 + 2 * i, -4 + 2 * j, 0.5 + 0.1 * ((i + j) % 3), 0.45));
+      }
+    }
+    s.renderer->AddLight(RectLight(0.5, -0.5, 6, 0, 0, 0, 3.0, 3.0));
+    s.Camera(0, -6.5, 3.2, 0, -1.5, 0, 40.0); // near spheres close, far ones small
+    s.pass->SetMethod(vtkSoftShadowPass::PVSM);
+    s.pass->SetPVSMTileCulling(culling);
+    const Frame f = s.Render();
+    const std::string js = s.pass->GetStatsJSON();
+    auto number = [&js](const char* key) {
+      const std::size_t at = js.find(key);
+      return at == std::string::npos ? -1.0 : std::stod(js.substr(at + std::string(key).size()));
+    };
+    drawn = number("\"tile_triangles_drawn\": ");
+    tiles = static_cast<int>(number("\"tiles\": "));
+    return f;
+  };
+  double drawnAll = 0, drawnCulled = 0;
+  int tilesAll = 0, tilesCulled = 0;
+  const Frame all = render(false, drawnAll, tilesAll);
+  const Frame culled = render(true, drawnCulled, tilesCulled);
+  ASSERT_EQ(all.V.size(), culled.V.size());
+  ASSERT_GE(tilesAll, 4);
+  EXPECT_EQ(tilesAll, tilesCulled);
+  std::size_t fg = 0, shadowed = 0;
+  double maxDiff = 0.0;
+  for (std::size_t i = 0; i < all.V.size(); ++i)
+  {
+    ASSERT_EQ(std::isnan(all.V[i]), std::isnan(culled.V[i]));
+    if (!std::isnan(all.V[i]))
+    {
+      ++fg;
+      shadowed += all.V[i] < 0.5f;
+      maxDiff = std::max(maxDiff, std::abs(double(all.V[i]) - culled.V[i]));
+    }
+  }
+  std::cout << "PVSM tile culling: " << tilesAll << " tiles, triangles drawn " << drawnCulled << " vs "
+            << drawnAll << " without; max |dV| " << maxDiff << "\n";
+  EXPECT_GT(shadowed, 1000u);
+  EXPECT_EQ(maxDiff, 0.0);
+  EXPECT_GT(drawnCulled, 0.0);
+  EXPECT_LT(drawnCulled, 0.5 * drawnAll);
+}
+
 // PVSM §5.2 step 2: a bar 0.1 texel wide in the low-resolution map keeps its
 // shadow: without conservative rasterisation the blocker search would find
 // nothing and the pixels would be skipped as fully lit.
