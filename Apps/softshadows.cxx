@@ -257,6 +257,10 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
   {
     pass->SetPVSMLowResolution(ParseInt(v, what, 64, 8192));
   }
+  else if (k == "pvsm_tile_culling")
+  {
+    pass->SetPVSMTileCulling(ParseInt(v, what, 0, 1) != 0);
+  }
   else if (k == "average_samples")
   {
     pass->SetAverageSamples(ParseInt(v, what, 1, 32));
@@ -267,7 +271,7 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
       "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
       "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, gears_backend, "
       "gears_necessary, pvsm_quality, pvsm_metric, pvsm_grid, pvsm_max_tile, pvsm_low_resolution, "
-      "average_samples)");
+      "pvsm_tile_culling, average_samples)");
   }
 }
 
