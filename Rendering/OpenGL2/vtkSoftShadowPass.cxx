@@ -2546,6 +2546,30 @@ bool vtkSoftShadowPass::GetLastPVSMTileGridLevel(int level, vtkFloatArray* out)
   return true;
 }
 
+bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFloatArray* out)
+{
+  vtkInternals& in = *this->Internals;
+  auto* ow = vtkOpenGLRenderWindow::SafeDownCast(win);
+  if (!ow || !out || !in.FBO || !in.Shadow.Handle || layer < 0 || layer >= in.Shadow.Layers)
+  {
+    return false;
+  }
+  ow->MakeCurrent();
+  vtkOpenGLState* ostate = ow->GetState();
+  ostate->PushFramebufferBindings();
+  in.FBO->Bind();
+  in.Shadow.Attach(in.FBO, 0, layer);
+  in.FBO->ActivateReadBuffer(0);
+  const int S = in.Shadow.Size;
+  out->SetNumberOfComponents(2);
+  out->SetNumberOfTuples(static_cast<vtkIdType>(S) * S);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, S, S, GL_RG, GL_FLOAT, out->GetPointer(0));
+  DepthArray::Detach();
+  ostate->PopFramebufferBindings();
+  return true;
+}
+
 int vtkSoftShadowPass::GetLastWidth()
 {
   return this->Internals->Width;

@@ -41,6 +41,7 @@ class vtkOpenGLRenderWindow;
 class vtkInformationIntegerKey;
 class vtkProp;
 class vtkRenderPass;
+class vtkRenderWindow;
 class vtkShaderProgram;
 namespace ss
 {
@@ -279,6 +280,14 @@ public:
    */
   int GetLastPVSMTileGridLevels();
   bool GetLastPVSMTileGridLevel(int level, vtkFloatArray* out);
+  /**
+   * Level 0 of shadow-map layer `layer` of the last frame (the whole-view
+   * maps: PCSS/PCF/hard maps, PVSM's conservative low-resolution map), read
+   * back from `win`'s context: size^2 tuples of 2 components (min, max
+   * light-space depth; >= 1e38 where nothing was drawn), row 0 at the bottom.
+   * False when there is no such layer.
+   */
+  bool GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFloatArray* out);
   int GetLastWidth();
   int GetLastHeight();
   void GetLastPositionsOrigin(double origin[3]);

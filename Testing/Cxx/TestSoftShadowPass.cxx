@@ -7,10 +7,14 @@
 #include "ssLightFrame.h"
 #include "ssPVSM.h"
 
+#include "vtkCellArray.h"
 #include "vtkImageData.h"
 #include "vtkLightCollection.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
 #include "vtkWindowToImageFilter.h"
 
 #include <gtest/gtest.h>
@@ -18,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <functional>
+#include <map>
 #include <cstdlib>
 
 #ifndef SS_BASELINE_DIR
@@ -1006,6 +1011,110 @@ TEST(SoftShadowPass, PVSMConservativeRasterKeepsThinBar)
   std::cout << "PVSM thin bar: " << kept << " of " << dark << " shadowed pixels kept\n";
   EXPECT_GT(dark, 100);
   EXPECT_GE(kept, 0.9 * dark);
+}
+
+// PVSM §5.2 step 2, degenerate case: a triangle in a plane through the light's
+// centre projects to a segment (zero area). The conservative raster draws the
+// segment's bounding box grown by half a texel, so every texel column between
+// its ends holds its depth. A ruler (a flat square at the depth of the
+// segment's ends, off the segment) gives the columns it must span.
+TEST(SoftShadowPass, PVSMConservativeRasterKeepsEdgeOnTriangle)
+{
+  Scene s(200, 150);
+  s.renderer->AddActor(Ground(3.0));
+  vtkNew<vtkPoints> pts;
+  pts->InsertNextPoint(-0.5, 0.0, 1.0); // in the plane y = 0 through the light's centre
+  pts->InsertNextPoint(0.5, 0.0, 1.0);
+  pts->InsertNextPoint(0.0, 0.0, 1.3);
+  pts->InsertNextPoint(-0.5, 0.6, 1.0); // ruler: a square at z = 1, y in [0.6, 0.8]
+  pts->InsertNextPoint(0.5, 0.6, 1.0);
+  pts->InsertNextPoint(0.5, 0.8, 1.0);
+  pts->InsertNextPoint(-0.5, 0.8, 1.0);
+  vtkNew<vtkCellArray> polys;
+  const vtkIdType tri[3] = { 0, 1, 2 }, quad[4] = { 3, 4, 5, 6 };
+  polys->InsertNextCell(3, tri);
+  polys->InsertNextCell(4, quad);
+  vtkNew<vtkPolyData> pd;
+  pd->SetPoints(pts);
+  pd->SetPolys(polys);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(pd);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  s.renderer->AddActor(actor);
+  s.renderer->AddLight(RectLight(0, 0, 2.0, 0, 0, 0, 0.2, 0.2));
+  s.Camera(0, -4, 4);
+  s.pass->SetMethod(vtkSoftShadowPass::PVSM);
+  s.pass->SetPVSMLowResolution(256);
+  s.Render();
+  vtkNew<vtkFloatArray> map;
+  ASSERT_TRUE(s.pass->GetShadowMapLayer(s.window, 0, map));
+  vtkNew<vtkFloatArray> none;
+  EXPECT_FALSE(s.pass->GetShadowMapLayer(s.window, 1, none)); // one light, one layer
+  const int S = static_cast<int>(std::lround(std::sqrt(static_cast<double>(map->GetNumberOfTuples()))));
+  ASSERT_EQ(S * S, map->GetNumberOfTuples());
+  // light-space depth: ground 2, triangle 0.7..1, ruler 1. The texels holding
+  // a caster (depth < 1.5) form two 8-connected parts, ruler and segment
+  // (the map's axes follow the light's edges, so either may run along rows
+  // or columns).
+  struct Part
+  {
+    int x0, y0, x1, y1, texels;
+  };
+  std::vector<Part> parts;
+  std::vector<char> seen(static_cast<std::size_t>(S) * S, 0);
+  auto caster = [&](int x, int y) { return map->GetValue(2 * (y * S + x)) < 1.5f; };
+  for (int y = 0; y < S; ++y)
+  {
+    for (int x = 0; x < S; ++x)
+    {
+      if (seen[y * S + x] || !caster(x, y))
+      {
+        continue;
+      }
+      Part p{ x, y, x, y, 0 };
+      std::vector<std::pair<int, int>> stack{ { x, y } };
+      seen[y * S + x] = 1;
+      while (!stack.empty())
+      {
+        const auto [cx, cy] = stack.back();
+        stack.pop_back();
+        ++p.texels;
+        p.x0 = std::min(p.x0, cx);
+        p.x1 = std::max(p.x1, cx);
+        p.y0 = std::min(p.y0, cy);
+        p.y1 = std::max(p.y1, cy);
+        for (int dy = -1; dy <= 1; ++dy)
+        {
+          for (int dx = -1; dx <= 1; ++dx)
+          {
+            const int nx = cx + dx, ny = cy + dy;
+            if (nx >= 0 && ny >= 0 && nx < S && ny < S && !seen[ny * S + nx] && caster(nx, ny))
+            {
+              seen[ny * S + nx] = 1;
+              stack.emplace_back(nx, ny);
+            }
+          }
+        }
+      }
+      parts.push_back(p);
+    }
+  }
+  ASSERT_EQ(parts.size(), 2u);
+  auto longSide = [](const Part& p) { return std::max(p.x1 - p.x0, p.y1 - p.y0) + 1; };
+  auto shortSide = [](const Part& p) { return std::min(p.x1 - p.x0, p.y1 - p.y0) + 1; };
+  // the segment is the thin one
+  const Part& seg = shortSide(parts[0]) < shortSide(parts[1]) ? parts[0] : parts[1];
+  const Part& ruler = shortSide(parts[0]) < shortSide(parts[1]) ? parts[1] : parts[0];
+  std::cout << "edge-on triangle: " << longSide(seg) << " x " << shortSide(seg) << " texels (" << seg.texels
+            << " drawn); ruler " << longSide(ruler) << " x " << shortSide(ruler) << "\n";
+  ASSERT_GT(longSide(ruler), 20);
+  ASSERT_GT(shortSide(ruler), 3);
+  EXPECT_LE(shortSide(seg), 3);
+  // the segment reaches from end to end (the ruler's length, +-1 texel per end)
+  EXPECT_GE(longSide(seg), longSide(ruler) - 2);
+  EXPECT_LE(longSide(seg), longSide(ruler) + 2);
+  EXPECT_GE(seg.texels, longSide(ruler) - 2);
 }
 
 // HARDAVG (the brute force PVSM §6 measures against): one hard map per light

@@ -6,7 +6,7 @@
 // triangle's bounding box grown by half a texel. Thin geometry (a bar 0.1
 // texel wide) thus keeps its texels, so the blocker search never misses it.
 layout(triangles) in;
-layout(triangle_strip, max_vertices = 3) out;
+layout(triangle_strip, max_vertices = 4) out; // 3, or the 4 corners of a degenerate triangle's box
 in float depthLS[];
 uniform vec2 viewportSize;
 uniform int orthographic;
@@ -86,24 +86,21 @@ void main()
   if (!ok)
   {
     // degenerate in the map (a sliver or a point): its grown bounding box,
-    // at its nearest depth
-    for (int t = 0; t < 2; ++t)
+    // at its nearest depth, as one strip of its 4 corners (two triangles of 3
+    // would be 6 vertices, past max_vertices: the second half would be lost)
+    vec2 qq[4] = vec2[4](box.xy, vec2(box.z, box.y), vec2(box.x, box.w), box.zw);
+    for (int i = 0; i < 4; ++i)
     {
-      vec2 qq[3] = (t == 0) ? vec2[3](box.xy, vec2(box.z, box.y), box.zw)
-                            : vec2[3](box.xy, box.zw, vec2(box.x, box.w));
-      for (int i = 0; i < 3; ++i)
-      {
-        gl_Position = vec4(qq[i], 0.0, 1.0);
-        ndcPos = qq[i];
-        depthLinear = 0.0;
-        depthSmooth = zmin;
-        bbox = box;
-        depthRange = vec2(zmin, zmax);
-        mode = 2;
-        EmitVertex();
-      }
-      EndPrimitive();
+      gl_Position = vec4(qq[i], 0.0, 1.0);
+      ndcPos = qq[i];
+      depthLinear = 0.0;
+      depthSmooth = zmin;
+      bbox = box;
+      depthRange = vec2(zmin, zmax);
+      mode = 2;
+      EmitVertex();
     }
+    EndPrimitive();
     return;
   }
   for (int i = 0; i < 3; ++i)
