@@ -158,6 +158,18 @@ void RunReference(vtkRenderWindow* win, vtkRenderer* ren, int k, std::string& re
   ref->ReleaseGraphicsResources(win);
 }
 
+// What every bench needs first: a display for off-screen GL (a private Xvfb
+// when DISPLAY is unset) and its output directory.
+void StartBench(PrivateDisplay& display, const fs::path& dir)
+{
+  std::string msg;
+  if (!display.EnsureDisplay(msg))
+  {
+    throw std::runtime_error(msg);
+  }
+  fs::create_directories(dir);
+}
+
 // The flags `bench` and `bench --pvsm` share.
 struct BenchArgs
 {
@@ -270,12 +282,7 @@ int Bench(const std::vector<std::string>& args)
   }
 
   PrivateDisplay display;
-  std::string msg;
-  if (!display.EnsureDisplay(msg))
-  {
-    throw std::runtime_error(msg);
-  }
-  fs::create_directories(fs::path(out) / "plots");
+  StartBench(display, fs::path(out) / "plots");
   std::vector<Row> rows;
   std::string renderer = "?";
   const int total = static_cast<int>(scenes.size() * (configs.size() + 1));
@@ -581,12 +588,7 @@ int BenchGEARS(const std::vector<std::string>& args)
     throw UsageError("bench --gears: --scenes is required; --sizes and --samples must not be empty");
   }
   PrivateDisplay display;
-  std::string msg;
-  if (!display.EnsureDisplay(msg))
-  {
-    throw std::runtime_error(msg);
-  }
-  fs::create_directories(out);
+  StartBench(display, out);
   json data = json::array();
   std::string renderer = "?";
   for (const auto& scene : scenes)
@@ -869,12 +871,7 @@ int BenchPVSM(const std::vector<std::string>& args)
     { "close-up", "large", 4.0, 1.0 }, { "close-up", "small", 4.0, 0.25 } };
 
   PrivateDisplay display;
-  std::string msg;
-  if (!display.EnsureDisplay(msg))
-  {
-    throw std::runtime_error(msg);
-  }
-  fs::create_directories(out);
+  StartBench(display, out);
   json data = json::array();
   std::string renderer = "?";
   for (const auto& scene : scenes)

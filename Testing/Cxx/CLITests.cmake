@@ -49,6 +49,7 @@ ss_cli_error(gears_raster "--option gears_raster: expected edge or lut" ${_ss_cl
 ss_cli_error(gears_backend "--option gears_backend: expected cpu or gl" ${_ss_cli} render "${_demo}" --method gears --option gears_backend=cuda)
 ss_cli_error(pvsm_metric "--option pvsm_metric: expected auto, dynamic or static" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_metric=fast)
 ss_cli_error(pvsm_quality "--option pvsm_quality: expected a value in \\[0.05, 64\\]" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_quality=0)
+ss_cli_error(pvsm_tile_culling "--option pvsm_tile_culling: expected an integer in \\[0, 1\\]" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_tile_culling=yes)
 ss_cli_error(average_samples "--option average_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method hardavg --option average_samples=0)
 ss_cli_error(bad_size "--size: expected WxH" ${_ss_cli} render "${_demo}" --size 640by480)
 ss_cli_error(light_out_of_range "--light 3: out of range" ${_ss_cli} render "${_demo}" --size 64x48 --light 3)

@@ -75,6 +75,18 @@ const char* vtkPVSoftShadowView::GetGearsBackendInUse()
   return this->ShadowPass->GetLastGearsBackend();
 }
 
+void vtkPVSoftShadowView::SetPVSMQuality(double quality)
+{
+  this->ShadowPass->SetPVSMQuality(quality);
+  this->Modified();
+}
+
+const char* vtkPVSoftShadowView::GetStatsJSON()
+{
+  this->Stats = this->ShadowPass->GetStatsJSON();
+  return this->Stats.c_str();
+}
+
 void vtkPVSoftShadowView::SetShadowLight(bool on)
 {
   this->ShadowLight = on;

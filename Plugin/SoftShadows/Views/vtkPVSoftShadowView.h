@@ -23,6 +23,8 @@
 #include "vtkNew.h"
 #include "vtkPVRenderView.h"
 
+#include <string>
+
 class vtkLight;
 class vtkSoftShadowPass;
 
@@ -49,6 +51,11 @@ public:
   /** The backend GEARS ran on in the last frame: "cpu" or "gl". */
   const char* GetGearsBackendInUse();
 
+  /** PVSM's quality: scale on the perceptual metric rho (vtkSoftShadowPass::SetPVSMQuality). */
+  void SetPVSMQuality(double quality);
+  /** The last frame's stats as JSON (vtkSoftShadowPass::GetStatsJSON). */
+  const char* GetStatsJSON();
+
   /** Whether the view adds its own shadow (area) light above the data. */
   void SetShadowLight(bool on);
   bool GetShadowLight() { return this->ShadowLight; }
@@ -69,6 +76,7 @@ protected:
   bool ShadowLight = true;
   vtkNew<vtkLight> ShadowLightObject;
   vtkSoftShadowPass* ShadowPass;
+  std::string Stats; // backs GetStatsJSON's pointer
 
 private:
   vtkPVSoftShadowView(const vtkPVSoftShadowView&) = delete;
