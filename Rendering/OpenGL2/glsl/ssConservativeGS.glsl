@@ -22,6 +22,19 @@ float cross2(vec2 a, vec2 b)
   return a.x * b.y - a.y * b.x;
 }
 
+// One output vertex with its attributes (range: the triangle's (min, max) depth).
+void emit(vec4 pos, vec2 ndc, float linear, float smoothDepth, vec4 box, vec2 range, int m)
+{
+  gl_Position = pos;
+  ndcPos = ndc;
+  depthLinear = linear;
+  depthSmooth = smoothDepth;
+  bbox = box;
+  depthRange = range;
+  mode = m;
+  EmitVertex();
+}
+
 void main()
 {
   vec4 P[3] = vec4[3](gl_in[0].gl_Position, gl_in[1].gl_Position, gl_in[2].gl_Position);
@@ -33,14 +46,7 @@ void main()
     // crosses the light plane: clipping decides; drawn as is (not enlarged)
     for (int i = 0; i < 3; ++i)
     {
-      gl_Position = P[i];
-      ndcPos = vec2(0.0);
-      depthLinear = 0.0;
-      depthSmooth = depthLS[i];
-      bbox = vec4(-1e30, -1e30, 1e30, 1e30);
-      depthRange = vec2(zmin, zmax);
-      mode = 0;
-      EmitVertex();
+      emit(P[i], vec2(0.0), 0.0, depthLS[i], vec4(-1e30, -1e30, 1e30, 1e30), vec2(zmin, zmax), 0);
     }
     EndPrimitive();
     return;
@@ -91,14 +97,7 @@ void main()
     vec2 qq[4] = vec2[4](box.xy, vec2(box.z, box.y), vec2(box.x, box.w), box.zw);
     for (int i = 0; i < 4; ++i)
     {
-      gl_Position = vec4(qq[i], 0.0, 1.0);
-      ndcPos = qq[i];
-      depthLinear = 0.0;
-      depthSmooth = zmin;
-      bbox = box;
-      depthRange = vec2(zmin, zmax);
-      mode = 2;
-      EmitVertex();
+      emit(vec4(qq[i], 0.0, 1.0), qq[i], 0.0, zmin, box, vec2(zmin, zmax), 2);
     }
     EndPrimitive();
     return;
@@ -109,14 +108,7 @@ void main()
     // original triangle; exact for a plane since it is linear on screen)
     float b1 = cross2(q[i] - v[0], v[2] - v[0]) / area;
     float b2 = cross2(v[1] - v[0], q[i] - v[0]) / area;
-    gl_Position = vec4(q[i], 0.0, 1.0);
-    ndcPos = q[i];
-    depthLinear = (1.0 - b1 - b2) * a[0] + b1 * a[1] + b2 * a[2];
-    depthSmooth = zmin;
-    bbox = box;
-    depthRange = vec2(zmin, zmax);
-    mode = 1;
-    EmitVertex();
+    emit(vec4(q[i], 0.0, 1.0), q[i], (1.0 - b1 - b2) * a[0] + b1 * a[1] + b2 * a[2], zmin, box, vec2(zmin, zmax), 1);
   }
   EndPrimitive();
 }
