@@ -79,15 +79,19 @@ if not shadowed < 0.8 * plain_under:
     print("FAIL: not darker than the plain render view")
     failures += 1
 
+def shadow_and_light(v, name):
+    """A screenshot of view v: the ground's brightness under the sphere and far from it."""
+    png = os.path.join(tempdir, name)
+    SaveScreenshot(png, v, ImageResolution=[400, 300])
+    return ground_brightness(png, under), ground_brightness(png, far)
+
+
 # GEARS on the GL compute backend through the view's property: exact soft
 # shadows, the same darkening under the sphere, and the pass ran it on the GPU
 view.Method = "gears"
 view.GearsBackend = "gl"
 Render(view)
-gears_shot = os.path.join(tempdir, "ParaViewSoftShadowViewGearsGL.png")
-SaveScreenshot(gears_shot, view, ImageResolution=[400, 300])
-gears_under = ground_brightness(gears_shot, under)
-gears_lit = ground_brightness(gears_shot, far)
+gears_under, gears_lit = shadow_and_light(view, "ParaViewSoftShadowViewGearsGL.png")
 view.UpdatePropertyInformation()
 backend = view.GetPropertyValue("GearsBackendInUse")
 print("gears (%s backend): ground under sphere %.1f, far ground %.1f" % (backend, gears_under, gears_lit))
@@ -116,10 +120,7 @@ for q in (0.5, 2.0):
     if abs(pv["quality"] - q) > 1e-9:
         print("FAIL: PVSM Quality %g did not reach the pass (stats say %s)" % (q, pv["quality"]))
         failures += 1
-pvsm_shot = os.path.join(tempdir, "ParaViewSoftShadowViewPVSM.png")
-SaveScreenshot(pvsm_shot, view, ImageResolution=[400, 300])
-pvsm_under = ground_brightness(pvsm_shot, under)
-pvsm_lit = ground_brightness(pvsm_shot, far)
+pvsm_under, pvsm_lit = shadow_and_light(view, "ParaViewSoftShadowViewPVSM.png")
 print("pvsm: ground under sphere %.1f, far ground %.1f; texels %s, metric %s" % (pvsm_under, pvsm_lit, texels, metrics))
 if not pvsm_under < 0.8 * pvsm_lit:
     print("FAIL: no PVSM shadow under the sphere")
