@@ -308,11 +308,6 @@ int Bench(const std::vector<std::string>& args)
     progress(scene, "reference k=" + std::to_string(k));
     ReferenceFrame reference;
     RunReference(win, ren, k, renderer, reference);
-    const double refMs = reference.ms;
-    vtkFloatArray* refV = reference.V;
-    const bool haveRef = reference.haveV;
-    const std::size_t n = reference.pixels;
-    const std::size_t tris = reference.triangles;
     {
       Row r;
       r.scene = name;
@@ -320,8 +315,8 @@ int Bench(const std::vector<std::string>& args)
       r.settings = "k=" + std::to_string(k) + " (ground truth)";
       r.width = win->GetSize()[0];
       r.height = win->GetSize()[1];
-      r.triangles = tris;
-      r.ms = refMs;
+      r.triangles = reference.triangles;
+      r.ms = reference.ms;
       r.note = Fmt(reference.stats["reference"]["rays_per_second"].get<double>(), 3) + " rays/s";
       rows.push_back(r);
     }
@@ -336,7 +331,7 @@ int Bench(const std::vector<std::string>& args)
       r.settings = cfg.Label();
       r.width = win->GetSize()[0];
       r.height = win->GetSize()[1];
-      r.triangles = tris;
+      r.triangles = reference.triangles;
       if (cfg.method == "vtk")
       {
         // VTK's own pass keeps no visibility buffer: V is estimated from its
@@ -370,19 +365,19 @@ int Bench(const std::vector<std::string>& args)
         r.ms = TimeFrames(win, ren, nullptr, frames);
         const auto shadowed = Luminance(win);
         vtkPass->ReleaseGraphicsResources(win);
-        if (haveRef && shadowed.size() == n && ren->GetLights()->GetNumberOfItems() == 1)
+        if (reference.haveV && shadowed.size() == reference.pixels && ren->GetLights()->GetNumberOfItems() == 1)
         {
-          std::vector<float> est(n, std::nanf("")), ref(n, std::nanf(""));
-          for (std::size_t i = 0; i < n; ++i)
+          std::vector<float> est(reference.pixels, std::nanf("")), ref(reference.pixels, std::nanf(""));
+          for (std::size_t i = 0; i < reference.pixels; ++i)
           {
             const float range = lit[i] - ambient[i];
-            if (!std::isnan(refV->GetValue(i)) && range > 12.0f)
+            if (!std::isnan(reference.V->GetValue(i)) && range > 12.0f)
             {
               est[i] = std::clamp((shadowed[i] - ambient[i]) / range, 0.0f, 1.0f);
-              ref[i] = refV->GetValue(i);
+              ref[i] = reference.V->GetValue(i);
             }
           }
-          r.err = ss::CompareVisibility(est.data(), ref.data(), n);
+          r.err = ss::CompareVisibility(est.data(), ref.data(), reference.pixels);
           r.hasError = true;
           r.note = "V estimated from its picture on lit pixels";
         }
@@ -404,9 +399,9 @@ int Bench(const std::vector<std::string>& args)
         r.ms = TimeFrames(
           win, ren, pass, (cfg.method == "reference" || cfg.method == "gears" || cfg.method == "hardavg") ? 1 : frames);
         vtkNew<vtkFloatArray> v;
-        if (haveRef && pass->GetVisibilityImage(0, v) && static_cast<std::size_t>(v->GetNumberOfTuples()) == n)
+        if (reference.haveV && pass->GetVisibilityImage(0, v) && static_cast<std::size_t>(v->GetNumberOfTuples()) == reference.pixels)
         {
-          r.err = ss::CompareVisibility(v->GetPointer(0), refV->GetPointer(0), n);
+          r.err = ss::CompareVisibility(v->GetPointer(0), reference.V->GetPointer(0), reference.pixels);
           r.hasError = true;
         }
         pass->ReleaseGraphicsResources(win);
@@ -614,8 +609,6 @@ int BenchGEARS(const std::vector<std::string>& args)
         row["reference_ms"] = reference.ms;
         row["reference_solver_ms"] = reference.stats["timings_ms"].value("reference", 0.0);
         row["triangles"] = reference.triangles;
-        vtkFloatArray* refV = reference.V;
-        const std::size_t n = reference.pixels;
 
         auto runGears = [&](int raster, bool necessary, vtkFloatArray* v, json& stats, int backend = 0) {
           vtkNew<vtkSoftShadowPass> g;
@@ -639,9 +632,9 @@ int BenchGEARS(const std::vector<std::string>& args)
         // V equality with the reference (same samples)
         std::size_t equal = 0, fg = 0;
         double maxDiff = 0.0;
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < reference.pixels; ++i)
         {
-          const float a = gv->GetValue(i), b = refV->GetValue(i);
+          const float a = gv->GetValue(i), b = reference.V->GetValue(i);
           if (std::isnan(b))
           {
             continue;
@@ -653,7 +646,7 @@ int BenchGEARS(const std::vector<std::string>& args)
         }
         row["equal_fraction"] = fg ? double(equal) / fg : 1.0;
         row["max_diff_samples"] = maxDiff * k * k;
-        const auto err = ss::CompareVisibility(gv->GetPointer(0), refV->GetPointer(0), n);
+        const auto err = ss::CompareVisibility(gv->GetPointer(0), reference.V->GetPointer(0), reference.pixels);
         row["mae"] = err.all.mae;
         row["ratio"] = row["reference_solver_ms"].get<double>() / std::max(row["gears_solver_ms"].get<double>(), 1e-9);
         // the GL compute backend on the same inputs: time and identity with the CPU's V
@@ -665,12 +658,12 @@ int BenchGEARS(const std::vector<std::string>& args)
         row["gl_solver_ms"] = glstats["timings_ms"].value("gears", 0.0);
         row["gl_stats"] = glstats["gears"]["stats"];
         std::size_t same = 0;
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < reference.pixels; ++i)
         {
           const float a = gv->GetValue(i), b = glv->GetValue(i);
           same += (a == b) || (std::isnan(a) && std::isnan(b));
         }
-        row["gl_identical_fraction"] = n ? double(same) / n : 1.0;
+        row["gl_identical_fraction"] = reference.pixels ? double(same) / reference.pixels : 1.0;
         row["gl_ratio"] =
           row["reference_solver_ms"].get<double>() / std::max(row["gl_solver_ms"].get<double>(), 1e-9);
         // Table 9: necessary assignments (an extra, untimed run)
@@ -681,7 +674,7 @@ int BenchGEARS(const std::vector<std::string>& args)
         row["lut_solver_ms"] = lstats["timings_ms"].value("gears", 0.0);
         row["lut_fallbacks"] = lstats["gears"]["stats"]["lut_fallbacks"];
         double lmax = 0.0, lsum = 0.0;
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < reference.pixels; ++i)
         {
           if (!std::isnan(gv->GetValue(i)))
           {
@@ -901,15 +894,11 @@ int BenchPVSM(const std::vector<std::string>& args)
                 << std::flush;
       ReferenceFrame reference;
       RunReference(win, ren, k, renderer, reference);
-      const double refMs = reference.ms;
-      vtkFloatArray* refV = reference.V;
-      const bool haveRef = reference.haveV;
-      const std::size_t n = reference.pixels;
       {
         json r = base();
         r["config"] = "reference";
         r["settings"] = "k=" + std::to_string(k);
-        r["ms"] = refMs;
+        r["ms"] = reference.ms;
         r["triangles"] = reference.triangles;
         data.push_back(r);
       }
@@ -942,9 +931,9 @@ int BenchPVSM(const std::vector<std::string>& args)
           r["maps"] = st["hardavg"]["maps"];
         }
         vtkNew<vtkFloatArray> v;
-        if (compare && haveRef && pass->GetVisibilityImage(0, v) && static_cast<std::size_t>(v->GetNumberOfTuples()) == n)
+        if (compare && reference.haveV && pass->GetVisibilityImage(0, v) && static_cast<std::size_t>(v->GetNumberOfTuples()) == reference.pixels)
         {
-          const auto err = ss::CompareVisibility(v->GetPointer(0), refV->GetPointer(0), n,
+          const auto err = ss::CompareVisibility(v->GetPointer(0), reference.V->GetPointer(0), reference.pixels,
             reference.haveCosine ? reference.cosine->GetPointer(0) : nullptr);
           r["mae"] = err.all.mae;
           r["max"] = err.all.max;
