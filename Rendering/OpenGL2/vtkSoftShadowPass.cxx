@@ -499,7 +499,38 @@ public:
   std::vector<float> CasterOpacity;   // per triangle
   // The triangles above in the order of their clusters (world bounds), so a
   // PVSM tile draws only the clusters that reach it (vtkSoftShadowPass::PVSMTileCulling).
-  ss::TriangleClusters CasterClusters;
+  ss::TriangleClusters CasterClusters; // bounds relative to CasterOrigin
+  unsigned long ClusterVersion = 0;    // the CasterVersion they were built for
+
+  // Orders the caster set into clusters of at most 1024 triangles (a few
+  // thousand on a 5M-triangle set: the per-tile test stays well under a
+  // millisecond). Only PVSM frames with tile culling need it, so it runs on
+  // their first frame after the caster set changed, not on every rebuild.
+  // The bounds come from the float positions the GPU draws. No solver
+  // depends on the order (maps are min-blended, GEARS and the reference take
+  // unions), so nothing else is rebuilt; the vertex buffer is re-uploaded.
+  void ClusterCasters()
+  {
+    const std::size_t n = this->NumberOfTriangles();
+    std::vector<glm::dvec3> v(3 * n);
+    for (std::size_t i = 0; i < v.size(); ++i)
+    {
+      v[i] = glm::dvec3(this->CasterTriangles[3 * i], this->CasterTriangles[3 * i + 1],
+        this->CasterTriangles[3 * i + 2]);
+    }
+    this->CasterClusters = ss::ClusterTriangles(v, 1024);
+    std::vector<float> tri(this->CasterTriangles.size()), opacity(n, 1.0f);
+    for (std::size_t t = 0; t < n; ++t)
+    {
+      const std::size_t from = this->CasterClusters.order[t];
+      std::copy_n(&this->CasterTriangles[9 * from], 9, &tri[9 * t]);
+      opacity[t] = from < this->CasterOpacity.size() ? this->CasterOpacity[from] : 1.0f;
+    }
+    this->CasterTriangles = std::move(tri);
+    this->CasterOpacity = std::move(opacity);
+    this->ClusterVersion = this->CasterVersion;
+    this->CasterUploaded = false;
+  }
   // Ray-traced reference (CPU): its scene is rebuilt when the caster set changes.
   std::unique_ptr<ss::ReferenceSolver> Reference;
   unsigned long ReferenceVersion = 0;
@@ -1016,28 +1047,15 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
       in.CasterBox.Add(p);
     }
     in.CasterOrigin = in.CasterBox.Empty() ? glm::dvec3(0.0) : in.CasterBox.Center();
-    // Clusters of at most 1024 triangles (a few thousand on a 5M-triangle
-    // set: the per-tile test stays well under a millisecond); every solver
-    // sees the triangles in cluster order (the order changes no result: maps
-    // are min-blended, GEARS and the reference take unions).
-    in.CasterClusters = ss::ClusterTriangles(tris, 1024);
     in.CasterTriangles.resize(tris.size() * 3);
-    in.CasterOpacity.assign(in.CasterClusters.order.size(), 1.0f);
-    for (std::size_t t = 0; t < in.CasterClusters.order.size(); ++t)
+    for (std::size_t i = 0; i < tris.size(); ++i)
     {
-      const std::size_t from = in.CasterClusters.order[t];
-      if (from < opacities.size())
-      {
-        in.CasterOpacity[t] = opacities[from];
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        const glm::dvec3 r = tris[3 * from + k] - in.CasterOrigin;
-        in.CasterTriangles[9 * t + 3 * k + 0] = static_cast<float>(r.x);
-        in.CasterTriangles[9 * t + 3 * k + 1] = static_cast<float>(r.y);
-        in.CasterTriangles[9 * t + 3 * k + 2] = static_cast<float>(r.z);
-      }
+      const glm::dvec3 r = tris[i] - in.CasterOrigin;
+      in.CasterTriangles[3 * i + 0] = static_cast<float>(r.x);
+      in.CasterTriangles[3 * i + 1] = static_cast<float>(r.y);
+      in.CasterTriangles[3 * i + 2] = static_cast<float>(r.z);
     }
+    in.CasterOpacity = std::move(opacities);
     in.CasterKeys = keys;
     in.CasterUploaded = false;
     ++in.CasterVersion;
@@ -1404,6 +1422,13 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   {
     vtkErrorMacro("Could not build the caster shadow-map program.");
     return;
+  }
+  const bool pvsmCulling = this->PVSMTileCulling &&
+    std::any_of(in.Lights.begin(), in.Lights.end(),
+      [](const auto& l) { return l.Layer >= 0 && l.Method == ss::Method::PVSM; });
+  if (pvsmCulling && in.ClusterVersion != in.CasterVersion)
+  {
+    in.ClusterCasters();
   }
   if (!in.CasterUploaded)
   {
@@ -1945,11 +1970,11 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
           ostate->vtkglBlendEquation(GL_MIN);
           ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
           const ss::Rect r{ tile.rect[0], tile.rect[1], tile.rect[2], tile.rect[3] };
-          if (this->PVSMTileCulling)
+          if (this->PVSMTileCulling && in.ClusterVersion == in.CasterVersion)
           {
             // only the clusters whose light-space bounds reach the tile; the
             // pad (1e-3 of the tile) covers the GPU's float projection
-            const auto ranges = ss::VisibleTriangleRanges(in.CasterClusters, view, -in.Origin, r, 1e-3);
+            const auto ranges = ss::VisibleTriangleRanges(in.CasterClusters, view, casterOffset, r, 1e-3);
             for (const auto& range : ranges)
             {
               st.tileTrianglesDrawn += static_cast<double>(range.second);
