@@ -113,12 +113,19 @@ TexelPrediction PredictTexelSize(const KernelAxes& h, const glm::dvec2& uPhi, co
 
 namespace
 {
-// One SMTG cell's texel size; +inf when no pixel needs it (not finite and
-// positive, or the GPU's 3e38 clear value)
+// One SMTG cell's texel size; +inf when no pixel needs it (NaN, or the GPU's
+// 3e38 clear value). Zero is a pixel whose kernel has no extent along that
+// axis (a hard contact seen with a degenerate footprint): it needs the finest
+// resolution, so it stays 0 and its tile is capped at the maximum texture.
+// (Before, zero read as "no pixel": one such pixel took the whole cell's tile
+// away, and every kernel in that cell was resolved as lit -- light leaking.)
 double GridCell(float t)
 {
-  return (std::isfinite(t) && t > 0.0f && t < 1.0e38f) ? static_cast<double>(t)
-                                                        : std::numeric_limits<double>::infinity();
+  if (std::isnan(t) || t >= 1.0e38f)
+  {
+    return std::numeric_limits<double>::infinity();
+  }
+  return std::max(static_cast<double>(t), 0.0);
 }
 }
 

@@ -337,6 +337,84 @@ TEST(PVSM, KdTreeTilesCoverEveryCellOnceAtSufficientResolution)
   EXPECT_TRUE(BuildShadowTiles(E, extent, 4096).empty());
 }
 
+// A pixel whose kernel has no extent along an axis (a hard contact seen with a
+// degenerate footprint) predicts a texel size of 0. Its cell needs the finest
+// tile, not none: before, 0 read as "no pixel", the whole cell lost its tile
+// and every kernel in it was resolved as lit (light leaking on the assembly).
+TEST(PVSM, ZeroTexelCellGetsTheFinestTileNotNone)
+{
+  const int G = 16;
+  const double extent[4] = { 0.0, 0.0, 1.0, 1.0 };
+  std::vector<float> t(2 * G * G, 3.0e38f); // the GPU's clear value: no pixel
+  for (int y = 4; y < 12; ++y)
+  {
+    for (int x = 4; x < 12; ++x)
+    {
+      t[2 * (y * G + x)] = t[2 * (y * G + x) + 1] = 1e-3f;
+    }
+  }
+  const int zeroBoth = 6 * G + 6, zeroX = 9 * G + 10;
+  t[2 * zeroBoth] = t[2 * zeroBoth + 1] = 0.0f;
+  t[2 * zeroX] = 0.0f; // only its x axis is degenerate
+  const int zeroAlone = 14 * G + 1; // no other pixel near it
+  t[2 * zeroAlone] = t[2 * zeroAlone + 1] = 0.0f;
+  const TileGridPyramid P(t.data(), G);
+  const int maxTex = 2048;
+  const auto tiles = BuildShadowTiles(P, extent, maxTex);
+  std::vector<const ShadowTile*> owner(G * G, nullptr);
+  for (const ShadowTile& tile : tiles)
+  {
+    for (int y = tile.y0; y < tile.y1; ++y)
+    {
+      for (int x = tile.x0; x < tile.x1; ++x)
+      {
+        EXPECT_EQ(owner[y * G + x], nullptr) << "cell in two tiles";
+        owner[y * G + x] = &tile;
+      }
+    }
+  }
+  for (int y = 4; y < 12; ++y)
+  {
+    for (int x = 4; x < 12; ++x)
+    {
+      ASSERT_NE(owner[y * G + x], nullptr) << "cell " << x << "," << y << " without a tile";
+    }
+  }
+  ASSERT_NE(owner[zeroAlone], nullptr) << "the lone zero-size cell has no tile";
+  EXPECT_EQ(owner[zeroAlone]->resX, maxTex);
+  const ShadowTile& both = *owner[zeroBoth];
+  EXPECT_TRUE(both.clamped);
+  EXPECT_EQ(both.x1 - both.x0, 1);
+  EXPECT_EQ(both.resX, maxTex);
+  const ShadowTile& onlyX = *owner[zeroX];
+  EXPECT_TRUE(onlyX.clamped);
+  EXPECT_EQ(onlyX.resX, maxTex);
+  // its y axis still gets what the cells ask (1e-3 per texel), not the cap
+  EXPECT_LE((onlyX.rect[3] - onlyX.rect[1]) / onlyX.resY, 1e-3 * (1.0 + 1e-9));
+  // the same through the constructor that takes the GPU's pyramid levels
+  std::vector<std::vector<float>> levels;
+  for (int s = G; s >= 1; s /= 2)
+  {
+    std::vector<float> lv(2 * s * s, 3.0e38f);
+    const int f = G / s;
+    for (int y = 0; y < G; ++y)
+    {
+      for (int x = 0; x < G; ++x)
+      {
+        for (int d = 0; d < 2; ++d)
+        {
+          float& c = lv[2 * ((y / f) * s + x / f) + d];
+          c = std::min(c, t[2 * (y * G + x) + d]);
+        }
+      }
+    }
+    levels.push_back(std::move(lv));
+  }
+  const TileGridPyramid Q(levels, G);
+  EXPECT_EQ(Q.MinTexel(0, 0, 0, G, G), 0.0);
+  EXPECT_EQ(BuildShadowTiles(Q, extent, maxTex).size(), tiles.size());
+}
+
 namespace
 {
 // The exact integral of the lit indicator over the true parallelogram

@@ -126,6 +126,9 @@ void main()
   {
     k = lightHalfSize * max(w.p.z - zAvg, 0.0) / max(w.p.z * zAvg, 1e-30);
   }
+  // No kernel is wider than the view: k grows without bound as z_avg -> 0,
+  // and its square overflowed to inf, a kernel no tile saw, resolved as lit.
+  k = min(k, e);
   // §4.2 / appendix: V_h = M_phi' M_phi'^T + M_s M_s^T = L L^T
   float m00 = uPhi.x * uPhi.x + vPhi.x * vPhi.x + k.x * k.x;
   float m10 = uPhi.x * uPhi.y + vPhi.x * vPhi.y;
