@@ -4,7 +4,8 @@ pvsm, fixed-PCSS and hardavg rows with positive times, finite errors in [0, 1]
 (the picture error at most the V error)
 and no non-finite visibility; PVSM without tile culling gives the same error
 (the same maps) after drawing more caster triangles into the tiles; hardavg rendered k x k maps; the point-light
-PVSM rows for the large light; the report with both tables."""
+PVSM rows for the large light; an anti-aliased reference row and errors
+against it; the report with both tables."""
 import json
 import math
 import os
@@ -21,7 +22,7 @@ if len(csv) != len(rows) + 1:
 for cam in ("overview", "close-up"):
     for light in ("large", "small"):
         got = {r["config"]: r for r in rows if r["camera"] == cam and r["light"] == light}
-        want = ["reference", "pvsm", "pvsm no tile culling", "pcss fixed", "hardavg"] + (["pvsm point light"] if light == "large" else [])
+        want = ["reference", "reference anti-aliased", "pvsm", "pvsm no tile culling", "pcss fixed", "hardavg"] + (["pvsm point light"] if light == "large" else [])
         for c in want:
             if c not in got:
                 failures.append("no %s row for %s/%s" % (c, cam, light))
@@ -29,7 +30,7 @@ for cam in ("overview", "close-up"):
             if not (r["ms"] > 0 and math.isfinite(r["ms"])):
                 failures.append("bad time in %s" % r)
             if c in ("pvsm", "pvsm no tile culling", "pcss fixed", "hardavg"):
-                for k in ("mae", "max", "penumbra_mae", "picture_mae"):
+                for k in ("mae", "max", "penumbra_mae", "picture_mae", "aa_mae", "aa_penumbra_mae"):
                     if not (k in r and 0.0 <= r[k] <= 1.0):
                         failures.append("bad %s in %s" % (k, r))
                 # the picture error weights V's error by a factor in [0, 1]
@@ -48,7 +49,7 @@ for cam in ("overview", "close-up"):
         for c in ("pvsm", "pvsm point light"):
             if c in got and not got[c].get("texels", 0) > 0:
                 failures.append("%s rendered no texels: %s" % (c, got[c]))
-if "| scene | camera | light | config |" not in md or "hardavg / PVSM time" not in md or "no culling / culling time" not in md:
+if "| scene | camera | light | config |" not in md or "hardavg / PVSM time" not in md or "no culling / culling time" not in md or "AA MAE" not in md:
     failures.append("report lacks its tables")
 for f in failures:
     print("FAIL: " + f)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ss
 {
@@ -65,6 +66,37 @@ VisibilityErrors CompareVisibility(const float* a, const float* r, std::size_t n
   out.all = Summarize(all);
   out.penumbra = Summarize(pen);
   out.shaded = Summarize(shaded);
+  return out;
+}
+
+std::vector<float> BoxDownsample(const float* fine, std::size_t fineCount, int width, int height, int s)
+{
+  if (!fine || width <= 0 || height <= 0 || s <= 0 ||
+    fineCount != static_cast<std::size_t>(width) * s * static_cast<std::size_t>(height) * s)
+  {
+    return {};
+  }
+  const std::size_t fw = static_cast<std::size_t>(width) * s;
+  std::vector<float> out(static_cast<std::size_t>(width) * height);
+  for (int y = 0; y < height; ++y)
+  {
+    for (int x = 0; x < width; ++x)
+    {
+      double sum = 0.0;
+      bool finite = true;
+      for (int j = 0; j < s && finite; ++j)
+      {
+        const float* row = fine + (static_cast<std::size_t>(y) * s + j) * fw + static_cast<std::size_t>(x) * s;
+        for (int i = 0; i < s; ++i)
+        {
+          finite = finite && std::isfinite(row[i]);
+          sum += row[i];
+        }
+      }
+      out[static_cast<std::size_t>(y) * width + x] =
+        finite ? static_cast<float>(sum / (static_cast<double>(s) * s)) : std::numeric_limits<float>::quiet_NaN();
+    }
+  }
   return out;
 }
 }

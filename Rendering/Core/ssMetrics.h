@@ -31,6 +31,13 @@ struct VisibilityErrors
 /// (ss::DiffuseCosine), for VisibilityErrors::shaded.
 VisibilityErrors CompareVisibility(
   const float* a, const float* reference, std::size_t n, const float* weights = nullptr);
+
+/// The mean of each s x s block of a (width*s) x (height*s) image (row-major,
+/// rows of width*s values): a supersampled buffer brought back to width x
+/// height. A block with a non-finite value (background, or a NaN) gives NaN, so
+/// pixels on the scene's outline are left out rather than mixed with the
+/// background. Returns an empty vector when the sizes do not fit.
+std::vector<float> BoxDownsample(const float* fine, std::size_t fineCount, int width, int height, int s);
 }
 
 #endif

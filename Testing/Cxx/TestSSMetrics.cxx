@@ -61,3 +61,33 @@ TEST(Metrics, DiffuseCosineFollowsVTKLighting)
   EXPECT_TRUE(std::isnan(DiffuseCosine(rect, { 0, 0, 0 }, glm::dvec3(std::nan(""), 0, 1), eye)));
   EXPECT_TRUE(std::isnan(DiffuseCosine(MakePointLightFrame({ 0, 0, 0 }), { 0, 0, 0 }, up, eye)));
 }
+
+// The anti-aliased reference of the PVSM bench: the mean of each s x s block,
+// NaN where a block touches the background.
+TEST(Metrics, BoxDownsampleAveragesBlocksAndDropsOutlinePixels)
+{
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  // 2 x 1 pixels at s = 2: a 4 x 2 image
+  const std::vector<float> fine = { 0.0f, 1.0f, 1.0f, 1.0f, //
+    0.0f, 1.0f, nan, 1.0f };
+  const std::vector<float> out = BoxDownsample(fine.data(), fine.size(), 2, 1, 2);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_FLOAT_EQ(out[0], 0.5f);
+  EXPECT_TRUE(std::isnan(out[1]));
+  // rows are the fine image's rows: a vertical edge at x = 3 of 6, s = 3
+  std::vector<float> edge(6 * 6);
+  for (int y = 0; y < 6; ++y)
+  {
+    for (int x = 0; x < 6; ++x)
+    {
+      edge[y * 6 + x] = (x < 3 && y >= 1) ? 0.0f : 1.0f;
+    }
+  }
+  const std::vector<float> e = BoxDownsample(edge.data(), edge.size(), 2, 2, 3);
+  ASSERT_EQ(e.size(), 4u);
+  EXPECT_FLOAT_EQ(e[0], 3.0f / 9.0f); // the first row of the left block is lit
+  EXPECT_FLOAT_EQ(e[1], 1.0f);
+  EXPECT_FLOAT_EQ(e[2], 0.0f);
+  EXPECT_FLOAT_EQ(e[3], 1.0f);
+  EXPECT_TRUE(BoxDownsample(fine.data(), fine.size(), 3, 1, 2).empty()); // sizes do not fit
+}
