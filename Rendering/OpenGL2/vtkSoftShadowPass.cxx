@@ -125,14 +125,19 @@ std::uint64_t MatrixHash(vtkMatrix4x4* m)
   return h;
 }
 
-// A GL_TEXTURE_2D_ARRAY of RG32F linear light-space depth whose mip levels
-// hold the (min, max) of the level below. vtkTextureObject cannot bind 2-D
-// array textures (VTK 9.2): a texture unit is taken from the window's
-// manager and bound by hand.
-struct DepthArray
+// A GL_TEXTURE_2D_ARRAY: the shadow maps (RG32F linear light-space depth
+// whose mip levels hold the (min, max) of the level below; `Ensure`) or the
+// screen-space visibility layers (R32F, one level; `EnsureScreen`). Not a 3-D
+// texture: those are limited to GL_MAX_3D_TEXTURE_SIZE (2048 on llvmpipe and
+// many GPUs), so a window wider or taller than that had no visibility at all;
+// array layers allow GL_MAX_TEXTURE_SIZE. vtkTextureObject cannot bind 2-D
+// array textures (VTK 9.2): a texture unit is taken from the window's manager
+// and bound by hand.
+struct TextureArray
 {
   unsigned int Handle = 0;
-  int Size = 0, Layers = 0, Levels = 0;
+  int Size = 0; // width of a square (shadow-map) array
+  int Width = 0, Height = 0, Layers = 0, Levels = 0, Components = 0;
 
   void Release()
   {
@@ -141,44 +146,92 @@ struct DepthArray
       glDeleteTextures(1, &this->Handle);
       this->Handle = 0;
     }
-    this->Size = this->Layers = this->Levels = 0;
+    this->Size = this->Width = this->Height = this->Layers = this->Levels = this->Components = 0;
   }
 
   long long Bytes() const
   {
+    const long long level0 = static_cast<long long>(this->Width) * this->Height * this->Layers * this->Components * 4;
     // all mip levels: about 4/3 of level 0
-    return this->Handle ? static_cast<long long>(this->Size) * this->Size * this->Layers * 8 * 4 / 3 : 0;
+    return this->Handle ? (this->Levels > 1 ? level0 * 4 / 3 : level0) : 0;
   }
 
+  // size x size RG32F layers with every mip level (shadow maps)
   void Ensure(int size, int layers)
   {
-    if (this->Handle && this->Size == size && this->Layers == layers)
-    {
-      return;
-    }
-    this->Release();
     int levels = 1;
     while ((size >> (levels - 1)) > 1)
     {
       ++levels;
     }
+    this->Allocate(size, size, layers, levels, 2);
+    this->Size = size;
+  }
+
+  // width x height R32F layers, one level (the visibility of each light);
+  // false when GL refused them (larger than the implementation allows)
+  bool EnsureScreen(int width, int height, int layers)
+  {
+    this->Allocate(width, height, layers, 1, 1);
+    return this->Handle != 0;
+  }
+
+  void Allocate(int width, int height, int layers, int levels, int comps)
+  {
+    if (this->Handle && this->Width == width && this->Height == height && this->Layers == layers &&
+      this->Levels == levels && this->Components == comps)
+    {
+      return;
+    }
+    this->Release();
+    for (int i = 0; i < 16 && glGetError() != GL_NO_ERROR; ++i)
+    {
+    }
     glGenTextures(1, &this->Handle);
     glBindTexture(GL_TEXTURE_2D_ARRAY, this->Handle);
     for (int l = 0; l < levels; ++l)
     {
-      const int s = std::max(1, size >> l);
-      glTexImage3D(GL_TEXTURE_2D_ARRAY, l, GL_RG32F, s, s, layers, 0, GL_RG, GL_FLOAT, nullptr);
+      glTexImage3D(GL_TEXTURE_2D_ARRAY, l, comps == 2 ? GL_RG32F : GL_R32F, std::max(1, width >> l),
+        std::max(1, height >> l), layers, 0, comps == 2 ? GL_RG : GL_RED, GL_FLOAT, nullptr);
     }
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, levels - 1);
     glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-    this->Size = size;
+    if (glGetError() != GL_NO_ERROR)
+    {
+      glDeleteTextures(1, &this->Handle);
+      this->Handle = 0;
+      return;
+    }
+    this->Width = width;
+    this->Height = height;
     this->Layers = layers;
     this->Levels = levels;
+    this->Components = comps;
+  }
+
+  // Reads layer `layer` of level 0 (w x h x Components floats) through `fbo`.
+  bool Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int layer, float* out) const
+  {
+    if (!this->Handle || layer < 0 || layer >= this->Layers)
+    {
+      return false;
+    }
+    win->MakeCurrent();
+    vtkOpenGLState* ostate = win->GetState();
+    ostate->PushFramebufferBindings();
+    fbo->Bind();
+    this->Attach(fbo, 0, layer);
+    fbo->ActivateReadBuffer(0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, this->Width, this->Height, this->Components == 2 ? GL_RG : GL_RED, GL_FLOAT, out);
+    TextureArray::Detach();
+    ostate->PopFramebufferBindings();
+    return glGetError() == GL_NO_ERROR;
   }
 
   int Bind(vtkOpenGLRenderWindow* win) const
@@ -221,8 +274,8 @@ double Seconds(Clock::time_point a, Clock::time_point b)
 bool ReadLayer(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex,
   int layer, int w, int h, int comps, std::vector<float>& out);
 
-// vtkOpenGLFramebufferObject does not re-attach the same texture with another
-// z-slice: detach first so each layer of a 3-D texture really is the target.
+// Attaches a screen-space texture (G-buffer) to `fbo`; vtkOpenGLFramebufferObject
+// does not re-attach the same texture, so the old attachment goes first.
 void AttachLayer(vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex, int layer)
 {
   fbo->RemoveColorAttachments(1);
@@ -250,7 +303,7 @@ vtkShaderProgram* ReadyQuad(
 // virtual PVSM tile uses only part of its texture): mode 0, depth (min, max);
 // mode 1, PVSM's tile grid (min, min) -- see ssMinReduceFS.glsl.
 bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo,
-  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const DepthArray& array, int w, int h, int mode = 0)
+  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const TextureArray& array, int w, int h, int mode = 0)
 {
   vtkOpenGLState* ostate = win->GetState();
   vtkShaderProgram* prog = ReadyQuad(quad, win, ssMinReduceFS);
@@ -282,7 +335,7 @@ bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* f
   }
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, array.Levels - 1);
-  DepthArray::Unbind(win, unit);
+  TextureArray::Unbind(win, unit);
   return true;
 }
 
@@ -417,11 +470,12 @@ public:
   // depth) whose mip levels hold the (min, max) depth of the level below: the
   // PCSS blocker search looks at a whole region without missing a blocker
   // between samples, and the filter decides coarse quads exactly where it can.
-  DepthArray Shadow;
+  TextureArray Shadow;
   // PVSM: one virtual shadow-map tile at a time (a single layer, same layout).
-  DepthArray Tile;
+  TextureArray Tile;
   std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
-  vtkSmartPointer<vtkTextureObject> Visibility; // R32F 3D: one layer per shadow light
+  TextureArray Visibility; // R32F, one layer per shadow light
+  int VisibilityUnit = -1; // its texture unit while the shading pass runs
   vtkSmartPointer<vtkOpenGLBufferObject> CasterVBO;
   vtkSmartPointer<vtkOpenGLVertexArrayObject> CasterVAO;
   vtkShaderProgram* CasterProgram = nullptr; // owned by the window's shader cache
@@ -432,7 +486,7 @@ public:
   unsigned long ConservativeVAOUploads = 0;
   vtkSmartPointer<vtkTextureObject> Kernel[3]; // RGBA32F, screen size
   vtkSmartPointer<vtkTextureObject> Accum;     // RG32F (V·A, A), screen size
-  DepthArray Grid; // RG32F SMTG and its pyramid (one layer, all levels)
+  TextureArray Grid; // RG32F SMTG and its pyramid (one layer, all levels)
   std::vector<std::vector<float>> LastGridLevels; // the last view's SMTG pyramid as read back
   vtkShaderProgram* GridProgram = nullptr;
   vtkSmartPointer<vtkOpenGLVertexArrayObject> EmptyVAO;
@@ -593,7 +647,7 @@ public:
     n += this->Tile.Handle != 0 ? 1 : 0;
     n += this->Grid.Handle != 0 ? 1 : 0;
     n += this->ReduceQuad ? 1 : 0;
-    tex(this->Visibility);
+    n += this->Visibility.Handle != 0 ? 1 : 0;
     for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
     {
       tex(t);
@@ -618,7 +672,7 @@ public:
     tex(this->GNormal, 16);
     tex(this->GDepth, 4);
     b += this->Shadow.Bytes() + this->Tile.Bytes() + this->Grid.Bytes();
-    tex(this->Visibility, 4);
+    b += this->Visibility.Bytes();
     for (int i = 0; i < 3; ++i)
     {
       tex(this->Kernel[i], 16);
@@ -642,8 +696,8 @@ public:
       this->ReduceQuad->ReleaseGraphicsResources(w);
       this->ReduceQuad.reset();
     }
-    for (auto* t : { this->GPosition.Get(), this->GNormal.Get(), this->GDepth.Get(),
-           this->Visibility.Get() })
+    this->Visibility.Release();
+    for (auto* t : { this->GPosition.Get(), this->GNormal.Get(), this->GDepth.Get() })
     {
       if (t)
       {
@@ -653,7 +707,6 @@ public:
     this->GPosition = nullptr;
     this->GNormal = nullptr;
     this->GDepth = nullptr;
-    this->Visibility = nullptr;
     if (this->FBO)
     {
       this->FBO->ReleaseGraphicsResources(w);
@@ -1206,7 +1259,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   }
   if (in.ShadowsThisFrame)
   {
-    in.Visibility->Activate();
+    in.VisibilityUnit = in.Visibility.Bind(win);
     in.GPosition->Activate();
   }
   this->PreRender(s);
@@ -1223,7 +1276,8 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   if (in.ShadowsThisFrame)
   {
     in.GPosition->Deactivate();
-    in.Visibility->Deactivate();
+    TextureArray::Unbind(win, in.VisibilityUnit);
+    in.VisibilityUnit = -1;
   }
   if (this->MeasureTimings)
   {
@@ -1505,7 +1559,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   ostate->vtkglBlendEquation(GL_FUNC_ADD);
   ostate->vtkglDisable(GL_BLEND);
   this->BuildMinPyramid(win);
-  DepthArray::Detach();
+  TextureArray::Detach();
   if (this->MeasureTimings)
   {
     glFinish();
@@ -1514,22 +1568,13 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 
   // --- visibility: one full-screen pass per light into its layer
   tStage = Clock::now();
-  if (!in.Visibility || static_cast<int>(in.Visibility->GetWidth()) != in.Width ||
-    static_cast<int>(in.Visibility->GetHeight()) != in.Height ||
-    static_cast<int>(in.Visibility->GetDepth()) != numShadowLights)
+  if (!in.Visibility.EnsureScreen(in.Width, in.Height, numShadowLights))
   {
-    if (in.Visibility)
-    {
-      in.Visibility->ReleaseGraphicsResources(win);
-    }
-    in.Visibility = vtkSmartPointer<vtkTextureObject>::New();
-    in.Visibility->SetContext(win);
-    in.Visibility->SetFormat(GL_RED);
-    in.Visibility->SetInternalFormat(GL_R32F);
-    in.Visibility->SetDataType(GL_FLOAT);
-    in.Visibility->SetMinificationFilter(vtkTextureObject::Nearest);
-    in.Visibility->SetMagnificationFilter(vtkTextureObject::Nearest);
-    in.Visibility->Allocate3D(in.Width, in.Height, numShadowLights, 1, VTK_FLOAT);
+    vtkErrorMacro("Could not allocate the visibility of " << numShadowLights << " light(s) at " << in.Width
+                                                          << "x" << in.Height << "; no shadows this frame.");
+    in.ShadowsThisFrame = false;
+    ostate->PopFramebufferBindings();
+    return;
   }
   int shadowUnit = -1;
   vtkShaderProgram* prog = this->ReadyVisibilityProgram(win, S, shadowUnit);
@@ -1549,13 +1594,14 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     }
     SetLightUniforms(prog, l);
     prog->SetUniformi("method", static_cast<int>(l.Method));
-    AttachLayer(in.FBO, in.Visibility, l.Layer);
+    in.Visibility.Attach(in.FBO, 0, l.Layer);
     in.FBO->ActivateDrawBuffers(1);
     in.VisibilityQuad->Render();
   }
-  DepthArray::Unbind(win, shadowUnit);
+  TextureArray::Unbind(win, shadowUnit);
   in.GNormal->Deactivate();
   in.GPosition->Deactivate();
+  TextureArray::Detach();
   in.FBO->RemoveColorAttachments(1);
   ostate->PopFramebufferBindings();
   if (this->MeasureTimings)
@@ -1641,7 +1687,7 @@ void vtkSoftShadowPass::SolveHardAverage(
     const float weight = 1.0f / static_cast<float>(k * k);
     ostate->vtkglViewport(0, 0, in.Width, in.Height);
     ostate->vtkglScissor(0, 0, in.Width, in.Height);
-    AttachLayer(in.FBO, in.Visibility, l.Layer);
+    in.Visibility.Attach(in.FBO, 0, l.Layer);
     in.FBO->ActivateDrawBuffers(1);
     ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
     ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
@@ -1675,7 +1721,7 @@ void vtkSoftShadowPass::SolveHardAverage(
           }
           ++maps;
         }
-        DepthArray::Detach();
+        TextureArray::Detach();
         // its hard test, added with weight 1/k^2
         int shadowUnit = -1;
         vtkShaderProgram* prog = this->ReadyVisibilityProgram(win, S, shadowUnit);
@@ -1688,13 +1734,13 @@ void vtkSoftShadowPass::SolveHardAverage(
         prog->SetUniformi("method", static_cast<int>(ss::Method::Hard));
         ostate->vtkglViewport(0, 0, in.Width, in.Height);
         ostate->vtkglScissor(0, 0, in.Width, in.Height);
-        AttachLayer(in.FBO, in.Visibility, l.Layer);
+        in.Visibility.Attach(in.FBO, 0, l.Layer);
         in.FBO->ActivateDrawBuffers(1);
         ostate->vtkglBlendEquation(GL_FUNC_ADD);
         ostate->vtkglBlendFunc(GL_CONSTANT_COLOR, GL_ONE);
         glBlendColor(weight, weight, weight, weight);
         in.VisibilityQuad->Render();
-        DepthArray::Unbind(win, shadowUnit);
+        TextureArray::Unbind(win, shadowUnit);
         in.GNormal->Deactivate();
         in.GPosition->Deactivate();
       }
@@ -1704,6 +1750,7 @@ void vtkSoftShadowPass::SolveHardAverage(
   ostate->vtkglBlendEquation(GL_FUNC_ADD);
   ostate->vtkglBlendFunc(GL_ONE, GL_ZERO);
   ostate->vtkglDisable(GL_BLEND);
+  TextureArray::Detach();
   in.FBO->RemoveColorAttachments(1);
   ostate->PopFramebufferBindings();
   if (this->MeasureTimings)
@@ -1884,7 +1931,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
     ostate->vtkglViewport(0, 0, W, H);
     ostate->vtkglScissor(0, 0, W, H);
     in.KernelQuad->Render();
-    DepthArray::Unbind(win, shadowUnit);
+    TextureArray::Unbind(win, shadowUnit);
     finish();
     auto t1 = Clock::now();
     st.msKernel += Seconds(t0, t1);
@@ -1947,7 +1994,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
         in.LastGridLevels[level].resize(static_cast<std::size_t>(sz) * sz * 2);
         glReadPixels(0, 0, sz, sz, GL_RG, GL_FLOAT, in.LastGridLevels[level].data());
       }
-      DepthArray::Detach();
+      TextureArray::Detach();
       const ss::TileGridPyramid pyramid(in.LastGridLevels, G);
       const double extent[4] = { view.extent.x0, view.extent.y0, view.extent.x1, view.extent.y1 };
       const std::vector<ss::ShadowTile> tiles = ss::BuildShadowTiles(pyramid, extent, tileMax);
@@ -1990,7 +2037,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
           ostate->vtkglDisable(GL_BLEND);
         }
         BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Tile, tile.resX, tile.resY);
-        DepthArray::Detach();
+        TextureArray::Detach();
         finish();
         t1 = Clock::now();
         st.msTileSM += Seconds(t0, t1);
@@ -2029,7 +2076,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
         ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
         in.FilterQuad->Render();
         ostate->vtkglDisable(GL_BLEND);
-        DepthArray::Unbind(win, tileUnit);
+        TextureArray::Unbind(win, tileUnit);
         finish();
         st.msFiltering += Seconds(t1, Clock::now());
       }
@@ -2050,7 +2097,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
       rp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
       rp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
       rp->SetUniformi("accum", in.Accum->GetTextureUnit());
-      AttachLayer(in.FBO, in.Visibility, l.Layer);
+      in.Visibility.Attach(in.FBO, 0, l.Layer);
       in.FBO->ActivateDrawBuffers(1);
       ostate->vtkglViewport(0, 0, W, H);
       ostate->vtkglScissor(0, 0, W, H);
@@ -2068,6 +2115,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
     finish();
     st.msFiltering += Seconds(t0, Clock::now());
   }
+  TextureArray::Detach();
   in.FBO->RemoveColorAttachments(3);
   ostate->PopFramebufferBindings();
   st.shadowMemoryBytes = static_cast<double>(in.Shadow.Bytes() + in.Tile.Bytes()) +
@@ -2215,10 +2263,10 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
     {
       v = std::isnan(v) ? -1.0f : v; // background marker, as the GPU solvers write
     }
-    in.Visibility->Activate();
+    glBindTexture(GL_TEXTURE_2D_ARRAY, in.Visibility.Handle);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, l.Layer, in.Width, in.Height, 1, GL_RED, GL_FLOAT, V.data());
-    in.Visibility->Deactivate();
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, l.Layer, in.Width, in.Height, 1, GL_RED, GL_FLOAT, V.data());
+    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
   }
   in.LastReferenceStats.raysPerSecond = in.LastReferenceStats.milliseconds > 0
     ? in.LastReferenceStats.rays / (in.LastReferenceStats.milliseconds * 1e-3)
@@ -2341,7 +2389,7 @@ bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader,
     return false;
   }
   std::string decl = "uniform sampler2D ssGPosition;\n"
-                     "uniform sampler3D ssVisTex;\n"
+                     "uniform sampler2DArray ssVisTex;\n"
                      "uniform vec2 ssViewportOrigin;\n"
                      "uniform float ssPropId;\n"
                      "uniform int ssUseVis;\n";
@@ -2398,7 +2446,7 @@ bool vtkSoftShadowPass::SetShaderParameters(
   // Samplers always point at the bound textures: two sampler types left on
   // unit 0 make every draw of that shader fail (GL_INVALID_OPERATION).
   program->SetUniformi("ssGPosition", in.GPosition->GetTextureUnit());
-  program->SetUniformi("ssVisTex", in.Visibility->GetTextureUnit());
+  program->SetUniformi("ssVisTex", in.VisibilityUnit);
   if (use)
   {
     const float vo[2] = { static_cast<float>(in.ViewportOrigin[0]),
@@ -2485,8 +2533,9 @@ bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
   {
     return false;
   }
-  std::vector<float> v;
-  if (!ReadLayer(in.Window, in.FBO, in.Visibility, shadowLight, in.Width, in.Height, 1, v))
+  std::vector<float> v(static_cast<std::size_t>(in.Width) * in.Height);
+  if (in.Visibility.Width != in.Width || in.Visibility.Height != in.Height ||
+    !in.Visibility.Read(in.Window, in.FBO, shadowLight, v.data()))
   {
     return false;
   }
@@ -2579,20 +2628,10 @@ bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFl
   {
     return false;
   }
-  ow->MakeCurrent();
-  vtkOpenGLState* ostate = ow->GetState();
-  ostate->PushFramebufferBindings();
-  in.FBO->Bind();
-  in.Shadow.Attach(in.FBO, 0, layer);
-  in.FBO->ActivateReadBuffer(0);
   const int S = in.Shadow.Size;
   out->SetNumberOfComponents(2);
   out->SetNumberOfTuples(static_cast<vtkIdType>(S) * S);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, S, S, GL_RG, GL_FLOAT, out->GetPointer(0));
-  DepthArray::Detach();
-  ostate->PopFramebufferBindings();
-  return true;
+  return in.Shadow.Read(ow, in.FBO, layer, out->GetPointer(0));
 }
 
 int vtkSoftShadowPass::GetLastWidth()

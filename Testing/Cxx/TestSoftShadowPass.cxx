@@ -223,6 +223,30 @@ TEST(SoftShadowPass, ResizeKeepsAccuracy)
   EXPECT_LT(maxErr, 0.12);
 }
 
+// A window wider than GL_MAX_3D_TEXTURE_SIZE (2048 on llvmpipe and many GPUs)
+// keeps its shadows: the visibility layers were a 3-D texture, which GL
+// refused at that width, so a 4K window or a large screenshot had none. They
+// are a 2-D array texture now, limited by GL_MAX_TEXTURE_SIZE.
+TEST(SoftShadowPass, WindowWiderThan3DTextureLimit)
+{
+  for (int method : { vtkSoftShadowPass::PCSS, vtkSoftShadowPass::PVSM })
+  {
+    ParallelScene ps(2400, 160);
+    ps.scene.pass->SetMethod(method);
+    const Frame f = ps.scene.Render();
+    ASSERT_EQ(static_cast<int>(f.V.size()), 2400 * 160) << vtkSoftShadowPass::GetMethodName(method);
+    double mae, maxErr, penMae;
+    int n, nPen;
+    ps.Errors(f, mae, maxErr, penMae, n, nPen);
+    std::cout << vtkSoftShadowPass::GetMethodName(method) << " at 2400x160: ground pixels " << n << ", penumbra "
+              << nPen << ", MAE " << mae << "\n";
+    EXPECT_GT(n, 2400 * 160 / 10); // the wide view sees the ground on one pixel in eight
+    EXPECT_GT(nPen, 1000);
+    EXPECT_LT(mae, 0.01);
+    EXPECT_EQ(Classify(f).nonFinite, 0);
+  }
+}
+
 // Shadows do not weaken with distance or scale (VTK's exponential map did):
 // the same scene scaled by 1000 and moved far away gives the same errors.
 TEST(SoftShadowPass, ScaleAndDistanceInvariant)
