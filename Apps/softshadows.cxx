@@ -423,6 +423,10 @@ int Render(const std::vector<std::string>& args)
     renderer->SetPass(pass);
     pass->SetMeasureTimings(true);
   }
+  // An error of the pass (a texture GL refused, a shader that did not build)
+  // fails the command instead of writing a picture without its shadows.
+  vtkNew<ssapp::ErrorCapture> passErrors;
+  pass->AddObserver(vtkCommand::ErrorEvent, passErrors);
 
   using Clock = std::chrono::steady_clock;
   std::vector<double> totals;
@@ -452,6 +456,10 @@ int Render(const std::vector<std::string>& args)
     }
   }
 
+  if (!passErrors->Message.empty())
+  {
+    throw std::runtime_error(passErrors->Message);
+  }
   const int nShadow = vtkMethod ? 0 : pass->GetNumberOfShadowLights();
   if (!vtkMethod && lightIndex > 0 && lightIndex >= nShadow)
   {

@@ -45,6 +45,32 @@
 
 namespace ssapp
 {
+// One line from a VTK message ("ERROR: In file, line N\nclass (0x..): text"):
+// the text after the object's address, newlines folded.
+std::string OneLine(std::string m)
+{
+  const auto where = m.find(", line ");
+  const auto addr = m.find("): ");
+  if (where != std::string::npos && addr != std::string::npos && where < addr)
+  {
+    m = m.substr(addr + 3);
+  }
+  std::replace(m.begin(), m.end(), '\n', ' ');
+  while (!m.empty() && (m.back() == ' ' || m.back() == '\r'))
+  {
+    m.pop_back();
+  }
+  return m;
+}
+
+void ErrorCapture::Execute(vtkObject*, unsigned long, void* data)
+{
+  if (this->Message.empty() && data)
+  {
+    this->Message = OneLine(static_cast<const char*>(data));
+  }
+}
+
 namespace
 {
 using json = nlohmann::json;
@@ -312,45 +338,6 @@ vtkSmartPointer<vtkPolyData> Primitive(const json& o, const Ctx& c)
     return Transformed(d, t);
   }
   (c / "primitive").Fail("unknown primitive '" + kind + "' (expected plane, box, sphere, cylinder, disk)");
-}
-
-// Keeps the first error (or warning) a reader reports, as one line.
-class ErrorCapture : public vtkCommand
-{
-public:
-  static ErrorCapture* New() { return new ErrorCapture; }
-  void Execute(vtkObject*, unsigned long, void* data) override
-  {
-    if (this->Message.empty() && data)
-    {
-      std::string m = static_cast<const char*>(data);
-      std::replace(m.begin(), m.end(), '\n', ' ');
-      while (!m.empty() && m.back() == ' ')
-      {
-        m.pop_back();
-      }
-      this->Message = m;
-    }
-  }
-  std::string Message;
-};
-
-// One line from a VTK message ("ERROR: In file, line N\nclass (0x..): text"):
-// the text after the object's address, newlines folded.
-std::string OneLine(std::string m)
-{
-  const auto where = m.find(", line ");
-  const auto addr = m.find("): ");
-  if (where != std::string::npos && addr != std::string::npos && where < addr)
-  {
-    m = m.substr(addr + 3);
-  }
-  std::replace(m.begin(), m.end(), '\n', ' ');
-  while (!m.empty() && (m.back() == ' ' || m.back() == '\r'))
-  {
-    m.pop_back();
-  }
-  return m;
 }
 
 // While a reader runs, VTK messages from objects without observers (the XML

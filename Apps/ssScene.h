@@ -3,6 +3,7 @@
 #ifndef ssScene_h
 #define ssScene_h
 
+#include "vtkCommand.h"
 #include "vtkSmartPointer.h"
 
 #include <array>
@@ -33,6 +34,20 @@ struct SceneInfo
 /// Reads `path` and fills `renderer` (actors, lights, camera, background).
 /// Throws SceneError for any bad input.
 SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer);
+
+/// One line from a VTK message ("ERROR: In file, line N\nclass (0x..): text"):
+/// the text after the object's address, newlines folded.
+std::string OneLine(std::string m);
+
+/// Keeps the first error (or warning) an observed object reports, as one line
+/// (OneLine); observed objects do not print their own messages.
+class ErrorCapture : public vtkCommand
+{
+public:
+  static ErrorCapture* New() { return new ErrorCapture; }
+  void Execute(vtkObject*, unsigned long, void* data) override;
+  std::string Message;
+};
 }
 
 #endif

@@ -165,7 +165,7 @@ struct TextureArray
       ++levels;
     }
     this->Allocate(size, size, layers, levels, 2);
-    this->Size = size;
+    this->Size = this->Handle ? size : 0;
   }
 
   // width x height R32F layers, one level (the visibility of each light);
@@ -1231,8 +1231,10 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     this->RenderGBuffer(s);
     in.Receivers = receivers;
     this->SolveVisibility(s);
-    in.LastSignature = sig.str();
-    in.HaveResults = true;
+    // a solve that could not allocate its textures turned shadows off: try
+    // again next frame rather than reuse nothing
+    in.HaveResults = in.ShadowsThisFrame;
+    in.LastSignature = in.ShadowsThisFrame ? sig.str() : std::string();
   }
   else if (!in.ShadowsThisFrame)
   {
@@ -1465,6 +1467,13 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   // --- shadow maps: the caster set drawn by our own small program
   auto tStage = Clock::now();
   in.Shadow.Ensure(S, std::max(totalViews, 1));
+  if (!in.Shadow.Handle)
+  {
+    vtkErrorMacro("Could not allocate " << std::max(totalViews, 1) << " shadow map(s) of " << S << "x" << S
+                                        << "; no shadows this frame.");
+    in.ShadowsThisFrame = false;
+    return;
+  }
   if (!in.CasterVBO)
   {
     in.CasterVBO = vtkSmartPointer<vtkOpenGLBufferObject>::New();
