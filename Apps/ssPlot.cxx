@@ -70,14 +70,18 @@ bool PlotErrorVsTime(const std::string& path, const std::string& title,
   {
     byMethod[p.method].push_back(&p);
   }
+  // Tableau 10: eight methods (vtk included) each get their own colour; with
+  // seven, gears and vtk were both blue
   const unsigned char colors[][3] = { { 31, 119, 180 }, { 255, 127, 14 }, { 44, 160, 44 },
-    { 214, 39, 40 }, { 148, 103, 189 }, { 140, 86, 75 }, { 227, 119, 194 } };
+    { 214, 39, 40 }, { 148, 103, 189 }, { 140, 86, 75 }, { 227, 119, 194 }, { 127, 127, 127 },
+    { 188, 189, 34 }, { 23, 190, 207 } };
+  const int numColors = static_cast<int>(sizeof(colors) / sizeof(colors[0]));
   int ci = 0;
   for (const auto& m : byMethod)
   {
     vtkPlot* plot = chart->AddPlot(vtkChart::POINTS);
     plot->SetInputData(Series(m.first, m.second), 0, 1);
-    const auto* c = colors[ci++ % 7];
+    const auto* c = colors[ci++ % numColors];
     plot->SetColor(c[0], c[1], c[2], 255);
     if (auto* pts = vtkPlotPoints::SafeDownCast(plot))
     {
