@@ -165,11 +165,19 @@ void RunReference(vtkRenderWindow* win, vtkRenderer* ren, int k, std::string& re
 // the pixel's centre the plain reference gives. The reference here runs at
 // s x s the window's size with k x k stratified light samples per sub-pixel,
 // and each pixel is the mean of its s x s sub-pixels (ss::BoxDownsample; a
-// pixel on the scene's outline, partly background, is left out). Restores the
-// window's size.
-std::vector<float> RunSupersampledReference(vtkRenderWindow* win, vtkRenderer* ren, int s, int k, double& ms)
+// pixel on the scene's outline, partly background, is left out). s shrinks
+// so that the supersampled window stays within 8192 pixels a side (textures
+// of that size exist on every GL 4 implementation); below 2 there is no
+// anti-aliased reference (empty result). Restores the window's size.
+std::vector<float> RunSupersampledReference(vtkRenderWindow* win, vtkRenderer* ren, int& s, int k, double& ms)
 {
   const int w = win->GetSize()[0], h = win->GetSize()[1];
+  s = std::min(s, 8192 / std::max({ w, h, 1 }));
+  if (s < 2)
+  {
+    ms = 0.0;
+    return {};
+  }
   win->SetSize(w * s, h * s);
   vtkNew<vtkSoftShadowPass> ref;
   ref->SetMethod(vtkSoftShadowPass::REFERENCE);
@@ -939,11 +947,13 @@ int BenchPVSM(const std::vector<std::string>& args)
       std::cerr << "\r" << name << " " << var.camera << " " << var.light << ": anti-aliased reference"
                 << std::string(20, ' ') << std::flush;
       double aaMs = 0.0;
-      const std::vector<float> referenceAA = RunSupersampledReference(win, ren, aaSub, aaK, aaMs);
+      int sub = aaSub;
+      const std::vector<float> referenceAA = RunSupersampledReference(win, ren, sub, aaK, aaMs);
+      if (!referenceAA.empty())
       {
         json r = base();
         r["config"] = "reference anti-aliased";
-        r["settings"] = std::to_string(aaSub) + "x" + std::to_string(aaSub) + " sub-pixels, k=" + std::to_string(aaK) +
+        r["settings"] = std::to_string(sub) + "x" + std::to_string(sub) + " sub-pixels, k=" + std::to_string(aaK) +
           " stratified";
         r["ms"] = aaMs;
         data.push_back(r);
@@ -1055,7 +1065,8 @@ int BenchPVSM(const std::vector<std::string>& args)
      << "the light's contribution in units of its unshadowed irradiance -- faces turned away from the light's "
      << "centre, where shadow maps cannot see the part of a large light above their horizon, are black "
      << "whatever V is and count 0. AA: against the anti-aliased reference, each pixel's mean visibility over "
-     << "its area (the reference at " << aaSub << "x" << aaSub << " the window's size with " << aaK << "x" << aaK
+     << "its area (the reference at " << aaSub << "x" << aaSub << " the window's size, fewer sub-pixels where that "
+     << "would pass 8192 pixels a side and none below 2x2, with " << aaK << "x" << aaK
      << " stratified light samples per sub-pixel, averaged per pixel; pixels on the scene's outline left out): "
      << "PVSM's V is that mean by construction (§4.2 convolves the pixel footprint into its kernel), PCSS and "
      << "the hard maps give the value at the pixel's centre, which the plain reference measures. `pcss fixed`: "
