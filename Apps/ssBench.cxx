@@ -137,12 +137,13 @@ struct ReferenceFrame
   std::size_t triangles = 0;
   json stats;
 };
-void RunReference(vtkRenderWindow* win, vtkRenderer* ren, int k, std::string& renderer, ReferenceFrame& out)
+void RunReference(
+  vtkRenderWindow* win, vtkRenderer* ren, int k, std::string& renderer, ReferenceFrame& out, int pattern = 0)
 {
   vtkNew<vtkSoftShadowPass> ref;
   ref->SetMethod(vtkSoftShadowPass::REFERENCE);
   ref->SetReferenceSamples(k);
-  ref->SetReferencePattern(0);
+  ref->SetReferencePattern(pattern);
   ren->SetPass(ref);
   out.ms = TimeFrames(win, ren, ref, 1);
   if (renderer == "?")
@@ -169,7 +170,8 @@ void RunReference(vtkRenderWindow* win, vtkRenderer* ren, int k, std::string& re
 // so that the supersampled window stays within 8192 pixels a side (textures
 // of that size exist on every GL 4 implementation); below 2 there is no
 // anti-aliased reference (empty result). Restores the window's size.
-std::vector<float> RunSupersampledReference(vtkRenderWindow* win, vtkRenderer* ren, int& s, int k, double& ms)
+std::vector<float> RunSupersampledReference(
+  vtkRenderWindow* win, vtkRenderer* ren, int& s, int k, std::string& renderer, double& ms)
 {
   const int w = win->GetSize()[0], h = win->GetSize()[1];
   s = std::min(s, 8192 / std::max({ w, h, 1 }));
@@ -179,19 +181,14 @@ std::vector<float> RunSupersampledReference(vtkRenderWindow* win, vtkRenderer* r
     return {};
   }
   win->SetSize(w * s, h * s);
-  vtkNew<vtkSoftShadowPass> ref;
-  ref->SetMethod(vtkSoftShadowPass::REFERENCE);
-  ref->SetReferenceSamples(k);
-  ref->SetReferencePattern(1);
-  ren->SetPass(ref);
-  ms = TimeFrames(win, ren, ref, 1);
-  vtkNew<vtkFloatArray> fine;
+  ReferenceFrame fine;
+  RunReference(win, ren, k, renderer, fine, 1); // stratified
+  ms = fine.ms;
   std::vector<float> out;
-  if (ref->GetVisibilityImage(0, fine))
+  if (fine.haveV)
   {
-    out = ss::BoxDownsample(fine->GetPointer(0), static_cast<std::size_t>(fine->GetNumberOfTuples()), w, h, s);
+    out = ss::BoxDownsample(fine.V->GetPointer(0), fine.pixels, w, h, s);
   }
-  ref->ReleaseGraphicsResources(win);
   ren->SetPass(nullptr);
   win->SetSize(w, h);
   return out;
@@ -948,7 +945,7 @@ int BenchPVSM(const std::vector<std::string>& args)
                 << std::string(20, ' ') << std::flush;
       double aaMs = 0.0;
       int sub = aaSub;
-      const std::vector<float> referenceAA = RunSupersampledReference(win, ren, sub, aaK, aaMs);
+      const std::vector<float> referenceAA = RunSupersampledReference(win, ren, sub, aaK, renderer, aaMs);
       if (!referenceAA.empty())
       {
         json r = base();

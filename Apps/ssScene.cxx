@@ -489,7 +489,7 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::pat
   {
     (c / "mesh").Fail("unsupported mesh format '" + ext + "' (expected .vtp .vtk .stl .ply .obj .off)");
   }
-  const std::string readerMessage = !errors->Message.empty() ? OneLine(errors->Message) : unobserved.First();
+  const std::string readerMessage = !errors->Message.empty() ? errors->Message : unobserved.First();
   if (!errors->Message.empty())
   {
     (c / "mesh").Fail("could not read '" + path.string() + "': " + readerMessage);
