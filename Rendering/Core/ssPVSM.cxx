@@ -304,11 +304,39 @@ void CoverageAccum::Merge(const CoverageAccum& o)
 {
   this->litArea += o.litArea;
   this->area += o.area;
+  this->backProjected += o.backProjected;
 }
 
 double CoverageAccum::Visibility() const
 {
-  return this->area > 0.0 ? std::clamp(this->litArea / this->area, 0.0, 1.0) : 1.0;
+  const double pcss = this->area > 0.0 ? std::clamp(this->litArea / this->area, 0.0, 1.0) : 1.0;
+  return std::min(pcss, 1.0 - std::clamp(this->backProjected, 0.0, 1.0));
+}
+
+glm::dvec2 LightFilterHalfAxes(const ReachParams& p, double zr, double zb)
+{
+  const double dz = std::max(zr - zb, 0.0);
+  glm::dvec2 k = p.orthographic ? p.lightHalfSize * dz : p.lightHalfSize * (dz / std::max(zr * zb, 1e-30));
+  if (!(k.x >= 0.0) || !(k.y >= 0.0))
+  {
+    k = glm::dvec2(0.0); // zb <= 0 (a blocker behind the light's plane): no filter
+  }
+  return glm::min(k, p.viewSpan);
+}
+
+KernelAxes ReachAt(const KernelAxes& h, const ReachParams& p, double zr, double zb)
+{
+  // h = L with L L^T = F + diag(k_avg^2); F = L L^T - diag(k_avg^2)
+  const glm::dvec2 kAvg = LightFilterHalfAxes(p, zr, p.zAvg);
+  const glm::dvec2 kb = LightFilterHalfAxes(p, zr, zb);
+  const double m00 = std::max(h.u.x * h.u.x - kAvg.x * kAvg.x, 0.0) + kb.x * kb.x;
+  const double m10 = h.u.x * h.u.y;
+  const double m11 = std::max(h.u.y * h.u.y + h.v.y * h.v.y - kAvg.y * kAvg.y, 0.0) + kb.y * kb.y;
+  KernelAxes r;
+  r.u.x = std::sqrt(std::max(m00, 0.0));
+  r.u.y = r.u.x > 0.0 ? m10 / r.u.x : 0.0;
+  r.v.y = std::sqrt(std::max(m11 - r.u.y * r.u.y, 0.0));
+  return r;
 }
 
 namespace
@@ -325,7 +353,8 @@ double Depth(const TileDepthMap& t, int i, int j)
 }
 
 CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, const KernelAxes& h,
-  const std::function<double(double, double)>& receiverDepth, double bias, int maxQuads)
+  const std::function<double(double, double)>& receiverDepth, double bias, int maxQuads,
+  const ReachParams* reach)
 {
   CoverageAccum acc;
   if (!tile.depth || tile.w <= 0 || tile.h <= 0 || !(tile.rect[2] > tile.rect[0]) ||
@@ -373,8 +402,59 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
   // the bias scales with the size (texels) of the quad being tested, as in
   // ssQuadLit.glsl: a quad of ss texels samples the map like a map ss times
   // coarser, and the receiver departs from its plane over that size
-  auto texelLit = [&](int i, int j, double b) {
-    return receiverDepth(X(i + 0.5), Y(j + 0.5)) - b <= Depth(tile, i, j) ? 1.0 : 0.0;
+  const double zr = receiverDepth(c.x, c.y);
+  double occ = 0.0, backProjected = 0.0; // blocked area counted (texels^2); back-projection
+  // A blocked block of texels [i0, i1] x [j0, j1] of depths around zb, the
+  // lowest zLow, o of it in the kernel (as addBlocked() in
+  // ssPVSMFilterFS.glsl): without reach it all counts; with it, it counts
+  // whole for PCSS when zb is high enough, and otherwise, and for the
+  // back-projection, the part within the reach (its vertical extent at the
+  // block's centre, as the panels) at zLow does: the smallest of the block's
+  // reaches, so a coarse quad reaching down to the receiver (its own
+  // surface next to c) is not credited with the light its high corner
+  // could hide. A block only sampled (its centre texel blocked) adds nothing
+  // to the back-projection: a reach is centred on c, so a block touching c
+  // would claim a quarter of it, however small, for texels that may not be
+  // blocked at all.
+  auto addBlocked = [&](double i0, double j0, double i1, double j1, double zb, double zLow, double o, bool sampled) {
+    if (!reach)
+    {
+      occ += o;
+      return;
+    }
+    const bool high = zr - zb >= reach->nearFraction * (zr - reach->zAvg);
+    if (high)
+    {
+      occ += o;
+    }
+    const KernelAxes r = ReachAt(h, *reach, zr, zLow);
+    const double areaMap = 4.0 * r.u.x * r.v.y;
+    if (!(areaMap > 0.0))
+    {
+      return;
+    }
+    const double rSlope = r.u.x > 0.0 ? r.u.y / r.u.x : 0.0;
+    const double ax = tile.rect[0] + i0 / sx - c.x, bx = tile.rect[0] + i1 / sx - c.x;
+    const double ay = tile.rect[1] + j0 / sy - c.y, by = tile.rect[1] + j1 / sy - c.y;
+    const double x0 = std::max(ax, -r.u.x), x1 = std::min(bx, r.u.x);
+    if (!(x1 > x0))
+    {
+      return;
+    }
+    const double cy = rSlope * 0.5 * (x0 + x1);
+    const double y0 = std::max(ay, cy - r.v.y), y1 = std::min(by, cy + r.v.y);
+    if (!(y1 > y0))
+    {
+      return;
+    }
+    const double f = (x1 - x0) * (y1 - y0) / ((bx - ax) * (by - ay));
+    occ += high ? 0.0 : o * f;
+    backProjected += sampled ? 0.0 : o * f / (sx * sy * areaMap);
+  };
+  // the texel (i, j)'s shadow test; its depth in zb
+  auto texelBlocked = [&](int i, int j, double b, double& zb) {
+    zb = Depth(tile, i, j);
+    return !(receiverDepth(X(i + 0.5), Y(j + 0.5)) - b <= zb);
   };
   // (min, max) depth of the texels of quad (qx, qy) of size ss, and of the
   // receiver's plane over it (minus the bias)
@@ -402,26 +482,33 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
     zlo = std::min({ z00, z10, z01, z11 }) - bias * ss;
     zhi = std::max({ z00, z10, z01, z11 }) - bias * ss;
   };
-  // as quadLitTile() in the shader: the quad's (min, max) decides it, or its
-  // four children do, each by its own (min, max) or its centre texel
-  auto quadLit = [&](int qx, int qy) {
+  // as quadBlocked() in the shader: the quad's (min, max) decides it, or its
+  // four children do, each by its own (min, max) or its centre texel; each
+  // blocked part is added with its depth (a decided quad: its range's middle
+  // and its max)
+  auto quadBlocked = [&](int qx, int qy, double o) {
+    double zb;
     if (s == 1)
     {
-      return texelLit(qx, qy, bias);
+      if (texelBlocked(qx, qy, bias, zb))
+      {
+        addBlocked(qx, qy, qx + 1, qy + 1, zb, zb, o, false);
+      }
+      return;
     }
     double dmin, dmax, zlo, zhi;
     depthRange(qx, qy, s, dmin, dmax);
     planeRange(qx, qy, s, zlo, zhi);
     if (zhi <= dmin)
     {
-      return 1.0;
+      return;
     }
     if (zlo > dmax)
     {
-      return 0.0;
+      addBlocked(qx * s, qy * s, (qx + 1) * s, (qy + 1) * s, 0.5 * (dmin + dmax), dmax, o, false);
+      return;
     }
     const int hs = s / 2;
-    double sum = 0.0;
     for (int q = 0; q < 4; ++q)
     {
       const int cx = 2 * qx + (q & 1), cy = 2 * qy + (q >> 1);
@@ -429,19 +516,22 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
       planeRange(cx, cy, hs, zlo, zhi);
       if (zhi <= dmin)
       {
-        sum += 1.0;
+        continue;
       }
-      else if (zlo <= dmax)
+      if (zlo > dmax)
       {
-        sum += texelLit(std::min(cx * hs + hs / 2, tile.w - 1), std::min(cy * hs + hs / 2, tile.h - 1), bias * hs);
+        addBlocked(cx * hs, cy * hs, (cx + 1) * hs, (cy + 1) * hs, 0.5 * (dmin + dmax), dmax, 0.25 * o, false);
+      }
+      else if (texelBlocked(std::min(cx * hs + hs / 2, tile.w - 1), std::min(cy * hs + hs / 2, tile.h - 1), bias * hs, zb))
+      {
+        addBlocked(cx * hs, cy * hs, (cx + 1) * hs, (cy + 1) * hs, zb, dmax, 0.25 * o, true);
       }
     }
-    return 0.25 * sum;
   };
   const int qx0 = std::max(0, static_cast<int>(std::floor((Tx - hw) / s)));
   const int qx1 = std::min((tile.w - 1) / s, static_cast<int>(std::floor((Tx + hw) / s)));
   const int qyMax = (tile.h - 1) / s;
-  double lit = 0.0, area = 0.0;
+  double area = 0.0;
   for (int qx = qx0; qx <= qx1; ++qx)
   {
     const double a = std::max({ static_cast<double>(qx * s), Tx - hw, 0.0 });
@@ -468,12 +558,13 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
       }
       const double o = (b - a) * oy;
       area += o;
-      lit += o * quadLit(qx, qy);
+      quadBlocked(qx, qy, o);
     }
   }
   // back to shadow-map units so tiles of different resolutions merge
   acc.area = area / (sx * sy);
-  acc.litArea = lit / (sx * sy);
+  acc.litArea = (area - occ) / (sx * sy);
+  acc.backProjected = backProjected;
   return acc;
 }
 

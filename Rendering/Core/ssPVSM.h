@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -142,12 +143,50 @@ struct TileDepthMap
 /// not a visibility; V is VA / A once every tile has been added.
 struct CoverageAccum
 {
-  double litArea = 0.0; ///< V·A
-  double area = 0.0;    ///< A
+  double litArea = 0.0;       ///< V·A (with a ReachParams: blocked texels count within their reach)
+  double area = 0.0;          ///< A
+  double backProjected = 0.0; ///< back-projected hidden fraction of the light (with a ReachParams)
   void Merge(const CoverageAccum& o);
-  /// VA / A; 1 when no tile saw the kernel (nothing was drawn there: lit).
+  /// min(VA / A, 1 - backProjected), clamped to [0, 1]; VA / A is 1 when no
+  /// tile saw the kernel (nothing was drawn there: lit).
   double Visibility() const;
 };
+
+/// What the per-texel reach needs (beyond the paper; pvsm.md "Streaks on a
+/// concave wall"). A blocked texel of depth z_b can hide light from the
+/// receiver (depth z_r) only within its reach: the light filter of §4 eq. 1
+/// at z_b instead of z_avg, convolved with the pixel footprint as in §4.2.
+/// With it, FilterKernelInTile accumulates two estimates of the hidden
+/// fraction and Visibility() keeps the larger:
+///  - PCSS over the kernel, where a blocked texel counts if it is at least
+///    nearFraction of z_avg's height above the receiver (z_r - z_b >=
+///    nearFraction (z_r - z_avg): the blockers PCSS sizes its kernel by) and
+///    otherwise only within its own reach;
+///  - back-projection (Guennebaud et al. 2006): every blocked texel within its
+///    reach adds its area over the reach's area, exact for a blocker plane
+///    at any depth.
+/// A curved receiver's own surface rises slightly above its tangent plane
+/// (z_b just below z_r) but lies beyond its tiny reach, so neither estimate
+/// counts it; plain PCSS counted it across the whole kernel (facet streaks on
+/// a lit concave wall).
+struct ReachParams
+{
+  glm::dvec2 lightHalfSize{ 0.0 }; ///< rect: half width/height (world); directional: tan of the half angles
+  bool orthographic = false;
+  double zAvg = 0.0;                            ///< the blocker average the kernel was sized with
+  glm::dvec2 viewSpan{ HUGE_VAL, HUGE_VAL };    ///< the view's extent: no light filter is wider
+  double nearFraction = 0.5;
+};
+
+/// §4 eq. 1: the light filter's half axes (shadow-map units) through blockers
+/// at zb for a receiver at zr, clamped to the view's extent (as the kernel
+/// pass does: it grows without bound as zb -> 0).
+glm::dvec2 LightFilterHalfAxes(const ReachParams& p, double zr, double zb);
+
+/// The reach of a blocker at zb: the pixel footprint (the kernel h's
+/// covariance minus the light filter at z_avg's) convolved with the light
+/// filter at zb, as a semi-axis-aligned parallelogram (ConvolveKernels' form).
+KernelAxes ReachAt(const KernelAxes& h, const ReachParams& p, double zr, double zb);
 
 /// PVSM §4.1 eq. 2 along the semi-axis-aligned kernel h centred at c (both in
 /// shadow-map space), restricted to one tile: the kernel is cut into vertical
@@ -162,8 +201,12 @@ struct CoverageAccum
 /// plane lowered by 0.05 of the lateral distance from the kernel centre; a
 /// caller passes whatever receiverDepth it wants.) A kernel below 1e-3
 /// texel in either direction is widened to that (an exact point has no area).
+/// With reach (what the shader does), blocked texels are weighed by their
+/// reach as ReachParams says, z_r being receiverDepth at c; without, every
+/// blocked texel in the kernel counts (plain §4.1).
 CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, const KernelAxes& h,
-  const std::function<double(double, double)>& receiverDepth, double bias, int maxQuads);
+  const std::function<double(double, double)>& receiverDepth, double bias, int maxQuads,
+  const ReachParams* reach = nullptr);
 
 /// PVSM stats in the layout of the paper's Table 1 (ms per stage) plus the
 /// tiles, the texels rendered and the shadow memory.

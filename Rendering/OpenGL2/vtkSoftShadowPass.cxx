@@ -485,7 +485,7 @@ public:
   vtkSmartPointer<vtkOpenGLVertexArrayObject> ConservativeVAO;
   unsigned long ConservativeVAOUploads = 0;
   vtkSmartPointer<vtkTextureObject> Kernel[3]; // RGBA32F, screen size
-  vtkSmartPointer<vtkTextureObject> Accum;     // RG32F (V·A, A), screen size
+  vtkSmartPointer<vtkTextureObject> Accum;     // RGBA32F (V·A within reach, A, back-projection, unused), screen size
   TextureArray Grid; // RG32F SMTG and its pyramid (one layer, all levels)
   std::vector<std::vector<float>> LastGridLevels; // the last view's SMTG pyramid as read back
   vtkShaderProgram* GridProgram = nullptr;
@@ -677,7 +677,7 @@ public:
     {
       tex(this->Kernel[i], 16);
     }
-    tex(this->Accum, 8);
+    tex(this->Accum, 16);
     if (this->CasterUploaded)
     {
       b += static_cast<long long>(this->CasterTriangles.size()) * 4;
@@ -1837,7 +1837,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
   {
     EnsureTexture2D(win, k, W, H, 4);
   }
-  EnsureTexture2D(win, in.Accum, W, H, 2);
+  EnsureTexture2D(win, in.Accum, W, H, 4);
   int G = 4;
   while (G < this->PVSMGridSize)
   {
@@ -2066,6 +2066,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
         commonUniforms(fp, l, -1);
         fp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
         fp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
+        fp->SetUniformi("kernel2", in.Kernel[2]->GetTextureUnit());
         fp->SetUniformi("tileMap", tileUnit);
         const float tr[4] = { static_cast<float>(tile.rect[0]), static_cast<float>(tile.rect[1]),
           static_cast<float>(tile.rect[2]), static_cast<float>(tile.rect[3]) };
@@ -2080,6 +2081,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
         fp->SetUniformi("tileLevels", levels);
         fp->SetUniformi("view", vi);
         fp->SetUniformi("maxQuads", this->FilterMaxQuads);
+        fp->SetUniformf("nearFraction", static_cast<float>(ss::ReachParams{}.nearFraction));
         ostate->vtkglEnable(GL_BLEND);
         ostate->vtkglBlendEquation(GL_FUNC_ADD);
         ostate->vtkglBlendFunc(GL_ONE, GL_ONE);

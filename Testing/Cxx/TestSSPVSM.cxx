@@ -555,8 +555,144 @@ TEST(PVSM, KernelSplitAcrossTilesMergesToTheSingleTileValue)
       two.Merge(FilterKernelInTile(b, c, k, zr, 0.01, maxQuads));
       EXPECT_NEAR(two.area, one.area, 1e-9);
       EXPECT_NEAR(two.Visibility(), one.Visibility(), 1e-4) << it;
+      // the same with the per-texel reach (what the shader does): both
+      // estimates are sums over texels, so they merge the same way
+      ReachParams rp;
+      rp.lightHalfSize = { 0.3, 0.2 };
+      rp.zAvg = 0.9;
+      const CoverageAccum oneR = FilterKernelInTile(whole, c, k, zr, 0.01, maxQuads, &rp);
+      CoverageAccum twoR = FilterKernelInTile(a, c, k, zr, 0.01, maxQuads, &rp);
+      twoR.Merge(FilterKernelInTile(b, c, k, zr, 0.01, maxQuads, &rp));
+      EXPECT_NEAR(twoR.backProjected, oneR.backProjected, 1e-9) << it;
+      EXPECT_NEAR(twoR.Visibility(), oneR.Visibility(), 1e-4) << it;
     }
   }
+}
+
+namespace
+{
+// A kernel without pixel footprint: the light filter at z_avg (§4 eq. 1).
+KernelAxes LightOnlyKernel(const ReachParams& p, double zr)
+{
+  const glm::dvec2 k = LightFilterHalfAxes(p, zr, p.zAvg);
+  KernelAxes h;
+  h.u = { k.x, 0.0 };
+  h.v = { 0.0, k.y };
+  return h;
+}
+}
+
+TEST(PVSM, ReachPutsABlockerNearerThanZavgWhereItsPenumbraIs)
+{
+  // A half-plane blocker at z_b = 1.8 over a receiver at z_r = 2, while the
+  // kernel was sized by z_avg = 1.2 (say another blocker nearer the light was
+  // in the search region). The light (half size 1 world unit) seen through
+  // z_b covers [c - r, c + r] with r = (z_r - z_b) / (z_r z_b): a blocker
+  // edge at c + d hides (r - d) / 2r of it, exactly what back-projection
+  // gives. Plain PCSS spreads the same edge over the wider kernel.
+  const int w = 400, h = 400;
+  const double texel = 0.0025; // map units; the kernel's half width is 0.333
+  ReachParams rp;
+  rp.lightHalfSize = { 1.0, 1.0 };
+  rp.zAvg = 1.2;
+  const double zr = 2.0, zb = 1.8;
+  const double r = (zr - zb) / (zr * zb); // 0.0556
+  const KernelAxes k = LightOnlyKernel(rp, zr);
+  const glm::dvec2 c(0.5, 0.5);
+  auto plane = [&](double, double) { return zr; };
+  std::vector<float> depth(w * h);
+  double worstReach = 0.0, worstPlain = 0.0;
+  for (double d : { -0.04, -0.02, 0.0, 0.01, 0.03, 0.05 })
+  {
+    for (int j = 0; j < h; ++j)
+    {
+      for (int i = 0; i < w; ++i)
+      {
+        depth[j * w + i] = (i + 0.5) * texel >= c.x + d ? static_cast<float>(zb) : 1e30f;
+      }
+    }
+    TileDepthMap tile{ depth.data(), w, h, { 0.0, 0.0, w * texel, h * texel } };
+    const double want = std::clamp((r + d) / (2.0 * r), 0.0, 1.0);
+    const double withReach = FilterKernelInTile(tile, c, k, plane, 0.0, 1 << 20, &rp).Visibility();
+    const double plain = FilterKernelInTile(tile, c, k, plane, 0.0, 1 << 20).Visibility();
+    worstReach = std::max(worstReach, std::abs(withReach - want));
+    worstPlain = std::max(worstPlain, std::abs(plain - want));
+    EXPECT_NEAR(withReach, want, 0.03) << "edge at c + " << d;
+  }
+  // the test would fail with plain PCSS: its edge is 6x too wide
+  EXPECT_GT(worstPlain, 0.2);
+  EXPECT_LT(worstReach, 0.03);
+}
+
+TEST(PVSM, ReachKeepsAConcaveReceiversOwnSurfaceFromShadowingIt)
+{
+  // A lit concave receiver (pvsm.md, the 16x detail view): its own surface
+  // rises above its tangent plane quadratically, z(X) = z_r - a |X - c|^2,
+  // up to 0.05 at the kernel's edge, while the kernel was sized by a blocker
+  // found nearer the light (z_avg = 1.5, beyond the kernel). Nothing hides
+  // the light: a texel rising by dz reaches only dz / (z_r z_b) around
+  // itself, less than its distance from c. Plain PCSS counts every texel
+  // above the plane.
+  const int w = 256, h = 256;
+  ReachParams rp;
+  rp.lightHalfSize = { 0.5, 0.5 };
+  rp.zAvg = 1.5;
+  const double zr = 2.0;
+  const KernelAxes k = LightOnlyKernel(rp, zr); // half width 0.0833
+  const double texel = 0.002;
+  const glm::dvec2 c(0.256, 0.256);
+  const double a = 0.05 / (k.u.x * k.u.x);
+  std::vector<float> depth(w * h);
+  for (int j = 0; j < h; ++j)
+  {
+    for (int i = 0; i < w; ++i)
+    {
+      const glm::dvec2 X((i + 0.5) * texel, (j + 0.5) * texel);
+      const glm::dvec2 e = X - c;
+      depth[j * w + i] = static_cast<float>(zr - a * glm::dot(e, e));
+    }
+  }
+  TileDepthMap tile{ depth.data(), w, h, { 0.0, 0.0, w * texel, h * texel } };
+  auto plane = [&](double, double) { return zr; };
+  for (int maxQuads : { 1 << 20, 8 })
+  {
+    const double withReach = FilterKernelInTile(tile, c, k, plane, 1e-4, maxQuads, &rp).Visibility();
+    const double plain = FilterKernelInTile(tile, c, k, plane, 1e-4, maxQuads).Visibility();
+    EXPECT_GT(withReach, 0.99) << maxQuads;
+    EXPECT_LT(plain, 0.5) << maxQuads; // the streaks: the test fails without the reach
+  }
+}
+
+TEST(PVSM, ReachIsTheKernelForBlockersAtZavg)
+{
+  // Blockers at z_avg: the reach is the kernel (same footprint, same light
+  // filter), so a blocker at z_avg is filtered as plain §4.1 does.
+  ReachParams rp;
+  rp.lightHalfSize = { 0.4, 0.25 };
+  rp.zAvg = 1.1;
+  const double zr = 1.7;
+  KernelAxes fp; // a slanted pixel footprint
+  fp.u = { 0.01, 0.004 };
+  fp.v = { -0.002, 0.008 };
+  KernelAxes light = LightOnlyKernel(rp, zr);
+  const KernelAxes h = ConvolveKernels(fp.u, fp.v, light.u, light.v);
+  const KernelAxes r = ReachAt(h, rp, zr, rp.zAvg);
+  EXPECT_NEAR(r.u.x, h.u.x, 1e-12);
+  EXPECT_NEAR(r.u.y, h.u.y, 1e-12);
+  EXPECT_NEAR(r.v.y, h.v.y, 1e-12);
+  // nearer the light the reach grows, nearer the receiver it shrinks to the footprint
+  EXPECT_GT(ReachAt(h, rp, zr, 0.9).Area(), h.Area());
+  const KernelAxes atReceiver = ReachAt(h, rp, zr, zr);
+  EXPECT_NEAR(atReceiver.Area(), fp.Area(), 1e-9);
+  // a blocker behind the light's plane or a NaN depth gives no NaN
+  EXPECT_TRUE(std::isfinite(ReachAt(h, rp, zr, -1.0).Area()));
+  std::vector<float> depth(64 * 64, static_cast<float>(rp.zAvg));
+  depth[5] = std::numeric_limits<float>::quiet_NaN();
+  TileDepthMap tile{ depth.data(), 64, 64, { 0.0, 0.0, 0.64, 0.64 } };
+  auto plane = [&](double, double) { return zr; };
+  const CoverageAccum acc = FilterKernelInTile(tile, { 0.32, 0.32 }, h, plane, 0.0, 16, &rp);
+  EXPECT_TRUE(std::isfinite(acc.backProjected));
+  EXPECT_NEAR(acc.Visibility(), 0.0, 1e-9); // a blocker plane over the whole kernel: umbra
 }
 
 TEST(PVSM, FilterHandlesBadInput)

@@ -1,18 +1,21 @@
 //VTK::System::Dec
 // PVSM §5.2 step 8: the pixels whose kernel reaches the current tile filter
 // it with the §4.1 coverage integral along their kernel h (vertical panels one
-// texel wide, each approximated by a box, §4.2) and add (V·A, A) for this
-// tile to the accumulation buffer (additive blending): the V·A / A merge of
-// kernels overlapping several tiles. Mirrors ss::FilterKernelInTile
+// texel wide, each approximated by a box, §4.2) and add (V·A, A, back-
+// projection) for this tile to the accumulation buffer (additive blending):
+// the V·A / A merge of kernels overlapping several tiles, plus the per-texel
+// reach below. Mirrors ss::FilterKernelInTile with ss::ReachParams
 // (Rendering/Core/ssPVSM.h), where it is unit-tested.
 uniform sampler2D kernel0;
 uniform sampler2D kernel1;
+uniform sampler2D kernel2;
 uniform sampler2DArray tileMap; // layer 0: the tile's depth (RG), mips (min, max)
 uniform vec4 tileRect;          // shadow-map extent of the tile
 uniform vec2 tileRes;           // texels of the tile
 uniform int tileLevels;
 uniform int view;
 uniform int maxQuads;
+uniform float nearFraction; // ss::ReachParams::nearFraction
 in vec2 texCoord; // from VTK's full-screen quad
 //VTK::Output::Dec
 //SS::Common
@@ -45,20 +48,95 @@ float tolerantDepth(View w, vec2 X, float maxDelta)
   return planeDepth(w, X, maxDelta) - 0.05 * length(X - kernelCentre) * unitWorldG;
 }
 
-// The map hooks of ssQuadLit.glsl: the current tile (children's centre
-// texels are kept inside the tile's resolution).
-float mapTexelLit(View w, ivec2 t, float bias, float maxDelta)
+// Per-texel reach and back-projection (beyond the paper; pvsm.md "Streaks on
+// a concave wall"; ss::ReachParams). A blocked texel of depth z_b can hide
+// light from the receiver only within its reach: the light filter of §4
+// eq. 1 at z_b instead of z_avg, convolved with the pixel footprint as in
+// §4.2. Two estimates of the hidden fraction are accumulated; the resolve
+// keeps the larger:
+//  - PCSS over the kernel, where a blocked texel counts whole if it is at
+//    least nearFraction of z_avg's height above the receiver (the blockers
+//    the kernel is sized by) and otherwise only within its reach;
+//  - back-projection (Guennebaud et al. 2006): each blocked texel within its
+//    reach adds its area over the reach's area (exact for a blocker plane at
+//    any depth, where PCSS is exact only at z_avg).
+// A curved receiver's own facets rise a little above its tangent plane but
+// lie beyond their tiny reach, so neither counts them; plain PCSS counted
+// them across the whole kernel (facet streaks on a lit concave wall).
+mat2 footprint;   // the pixel footprint's covariance (shadow-map units^2)
+float receiverZ;  // the receiver's light-space depth
+float zAvg;       // the blocker average the kernel was sized with
+vec2 viewSpan;    // the view's extent (shadow-map units)
+float occ;        // blocked area counted by the PCSS estimate (tile texels^2)
+float backProj;   // back-projected hidden fraction of the light
+
+// The reach at depth zb as a semi-axis-aligned parallelogram (rx, slope, rvy)
+// around the kernel centre; returns its area (shadow-map units^2).
+float reachAt(float zb, out float rx, out float slope, out float rvy)
+{
+  float dz = max(receiverZ - zb, 0.0);
+  vec2 r = (orthographic != 0) ? lightHalfSize * dz : lightHalfSize * dz / max(receiverZ * zb, 1e-30);
+  r = min(r, viewSpan);
+  float m00 = footprint[0][0] + r.x * r.x;
+  float m10 = footprint[0][1];
+  float m11 = footprint[1][1] + r.y * r.y;
+  rx = sqrt(max(m00, 0.0));
+  float ry = (rx > 0.0) ? m10 / rx : 0.0;
+  rvy = sqrt(max(m11 - ry * ry, 0.0));
+  slope = (rx > 0.0) ? ry / rx : 0.0;
+  return 4.0 * rx * rvy;
+}
+
+// A blocked block of texels [t0, t1] (tile texels) of depths around zb, the
+// lowest zLow, of which o (tile texels^2) lies in the kernel: it counts whole
+// for PCSS when zb is high enough; otherwise, and for the back-projection,
+// the part within the reach at zLow (its vertical extent at the block's
+// centre, as the panels) does: the smallest of the block's reaches, so a
+// coarse quad reaching down to the receiver (its own surface next to the
+// kernel centre) is not credited with the light its high corner could hide.
+// A block only sampled (its centre texel blocked) adds nothing to the
+// back-projection: a reach is centred on the kernel centre, so a block
+// touching it would claim a quarter of it, however small, for texels that
+// may not be blocked at all.
+void addBlocked(vec2 t0, vec2 t1, float zb, float zLow, float o, bool sampled)
+{
+  float rx, slope, rvy;
+  float areaMap = reachAt(zLow, rx, slope, rvy);
+  bool high = receiverZ - zb >= nearFraction * (receiverZ - zAvg);
+  if (high)
+  {
+    occ += o;
+  }
+  if (!(areaMap > 0.0))
+  {
+    return;
+  }
+  vec2 a = tileX(t0) - kernelCentre;
+  vec2 b = tileX(t1) - kernelCentre;
+  float x0 = max(a.x, -rx), x1 = min(b.x, rx);
+  if (!(x1 > x0))
+  {
+    return;
+  }
+  float cy = slope * 0.5 * (x0 + x1);
+  float y0 = max(a.y, cy - rvy), y1 = min(b.y, cy + rvy);
+  if (!(y1 > y0))
+  {
+    return;
+  }
+  float f = (x1 - x0) * (y1 - y0) / ((b.x - a.x) * (b.y - a.y));
+  occ += high ? 0.0 : o * f;
+  backProj += sampled ? 0.0 : o * f / (tilePerUnit.x * tilePerUnit.y * areaMap);
+}
+
+bool texelBlocked(View w, ivec2 t, float bias, float maxDelta, out float zb)
 {
   t = min(t, ivec2(tileRes) - 1);
-  return (tolerantDepth(w, tileX(vec2(t) + 0.5), maxDelta) - bias <= tileDepth(t)) ? 1.0 : 0.0;
+  zb = tileDepth(t);
+  return !(tolerantDepth(w, tileX(vec2(t) + 0.5), maxDelta) - bias <= zb);
 }
 
-vec2 mapMinMax(View w, ivec2 q, int level)
-{
-  return texelFetch(tileMap, ivec3(q, 0), level).rg;
-}
-
-vec2 mapPlaneRange(View w, vec2 a, float s, float maxDelta)
+vec2 planeRangeTile(View w, vec2 a, float s, float maxDelta)
 {
   float z00 = tolerantDepth(w, tileX(a), maxDelta);
   float z10 = tolerantDepth(w, tileX(a + vec2(s, 0.0)), maxDelta);
@@ -67,7 +145,54 @@ vec2 mapPlaneRange(View w, vec2 a, float s, float maxDelta)
   return vec2(min(min(z00, z10), min(z01, z11)), max(max(z00, z10), max(z01, z11)));
 }
 
-//SS::QuadLit
+// The quad q of 2^level texels, o of it in the kernel: decided as in
+// ssQuadLit.glsl (its (min, max) depth, else its four children's, else a
+// child's centre texel), each blocked part added with its depth (a decided
+// quad: the middle of its range and its max).
+void quadBlocked(View w, int level, ivec2 q, float bias, float maxDelta, float o)
+{
+  float zb;
+  if (level == 0)
+  {
+    if (texelBlocked(w, q, bias, maxDelta, zb))
+    {
+      addBlocked(vec2(q), vec2(q) + 1.0, zb, zb, o, false);
+    }
+    return;
+  }
+  float s = exp2(float(level));
+  vec2 z = planeRangeTile(w, vec2(q) * s, s, maxDelta) - bias * s;
+  vec2 mm = texelFetch(tileMap, ivec3(q, 0), level).rg;
+  if (z.y <= mm.x)
+  {
+    return;
+  }
+  if (z.x > mm.y)
+  {
+    addBlocked(vec2(q) * s, vec2(q + 1) * s, 0.5 * (mm.x + mm.y), mm.y, o, false);
+    return;
+  }
+  float h = 0.5 * s;
+  for (int c = 0; c < 4; ++c)
+  {
+    ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
+    vec2 b = vec2(child) * h;
+    vec2 cz = planeRangeTile(w, b, h, maxDelta) - bias * h;
+    vec2 cm = texelFetch(tileMap, ivec3(child, 0), level - 1).rg;
+    if (cz.y <= cm.x)
+    {
+      continue;
+    }
+    if (cz.x > cm.y)
+    {
+      addBlocked(b, b + h, 0.5 * (cm.x + cm.y), cm.y, 0.25 * o, false);
+    }
+    else if (texelBlocked(w, ivec2(b + 0.5 * h), bias * h, maxDelta, zb))
+    {
+      addBlocked(b, b + h, zb, cm.y, 0.25 * o, true);
+    }
+  }
+}
 
 void main()
 {
@@ -97,6 +222,21 @@ void main()
   float unitWorld = (orthographic != 0) ? 1.0 : w.p.z;
   unitWorldG = unitWorld;
   kernelCentre = c;
+  receiverZ = w.p.z;
+  viewSpan = viewExtent[view].zw - viewExtent[view].xy;
+  occ = 0.0;
+  backProj = 0.0;
+  {
+    // the footprint: the kernel's covariance minus the light filter at z_avg
+    // (the same k as the kernel pass)
+    zAvg = texelFetch(kernel2, pix, 0).z;
+    vec2 k = (orthographic != 0) ? lightHalfSize * max(w.p.z - zAvg, 0.0)
+                                 : lightHalfSize * max(w.p.z - zAvg, 0.0) / max(w.p.z * zAvg, 1e-30);
+    k = min(k, viewSpan);
+    float m10 = k0.x * k0.y;
+    footprint = mat2(max(k0.x * k0.x - k.x * k.x, 0.0), m10, m10,
+      max(k0.y * k0.y + k0.z * k0.z - k.y * k.y, 0.0));
+  }
   float texelWorld = max(1.0 / tilePerUnit.x, 1.0 / tilePerUnit.y) * unitWorld;
   float bias = texelWorld * constantBias;
   float maxDelta = 10.0 * (max(hw, hh) * unitWorld + texelWorld);
@@ -131,7 +271,6 @@ void main()
   int qx0 = max(0, int(floor((T.x - ux) / s)));
   int qx1 = min(int((tileRes.x - 1.0) / s), int(floor((T.x + ux) / s)));
   int qyMax = int((tileRes.y - 1.0) / s);
-  float lit = 0.0;
   float area = 0.0;
   for (int qx = qx0; qx <= qx1; ++qx)
   {
@@ -159,10 +298,10 @@ void main()
       }
       float o = (b - a) * oy;
       area += o;
-      lit += o * quadLit(w, level, ivec2(qx, qy), bias, maxDelta);
+      quadBlocked(w, level, ivec2(qx, qy), bias, maxDelta, o);
     }
   }
   // shadow-map units, so tiles of different resolutions merge
   float toUnits = 1.0 / (tilePerUnit.x * tilePerUnit.y);
-  gl_FragData[0] = vec4(lit * toUnits, area * toUnits, 0.0, 0.0);
+  gl_FragData[0] = vec4((area - occ) * toUnits, area * toUnits, backProj, 0.0);
 }

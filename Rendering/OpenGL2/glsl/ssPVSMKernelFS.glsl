@@ -19,7 +19,7 @@ in vec2 texCoord; // from VTK's full-screen quad
 // Outputs (RGBA32F each):
 //  0: u_h.x, u_h.y, v_h.y, state (-1 background, 0 done: V = out1.w, 1 filter)
 //  1: X (shadow-map position), view index, V factor (done) or the tangent-plane fraction (filter)
-//  2: texel0, texel1 (predicted texel sizes), n0, n1 (kernel size in pixels)
+//  2: texel0, texel1 (predicted texel sizes), z_avg, 0
 
 float rho(float n)
 {
@@ -156,5 +156,5 @@ void main()
   t1 = min(t1, lowTexel.y / quality);
   gl_FragData[0] = vec4(uh, vhy, 1.0);
   gl_FragData[1] = vec4(X, float(w.index), tangent);
-  gl_FragData[2] = vec4(t0, t1, n0, n1);
+  gl_FragData[2] = vec4(t0, t1, zAvg, 0.0);
 }

@@ -21,8 +21,9 @@ void main()
   float V = k1.w;
   if (k0.w == 1.0)
   {
-    vec2 acc = texelFetch(accum, pix, 0).rg;
-    V *= (acc.y > 0.0) ? clamp(acc.x / acc.y, 0.0, 1.0) : 1.0;
+    vec3 acc = texelFetch(accum, pix, 0).rgb;
+    float reach = (acc.y > 0.0) ? clamp(acc.x / acc.y, 0.0, 1.0) : 1.0;
+    V *= min(reach, 1.0 - clamp(acc.z, 0.0, 1.0));
   }
   gl_FragData[0] = vec4(V, 0.0, 0.0, 1.0);
 }

@@ -1,9 +1,9 @@
-// Shared by the visibility and PVSM filter shaders (pasted where a shader
-// says //SS::QuadLit, after it defined the three map hooks:
+// Used by the visibility shader (pasted where it says //SS::QuadLit, after
+// it defined the three map hooks):
 //   float mapTexelLit(View w, ivec2 t, float bias, float maxDelta)  shadow test of texel t
 //   vec2 mapMinMax(View w, ivec2 q, int level)                       (min, max) depth of quad q
 //   vec2 mapPlaneRange(View w, vec2 a, float s, float maxDelta)      receiver plane's (min, max)
-//                                                                    over the quad [a, a + s]^2).
+//                                                                    over the quad [a, a + s]^2
 // Lit fraction of the quad q of 2^level texels. The (min, max) depth of the
 // quad decides it exactly when the receiver (its tangent plane over the
 // quad, minus the bias) is nearer than every texel (lit) or farther than every
