@@ -151,6 +151,9 @@ vec2 planeRangeTile(View w, vec2 a, float s, float maxDelta)
 // quad: the middle of its range and its max).
 void quadBlocked(View w, int level, ivec2 q, float bias, float maxDelta, float o)
 {
+  // one addBlocked() call site per path: llvmpipe runs every inlined copy
+  // for all lanes of a SIMD group, so each copy costs (filtering +50% with
+  // four of them on the canopy)
   float zb;
   if (level == 0)
   {
@@ -167,29 +170,23 @@ void quadBlocked(View w, int level, ivec2 q, float bias, float maxDelta, float o
   {
     return;
   }
-  if (z.x > mm.y)
+  bool whole = z.x > mm.y; // the whole quad is blocked
+  float h = whole ? s : 0.5 * s;
+  for (int c = 0; c < (whole ? 1 : 4); ++c)
   {
-    addBlocked(vec2(q) * s, vec2(q + 1) * s, 0.5 * (mm.x + mm.y), mm.y, o, false);
-    return;
-  }
-  float h = 0.5 * s;
-  for (int c = 0; c < 4; ++c)
-  {
-    ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
+    ivec2 child = whole ? q : 2 * q + ivec2(c & 1, c >> 1);
     vec2 b = vec2(child) * h;
-    vec2 cz = planeRangeTile(w, b, h, maxDelta) - bias * h;
-    vec2 cm = texelFetch(tileMap, ivec3(child, 0), level - 1).rg;
+    vec2 cm = whole ? mm : texelFetch(tileMap, ivec3(child, 0), level - 1).rg;
+    vec2 cz = whole ? z : planeRangeTile(w, b, h, maxDelta) - bias * h;
     if (cz.y <= cm.x)
     {
       continue;
     }
-    if (cz.x > cm.y)
+    bool decided = cz.x > cm.y;
+    zb = 0.5 * (cm.x + cm.y);
+    if (decided || texelBlocked(w, ivec2(b + 0.5 * h), bias * h, maxDelta, zb))
     {
-      addBlocked(b, b + h, 0.5 * (cm.x + cm.y), cm.y, 0.25 * o, false);
-    }
-    else if (texelBlocked(w, ivec2(b + 0.5 * h), bias * h, maxDelta, zb))
-    {
-      addBlocked(b, b + h, zb, cm.y, 0.25 * o, true);
+      addBlocked(b, b + h, zb, cm.y, whole ? o : 0.25 * o, !decided);
     }
   }
 }
