@@ -319,7 +319,7 @@ glm::dvec2 LightFilterHalfAxes(const ReachParams& p, double zr, double zb)
   glm::dvec2 k = p.orthographic ? p.lightHalfSize * dz : p.lightHalfSize * (dz / std::max(zr * zb, 1e-30));
   if (!(k.x >= 0.0) || !(k.y >= 0.0))
   {
-    k = glm::dvec2(0.0); // zb <= 0 (a blocker behind the light's plane): no filter
+    k = glm::dvec2(0.0); // a NaN depth: no filter (zb <= 0, behind the light's plane, is capped below)
   }
   return glm::min(k, p.viewSpan);
 }

@@ -74,9 +74,7 @@ float backProj;   // back-projected hidden fraction of the light
 // around the kernel centre; returns its area (shadow-map units^2).
 float reachAt(float zb, out float rx, out float slope, out float rvy)
 {
-  float dz = max(receiverZ - zb, 0.0);
-  vec2 r = (orthographic != 0) ? lightHalfSize * dz : lightHalfSize * dz / max(receiverZ * zb, 1e-30);
-  r = min(r, viewSpan);
+  vec2 r = min(lightFilterHalf(receiverZ, zb), viewSpan);
   float m00 = footprint[0][0] + r.x * r.x;
   float m10 = footprint[0][1];
   float m11 = footprint[1][1] + r.y * r.y;
@@ -227,9 +225,7 @@ void main()
     // the footprint: the kernel's covariance minus the light filter at z_avg
     // (the same k as the kernel pass)
     zAvg = texelFetch(kernel2, pix, 0).z;
-    vec2 k = (orthographic != 0) ? lightHalfSize * max(w.p.z - zAvg, 0.0)
-                                 : lightHalfSize * max(w.p.z - zAvg, 0.0) / max(w.p.z * zAvg, 1e-30);
-    k = min(k, viewSpan);
+    vec2 k = min(lightFilterHalf(w.p.z, zAvg), viewSpan);
     float m10 = k0.x * k0.y;
     footprint = mat2(max(k0.x * k0.x - k.x * k.x, 0.0), m10, m10,
       max(k0.y * k0.y + k0.z * k0.z - k.y * k.y, 0.0));

@@ -117,15 +117,7 @@ void main()
   uPhi = clamp(uPhi, -0.1 * e, 0.1 * e);
   vPhi = clamp(vPhi, -0.1 * e, 0.1 * e);
   // §4 eq. 1: the light filter s_alpha through blockers at z_avg (half axes)
-  vec2 k;
-  if (orthographic != 0)
-  {
-    k = lightHalfSize * max(w.p.z - zAvg, 0.0);
-  }
-  else
-  {
-    k = lightHalfSize * max(w.p.z - zAvg, 0.0) / max(w.p.z * zAvg, 1e-30);
-  }
+  vec2 k = lightFilterHalf(w.p.z, zAvg);
   // No kernel is wider than the view: k grows without bound as z_avg -> 0,
   // and its square overflowed to inf, a kernel no tile saw, resolved as lit.
   k = min(k, e);

@@ -200,20 +200,21 @@ float outsideViewsVisibility(vec3 d)
 // depth of the blockers in the light's footprint on the plane of the nearest
 // caster, from the min-depth pyramid; -1 when there is none (fully lit; with
 // a conservatively rasterised map this is exact, PVSM §5.2).
+// §4 eq. 1: half axes of the light's projection through blockers at depth
+// zb, seen from a receiver at depth zr (unit-plane units; orthographic:
+// world units). Unclamped; ss::LightFilterHalfAxes is this with the view's
+// extent as a cap.
+vec2 lightFilterHalf(float zr, float zb)
+{
+  float dz = max(zr - zb, 0.0);
+  return (orthographic != 0) ? lightHalfSize * dz : lightHalfSize * dz / max(zr * zb, 1e-30);
+}
+
 float blockerSearch(View w, float bias)
 {
   // PCSS step 1: blocker search over the light's footprint on the plane of
   // the nearest caster (Fernando 2005; PVSM §4 eq. 1 scale).
-  vec2 searchHalf;
-  if (orthographic != 0)
-  {
-    searchHalf = lightHalfSize * max(w.p.z - searchDepth, 0.0);
-  }
-  else
-  {
-    float zb = min(searchDepth, w.p.z);
-    searchHalf = lightHalfSize * max(w.p.z - zb, 0.0) / max(w.p.z * zb, 1e-30);
-  }
+  vec2 searchHalf = lightFilterHalf(w.p.z, min(searchDepth, w.p.z));
   vec2 searchTex = min(searchHalf * w.texelPerUnit, vec2(mapSize * 0.25));
   searchTex = max(searchTex, vec2(1.0));
   float maxDelta = max(searchTex.x, searchTex.y) * w.texelWorld * 10.0;

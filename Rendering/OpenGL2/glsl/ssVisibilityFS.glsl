@@ -119,15 +119,7 @@ void main()
       {
         // PCSS step 2: penumbra by parallel planes, PVSM §4 eq. 1:
         // alpha = (z_r - z_o) / (z_r z_o) maps the light onto the unit plane.
-        vec2 kHalf;
-        if (orthographic != 0)
-        {
-          kHalf = lightHalfSize * max(w.p.z - zAvg, 0.0);
-        }
-        else
-        {
-          kHalf = lightHalfSize * max(w.p.z - zAvg, 0.0) / max(w.p.z * zAvg, 1e-30);
-        }
+        vec2 kHalf = lightFilterHalf(w.p.z, zAvg);
         vec2 kTex = kHalf * w.texelPerUnit;
         // PCSS step 3: filter with the texel-as-quad coverage integral (§4.1).
         // Below half a texel the kernel becomes an antialiased hard edge.
