@@ -10,7 +10,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
 
 namespace ss
 {
@@ -88,6 +90,39 @@ void OccludedFilter(const RTCFilterFunctionNArguments* args)
 }
 }
 
+std::string EmbreeDeviceConfigFromEnvironment()
+{
+  const char* isa = std::getenv("SOFTSHADOWS_EMBREE_ISA");
+  return (isa && *isa) ? std::string("isa=") + isa : std::string();
+}
+
+std::vector<std::string> SupportedEmbreeISAs()
+{
+  // Only ISAs this CPU runs: asking Embree for a wider one than the CPU has
+  // would run instructions it does not have.
+  std::vector<std::string> isas;
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("sse4.2"))
+  {
+    isas.push_back("sse4.2");
+  }
+  if (__builtin_cpu_supports("avx"))
+  {
+    isas.push_back("avx");
+  }
+  if (__builtin_cpu_supports("avx2"))
+  {
+    isas.push_back("avx2");
+  }
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+    __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512bw") &&
+    __builtin_cpu_supports("avx512vl"))
+  {
+    isas.push_back("avx512");
+  }
+  return isas;
+}
+
 struct ReferenceSolver::Impl
 {
   RTCDevice Device = nullptr;
@@ -112,12 +147,18 @@ struct ReferenceSolver::Impl
 };
 
 ReferenceSolver::ReferenceSolver()
+  : ReferenceSolver(EmbreeDeviceConfigFromEnvironment())
+{
+}
+
+ReferenceSolver::ReferenceSolver(const std::string& deviceConfig)
   : P(new Impl)
 {
-  P->Device = rtcNewDevice(nullptr);
-  if (!P->Device)
+  P->Device = rtcNewDevice(deviceConfig.empty() ? nullptr : deviceConfig.c_str());
+  if (!P->Device || rtcGetDeviceError(P->Device) != RTC_ERROR_NONE)
   {
-    throw std::runtime_error("Embree: could not create a device");
+    throw std::runtime_error("Embree: could not create a device with configuration '" +
+      deviceConfig + "'");
   }
 }
 
@@ -268,6 +309,22 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
           valid[q] = 0;
           below[q] = 0;
           transmittance[q] = 1.0f;
+          // Every lane is written, active or not: an 8-wide kernel (AVX2)
+          // serving a 16-ray packet reads all 16 lanes, and Debian's Embree
+          // asserts that each one is a valid ray. An inactive lane is a finite
+          // ray with tfar < tnear, so it could never hit even if it were read.
+          rays.org_x[q] = static_cast<float>(start.x);
+          rays.org_y[q] = static_cast<float>(start.y);
+          rays.org_z[q] = static_cast<float>(start.z);
+          rays.dir_x[q] = 0.0f;
+          rays.dir_y[q] = 0.0f;
+          rays.dir_z[q] = 1.0f;
+          rays.tnear[q] = 0.0f;
+          rays.tfar[q] = -1.0f;
+          rays.time[q] = 0.0f;
+          rays.mask[q] = 0u;
+          rays.id[q] = static_cast<unsigned>(q);
+          rays.flags[q] = 0;
           if (s >= ns)
           {
             continue;

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace ss
@@ -41,10 +42,22 @@ struct ReferenceStats
 /// pushed along its normal by a small offset scaled to the scene (no
 /// self-shadowing acne) and stops just short of the light (contact shadows
 /// of casters touching the receiver are kept).
+/// Embree's device configuration from the environment: SOFTSHADOWS_EMBREE_ISA=avx2
+/// (or sse4.2, avx, avx512) gives "isa=avx2", so a whole test run can take the
+/// kernels another machine would use. Empty when unset: Embree picks the widest.
+std::string EmbreeDeviceConfigFromEnvironment();
+
+/// The Embree ISA names ("sse4.2", "avx", "avx2", "avx512") this CPU supports,
+/// narrowest first.
+std::vector<std::string> SupportedEmbreeISAs();
+
 class ReferenceSolver
 {
 public:
+  /// Device configured by EmbreeDeviceConfigFromEnvironment().
   ReferenceSolver();
+  /// Device configured by Embree's configuration string, e.g. "isa=avx2".
+  explicit ReferenceSolver(const std::string& deviceConfig);
   ~ReferenceSolver();
   ReferenceSolver(const ReferenceSolver&) = delete;
   ReferenceSolver& operator=(const ReferenceSolver&) = delete;

@@ -2,6 +2,7 @@
 // this file sizes the buffers, dispatches the stages in the order of the CPU
 // backend (Rendering/Core/ssGEARS.cxx) and collects the paper's statistics.
 #include "ssGearsGL.h"
+#include "ssGLLimits.h"
 
 #include "ssGearsCS.h"
 #include "vtk_glew.h"
@@ -93,7 +94,7 @@ struct GearsGL::Impl
   std::map<std::string, GLuint> Programs;
   std::map<std::pair<GLuint, std::string>, GLint> Locations;
   std::uint64_t TriVersion = 0;
-  GLint MaxBlock = 0;
+  std::int64_t MaxBlock = 0;
   GLuint Current = 0;
 
   void Ensure(Buffer& b, std::size_t bytes)
@@ -384,9 +385,12 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   }
   if (!I.MaxBlock)
   {
-    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &I.MaxBlock);
+    // queried in 64 bits (GPUs report 2 GB and more); lowered by
+    // SOFTSHADOWS_GL_MAX_SSBO_BYTES to test a smaller GPU's path
+    I.MaxBlock = QueryGLLimits().maxSSBOBytes;
   }
-  const std::size_t maxBlock = static_cast<std::size_t>(std::max(I.MaxBlock, 1 << 24));
+  // GL 4.3 guarantees 2^24 bytes (used if the query gave nothing)
+  const std::size_t maxBlock = static_cast<std::size_t>(I.MaxBlock > 0 ? I.MaxBlock : (1 << 24));
   auto fits = [&](std::size_t bytes, const char* what) {
     if (bytes <= maxBlock)
     {

@@ -50,6 +50,7 @@
 #include "ssLightFrame.h"
 #include "ssGEARS.h"
 #include "ssGearsGL.h"
+#include "ssGLLimits.h"
 #include "ssPVSM.h"
 #include "ssReference.h"
 #include "ssShadowView.h"
@@ -471,6 +472,8 @@ public:
   // PCSS blocker search looks at a whole region without missing a blocker
   // between samples, and the filter decides coarse quads exactly where it can.
   TextureArray Shadow;
+  std::string ShadowMapSizeNote; // why the maps are smaller than asked (GL limit)
+  int WarnedShadowMapSize = 0;   // the request last warned about (warn once)
   // PVSM: one virtual shadow-map tile at a time (a single layer, same layout).
   TextureArray Tile;
   std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
@@ -1413,10 +1416,21 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     }
   }
   const int wantSize = (anyMap && allPVSM) ? this->PVSMLowResolution : this->ShadowMapSize;
-  int S = 64;
-  while (S < wantSize)
+  // Capped by this context's GL_MAX_TEXTURE_SIZE (8192 on many GPUs, 16384
+  // on llvmpipe): a larger request renders at the limit, with a warning in
+  // the stats, instead of failing to allocate.
+  const ss::GLLimits limits = ss::QueryGLLimits();
+  int S = ss::FitPowerOfTwo(wantSize, limits.maxTextureSize);
+  in.ShadowMapSizeNote.clear();
+  if (S < wantSize)
   {
-    S *= 2;
+    in.ShadowMapSizeNote = "shadow map size " + std::to_string(wantSize) + " capped at this GL's limit of " +
+      std::to_string(S);
+    if (in.WarnedShadowMapSize != wantSize)
+    {
+      vtkWarningMacro(<< in.ShadowMapSizeNote << ".");
+      in.WarnedShadowMapSize = wantSize;
+    }
   }
 
   // Views of every light, fitted to the receivers (relative coordinates).
@@ -1466,6 +1480,14 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 
   // --- shadow maps: the caster set drawn by our own small program
   auto tStage = Clock::now();
+  if (totalViews > limits.maxArrayTextureLayers)
+  {
+    vtkErrorMacro("The lights need " << totalViews << " shadow map views, more than this GL's "
+                                     << limits.maxArrayTextureLayers
+                                     << " array texture layers; no shadows this frame.");
+    in.ShadowsThisFrame = false;
+    return;
+  }
   in.Shadow.Ensure(S, std::max(totalViews, 1));
   if (!in.Shadow.Handle)
   {
@@ -1577,10 +1599,14 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 
   // --- visibility: one full-screen pass per light into its layer
   tStage = Clock::now();
-  if (!in.Visibility.EnsureScreen(in.Width, in.Height, numShadowLights))
+  if (std::max(in.Width, in.Height) > limits.maxTextureSize || numShadowLights > limits.maxArrayTextureLayers ||
+    !in.Visibility.EnsureScreen(in.Width, in.Height, numShadowLights))
   {
     vtkErrorMacro("Could not allocate the visibility of " << numShadowLights << " light(s) at " << in.Width
-                                                          << "x" << in.Height << "; no shadows this frame.");
+                                                          << "x" << in.Height << " (this GL allows "
+                                                          << limits.maxTextureSize << " pixels a side and "
+                                                          << limits.maxArrayTextureLayers
+                                                          << " layers); no shadows this frame.");
     in.ShadowsThisFrame = false;
     ostate->PopFramebufferBindings();
     return;
@@ -1844,8 +1870,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
     G *= 2;
   }
   in.Grid.Ensure(G, 1);
-  GLint maxTexture = 4096;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
+  const GLint maxTexture = ss::QueryGLLimits().maxTextureSize;
   int tileMax = std::min(this->PVSMMaxTileResolution, static_cast<int>(maxTexture));
   int T = 64;
   while (T < tileMax)
@@ -2700,7 +2725,8 @@ std::string vtkSoftShadowPass::GetStatsJSON()
     << ", \"grid\": " << this->PVSMGridSize << ", \"max_tile\": " << this->PVSMMaxTileResolution
     << ", \"stats\": " << ss::PVSMStatsToJSON(in.LastPVSMStats) << "}"
     << ", \"hardavg\": {\"samples_per_axis\": " << this->AverageSamples << ", \"maps\": " << in.HardAverageMaps << "}"
-    << ", \"shadow_map_size\": " << in.Shadow.Size << ", \"lights\": [";
+    << ", \"shadow_map_size\": " << in.Shadow.Size << ", \"shadow_map_size_note\": \""
+    << ss::JSONEscape(in.ShadowMapSizeNote) << "\", \"lights\": [";
   first = true;
   for (const auto& l : in.Lights)
   {

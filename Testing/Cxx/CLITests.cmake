@@ -114,3 +114,11 @@ add_test(NAME cli.bench.pvsm_smoke_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_pvsm_bench.py" "${_ss_out}/bench_pvsm_smoke" 4)
 set_tests_properties(cli.bench.pvsm_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_pvsm_smoke)
 set_tests_properties(cli.bench.pvsm_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_pvsm_smoke)
+
+# Other machines' paths on this one (issue 16): llvmpipe thread counts, a
+# smaller GL texture limit, a GL 3.2 context, a small SSBO limit, Embree's
+# AVX2 and SSE4.2 kernels. Each must give the same V or a stated fallback.
+add_test(NAME cli.machine.paths
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_machine_paths.py" ${_ss_cli} "${_demo}"
+    "${_ss_out}/machine_paths")
+set_tests_properties(cli.machine.paths PROPERTIES LABELS "cli" TIMEOUT 600)

@@ -8,11 +8,13 @@ add_executable(TestSoftShadowsCore
   TestSSEffectPlanner.cxx
   TestSSShadowView.cxx
   TestSSReference.cxx
+  TestSSReferenceISA.cxx
   TestSSGEARS.cxx
   TestSSPVSM.cxx
   TestSSMetrics.cxx
   TestSSCasterClusters.cxx)
-target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore GTest::gtest_main)
+find_package(TBB REQUIRED)
+target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore TBB::tbb GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
 include(GoogleTest)
 gtest_discover_tests(TestSoftShadowsCore TEST_PREFIX "core." PROPERTIES LABELS "core" TIMEOUT 120)
