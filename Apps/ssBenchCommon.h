@@ -1,0 +1,104 @@
+// What the `softshadows bench` reports share: the configurations and rows of
+// a report, frame timing, the reference runs every report starts from, the
+// display and output set-up, and the flags. One file per report:
+// ssBenchAccuracy.cxx (accuracy vs time), ssBenchGears.cxx (GEARS against
+// Embree), ssBenchPVSM.cxx (PVSM §6).
+#ifndef ssBenchCommon_h
+#define ssBenchCommon_h
+
+#include "ssBench.h"
+#include "ssHeadless.h"
+#include "ssMetrics.h"
+
+#include "vtkFloatArray.h"
+#include "vtkNew.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+class vtkRenderWindow;
+class vtkRenderer;
+
+namespace ssapp
+{
+namespace bench
+{
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct Config
+{
+  std::string method;                // pass method name, or "vtk"
+  std::vector<std::string> options;  // key=value
+  std::string Label() const
+  {
+    std::string s;
+    for (const auto& o : options)
+    {
+      s += (s.empty() ? "" : ", ") + o;
+    }
+    return s.empty() ? "defaults" : s;
+  }
+};
+
+struct Row
+{
+  std::string scene, method, settings;
+  int width = 0, height = 0;
+  std::size_t triangles = 0;
+  double ms = 0.0;
+  bool hasError = false;
+  ss::VisibilityErrors err;
+  std::string note;
+};
+
+/// Luminance of the window's picture (Rec. 709 weights), one value per pixel.
+std::vector<float> Luminance(vtkRenderWindow* win);
+/// Median frame time (ms) over `frames` after one warm-up frame, with the
+/// pass marked modified so that every frame does its work.
+double TimeFrames(vtkRenderWindow* win, vtkRenderer* ren, vtkSoftShadowPass* pass, int frames);
+std::string Fmt(double v, int prec = 4);
+/// The OpenGL renderer string of the window's context, for the reports.
+std::string RendererName(vtkRenderWindow* win);
+
+// The ray-traced reference at k x k regular light samples, one timed frame
+// (all three benches start from it): its time, V, caster triangles and stats.
+// Fills `renderer` on first use; releases the pass's GL resources.
+struct ReferenceFrame
+{
+  double ms = 0.0;
+  vtkNew<vtkFloatArray> V;
+  vtkNew<vtkFloatArray> cosine; // the diffuse factor V enters the picture with (light 0)
+  bool haveV = false, haveCosine = false;
+  std::size_t pixels = 0;
+  std::size_t triangles = 0;
+  json stats;
+};
+void RunReference(
+  vtkRenderWindow* win, vtkRenderer* ren, int k, std::string& renderer, ReferenceFrame& out, int pattern = 0);
+/// The anti-aliased reference (see ssBenchCommon.cxx): s x s sub-pixels of
+/// k x k stratified samples, box-averaged; empty when s would fall below 2.
+std::vector<float> RunSupersampledReference(
+  vtkRenderWindow* win, vtkRenderer* ren, int& s, int k, std::string& renderer, double& ms);
+/// A display for off-screen GL (a private Xvfb when DISPLAY is unset) and the
+/// output directory.
+void StartBench(PrivateDisplay& display, const fs::path& dir);
+
+// The flags `bench` and `bench --pvsm` share.
+struct BenchArgs
+{
+  bool smoke = false;
+  std::vector<std::string> scenes;
+  std::string out = "Documentation";
+  int frames = 3, width = 0, height = 0, k = 32;
+};
+BenchArgs ParseBenchArgs(const std::vector<std::string>& args, const std::string& command, int defaultK);
+}
+}
+
+#endif
