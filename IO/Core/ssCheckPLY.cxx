@@ -294,7 +294,7 @@ MeshCheck CheckPLY(const char* data, std::size_t size)
   LineReader lines(data, size);
   std::string_view line;
   std::string_view magic;
-  if (!lines.Next(line) || Tokens(line).Count() != 1 || !Tokens(line).Next(magic) || magic != "ply")
+  if (!lines.Next(line) || Tokens(line, true).Count() != 1 || !Tokens(line, true).Next(magic) || magic != "ply")
   {
     return Fail("line 1: expected 'ply'");
   }
@@ -317,8 +317,17 @@ MeshCheck CheckPLY(const char* data, std::size_t size)
         return Fail(At(ln) + "control character in the header (not a PLY header?)");
       }
     }
+    // vtkPLY's get_words replaces the first "vertex_index" of every line
+    // with "vertex_indices" and cuts the line there (strcpy): the words
+    // below are the ones it will see
+    std::string edited(line);
+    const auto vi = edited.find("vertex_index");
+    if (vi != std::string::npos)
+    {
+      edited = edited.substr(0, vi) + "vertex_indices";
+    }
     std::vector<std::string_view> w;
-    Tokens t(line);
+    Tokens t(edited, true);
     std::string_view tok;
     while (t.Next(tok))
     {
@@ -394,11 +403,6 @@ MeshCheck CheckPLY(const char* data, std::size_t size)
       else
       {
         return Fail(At(ln) + "expected 'property TYPE NAME' or 'property list COUNTTYPE TYPE NAME'");
-      }
-      // VTK's reader renames vertex_index to vertex_indices as it reads
-      if (p.Name.find("vertex_index") != std::string::npos)
-      {
-        p.Name = "vertex_indices";
       }
       elems.back().Props.push_back(p);
       continue;
@@ -528,7 +532,7 @@ MeshCheck CheckPLY(const char* data, std::size_t size)
         }
         wk.Words.clear();
         wk.WordIndex = 0;
-        Tokens t(l);
+        Tokens t(l, true);
         std::string_view tok;
         while (t.Next(tok))
         {
@@ -566,7 +570,7 @@ MeshCheck CheckPLY(const char* data, std::size_t size)
     std::string_view l;
     while (dataLines.Next(l))
     {
-      if (Tokens(l).Count() != 0)
+      if (Tokens(l, true).Count() != 0)
       {
         return Fail(At(wk.Line + dataLines.LineNumber()) +
           "data after the last element the header declares: its counts do not match the file");

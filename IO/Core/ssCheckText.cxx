@@ -43,7 +43,7 @@ std::string At(std::size_t line)
 
 std::size_t Tokens::Count() const
 {
-  Tokens t(this->S);
+  Tokens t(this->S, this->PlyWords);
   std::string_view tok;
   std::size_t n = 0;
   while (t.Next(tok))

@@ -80,13 +80,17 @@ private:
 class Tokens
 {
 public:
-  explicit Tokens(std::string_view s)
+  /// `plyWords`: split only at ' ', '\t' and '\r', as vtkPLY's get_words
+  /// does ('\f' or '\v' stay inside a word there).
+  explicit Tokens(std::string_view s, bool plyWords = false)
     : S(s)
+    , PlyWords(plyWords)
   {
   }
+  bool Separator(char c) const { return this->PlyWords ? (c == ' ' || c == '\t' || c == '\r') : IsSpace(c); }
   bool Next(std::string_view& tok)
   {
-    while (this->I < this->S.size() && IsSpace(this->S[this->I]))
+    while (this->I < this->S.size() && this->Separator(this->S[this->I]))
     {
       ++this->I;
     }
@@ -95,7 +99,7 @@ public:
       return false;
     }
     const std::size_t b = this->I;
-    while (this->I < this->S.size() && !IsSpace(this->S[this->I]))
+    while (this->I < this->S.size() && !this->Separator(this->S[this->I]))
     {
       ++this->I;
     }
@@ -107,6 +111,7 @@ public:
 private:
   std::string_view S;
   std::size_t I = 0;
+  bool PlyWords = false;
 };
 
 /// How the reader converts text to a number.

@@ -184,3 +184,10 @@ add_test(NAME cli.machine.paths
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_machine_paths.py" ${_ss_cli} "${_demo}"
     "${_ss_out}/machine_paths")
 set_tests_properties(cli.machine.paths PROPERTIES LABELS "cli" TIMEOUT 600)
+
+# Issue 17: an inline vertex beyond the float range is dropped with a warning
+# and the other casters still cast.
+add_test(NAME cli.render.float_overflow_vertex
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_float_overflow.py" ${_ss_cli}
+    "${_ss_data}/GoodScenes/float_overflow.json" "${_ss_out}/float_overflow")
+set_tests_properties(cli.render.float_overflow_vertex PROPERTIES LABELS "cli" TIMEOUT 120)

@@ -18,3 +18,9 @@ target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore TBB
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
 include(GoogleTest)
 gtest_discover_tests(TestSoftShadowsCore TEST_PREFIX "core." PROPERTIES LABELS "core" TIMEOUT 120)
+
+# Unit tests of IO/Core (the file-format guards; no VTK).
+add_executable(TestSoftShadowsIOCore TestSSMeshCheck.cxx)
+target_link_libraries(TestSoftShadowsIOCore PRIVATE SoftShadows::IOCore GTest::gtest_main)
+target_compile_options(TestSoftShadowsIOCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
+gtest_discover_tests(TestSoftShadowsIOCore TEST_PREFIX "iocore." PROPERTIES LABELS "core" TIMEOUT 60)
