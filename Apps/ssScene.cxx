@@ -19,6 +19,7 @@
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkSoftShadowLight.h"
+#include "ssMeshCheck.h"
 #include "vtkShadowMeshReader.h"
 #include "vtkSoftShadowPass.h"
 #include "vtkSphereSource.h"
@@ -43,18 +44,7 @@ namespace ssapp
 // the text after the object's address, newlines folded.
 std::string OneLine(std::string m)
 {
-  const auto where = m.find(", line ");
-  const auto addr = m.find("): ");
-  if (where != std::string::npos && addr != std::string::npos && where < addr)
-  {
-    m = m.substr(addr + 3);
-  }
-  std::replace(m.begin(), m.end(), '\n', ' ');
-  while (!m.empty() && (m.back() == ' ' || m.back() == '\r'))
-  {
-    m.pop_back();
-  }
-  return m;
+  return ss::io::OneLineMessage(std::move(m));
 }
 
 void ErrorCapture::Execute(vtkObject*, unsigned long, void* data)

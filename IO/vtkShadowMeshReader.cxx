@@ -49,19 +49,7 @@ public:
     {
       return;
     }
-    std::string m = static_cast<const char*>(data);
-    // "ERROR: In file, line N\nclass (0x..): text" -> "text"
-    const auto where = m.find(", line ");
-    const auto addr = m.find("): ");
-    if (where != std::string::npos && addr != std::string::npos && where < addr)
-    {
-      m = m.substr(addr + 3);
-    }
-    std::replace(m.begin(), m.end(), '\n', ' ');
-    while (!m.empty() && (m.back() == ' ' || m.back() == '\r'))
-    {
-      m.pop_back();
-    }
+    const std::string m = ss::io::OneLineMessage(static_cast<const char*>(data));
     if (event == vtkCommand::ErrorEvent && this->Error.empty())
     {
       this->Error = m;
@@ -81,6 +69,16 @@ void Observe(Reader* r, FirstMessage* m)
   r->AddObserver(vtkCommand::ErrorEvent, m);
   r->AddObserver(vtkCommand::WarningEvent, m);
   r->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, m);
+}
+
+// Runs one of VTK's polydata readers on `file`, its messages observed.
+template <typename Reader>
+vtkSmartPointer<vtkPolyData> ReadWith(Reader* r, const std::string& file, FirstMessage* m)
+{
+  Observe(r, m);
+  r->SetFileName(file.c_str());
+  r->Update();
+  return r->GetOutput();
 }
 
 // Every point id of every cell in [0, npts).
@@ -214,40 +212,19 @@ int vtkShadowMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vt
       case ss::io::MeshFormat::STL:
       {
         vtkNew<vtkSTLReader> r;
-        Observe(r.Get(), messages);
         r->SetMerging(check.NonFiniteVertices == 0);
-        r->SetFileName(file.c_str());
-        r->Update();
-        result = r->GetOutput();
+        result = ReadWith(r.Get(), file, messages);
         break;
       }
       case ss::io::MeshFormat::PLY:
-      {
-        vtkNew<vtkPLYReader> r;
-        Observe(r.Get(), messages);
-        r->SetFileName(file.c_str());
-        r->Update();
-        result = r->GetOutput();
+        result = ReadWith(vtkNew<vtkPLYReader>().Get(), file, messages);
         break;
-      }
       case ss::io::MeshFormat::OBJ:
-      {
-        vtkNew<vtkOBJReader> r;
-        Observe(r.Get(), messages);
-        r->SetFileName(file.c_str());
-        r->Update();
-        result = r->GetOutput();
+        result = ReadWith(vtkNew<vtkOBJReader>().Get(), file, messages);
         break;
-      }
       case ss::io::MeshFormat::VTP:
-      {
-        vtkNew<vtkXMLPolyDataReader> r;
-        Observe(r.Get(), messages);
-        r->SetFileName(file.c_str());
-        r->Update();
-        result = r->GetOutput();
+        result = ReadWith(vtkNew<vtkXMLPolyDataReader>().Get(), file, messages);
         break;
-      }
       case ss::io::MeshFormat::LegacyVTK:
       {
         vtkNew<vtkDataSetReader> r;

@@ -53,20 +53,20 @@ std::size_t Tokens::Count() const
   return n;
 }
 
+namespace
+{
+// An optional leading sign: returns the rest.
+std::string_view Unsigned(std::string_view tok, bool& negative)
+{
+  negative = !tok.empty() && tok[0] == '-';
+  return (!tok.empty() && (tok[0] == '+' || tok[0] == '-')) ? tok.substr(1) : tok;
+}
+}
+
 bool ParseFloat(std::string_view tok, FloatSyntax syntax, double& value)
 {
-  if (tok.empty())
-  {
-    return false;
-  }
-  std::size_t i = 0;
   bool negative = false;
-  if (tok[0] == '+' || tok[0] == '-')
-  {
-    negative = tok[0] == '-';
-    i = 1;
-  }
-  const std::string_view body = tok.substr(i);
+  const std::string_view body = Unsigned(tok, negative);
   if (body.empty())
   {
     return false;
@@ -131,29 +131,20 @@ bool ParseFloat(std::string_view tok, FloatSyntax syntax, double& value)
 
 bool ParseInt(std::string_view tok, long long& value)
 {
-  if (tok.empty())
-  {
-    return false;
-  }
-  std::size_t i = 0;
   bool negative = false;
-  if (tok[0] == '+' || tok[0] == '-')
-  {
-    negative = tok[0] == '-';
-    i = 1;
-  }
-  if (i >= tok.size() || tok.size() - i > 18)
+  const std::string_view digits = Unsigned(tok, negative);
+  if (digits.empty() || digits.size() > 18)
   {
     return false;
   }
   long long v = 0;
-  for (; i < tok.size(); ++i)
+  for (char c : digits)
   {
-    if (tok[i] < '0' || tok[i] > '9')
+    if (c < '0' || c > '9')
     {
       return false;
     }
-    v = v * 10 + (tok[i] - '0');
+    v = v * 10 + (c - '0');
   }
   value = negative ? -v : v;
   return true;

@@ -62,6 +62,25 @@ const char* FormatName(MeshFormat f)
   }
 }
 
+std::string OneLineMessage(std::string m)
+{
+  const auto where = m.find(", line ");
+  const auto addr = m.find("): ");
+  if (where != std::string::npos && addr != std::string::npos && where < addr)
+  {
+    m = m.substr(addr + 3);
+  }
+  for (char& c : m)
+  {
+    c = c == '\n' ? ' ' : c;
+  }
+  while (!m.empty() && (m.back() == ' ' || m.back() == '\r'))
+  {
+    m.pop_back();
+  }
+  return m;
+}
+
 MeshCheck CheckMesh(MeshFormat f, const char* data, std::size_t size, const MeshLimits& limits)
 {
   if (size > limits.MaximumFileBytes)

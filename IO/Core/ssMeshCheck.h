@@ -73,6 +73,10 @@ MeshCheck CheckOFF(const char* data, std::size_t size);
 MeshCheck CheckLegacyVTK(const char* data, std::size_t size);
 MeshCheck CheckVTP(const char* data, std::size_t size);
 
+/// One line from a VTK message ("ERROR: In file, line N\nclass (0x..): text"):
+/// the text after the object's address, newlines folded, trailing blanks cut.
+std::string OneLineMessage(std::string message);
+
 /// The layout VTK's vtkSTLReader picks (kwsys DetectFileType: binary when at
 /// least 5% of the first 256 bytes are not text characters).
 bool STLLooksBinary(const char* data, std::size_t size);
