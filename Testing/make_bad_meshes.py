@@ -64,6 +64,8 @@ write("more_faces.off", "\n".join([lines[0], "%d 1536 0" % nv] + lines[2:]))
 write("index_7.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")
 write("huge_count.off", "OFF\n2000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
 write("negative_count.off", "OFF\n-5 1 0\n0 0 0\n")
+# OFF: a face that repeats a vertex (OpenMesh cannot add it: dropped with a warning)
+write("repeated_vertex.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 0 3\n")
 # a binary STL claiming 1e6 triangles that holds 10
 t = struct.pack("<12fH", 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0)
 write("short.stl", b"\0" * 80 + struct.pack("<I", 1000000) + t * 10)

@@ -13,6 +13,12 @@ namespace io
 {
 namespace
 {
+// The separators of a PFM header (OpenImageIO refuses '\f' and '\v' there).
+bool Blank(char c)
+{
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n';
+}
+
 ImageCheck Bad(std::string what)
 {
   ImageCheck r;
@@ -33,22 +39,22 @@ ImageCheck Header(const char* data, std::size_t size, std::size_t& headerBytes)
   std::string_view tok[3];
   for (auto& t : tok)
   {
-    if (i >= size || !detail::IsSpace(data[i]))
+    if (i >= size || !Blank(data[i]))
     {
       return Bad("malformed PFM header (expected 'PF|Pf width height scale' separated by white space)");
     }
-    while (i < size && detail::IsSpace(data[i]))
+    while (i < size && Blank(data[i]))
     {
       ++i;
     }
     const std::size_t b = i;
-    while (i < size && !detail::IsSpace(data[i]) && i - b < 32)
+    while (i < size && !Blank(data[i]) && i - b < 32)
     {
       ++i;
     }
     t = std::string_view(data + b, i - b);
   }
-  if (i >= size || !detail::IsSpace(data[i]))
+  if (i >= size || !Blank(data[i]))
   {
     return Bad("malformed PFM header (no white space after the scale)");
   }

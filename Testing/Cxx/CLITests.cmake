@@ -79,6 +79,12 @@ ss_cli_error(mesh.off_negative_count "${_mesh}negative_count\\.off: OFF: line 2:
   ${_ss_cli} render "${_bm}/negative_count_off.json")
 ss_cli_error(mesh.stl_short "${_mesh}short\\.stl: STL: binary STL header declares 1000000 triangles .* but the file has 584 bytes"
   ${_ss_cli} render "${_bm}/short_stl.json")
+# a degenerate OFF face: drop-and-warn (the picture is rendered, exit code 0)
+add_test(NAME cli.render.off_repeated_vertex
+  COMMAND sh -c "env -u DISPLAY \"$0\" render \"$1\" --size 64x48 --frames 1 2>&1 && echo EXIT0"
+    ${_ss_cli} "${_bm}/repeated_vertex_off.json")
+set_tests_properties(cli.render.off_repeated_vertex PROPERTIES LABELS "cli" TIMEOUT 120
+  PASS_REGULAR_EXPRESSION "objects\\[0\\]\\.mesh: [^ ]*repeated_vertex\\.off: OpenMesh kept 1 of the 2 faces.*EXIT0")
 ss_cli_error(compare.pfm_scale_zero "cannot read '[^']*scale0\\.pfm': PFM scale '0' is not a finite non-zero number"
   ${_ss_cli} compare "${_bm}/scale0.pfm" "${_bm}/good.pfm")
 ss_cli_error(compare.pfm_huge_header "cannot read '[^']*huge\\.pfm': PFM size '2000000000' x '2000000000' is not two integers in \\[1, 65536\\]"
