@@ -58,6 +58,43 @@ for name, expected in sorted(cases.items()):
         failures.append("%s: output not empty (%d points)" % (name, out.GetNumberOfPoints()))
     print("%-20s %s" % (name, msg))
 
+# legacy .vtk (ASCII and binary) and .vtp written by VTK read back whole
+from vtkmodules.vtkIOLegacy import vtkPolyDataWriter  # noqa: E402
+from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter  # noqa: E402
+
+torus_pd = read(torus)[1]
+for name, writer, binary in [("torus_ascii.vtk", vtkPolyDataWriter(), False),
+                             ("torus_binary.vtk", vtkPolyDataWriter(), True),
+                             ("torus.vtp", vtkXMLPolyDataWriter(), True)]:
+    path = os.path.join(bad, name)
+    writer.SetInputData(torus_pd)
+    writer.SetFileName(path)
+    if binary and hasattr(writer, "SetFileTypeToBinary"):
+        writer.SetFileTypeToBinary()
+    writer.Write()
+    r, out, errors = read(path)
+    if errors or out.GetNumberOfPolys() != 768:
+        failures.append("%s: %d polys, errors %s" % (name, out.GetNumberOfPolys(), errors))
+# a legacy file whose cell refers to a point it does not have: refused before
+# the surface filter walks it
+legacy = os.path.join(bad, "index_7.vtk")
+with open(legacy, "w") as f:
+    f.write("# vtk DataFile Version 3.0\nbad\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n"
+            "0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 7\n")
+r, out, errors = read(legacy)
+if "cell 0 refers to point 7 of 3" not in r.GetErrorMessage() or out.GetNumberOfCells():
+    failures.append("index_7.vtk: %r" % r.GetErrorMessage())
+print("%-20s %s" % ("index_7.vtk", r.GetErrorMessage()))
+# a .vtp whose point count no file of its size can hold
+vtp = os.path.join(bad, "huge.vtp")
+with open(vtp, "w") as f:
+    f.write('<?xml version="1.0"?>\n<VTKFile type="PolyData"><PolyData><Piece NumberOfPoints="2000000000" '
+            'NumberOfPolys="1"></Piece></PolyData></VTKFile>\n')
+r, out, errors = read(vtp)
+if "NumberOfPoints 2000000000 is more than a file of" not in r.GetErrorMessage():
+    failures.append("huge.vtp: %r" % r.GetErrorMessage())
+print("%-20s %s" % ("huge.vtp", r.GetErrorMessage()))
+
 # the size limit says what it was
 r, out, errors = read(torus, MaximumFileSize=1000)
 if "above the limit of 1000 bytes" not in r.GetErrorMessage():
