@@ -26,6 +26,9 @@ ImageCheck Bad(std::string what)
   return r;
 }
 
+// A PFM header is three short lines; CheckPFMFile reads this much of a file.
+constexpr std::size_t kMaxHeader = 256;
+
 // Parses the header; `headerBytes` is where the data starts.
 ImageCheck Header(const char* data, std::size_t size, std::size_t& headerBytes)
 {
@@ -59,6 +62,10 @@ ImageCheck Header(const char* data, std::size_t size, std::size_t& headerBytes)
     return Bad("malformed PFM header (no white space after the scale)");
   }
   headerBytes = i + 1;
+  if (headerBytes > kMaxHeader)
+  {
+    return Bad("PFM header longer than " + std::to_string(kMaxHeader) + " bytes");
+  }
   long long w = 0, h = 0;
   if (!detail::ParseInt(tok[0], w) || !detail::ParseInt(tok[1], h) || w < 1 || h < 1 || w > 65536 || h > 65536)
   {
@@ -118,7 +125,7 @@ ImageCheck CheckPFMFile(const std::string& path)
   in.seekg(0, std::ios::end);
   const auto size = static_cast<std::uint64_t>(in.tellg());
   in.seekg(0);
-  std::vector<char> head(static_cast<std::size_t>(size < 256 ? size : 256));
+  std::vector<char> head(static_cast<std::size_t>(size < kMaxHeader ? size : kMaxHeader));
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   std::size_t headerBytes = 0;
   ImageCheck r = Header(head.data(), head.size(), headerBytes);
