@@ -383,9 +383,12 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::pat
   }
   const fs::path rel = o["mesh"].get<std::string>();
   const fs::path path = rel.is_absolute() ? rel : sceneDir / rel;
-  if (!fs::is_regular_file(path))
+  // the non-throwing overload: a name too long for the file system is an
+  // error of this key, not an exception from std::filesystem
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
   {
-    (c / "mesh").Fail("mesh file not found: '" + path.string() + "'");
+    (c / "mesh").Fail("mesh file not found: '" + path.string() + "'" + (ec ? " (" + ec.message() + ")" : ""));
   }
   if (!vtkShadowMeshReader::IsSupportedFileName(path.string().c_str()))
   {
@@ -546,9 +549,10 @@ void ApplyTransform(vtkActor* actor, const json& o, const Ctx& c)
 SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
 {
   const Ctx top{ path, "" };
-  if (!fs::is_regular_file(path))
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
   {
-    throw SceneError(path + ": cannot open the scene file (not found or not a file)");
+    throw SceneError(path + ": cannot open the scene file (not found or not a file" + (ec ? "; " + ec.message() : "") + ")");
   }
   json doc;
   {
@@ -585,7 +589,7 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
   {
     (top / "objects").Fail("missing or not an array (an empty array is allowed)");
   }
-  const fs::path sceneDir = fs::absolute(path).parent_path();
+  const fs::path sceneDir = fs::absolute(path, ec).parent_path();
   const json& objects = doc["objects"];
   for (std::size_t i = 0; i < objects.size(); ++i)
   {
