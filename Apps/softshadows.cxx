@@ -563,12 +563,11 @@ int Render(const std::vector<std::string>& args)
       s["memory_bytes"] = st["memory_bytes"];
       s["pass"] = st;
     }
-    std::ofstream out(stats);
-    if (!out)
+    std::string wmsg;
+    if (!ssapp::WriteTextFile(stats, s.dump(2) + "\n", wmsg))
     {
-      throw std::runtime_error("cannot write '" + stats + "'");
+      throw std::runtime_error(wmsg);
     }
-    out << std::setprecision(17) << s.dump(2) << "\n";
     std::cout << "softshadows: wrote stats " << stats << "\n";
   }
   std::cout << "softshadows: " << method << " " << w << "x" << h << ", " << info.objects

@@ -41,6 +41,74 @@ ss_cli_error(unreadable_vtp "empty_vtp\\.json: objects\\[0\\]\\.mesh: could not 
 ss_cli_error(bad_off "bad_off\\.json: objects\\[0\\]\\.mesh: could not read" ${_ss_cli} render "${_gen}/bad_off.json")
 ss_cli_error(zero_scale "objects\\[0\\]\\.transform\\.scale: expected non-zero" ${_ss_cli} render "${_gen}/zero_scale.json")
 
+# Damaged mesh files (issue 18): each case of the issue's table gets one
+# error line naming the scene key, the file and what is wrong, exit code 2,
+# and no crash. The files are written at configure time.
+set(_bm "${_ss_out}/BadMeshes")
+execute_process(COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/make_bad_meshes.py" "${_bm}"
+  "${PROJECT_SOURCE_DIR}/Data/Meshes/torus.off" RESULT_VARIABLE _bm_rc)
+if (NOT _bm_rc EQUAL 0)
+  message(FATAL_ERROR "Testing/make_bad_meshes.py failed")
+endif ()
+set(_mesh "objects\\[0\\]\\.mesh: could not read [^ ]*")
+ss_cli_error(mesh.stl_random_bytes "${_mesh}random\\.stl: STL: binary STL header declares 3416378287 triangles .* but the file has 4096 bytes"
+  ${_ss_cli} render "${_bm}/random_stl.json")
+ss_cli_error(mesh.ply_header_no_data "${_mesh}nodata\\.ply: PLY: the header declares 3 vertices and 1 faces .* but only 0 bytes follow the header"
+  ${_ss_cli} render "${_bm}/nodata_ply.json")
+ss_cli_error(mesh.ply_cut_at_1mb "${_mesh}cut\\.ply: PLY: the header declares 40000 vertices and 79202 faces .* but only 999823 bytes follow"
+  ${_ss_cli} render "${_bm}/cut_ply.json")
+ss_cli_error(mesh.obj_index_zero "${_mesh}zero_index\\.obj: OBJ: line 4: 'f': vertex index 0 \\(OBJ indices start at 1\\)"
+  ${_ss_cli} render "${_bm}/zero_index_obj.json")
+ss_cli_error(mesh.obj_index_past_end "${_mesh}index_99\\.obj: OBJ: line 4: 'f': vertex index 99 out of range \\(1\\.\\.3 or -1\\.\\.-3\\)"
+  ${_ss_cli} render "${_bm}/index_99_obj.json")
+ss_cli_error(mesh.obj_relative_index "${_mesh}index_minus_99\\.obj: OBJ: line 4: 'f': vertex index -99 out of range"
+  ${_ss_cli} render "${_bm}/index_minus_99_obj.json")
+ss_cli_error(mesh.ply_huge_count "${_mesh}huge_count\\.ply: PLY: the header declares 999999999 vertices .* but only 26 bytes follow"
+  ${_ss_cli} render "${_bm}/huge_count_ply.json")
+ss_cli_error(mesh.ply_index_out_of_range "${_mesh}index_7\\.ply: PLY: line 13: face 0: vertex index 7 out of range \\[0, 2\\]"
+  ${_ss_cli} render "${_bm}/index_7_ply.json")
+ss_cli_error(mesh.off_cut "${_mesh}cut_82\\.off: OFF: the file ends after 82 of the 768 faces its header declares"
+  ${_ss_cli} render "${_bm}/cut_82_off.json")
+ss_cli_error(mesh.off_more_faces_than_held "${_mesh}more_faces\\.off: OFF: the file ends after 768 of the 1536 faces"
+  ${_ss_cli} render "${_bm}/more_faces_off.json")
+ss_cli_error(mesh.off_index_out_of_range "${_mesh}index_7\\.off: OFF: line 6: face 0: vertex index '7' out of range \\[0, 2\\]"
+  ${_ss_cli} render "${_bm}/index_7_off.json")
+ss_cli_error(mesh.off_huge_count "${_mesh}huge_count\\.off: OFF: the header declares 2000000000 vertices and 1 faces"
+  ${_ss_cli} render "${_bm}/huge_count_off.json")
+ss_cli_error(mesh.off_negative_count "${_mesh}negative_count\\.off: OFF: line 2: vertex count '-5' is not an integer"
+  ${_ss_cli} render "${_bm}/negative_count_off.json")
+ss_cli_error(mesh.stl_short "${_mesh}short\\.stl: STL: binary STL header declares 1000000 triangles .* but the file has 584 bytes"
+  ${_ss_cli} render "${_bm}/short_stl.json")
+# a degenerate OFF face: drop-and-warn (the picture is rendered, exit code 0)
+add_test(NAME cli.render.off_repeated_vertex
+  COMMAND sh -c "env -u DISPLAY \"$0\" render \"$1\" --size 64x48 --frames 1 2>&1 && echo EXIT0"
+    ${_ss_cli} "${_bm}/repeated_vertex_off.json")
+set_tests_properties(cli.render.off_repeated_vertex PROPERTIES LABELS "cli" TIMEOUT 120
+  PASS_REGULAR_EXPRESSION "objects\\[0\\]\\.mesh: [^ ]*repeated_vertex\\.off: OpenMesh kept 1 of the 2 faces.*EXIT0")
+ss_cli_error(compare.pfm_scale_zero "cannot read '[^']*scale0\\.pfm': PFM scale '0' is not a finite non-zero number"
+  ${_ss_cli} compare "${_bm}/scale0.pfm" "${_bm}/good.pfm")
+ss_cli_error(compare.pfm_huge_header "cannot read '[^']*huge\\.pfm': PFM size '2000000000' x '2000000000' is not two integers in \\[1, 65536\\]"
+  ${_ss_cli} compare "${_bm}/good.pfm" "${_bm}/huge.pfm")
+add_test(NAME cli.compare.good_pfm COMMAND ${_ss_cli} compare "${_bm}/good.pfm" "${_bm}/good.pfm")
+set_tests_properties(cli.compare.good_pfm PROPERTIES LABELS "cli" PASS_REGULAR_EXPRESSION "\"mae\": 0")
+# A full device: every writer fails with the path and the reason (issue 17).
+if (EXISTS /dev/full)
+  set(_full "cannot write '/dev/full': No space left on device")
+  set(_small "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json" --size 64x48 --frames 1)
+
+  ss_cli_error(write.stats_full "${_full}" env -u DISPLAY ${_ss_cli} render ${_small} --stats /dev/full)
+  # image paths on the full device: links to it (the format is by extension)
+  foreach (ext png pfm exr)
+    file(CREATE_LINK /dev/full "${_ss_out}/full.${ext}" SYMBOLIC)
+  endforeach ()
+  ss_cli_error(write.png_full "cannot write '[^']*full\\.png': No space left on device"
+    env -u DISPLAY ${_ss_cli} render ${_small} --output "${_ss_out}/full.png")
+  ss_cli_error(write.pfm_full "cannot write '[^']*full\\.pfm': No space left on device"
+    env -u DISPLAY ${_ss_cli} render ${_small} --method pcss --visibility "${_ss_out}/full.pfm")
+  ss_cli_error(write.exr_full "cannot write '[^']*full\\.exr': No space left on device"
+    env -u DISPLAY ${_ss_cli} render ${_small} --method pcss --positions "${_ss_out}/full.exr")
+endif ()
+
 set(_demo "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json")
 ss_cli_error(unknown_method "--method: unknown method 'fancy'" ${_ss_cli} render "${_demo}" --method fancy)
 ss_cli_error(later_method "--method vpcss: not implemented yet" ${_ss_cli} render "${_demo}" --method vpcss)
@@ -122,3 +190,10 @@ add_test(NAME cli.machine.paths
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_machine_paths.py" ${_ss_cli} "${_demo}"
     "${_ss_out}/machine_paths")
 set_tests_properties(cli.machine.paths PROPERTIES LABELS "cli" TIMEOUT 600)
+
+# Issue 17: an inline vertex beyond the float range is dropped with a warning
+# and the other casters still cast.
+add_test(NAME cli.render.float_overflow_vertex
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_float_overflow.py" ${_ss_cli}
+    "${_ss_data}/GoodScenes/float_overflow.json" "${_ss_out}/float_overflow")
+set_tests_properties(cli.render.float_overflow_vertex PROPERTIES LABELS "cli" TIMEOUT 120)
