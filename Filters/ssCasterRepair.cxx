@@ -366,6 +366,37 @@ UnitResult ProcessUnit(const RepairInput& in, const std::vector<std::int64_t>& t
     }
   }
 
+  // --- slivers at the tolerance: a face whose height over its longest edge
+  // is below the tolerance (a corner within the tolerance of the opposite
+  // edge; exporters leave these where they patched a T-junction). Removing
+  // it leaves that corner on a border edge: the T-junction snapping below
+  // closes the crack, so slivers go only when snapping is on.
+  if (options.snapTJunctions && options.tolerance > 0.0)
+  {
+    std::size_t slivers = 0;
+    for (auto f : m0.faces())
+    {
+      std::array<glm::dvec3, 3> c;
+      int k = 0;
+      for (auto v : m0.fv_range(f))
+      {
+        c[k++ % 3] = Glm(m0.point(v));
+      }
+      const double longest =
+        std::max({ glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2]) });
+      const double twiceArea = glm::length(glm::cross(c[1] - c[0], c[2] - c[0]));
+      if (longest > 0.0 && twiceArea <= options.tolerance * longest)
+      {
+        m0.delete_face(f, true);
+        ++slivers;
+      }
+    }
+    if (slivers > 0)
+    {
+      m0.garbage_collection();
+      out.stats.degenerate += slivers;
+    }
+  }
   out.stats.msDegenerate += Lap(t0);
 
   // --- T-junctions: a border vertex within the tolerance of a border edge

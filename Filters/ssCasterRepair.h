@@ -41,7 +41,7 @@ struct RepairOptions
 struct RepairStats
 {
   std::size_t collapsed = 0;          ///< two or three corners welded into one: dropped
-  std::size_t degenerate = 0;         ///< zero area (collinear corners): removed by CGAL
+  std::size_t degenerate = 0;         ///< zero area (CGAL) or a height below the tolerance: removed
   std::size_t nonManifoldEdges = 0;   ///< edges with more than two faces, cut apart
   std::size_t nonManifoldVertices = 0; ///< vertices whose faces form several fans, split
   std::size_t duplicatedPoints = 0;   ///< points added by those cuts and splits

@@ -77,9 +77,10 @@ bool FrameOf(vtkLight* light, ss::LightFrame& frame, std::string& why)
   return true;
 }
 
-// World triangles (3 vertices each) and opacities of a caster surface.
+// World triangles (3 vertices each) and opacities of a caster surface; a
+// surface without the opacity array is opaque (`found` tells whether it had it).
 void AppendCasters(vtkPolyData* pd, const char* opacityName, std::vector<glm::dvec3>& tris,
-  std::vector<float>& opacity, bool& badOpacity)
+  std::vector<float>& opacity, bool& found)
 {
   if (!pd || pd->GetNumberOfPoints() == 0)
   {
@@ -87,7 +88,7 @@ void AppendCasters(vtkPolyData* pd, const char* opacityName, std::vector<glm::dv
   }
   const bool named = opacityName && *opacityName;
   vtkDataArray* op = named ? pd->GetCellData()->GetArray(opacityName) : nullptr;
-  badOpacity = badOpacity || (named && !op);
+  found = found || op;
   const ssf::PolyTriangles pt = ssf::Triangulate(pd, {});
   for (std::size_t t = 0; t < pt.tris.size(); ++t)
   {
@@ -240,15 +241,15 @@ int vtkLightVisibilityFilter::RequestData(
   // --- casters
   std::vector<glm::dvec3> tris;
   std::vector<float> opacity;
-  bool badOpacity = false;
+  bool foundOpacity = false;
   if (this->InputCastsShadows)
   {
-    AppendCasters(input, this->OpacityArrayName, tris, opacity, badOpacity);
+    AppendCasters(input, this->OpacityArrayName, tris, opacity, foundOpacity);
   }
-  AppendCasters(casters, this->OpacityArrayName, tris, opacity, badOpacity);
-  if (badOpacity)
+  AppendCasters(casters, this->OpacityArrayName, tris, opacity, foundOpacity);
+  if (this->OpacityArrayName && *this->OpacityArrayName && !foundOpacity)
   {
-    vtkErrorMacro("OpacityArrayName: no cell array '" << this->OpacityArrayName << "' on the casters.");
+    vtkErrorMacro("OpacityArrayName: no caster surface has a cell array '" << this->OpacityArrayName << "'.");
     return 0;
   }
 

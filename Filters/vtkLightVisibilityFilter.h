@@ -93,9 +93,9 @@ public:
   ///@{
   /**
    * A cell array of the casters with each cell's opacity in [0, 1] (1 opaque,
-   * 0 casts nothing). Unset or empty (default): every caster is opaque. Also
-   * read from the input surface when it casts; an error when a caster surface
-   * lacks it.
+   * 0 casts nothing), read from the casters and from the input surface when
+   * it casts; a surface without it is opaque, and none having it is an
+   * error (a misspelt name). Unset or empty (default): every caster is opaque.
    */
   vtkSetStringMacro(OpacityArrayName);
   vtkGetStringMacro(OpacityArrayName);

@@ -19,10 +19,12 @@
  * 3. Each vertex-connected piece goes into OpenMesh's half-edge structure
  *    through CGAL's polygon-soup orientation, which cuts non-manifold edges and
  *    vertices apart instead of dropping faces; zero-area faces are removed by
- *    CGAL (collapses and flips, the surface stays closed); border vertices
- *    within the weld tolerance of a border edge (T-junctions) split that edge
- *    and the borders are stitched (CGAL, experimental::snap_borders and
- *    stitch_borders).
+ *    CGAL (collapses and flips, the surface stays closed); with
+ *    SnapTJunctions, slivers (a corner within the weld tolerance of the
+ *    opposite edge) are removed too, and border vertices within the weld
+ *    tolerance of a border edge (T-junctions, and the cracks slivers leave)
+ *    split that edge and the borders are stitched (CGAL,
+ *    experimental::snap_borders and stitch_borders).
  * 4. Each edge-connected component (a "piece") is classified with CGAL
  *    Polygon Mesh Processing: closed or open, self-intersecting (closed pieces
  *    only), and outward-oriented; a closed, self-intersection-free piece that
