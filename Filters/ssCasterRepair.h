@@ -53,7 +53,9 @@ struct RepairStats
   std::size_t selfIntersectingPieces = 0; ///< of the closed pieces (open ones are not tested)
   std::size_t reorientedPieces = 0;   ///< closed pieces reversed to face outwards
   std::size_t closedOutwardPieces = 0;
-  /// Thread time (summed over the parallel units, milliseconds) per step.
+  /// CPU time (milliseconds) per step, summed over the units (each unit runs
+  /// on one thread; a component above 200k faces also tests itself for
+  /// self-intersections on helper threads, which this does not count).
   double msOrientSoup = 0, msBuildMesh = 0, msDegenerate = 0, msSnap = 0, msComponents = 0,
          msSelfIntersections = 0, msOrientation = 0, msNormalsOut = 0;
 };

@@ -28,73 +28,60 @@ PolyTriangles Triangulate(vtkPolyData* in, const std::vector<char>& finite)
     }
     return true;
   };
+  // Each cell of `cells` with 3 or more corners, all finite, goes to `f`.
+  const auto forEachCell = [&](vtkCellArray* cells, vtkIdType base, auto&& f) {
+    auto it = vtk::TakeSmartPointer(cells->NewIterator());
+    vtkIdType c = 0;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++c)
+    {
+      vtkIdType n;
+      const vtkIdType* ids;
+      it->GetCurrentCell(n, ids);
+      if (n < 3)
+      {
+        continue;
+      }
+      if (!allFinite(n, ids))
+      {
+        ++out.nonFiniteCells;
+        continue;
+      }
+      f(n, ids, base + c);
+    }
+  };
   vtkNew<vtkPolygon> polygon;
   vtkNew<vtkIdList> triIds;
-  {
-    auto it = vtk::TakeSmartPointer(in->GetPolys()->NewIterator());
-    vtkIdType c = 0;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++c)
+  forEachCell(in->GetPolys(), cellBase, [&](vtkIdType n, const vtkIdType* ids, vtkIdType cell) {
+    if (n == 3)
     {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      if (n < 3)
-      {
-        continue;
-      }
-      if (!allFinite(n, ids))
-      {
-        ++out.nonFiniteCells;
-        continue;
-      }
-      if (n == 3)
-      {
-        out.tris.push_back({ ids[0], ids[1], ids[2] });
-        out.cell.push_back(cellBase + c);
-        continue;
-      }
-      // concave polygons too: VTK's ear-cut triangulation
-      ++out.polygons;
-      polygon->Initialize(static_cast<int>(n), ids, in->GetPoints());
-      triIds->Reset();
-      if (!polygon->Triangulate(triIds))
-      {
-        // a polygon VTK cannot cut (self-overlapping, degenerate): a fan
-        // keeps its area in the caster set
-        for (vtkIdType k = 1; k + 1 < n; ++k)
-        {
-          out.tris.push_back({ ids[0], ids[k], ids[k + 1] });
-          out.cell.push_back(cellBase + c);
-        }
-        continue;
-      }
-      for (vtkIdType k = 0; k + 2 < triIds->GetNumberOfIds(); k += 3)
-      {
-        // Triangulate returns local corner indices
-        out.tris.push_back(
-          { ids[triIds->GetId(k)], ids[triIds->GetId(k + 1)], ids[triIds->GetId(k + 2)] });
-        out.cell.push_back(cellBase + c);
-      }
+      out.tris.push_back({ ids[0], ids[1], ids[2] });
+      out.cell.push_back(cell);
+      return;
     }
-  }
-  {
-    const vtkIdType stripBase = cellBase + in->GetNumberOfPolys();
-    auto it = vtk::TakeSmartPointer(in->GetStrips()->NewIterator());
-    vtkIdType c = 0;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++c)
+    // concave polygons too: VTK's ear-cut triangulation
+    ++out.polygons;
+    polygon->Initialize(static_cast<int>(n), ids, in->GetPoints());
+    triIds->Reset();
+    if (!polygon->Triangulate(triIds))
     {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      if (n < 3)
+      // a polygon VTK cannot cut (self-overlapping, degenerate): a fan
+      // keeps its area in the caster set
+      for (vtkIdType k = 1; k + 1 < n; ++k)
       {
-        continue;
+        out.tris.push_back({ ids[0], ids[k], ids[k + 1] });
+        out.cell.push_back(cell);
       }
-      if (!allFinite(n, ids))
-      {
-        ++out.nonFiniteCells;
-        continue;
-      }
+      return;
+    }
+    for (vtkIdType k = 0; k + 2 < triIds->GetNumberOfIds(); k += 3)
+    {
+      // Triangulate returns local corner indices
+      out.tris.push_back({ ids[triIds->GetId(k)], ids[triIds->GetId(k + 1)], ids[triIds->GetId(k + 2)] });
+      out.cell.push_back(cell);
+    }
+  });
+  forEachCell(in->GetStrips(), cellBase + in->GetNumberOfPolys(),
+    [&](vtkIdType n, const vtkIdType* ids, vtkIdType cell) {
       ++out.strips;
       for (vtkIdType k = 0; k + 2 < n; ++k)
       {
@@ -107,10 +94,9 @@ PolyTriangles Triangulate(vtkPolyData* in, const std::vector<char>& finite)
         {
           out.tris.push_back({ ids[k + 1], ids[k], ids[k + 2] });
         }
-        out.cell.push_back(stripBase + c);
+        out.cell.push_back(cell);
       }
-    }
-  }
+    });
   return out;
 }
 }

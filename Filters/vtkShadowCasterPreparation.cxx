@@ -20,6 +20,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSMPTools.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -27,6 +28,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <iomanip>
 #include <map>
@@ -50,12 +52,32 @@ bool Finite(const double p[3])
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
-// The report: named counts in a fixed order, then stage times.
+// Process CPU time (all threads), milliseconds.
+double CpuMs()
+{
+  return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+}
+
+// The report: named counts in a fixed order, then stage times: wall time and
+// the process's CPU time (a loaded machine stretches the first, less the second).
 struct ReportData
 {
   std::vector<std::pair<std::string, double>> counts;
-  std::vector<std::pair<std::string, double>> ms;
+  std::vector<std::pair<std::string, double>> ms, cpu;
+  Clock::time_point wall0 = Clock::now();
+  double cpu0 = CpuMs();
   void Count(const std::string& name, double v) { counts.emplace_back(name, v); }
+  void Start()
+  {
+    wall0 = Clock::now();
+    cpu0 = CpuMs();
+  }
+  void Stage(const std::string& name)
+  {
+    ms.emplace_back(name, Ms(wall0, Clock::now()));
+    cpu.emplace_back(name, CpuMs() - cpu0);
+    Start();
+  }
 };
 
 template <typename T, typename A>
@@ -88,7 +110,7 @@ int vtkShadowCasterPreparation::RequestData(
   this->ReportJSON = "{}";
   ReportData report;
   const auto tStart = Clock::now();
-  auto t0 = tStart;
+  const double cpuStart = CpuMs();
   const vtkIdType nIn = input->GetNumberOfPoints();
 
   // --- 1. non-finite points, triangles
@@ -109,11 +131,10 @@ int vtkShadowCasterPreparation::RequestData(
   report.Count("DroppedVertsAndLines", static_cast<double>(input->GetNumberOfVerts() + input->GetNumberOfLines()));
   report.Count("TriangulatedPolygons", static_cast<double>(tri.polygons));
   report.Count("TriangulatedStrips", static_cast<double>(tri.strips));
-  report.ms.emplace_back("triangulate", Ms(t0, Clock::now()));
+  report.Stage("triangulate");
   this->UpdateProgress(0.05);
 
   // --- 2. weld the finite points that triangles use
-  t0 = Clock::now();
   std::vector<vtkIdType> compact(static_cast<std::size_t>(nIn), -1);
   std::vector<vtkIdType> usedPoints;
   for (const auto& t : tri.tris)
@@ -150,8 +171,18 @@ int vtkShadowCasterPreparation::RequestData(
     cloud->SetPoints(used);
     vtkNew<vtkStaticPointLocator> locator;
     locator->SetDataSet(cloud);
-    locator->BuildLocator();
-    locator->MergePoints(tolerance, mergeMap.data());
+    // The locator merges in parallel through vtkSMPTools; Debian's VTK
+    // defaults to its Sequential backend, so this one step asks for threads
+    // (the caller's choice of a parallel backend is kept).
+    vtkSMPTools::Config smp;
+    if (smp.Backend == "Sequential")
+    {
+      smp.Backend = "STDThread";
+    }
+    vtkSMPTools::LocalScope(smp, [&]() {
+      locator->BuildLocator();
+      locator->MergePoints(tolerance, mergeMap.data());
+    });
   }
   ssf::RepairInput repairIn;
   std::vector<vtkIdType> welded(usedPoints.size(), -1);
@@ -176,7 +207,7 @@ int vtkShadowCasterPreparation::RequestData(
   repairIn.sourceCell = std::move(tri.cell);
   tri.tris.clear();
   report.Count("WeldedPoints", static_cast<double>(usedPoints.size() - repairIn.points.size()));
-  report.ms.emplace_back("weld", Ms(t0, Clock::now()));
+  report.Stage("weld");
   this->UpdateProgress(0.1);
   if (this->CheckAbort())
   {
@@ -184,7 +215,6 @@ int vtkShadowCasterPreparation::RequestData(
   }
 
   // --- 3, 4. OpenMesh/CGAL repair and classification
-  t0 = Clock::now();
   ssf::RepairOptions ro;
   ro.tolerance = this->SnapTJunctions ? tolerance : 0.0;
   ro.snapTJunctions = this->SnapTJunctions;
@@ -215,20 +245,19 @@ int vtkShadowCasterPreparation::RequestData(
   report.Count("SelfIntersectingPieces", static_cast<double>(rs.selfIntersectingPieces));
   report.Count("ReorientedPieces", static_cast<double>(rs.reorientedPieces));
   report.Count("ClosedOutwardPieces", static_cast<double>(rs.closedOutwardPieces));
-  report.ms.emplace_back("repair_classify", Ms(t0, Clock::now()));
-  // thread time of the repair's steps (summed over the parallel pieces)
-  report.ms.emplace_back("thread.orient_soup", rs.msOrientSoup);
-  report.ms.emplace_back("thread.build_openmesh", rs.msBuildMesh);
-  report.ms.emplace_back("thread.degenerate", rs.msDegenerate);
-  report.ms.emplace_back("thread.snap_tjunctions", rs.msSnap);
-  report.ms.emplace_back("thread.components", rs.msComponents);
-  report.ms.emplace_back("thread.self_intersections", rs.msSelfIntersections);
-  report.ms.emplace_back("thread.orientation", rs.msOrientation);
-  report.ms.emplace_back("thread.normals_out", rs.msNormalsOut);
+  report.Stage("repair_classify");
+  // CPU time of the repair's steps, summed over the parallel pieces
+  report.cpu.emplace_back("thread.orient_soup", rs.msOrientSoup);
+  report.cpu.emplace_back("thread.build_openmesh", rs.msBuildMesh);
+  report.cpu.emplace_back("thread.degenerate", rs.msDegenerate);
+  report.cpu.emplace_back("thread.snap_tjunctions", rs.msSnap);
+  report.cpu.emplace_back("thread.components", rs.msComponents);
+  report.cpu.emplace_back("thread.self_intersections", rs.msSelfIntersections);
+  report.cpu.emplace_back("thread.orientation", rs.msOrientation);
+  report.cpu.emplace_back("thread.normals_out", rs.msNormalsOut);
 
   // --- output points first, in the input's precision: the bounds below are
   // computed from the coordinates as stored, so they hold them exactly
-  t0 = Clock::now();
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataType(input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT);
   outPoints->SetNumberOfPoints(static_cast<vtkIdType>(mesh.points.size()));
@@ -318,10 +347,9 @@ int vtkShadowCasterPreparation::RequestData(
       return 1;
     }
   }
-  report.ms.emplace_back("clusters_bounds", Ms(t0, Clock::now()));
+  report.Stage("clusters_bounds");
 
   // --- output cells (cluster order), cell and point data
-  t0 = Clock::now();
   output->SetPoints(outPoints);
   vtkNew<vtkIdTypeArray> offsets, connectivity;
   offsets->SetNumberOfTuples(static_cast<vtkIdType>(nTri) + 1);
@@ -478,8 +506,9 @@ int vtkShadowCasterPreparation::RequestData(
     fd->AddArray(Scalar<vtkIdType, vtkIdTypeArray>(c.first.c_str(), static_cast<vtkIdType>(c.second)));
   }
   fd->AddArray(Scalar<double, vtkDoubleArray>("WeldToleranceAbsolute", tolerance));
-  report.ms.emplace_back("output", Ms(t0, Clock::now()));
+  report.Stage("output");
   report.ms.emplace_back("total", Ms(tStart, Clock::now()));
+  report.cpu.emplace_back("total", CpuMs() - cpuStart);
 
   std::ostringstream text, json;
   json << std::setprecision(10) << "{\"counts\": {";
@@ -496,6 +525,13 @@ int vtkShadowCasterPreparation::RequestData(
     text << "time_ms." << report.ms[i].first << ": " << std::fixed << std::setprecision(1)
          << report.ms[i].second << std::defaultfloat << "\n";
     json << (i ? ", " : "") << "\"" << report.ms[i].first << "\": " << report.ms[i].second;
+  }
+  json << "}, \"cpu_ms\": {";
+  for (std::size_t i = 0; i < report.cpu.size(); ++i)
+  {
+    text << "cpu_ms." << report.cpu[i].first << ": " << std::fixed << std::setprecision(1)
+         << report.cpu[i].second << std::defaultfloat << "\n";
+    json << (i ? ", " : "") << "\"" << report.cpu[i].first << "\": " << report.cpu[i].second;
   }
   json << "}}";
   this->Report = text.str();

@@ -20,6 +20,32 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Angles are compared with this much slack (radians): a cull decided by less
 // than rounding is not taken.
 constexpr double kAngleSlack = 1e-9;
+
+// The extreme points of a light (a rect's corners, a point light's position)
+// or, for a directional light, the corners of its square of directions
+// towards the light (-n + su t u + sv t v, |su|, |sv| <= 1/2: ssLightFrame's
+// LightSampleFrame, the reference's sampling). Every point (direction) of the
+// light is a convex combination of these.
+void LightExtremes(const LightFrame& light, std::vector<glm::dvec3>& points, std::vector<glm::dvec3>& directions)
+{
+  const double t = light.type == LightType::Directional ? 2.0 * std::tan(0.5 * light.angularDiameter) : 0.0;
+  for (int c = 0; c < (light.type == LightType::Point ? 1 : 4); ++c)
+  {
+    const double su = (c & 1) ? 0.5 : -0.5, sv = (c & 2) ? 0.5 : -0.5;
+    if (light.type == LightType::Directional)
+    {
+      directions.push_back(-light.n + su * t * light.u + sv * t * light.v);
+    }
+    else if (light.type == LightType::Rect)
+    {
+      points.push_back(light.center + su * light.width * light.u + sv * light.height * light.v);
+    }
+    else
+    {
+      points.push_back(light.center);
+    }
+  }
+}
 }
 
 glm::dvec3 OrientedBox::Corner(int i) const
@@ -189,33 +215,14 @@ bool ConeMayFaceLight(const NormalCone& cone, const std::array<glm::dvec3, 8>& c
     const double phi = std::acos(std::clamp(glm::dot(cone.axis, w) / len, -1.0, 1.0));
     return phi - theta <= 0.5 * M_PI + kAngleSlack;
   };
-  std::vector<glm::dvec3> lightPoints;
-  if (light.type == LightType::Directional)
+  std::vector<glm::dvec3> lightPoints, lightDirections;
+  LightExtremes(light, lightPoints, lightDirections);
+  for (const auto& w : lightDirections)
   {
-    // directions towards the light: -n + su t u + sv t v, |su|, |sv| <= 1/2
-    // (ssLightFrame's LightSampleFrame, the reference's square of directions)
-    const double t = 2.0 * std::tan(0.5 * light.angularDiameter);
-    for (int c = 0; c < 4; ++c)
+    if (faces(w)) // a direction: the same from every point of the cluster
     {
-      const double su = (c & 1) ? 0.5 : -0.5, sv = (c & 2) ? 0.5 : -0.5;
-      if (faces(-light.n + su * t * light.u + sv * t * light.v))
-      {
-        return true;
-      }
+      return true;
     }
-    return false;
-  }
-  if (light.type == LightType::Rect)
-  {
-    for (int c = 0; c < 4; ++c)
-    {
-      const double su = (c & 1) ? 0.5 : -0.5, sv = (c & 2) ? 0.5 : -0.5;
-      lightPoints.push_back(light.center + su * light.width * light.u + sv * light.height * light.v);
-    }
-  }
-  else
-  {
-    lightPoints.push_back(light.center);
   }
   for (const auto& l : lightPoints)
   {
@@ -239,18 +246,12 @@ bool ClusterMayBlockLight(const ClusterBounds& cluster, const LightFrame& light)
   if (light.type != LightType::Directional)
   {
     // the light must lie outside every piece of the cluster (see the header)
+    std::vector<glm::dvec3> lightPoints, unused;
+    LightExtremes(light, lightPoints, unused);
     Box lb;
-    if (light.type == LightType::Rect)
+    for (const auto& p : lightPoints)
     {
-      for (int c = 0; c < 4; ++c)
-      {
-        const double su = (c & 1) ? 0.5 : -0.5, sv = (c & 2) ? 0.5 : -0.5;
-        lb.Add(light.center + su * light.width * light.u + sv * light.height * light.v);
-      }
-    }
-    else
-    {
-      lb.Add(light.center);
+      lb.Add(p);
     }
     const Box& pb = cluster.pieceBounds;
     if (pb.Empty() || !Finite(pb.min) || !Finite(pb.max))
@@ -407,29 +408,8 @@ bool ClusterMayShadowBox(const ClusterBounds& cluster, const LightFrame& light, 
   {
     return true;
   }
-  // the light's extreme points (rect, point) or directions (directional)
   std::vector<glm::dvec3> lightPoints, lightDirections;
-  if (light.type == LightType::Directional)
-  {
-    const double t = 2.0 * std::tan(0.5 * light.angularDiameter);
-    for (int c = 0; c < 4; ++c)
-    {
-      const double su = (c & 1) ? 0.5 : -0.5, sv = (c & 2) ? 0.5 : -0.5;
-      lightDirections.push_back(-light.n + su * t * light.u + sv * t * light.v);
-    }
-  }
-  else if (light.type == LightType::Rect)
-  {
-    for (int c = 0; c < 4; ++c)
-    {
-      const double su = (c & 1) ? 0.5 : -0.5, sv = (c & 2) ? 0.5 : -0.5;
-      lightPoints.push_back(light.center + su * light.width * light.u + sv * light.height * light.v);
-    }
-  }
-  else
-  {
-    lightPoints.push_back(light.center);
-  }
+  LightExtremes(light, lightPoints, lightDirections);
   std::vector<glm::dvec3> axes{ glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1) };
   if (obbOk)
   {

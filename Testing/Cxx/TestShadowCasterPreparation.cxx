@@ -4,6 +4,7 @@
 #include "vtkShadowCasterPreparation.h"
 
 #include "ssClusterBounds.h"
+#include "ssClusterTable.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -395,67 +396,47 @@ namespace
 // than a hemisphere.
 void CheckClusters(vtkPolyData* out, int maxTriangles)
 {
-  vtkFieldData* fd = out->GetFieldData();
-  vtkDataArray* range = fd->GetArray("ClusterRange");
-  vtkDataArray* aabb = fd->GetArray("ClusterAABB");
-  vtkDataArray* obb = fd->GetArray("ClusterOBB");
-  vtkDataArray* cone = fd->GetArray("ClusterNormalCone");
-  vtkDataArray* closed = fd->GetArray("ClusterClosedOutward");
-  vtkDataArray* pieceBounds = fd->GetArray("ClusterPieceBounds");
+  ssf::ClusterTable table;
+  std::string why;
+  ASSERT_TRUE(ssf::ReadClusterTable(out, table, why)) << why;
   vtkDataArray* normals = out->GetCellData()->GetNormals();
   vtkDataArray* cellClosed = out->GetCellData()->GetArray("ClosedOutward");
   vtkDataArray* clusterId = out->GetCellData()->GetArray("ClusterId");
-  ASSERT_TRUE(range && aabb && obb && cone && closed && pieceBounds && normals && cellClosed && clusterId);
-  ASSERT_EQ(range->GetNumberOfComponents(), 2);
-  ASSERT_EQ(obb->GetNumberOfComponents(), 15);
-  vtkIdType next = 0;
+  ASSERT_TRUE(normals && cellClosed && clusterId);
+  std::size_t next = 0;
   vtkNew<vtkIdList> ids;
-  for (vtkIdType c = 0; c < range->GetNumberOfTuples(); ++c)
+  for (std::size_t c = 0; c < table.ranges.size(); ++c)
   {
-    const vtkIdType first = static_cast<vtkIdType>(range->GetComponent(c, 0));
-    const vtkIdType count = static_cast<vtkIdType>(range->GetComponent(c, 1));
+    const auto [first, count] = table.ranges[c];
     ASSERT_EQ(first, next);
-    ASSERT_GE(count, 1);
-    ASSERT_LE(count, maxTriangles);
+    ASSERT_GE(count, 1u);
+    ASSERT_LE(count, static_cast<std::size_t>(maxTriangles));
     next = first + count;
-    double ab[6], ob[15], cn[4], pb[6];
-    aabb->GetTuple(c, ab);
-    obb->GetTuple(c, ob);
-    cone->GetTuple(c, cn);
-    pieceBounds->GetTuple(c, pb);
-    ss::OrientedBox box;
-    box.center = { ob[0], ob[1], ob[2] };
-    box.axis = { glm::dvec3(ob[3], ob[4], ob[5]), glm::dvec3(ob[6], ob[7], ob[8]), glm::dvec3(ob[9], ob[10], ob[11]) };
-    box.half = { ob[12], ob[13], ob[14] };
-    const bool isClosed = closed->GetComponent(c, 0) == 1;
-    if (isClosed)
+    const ss::ClusterBounds& b = table.bounds[c];
+    if (b.closedOutward)
     {
-      EXPECT_GT(cn[3], 0.0) << "closed cluster " << c << " has a cone wider than a hemisphere";
+      EXPECT_GT(b.cone.cosAngle, 0.0) << "closed cluster " << c << " has a cone wider than a hemisphere";
     }
-    for (vtkIdType cell = first; cell < first + count; ++cell)
+    for (std::size_t cell = first; cell < first + count; ++cell)
     {
-      ASSERT_EQ(clusterId->GetComponent(cell, 0), c);
-      ASSERT_EQ(cellClosed->GetComponent(cell, 0) == 1, isClosed) << "cluster " << c << " mixes pieces";
-      out->GetCellPoints(cell, ids);
+      const vtkIdType id = static_cast<vtkIdType>(cell);
+      ASSERT_EQ(clusterId->GetComponent(id, 0), c);
+      ASSERT_EQ(cellClosed->GetComponent(id, 0) == 1, b.closedOutward) << "cluster " << c << " mixes pieces";
+      out->GetCellPoints(id, ids);
       for (vtkIdType k = 0; k < 3; ++k)
       {
-        const P3 p = Pt(out, ids->GetId(k));
-        for (int a = 0; a < 3; ++a)
-        {
-          ASSERT_GE(p[a], ab[2 * a]) << "cluster " << c;
-          ASSERT_LE(p[a], ab[2 * a + 1]) << "cluster " << c;
-          ASSERT_GE(p[a], pb[2 * a]);
-          ASSERT_LE(p[a], pb[2 * a + 1]);
-        }
-        ASSERT_TRUE(box.Contains(G(p))) << "cluster " << c << ": a vertex outside its oriented box";
+        const glm::dvec3 p = G(Pt(out, ids->GetId(k)));
+        ASSERT_TRUE(b.aabb.Contains(p)) << "cluster " << c << ": a vertex outside its AABB";
+        ASSERT_TRUE(b.pieceBounds.Contains(p)) << "cluster " << c << ": a vertex outside its pieces' bounds";
+        ASSERT_TRUE(b.obb.Contains(p)) << "cluster " << c << ": a vertex outside its oriented box";
       }
       double n[3];
-      normals->GetTuple(cell, n);
-      ASSERT_GE(glm::dot(glm::dvec3(cn[0], cn[1], cn[2]), glm::dvec3(n[0], n[1], n[2])), cn[3] - 1e-6)
+      normals->GetTuple(id, n);
+      ASSERT_GE(glm::dot(b.cone.axis, glm::dvec3(n[0], n[1], n[2])), b.cone.cosAngle - 1e-6)
         << "cluster " << c << ": a face normal outside its cone";
     }
   }
-  EXPECT_EQ(next, out->GetNumberOfCells());
+  EXPECT_EQ(next, static_cast<std::size_t>(out->GetNumberOfCells()));
 }
 }
 
@@ -586,6 +567,12 @@ TEST(ShadowCasterPreparation, EmptyAndDegenerateInput)
   vtkSmartPointer<vtkPolyData> out = Prepare(empty);
   EXPECT_EQ(out->GetNumberOfCells(), 0);
   EXPECT_EQ(Count(out, "Clusters"), 0);
+  ssf::ClusterTable table;
+  std::string why;
+  EXPECT_TRUE(ssf::ReadClusterTable(out, table, why)) << why;
+  EXPECT_TRUE(table.ranges.empty());
+  EXPECT_FALSE(ssf::ReadClusterTable(empty, table, why)); // not a preparation output
+  EXPECT_NE(why.find("ClusterRange"), std::string::npos);
   // only NaN points and collapsed triangles: an empty surface, counted
   vtkNew<vtkPoints> pts;
   vtkNew<vtkCellArray> polys;
