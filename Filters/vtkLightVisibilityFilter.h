@@ -141,7 +141,7 @@ protected:
   bool InputCastsShadows = true;
   char* OpacityArrayName = nullptr;
   vtkLightCollection* Lights;
-  double LightCenter[3] = { 0.0, 0.0, 1.0 };
+  double LightCenter[3] = { 0.0, 0.0, 5.0 };
   double LightNormal[3] = { 0.0, 0.0, -1.0 };
   double LightUp[3] = { 0.0, 1.0, 0.0 };
   double LightSize[2] = { 1.0, 1.0 };

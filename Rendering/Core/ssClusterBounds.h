@@ -90,6 +90,9 @@ bool ConeMayFaceLight(const NormalCone& cone, const std::array<glm::dvec3, 8>& c
 /// sample. The light is taken to be outside every piece of the cluster when
 /// the light (its bounding box) does not meet `pieceBounds`.
 ///
+/// Opaque casters only: a translucent face attenuates every segment that
+/// crosses it, entry and exit faces alike, so none may be culled.
+///
 /// True for clusters that are not closedOutward, whose bounds or cone are not
 /// finite, or that may face the light.
 bool ClusterMayBlockLight(const ClusterBounds& cluster, const LightFrame& light);
