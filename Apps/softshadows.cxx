@@ -4,6 +4,8 @@
 //         [--output img.png] [--visibility vis.pfm] [--positions pos.pfm]
 //         [--stats stats.json] [--frames N] [--option key=value ...]
 //   softshadows compare A.pfm B.pfm     (B is the reference)
+//   softshadows bake / prepare / bench --filters: see ssBake.h (no GPU)
+#include "ssBake.h"
 #include "ssBench.h"
 #include "ssHeadless.h"
 #include "ssImageIO.h"
@@ -68,6 +70,12 @@ const char* kUsage =
   "        [--samples 16,32] [--out DIR]\n"
   "  softshadows bench --pvsm --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
   "        [--reference-samples K]   (PVSM vs fixed PCSS vs 8x8 hard maps; cameras, lights)\n"
+  "  softshadows bench --filters --mesh M [--points N] [--runs R] [--samples K] [--out DIR]\n"
+  "        (caster preparation per million triangles, baking an N-point surface; --smoke: tiny)\n"
+  "  softshadows bake SCENE.json --object I --output baked.vtp [--samples K]\n"
+  "        [--method gears|reference]   (visible fraction of each light per point, CPU)\n"
+  "  softshadows prepare MESH --output prepared.vtp [--tolerance F] [--cluster-size N]\n"
+  "        [--boxes plane|optimal|aligned] [--no-snap] [--no-self-intersections] [--report r.json]\n"
   "methods: auto (default), hard, pcf, pcss, pvsm, hardavg, reference, gears, vtk, none\n"
   "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
   "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"
@@ -636,11 +644,23 @@ int main(int argc, char* argv[])
     {
       return Compare(args);
     }
+    if (cmd == "bench" && std::find(args.begin(), args.end(), "--filters") != args.end())
+    {
+      return ssapp::BenchFilters(args);
+    }
     if (cmd == "bench")
     {
       return ssapp::Bench(args);
     }
-    throw UsageError("unknown command '" + cmd + "' (expected render, compare or bench)");
+    if (cmd == "bake")
+    {
+      return ssapp::Bake(args);
+    }
+    if (cmd == "prepare")
+    {
+      return ssapp::Prepare(args);
+    }
+    throw UsageError("unknown command '" + cmd + "' (expected render, compare, bench, bake or prepare)");
   }
   catch (const UsageError& e)
   {

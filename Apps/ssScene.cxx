@@ -764,4 +764,11 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
   renderer->ResetCameraClippingRange();
   return info;
 }
+
+vtkSmartPointer<vtkPolyData> ReadMeshFile(const std::string& path)
+{
+  json o;
+  o["mesh"] = path;
+  return ReadMesh(o, Ctx{ path, "" }, fs::current_path());
+}
 }

@@ -183,6 +183,49 @@ add_test(NAME cli.bench.pvsm_smoke_check
 set_tests_properties(cli.bench.pvsm_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_pvsm_smoke)
 set_tests_properties(cli.bench.pvsm_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_pvsm_smoke)
 
+# bake and prepare (the Filters module; no GPU, no display needed)
+set(_good "${_ss_data}/GoodScenes")
+file(WRITE "${_gen}/no_lights.json" "{\"objects\": [{\"primitive\": \"sphere\"}]}\n")
+ss_cli_error(bake_missing_object "bake: missing --object" ${_ss_cli} bake "${_good}/bake_plane.json" --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_missing_output "bake: missing --output" ${_ss_cli} bake "${_good}/bake_plane.json" --object 0)
+ss_cli_error(bake_object_range "--object 7: out of range \\(the scene has 2 object" ${_ss_cli} bake "${_good}/bake_plane.json" --object 7 --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_method "--method: expected gears or reference, got 'pcss'" ${_ss_cli} bake "${_good}/bake_plane.json" --object 0 --output "${_ss_out}/x.vtp" --method pcss)
+ss_cli_error(bake_samples "--samples: expected an integer in \\[1, 32\\]" ${_ss_cli} bake "${_good}/bake_plane.json" --object 0 --output "${_ss_out}/x.vtp" --samples 64)
+ss_cli_error(bake_missing_scene "nope\\.json: cannot open" ${_ss_cli} bake "${_bad}/nope.json" --object 0 --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_bad_scene "unknown_key\\.json: objects\\[0\\]\\.radious: unknown key" ${_ss_cli} bake "${_bad}/unknown_key.json" --object 0 --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_no_lights "no_lights\\.json: lights: the scene has no light" ${_ss_cli} bake "${_gen}/no_lights.json" --object 0 --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_unwritable "cannot write '/nonexistent/dir/x\\.vtp'" ${_ss_cli} bake "${_good}/bake_plane.json" --object 1 --output /nonexistent/dir/x.vtp)
+ss_cli_error(prepare_missing_mesh "nope\\.off: mesh: mesh file not found" ${_ss_cli} prepare "${_bad}/nope.off" --output "${_ss_out}/x.vtp")
+ss_cli_error(prepare_not_a_mesh "empty\\.vtp: mesh: could not read" ${_ss_cli} prepare "${_gen}/empty.vtp" --output "${_ss_out}/x.vtp")
+ss_cli_error(prepare_missing_output "prepare: missing --output" ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply")
+ss_cli_error(prepare_tolerance "--tolerance: expected a fraction of the bounding-box diagonal in \\[0, 0.01\\], got '0.5'" ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply" --output "${_ss_out}/x.vtp" --tolerance 0.5)
+ss_cli_error(prepare_boxes "--boxes: expected plane, optimal or aligned, got 'round'" ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply" --output "${_ss_out}/x.vtp" --boxes round)
+ss_cli_error(bench_filters_no_mesh "bench --filters: missing --mesh" ${_ss_cli} bench --filters)
+
+# A broken mesh (a NaN vertex, a collapsed triangle): the report counts them.
+add_test(NAME cli.prepare.broken_mesh
+  COMMAND ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply" --output "${_ss_out}/cli_prepared.vtp"
+    --report "${_ss_out}/cli_prepared.json")
+set_tests_properties(cli.prepare.broken_mesh PROPERTIES LABELS "cli;filters" TIMEOUT 120
+  PASS_REGULAR_EXPRESSION "NonFinitePoints: 1\n.*CollapsedTriangles: 1\n.*OutputTriangles: 2\n")
+# Bake a transformed plane under a sphere with GEARS and the reference; the
+# check reads both files back (world coordinates, arrays, agreement).
+foreach (_m gears reference)
+  add_test(NAME cli.bake.${_m}
+    COMMAND env -u DISPLAY ${_ss_cli} bake "${_good}/bake_plane.json" --object 0 --samples 8 --method ${_m}
+      --output "${_ss_out}/cli_baked_${_m}.vtp")
+  set_tests_properties(cli.bake.${_m} PROPERTIES LABELS "cli;filters" TIMEOUT 300 FIXTURES_SETUP cli_bake)
+endforeach ()
+add_test(NAME cli.bake.check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bake.py"
+    "${_ss_out}/cli_baked_gears.vtp" "${_ss_out}/cli_baked_reference.vtp")
+set_tests_properties(cli.bake.check PROPERTIES LABELS "cli;filters" FIXTURES_REQUIRED cli_bake)
+# Benchmark smoke run (a small sphere, a 10k-point plane): the report is produced.
+add_test(NAME cli.bench.filters_smoke
+  COMMAND ${_ss_cli} bench --filters --smoke --out "${_ss_out}/bench_filters_smoke")
+set_tests_properties(cli.bench.filters_smoke PROPERTIES LABELS "cli;bench;filters" TIMEOUT 300
+  PASS_REGULAR_EXPRESSION "prepare [0-9.e+-]+ s per million triangles")
+
 # Other machines' paths on this one (issue 16): llvmpipe thread counts, a
 # smaller GL texture limit, a GL 3.2 context, a small SSBO limit, Embree's
 # AVX2 and SSE4.2 kernels. Each must give the same V or a stated fallback.

@@ -12,7 +12,8 @@ add_executable(TestSoftShadowsCore
   TestSSGEARS.cxx
   TestSSPVSM.cxx
   TestSSMetrics.cxx
-  TestSSCasterClusters.cxx)
+  TestSSCasterClusters.cxx
+  TestSSClusterBounds.cxx)
 find_package(TBB REQUIRED)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore TBB::tbb GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
