@@ -54,6 +54,8 @@
 #include "ssPVSM.h"
 #include "ssReference.h"
 #include "ssShadowView.h"
+#include "ssFullScreenQuad.h"
+#include "ssTextureArray.h"
 
 #include "ssCasterFS.h"
 #include "ssCasterVS.h"
@@ -85,6 +87,11 @@ vtkInformationKeyMacro(vtkSoftShadowPass, RECEIVES_SHADOWS, Integer);
 
 namespace
 {
+using ss::BuildDepthPyramid;
+using ss::EnsureTexture2D;
+using ss::ReadyQuad;
+using ss::TextureArray;
+using ss::WithCommon;
 using Clock = std::chrono::steady_clock;
 
 enum class Stage
@@ -126,250 +133,9 @@ std::uint64_t MatrixHash(vtkMatrix4x4* m)
   return h;
 }
 
-// A GL_TEXTURE_2D_ARRAY: the shadow maps (RG32F linear light-space depth
-// whose mip levels hold the (min, max) of the level below; `Ensure`) or the
-// screen-space visibility layers (R32F, one level; `EnsureScreen`). Not a 3-D
-// texture: those are limited to GL_MAX_3D_TEXTURE_SIZE (2048 on llvmpipe and
-// many GPUs), so a window wider or taller than that had no visibility at all;
-// array layers allow GL_MAX_TEXTURE_SIZE. vtkTextureObject cannot bind 2-D
-// array textures (VTK 9.2): a texture unit is taken from the window's manager
-// and bound by hand.
-struct TextureArray
-{
-  unsigned int Handle = 0;
-  int Size = 0; // width of a square (shadow-map) array
-  int Width = 0, Height = 0, Layers = 0, Levels = 0, Components = 0;
-
-  void Release()
-  {
-    if (this->Handle)
-    {
-      glDeleteTextures(1, &this->Handle);
-      this->Handle = 0;
-    }
-    this->Size = this->Width = this->Height = this->Layers = this->Levels = this->Components = 0;
-  }
-
-  long long Bytes() const
-  {
-    const long long level0 = static_cast<long long>(this->Width) * this->Height * this->Layers * this->Components * 4;
-    // all mip levels: about 4/3 of level 0
-    return this->Handle ? (this->Levels > 1 ? level0 * 4 / 3 : level0) : 0;
-  }
-
-  // size x size RG32F layers with every mip level (shadow maps)
-  void Ensure(int size, int layers)
-  {
-    int levels = 1;
-    while ((size >> (levels - 1)) > 1)
-    {
-      ++levels;
-    }
-    this->Allocate(size, size, layers, levels, 2);
-    this->Size = this->Handle ? size : 0;
-  }
-
-  // width x height R32F layers, one level (the visibility of each light);
-  // false when GL refused them (larger than the implementation allows)
-  bool EnsureScreen(int width, int height, int layers)
-  {
-    this->Allocate(width, height, layers, 1, 1);
-    return this->Handle != 0;
-  }
-
-  void Allocate(int width, int height, int layers, int levels, int comps)
-  {
-    if (this->Handle && this->Width == width && this->Height == height && this->Layers == layers &&
-      this->Levels == levels && this->Components == comps)
-    {
-      return;
-    }
-    this->Release();
-    for (int i = 0; i < 16 && glGetError() != GL_NO_ERROR; ++i)
-    {
-    }
-    glGenTextures(1, &this->Handle);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, this->Handle);
-    for (int l = 0; l < levels; ++l)
-    {
-      glTexImage3D(GL_TEXTURE_2D_ARRAY, l, comps == 2 ? GL_RG32F : GL_R32F, std::max(1, width >> l),
-        std::max(1, height >> l), layers, 0, comps == 2 ? GL_RG : GL_RED, GL_FLOAT, nullptr);
-    }
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, levels - 1);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-    if (glGetError() != GL_NO_ERROR)
-    {
-      glDeleteTextures(1, &this->Handle);
-      this->Handle = 0;
-      return;
-    }
-    this->Width = width;
-    this->Height = height;
-    this->Layers = layers;
-    this->Levels = levels;
-    this->Components = comps;
-  }
-
-  // Reads layer `layer` of level 0 (w x h x Components floats) through `fbo`.
-  bool Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int layer, float* out) const
-  {
-    if (!this->Handle || layer < 0 || layer >= this->Layers)
-    {
-      return false;
-    }
-    win->MakeCurrent();
-    vtkOpenGLState* ostate = win->GetState();
-    ostate->PushFramebufferBindings();
-    fbo->Bind();
-    this->Attach(fbo, 0, layer);
-    fbo->ActivateReadBuffer(0);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, this->Width, this->Height, this->Components == 2 ? GL_RG : GL_RED, GL_FLOAT, out);
-    TextureArray::Detach();
-    ostate->PopFramebufferBindings();
-    return glGetError() == GL_NO_ERROR;
-  }
-
-  int Bind(vtkOpenGLRenderWindow* win) const
-  {
-    const int unit = win->GetTextureUnitManager()->Allocate();
-    if (unit >= 0)
-    {
-      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
-      glBindTexture(GL_TEXTURE_2D_ARRAY, this->Handle);
-    }
-    return unit;
-  }
-
-  static void Unbind(vtkOpenGLRenderWindow* win, int unit)
-  {
-    if (unit >= 0)
-    {
-      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
-      glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-      win->GetTextureUnitManager()->Free(unit);
-    }
-  }
-
-  // Renders into (level, layer) through the bound FBO.
-  void Attach(vtkOpenGLFramebufferObject* fbo, int level, int layer) const
-  {
-    fbo->RemoveColorAttachments(1);
-    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, this->Handle, level, layer);
-    fbo->ActivateDrawBuffers(1);
-  }
-
-  static void Detach() { glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0); }
-};
-
 double Seconds(Clock::time_point a, Clock::time_point b)
 {
   return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-bool ReadLayer(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex,
-  int layer, int w, int h, int comps, std::vector<float>& out);
-
-// Attaches a screen-space texture (G-buffer) to `fbo`; vtkOpenGLFramebufferObject
-// does not re-attach the same texture, so the old attachment goes first.
-void AttachLayer(vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex, int layer)
-{
-  fbo->RemoveColorAttachments(1);
-  fbo->AddColorAttachment(0, tex, static_cast<unsigned int>(layer));
-}
-
-// A full-screen pass with its fragment shader, built once and made current.
-vtkShaderProgram* ReadyQuad(
-  std::unique_ptr<vtkOpenGLQuadHelper>& quad, vtkOpenGLRenderWindow* win, const char* fs)
-{
-  if (!quad)
-  {
-    quad.reset(new vtkOpenGLQuadHelper(
-      win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fs, ""));
-  }
-  else
-  {
-    win->GetShaderCache()->ReadyShaderProgram(quad->Program);
-  }
-  vtkShaderProgram* prog = quad->Program;
-  return (prog && prog->GetCompiled()) ? prog : nullptr;
-}
-
-// Levels 1.. of the pyramid of `array` over its [0,w) x [0,h) corner (a
-// virtual PVSM tile uses only part of its texture): mode 0, depth (min, max);
-// mode 1, PVSM's tile grid (min, min) -- see ssMinReduceFS.glsl.
-bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo,
-  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const TextureArray& array, int w, int h, int mode = 0)
-{
-  vtkOpenGLState* ostate = win->GetState();
-  vtkShaderProgram* prog = ReadyQuad(quad, win, ssMinReduceFS);
-  if (!prog)
-  {
-    return false;
-  }
-  const int unit = array.Bind(win);
-  prog->SetUniformi("src", unit);
-  prog->SetUniformi("mode", mode);
-  for (int level = 1; level < array.Levels; ++level)
-  {
-    // sample only the level below the one written
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, level - 1);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, level - 1);
-    auto up = [](int v, int l) { return std::max(1, (v + (1 << l) - 1) >> l); };
-    const int src[2] = { up(w, level - 1), up(h, level - 1) };
-    const int dst[2] = { up(w, level), up(h, level) };
-    prog->SetUniform2i("srcSize", src);
-    prog->SetUniform2i("dstSize", dst);
-    ostate->vtkglViewport(0, 0, dst[0], dst[1]);
-    ostate->vtkglScissor(0, 0, dst[0], dst[1]);
-    for (int layer = 0; layer < array.Layers; ++layer)
-    {
-      array.Attach(fbo, level, layer);
-      prog->SetUniformi("layer", layer);
-      quad->Render();
-    }
-  }
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, array.Levels - 1);
-  TextureArray::Unbind(win, unit);
-  return true;
-}
-
-// A screen-space float texture of `comps` (1, 2 or 4) components, (re)sized.
-void EnsureTexture2D(vtkOpenGLRenderWindow* win, vtkSmartPointer<vtkTextureObject>& t, int w, int h, int comps)
-{
-  if (!t)
-  {
-    t = vtkSmartPointer<vtkTextureObject>::New();
-    t->SetContext(win);
-    t->SetFormat(comps == 4 ? GL_RGBA : (comps == 2 ? GL_RG : GL_RED));
-    t->SetInternalFormat(comps == 4 ? GL_RGBA32F : (comps == 2 ? GL_RG32F : GL_R32F));
-    t->SetDataType(GL_FLOAT);
-    t->SetMinificationFilter(vtkTextureObject::Nearest);
-    t->SetMagnificationFilter(vtkTextureObject::Nearest);
-    t->SetWrapS(vtkTextureObject::ClampToEdge);
-    t->SetWrapT(vtkTextureObject::ClampToEdge);
-    t->Allocate2D(w, h, comps, VTK_FLOAT);
-  }
-  else if (static_cast<int>(t->GetWidth()) != w || static_cast<int>(t->GetHeight()) != h)
-  {
-    t->Resize(w, h);
-  }
-}
-
-// A fragment shader with the shared shadow code pasted where it says
-// //SS::Common (ssShadowCommon.glsl) and //SS::QuadLit (ssQuadLit.glsl).
-std::string WithCommon(const char* fs)
-{
-  std::string src(fs);
-  vtkShaderProgram::Substitute(src, "//SS::Common", ssShadowCommon);
-  vtkShaderProgram::Substitute(src, "//SS::QuadLit", ssQuadLit);
-  return src;
 }
 
 // The uniforms of ssShadowCommon.glsl that describe one light and its views.
@@ -2218,8 +1984,8 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
     in.GearsVersion = in.CasterVersion;
   }
   std::vector<float> pos4, nrm4;
-  ReadLayer(win, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, pos4);
-  ReadLayer(win, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm4);
+  ss::ReadTexture(win, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, pos4);
+  ss::ReadTexture(win, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm4);
   const std::size_t n = static_cast<std::size_t>(in.Width) * in.Height;
   std::vector<float> pos(3 * n), nrm(3 * n);
   const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -2541,26 +2307,6 @@ int vtkSoftShadowPass::GetNumberOfShadowLights()
   return n;
 }
 
-namespace
-{
-bool ReadLayer(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex,
-  int layer, int w, int h, int comps, std::vector<float>& out)
-{
-  win->MakeCurrent();
-  vtkOpenGLState* ostate = win->GetState();
-  ostate->PushFramebufferBindings();
-  fbo->Bind();
-  AttachLayer(fbo, tex, layer);
-  fbo->ActivateReadBuffer(0);
-  out.resize(static_cast<std::size_t>(w) * h * comps);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, w, h, comps == 4 ? GL_RGBA : GL_RED, GL_FLOAT, out.data());
-  fbo->RemoveColorAttachments(1);
-  ostate->PopFramebufferBindings();
-  return glGetError() == GL_NO_ERROR;
-}
-}
-
 bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
 {
   auto& in = *this->Internals;
@@ -2590,7 +2336,7 @@ bool vtkSoftShadowPass::GetPositionsImage(vtkFloatArray* out)
   auto& in = *this->Internals;
   std::vector<float> v;
   if (!out || !in.HaveResults || !in.Window ||
-    !ReadLayer(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, v))
+    !ss::ReadTexture(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, v))
   {
     return false;
   }
@@ -2619,8 +2365,8 @@ bool vtkSoftShadowPass::GetDiffuseCosineImage(int shadowLight, vtkFloatArray* ou
   }
   std::vector<float> p, nrm;
   if (!out || !light || !in.HaveResults || !in.Window ||
-    !ReadLayer(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, p) ||
-    !ReadLayer(in.Window, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm) || p.size() != nrm.size())
+    !ss::ReadTexture(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, p) ||
+    !ss::ReadTexture(in.Window, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm) || p.size() != nrm.size())
   {
     return false;
   }
