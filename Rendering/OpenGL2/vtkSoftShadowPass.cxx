@@ -54,6 +54,11 @@
 #include "ssPVSM.h"
 #include "ssReference.h"
 #include "ssShadowView.h"
+#include "ssCasterSet.h"
+#include "ssFrameState.h"
+#include "ssGBuffer.h"
+#include "ssPassStats.h"
+#include "ssShadowViews.h"
 #include "ssFullScreenQuad.h"
 #include "ssTextureArray.h"
 
@@ -101,128 +106,14 @@ enum class Stage
   Shade
 };
 
-// One light of the renderer, in the order VTK numbers lightColorN.
-struct ShadowLight
-{
-  vtkLight* Light = nullptr;
-  int ShaderIndex = -1; // N of lightColorN
-  int Layer = -1;       // layer in the visibility texture, -1: no shadows
-  ss::PlannerLight Planner;
-  ss::LightFrame Frame; // relative to the frame origin
-  std::vector<ss::ShadowView> Views;
-  ss::LightViewInfo ViewInfo;
-  ss::Method Method = ss::Method::None;
-  double SearchDepth = 0.0;
-  int FirstLayer = 0; // its first layer in the shadow-map array
-};
-
-// What the caster set was built from: rebuilt when any entry changes. The
-// transform enters by value: assembly paths hand out fresh matrices (new
-// MTimes) at every traversal, which rebuilt the caster set every frame.
-using CasterKey = std::tuple<void*, void*, vtkMTimeType, std::uint64_t, vtkMTimeType>;
-
-std::uint64_t MatrixHash(vtkMatrix4x4* m)
-{
-  // FNV-1a over the 16 doubles
-  std::uint64_t h = 1469598103934665603ull;
-  const auto* bytes = reinterpret_cast<const unsigned char*>(m->GetData());
-  for (std::size_t i = 0; i < 16 * sizeof(double); ++i)
-  {
-    h = (h ^ bytes[i]) * 1099511628211ull;
-  }
-  return h;
-}
+using ss::ShadowLight;
 
 double Seconds(Clock::time_point a, Clock::time_point b)
 {
-  return std::chrono::duration<double, std::milli>(b - a).count();
+  return ss::Milliseconds(a, b);
 }
 
-// The uniforms of ssShadowCommon.glsl that describe one light and its views.
-void SetLightUniforms(vtkShaderProgram* prog, const ShadowLight& l)
-{
-  const int nv = static_cast<int>(l.Views.size());
-  float U[6][3] = {}, Vv[6][3] = {}, N[6][3] = {}, E[6][4] = {};
-  for (int i = 0; i < nv && i < 6; ++i)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      U[i][c] = static_cast<float>(l.Views[i].u[c]);
-      Vv[i][c] = static_cast<float>(l.Views[i].v[c]);
-      N[i][c] = static_cast<float>(l.Views[i].n[c]);
-    }
-    E[i][0] = static_cast<float>(l.Views[i].extent.x0);
-    E[i][1] = static_cast<float>(l.Views[i].extent.y0);
-    E[i][2] = static_cast<float>(l.Views[i].extent.x1);
-    E[i][3] = static_cast<float>(l.Views[i].extent.y1);
-  }
-  prog->SetUniformi("firstLayer", l.FirstLayer);
-  prog->SetUniformi("numViews", nv);
-  prog->SetUniform3fv("viewU", nv, U);
-  prog->SetUniform3fv("viewV", nv, Vv);
-  prog->SetUniform3fv("viewN", nv, N);
-  prog->SetUniform4fv("viewExtent", nv, E);
-  const glm::vec3 c(l.Views.front().origin);
-  prog->SetUniform3f("lightCenter", glm::value_ptr(c));
-  const bool ortho = l.Frame.type == ss::LightType::Directional;
-  prog->SetUniformi("orthographic", ortho ? 1 : 0);
-  prog->SetUniformi("oneSided", l.Frame.type == ss::LightType::Rect ? 1 : 0);
-  float half[2] = { 0.f, 0.f };
-  if (l.Frame.type == ss::LightType::Rect)
-  {
-    half[0] = static_cast<float>(0.5 * l.Frame.width);
-    half[1] = static_cast<float>(0.5 * l.Frame.height);
-  }
-  else if (ortho)
-  {
-    half[0] = half[1] = static_cast<float>(std::tan(0.5 * l.Frame.angularDiameter));
-  }
-  prog->SetUniform2f("lightHalfSize", half);
-  const glm::vec3 lu(l.Frame.u), lv(l.Frame.v);
-  prog->SetUniform3f("lightU", glm::value_ptr(lu));
-  prog->SetUniform3f("lightV", glm::value_ptr(lv));
-  prog->SetUniformf("searchDepth", static_cast<float>(l.SearchDepth));
-}
 
-// Draws the caster set into the bound target as seen by `view`, over the
-// shadow-map window `extent` (the whole view, or one PVSM tile).
-// `ranges` (first triangle, count), when given, draws only those triangles.
-void DrawCasters(vtkShaderProgram* p, vtkOpenGLVertexArrayObject* vao, const ss::ShadowView& v,
-  const ss::Rect& extent, const glm::dvec3& casterOffset, std::size_t vertices,
-  const std::vector<std::pair<std::size_t, std::size_t>>* ranges = nullptr)
-{
-  p->SetUniform3f("casterOffset", glm::value_ptr(glm::vec3(casterOffset)));
-  p->SetUniform3f("viewOrigin", glm::value_ptr(glm::vec3(v.origin)));
-  p->SetUniform3f("axisU", glm::value_ptr(glm::vec3(v.u)));
-  p->SetUniform3f("axisV", glm::value_ptr(glm::vec3(v.v)));
-  p->SetUniform3f("axisN", glm::value_ptr(glm::vec3(v.n)));
-  const float e[4] = { static_cast<float>(extent.x0), static_cast<float>(extent.y0),
-    static_cast<float>(extent.x1), static_cast<float>(extent.y1) };
-  p->SetUniform4f("extent", e);
-  p->SetUniformi("orthographic", v.orthographic ? 1 : 0);
-  vao->Bind();
-  if (!ranges)
-  {
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices));
-  }
-  else if (!ranges->empty())
-  {
-    std::vector<GLint> first;
-    std::vector<GLsizei> count;
-    for (const auto& r : *ranges)
-    {
-      first.push_back(static_cast<GLint>(3 * r.first));
-      count.push_back(static_cast<GLsizei>(3 * r.second));
-    }
-    glMultiDrawArrays(GL_TRIANGLES, first.data(), count.data(), static_cast<GLsizei>(first.size()));
-  }
-  vao->Release();
-}
-
-bool Finite3(const double p[3])
-{
-  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-}
 }
 
 class vtkSoftShadowPass::vtkInternals
@@ -230,9 +121,7 @@ class vtkSoftShadowPass::vtkInternals
 public:
   // --- GPU resources (all released by ReleaseGraphicsResources)
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
-  vtkSmartPointer<vtkTextureObject> GPosition; // RGBA32F: position - origin, prop id
-  vtkSmartPointer<vtkTextureObject> GNormal;   // RGBA32F: world normal, receives
-  vtkSmartPointer<vtkTextureObject> GDepth;
+  ss::GBuffer GBuf;
   // Shadow maps: a GL_TEXTURE_2D_ARRAY (one layer per view, RG32F linear
   // depth) whose mip levels hold the (min, max) depth of the level below: the
   // PCSS blocker search looks at a whole region without missing a blocker
@@ -245,10 +134,6 @@ public:
   std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
   TextureArray Visibility; // R32F, one layer per shadow light
   int VisibilityUnit = -1; // its texture unit while the shading pass runs
-  vtkSmartPointer<vtkOpenGLBufferObject> CasterVBO;
-  vtkSmartPointer<vtkOpenGLVertexArrayObject> CasterVAO;
-  vtkShaderProgram* CasterProgram = nullptr; // owned by the window's shader cache
-  unsigned long CasterUploads = 0;
   // PVSM (§5.2): conservative low-res maps, kernel-shape buffer, SMTG, tiles
   vtkShaderProgram* ConservativeProgram = nullptr;
   vtkSmartPointer<vtkOpenGLVertexArrayObject> ConservativeVAO;
@@ -278,18 +163,18 @@ public:
       this->ConservativeVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
       this->ConservativeVAOUploads = 0;
     }
-    if (this->ConservativeVAOUploads != this->CasterUploads)
+    if (this->ConservativeVAOUploads != this->Casters.GetUploads())
     {
       this->ConservativeVAO->Bind();
       this->ConservativeVAO->RemoveAttributeArray("vertexRel");
-      const bool ok = this->ConservativeVAO->AddAttributeArray(this->ConservativeProgram, this->CasterVBO,
+      const bool ok = this->ConservativeVAO->AddAttributeArray(this->ConservativeProgram, this->Casters.GetVertexBuffer(),
         "vertexRel", 0, 3 * sizeof(float), VTK_FLOAT, 3, false);
       this->ConservativeVAO->Release();
       if (!ok)
       {
         return nullptr;
       }
-      this->ConservativeVAOUploads = this->CasterUploads;
+      this->ConservativeVAOUploads = this->Casters.GetUploads();
     }
     return this->ConservativeProgram;
   }
@@ -301,59 +186,14 @@ public:
   vtkTimeStamp StageTime;
   bool ShadowsThisFrame = false;
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
-  int Width = 0, Height = 0;
-  int ViewportOrigin[2] = { 0, 0 };
-  glm::dvec3 Origin{ 0.0 };
-  glm::dvec3 Eye{ 0.0 }; // the camera position, relative to Origin
-  std::map<vtkProp*, int> PropIds;
-  std::vector<ShadowLight> Lights;
+  ss::FrameState Frame;
   ss::EffectPlan Plan;
-  ss::Box Receivers; // absolute bounds of the receiving props
-  std::map<std::string, double> Timings;
+  ss::StageTimings Timings;
   std::string LastSignature;
   bool HaveResults = false;
-  float VCToWC[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
-  float VCToRelOffset[3] = { 0, 0, 0 };
-  float DCToVC[16] = { 0 };
 
-  // --- caster set (world triangles relative to CasterOrigin)
-  std::vector<CasterKey> CasterKeys;
-  std::vector<float> CasterTriangles; // 9 floats per triangle
-  std::vector<float> CasterOpacity;   // per triangle
-  // The triangles above in the order of their clusters (world bounds), so a
-  // PVSM tile draws only the clusters that reach it (vtkSoftShadowPass::PVSMTileCulling).
-  ss::TriangleClusters CasterClusters; // bounds relative to CasterOrigin
-  unsigned long ClusterVersion = 0;    // the CasterVersion they were built for
-
-  // Orders the caster set into clusters of at most 1024 triangles (a few
-  // thousand on a 5M-triangle set: the per-tile test stays well under a
-  // millisecond). Only PVSM frames with tile culling need it, so it runs on
-  // their first frame after the caster set changed, not on every rebuild.
-  // The bounds come from the float positions the GPU draws. No solver
-  // depends on the order (maps are min-blended, GEARS and the reference take
-  // unions), so nothing else is rebuilt; the vertex buffer is re-uploaded.
-  void ClusterCasters()
-  {
-    const std::size_t n = this->NumberOfTriangles();
-    std::vector<glm::dvec3> v(3 * n);
-    for (std::size_t i = 0; i < v.size(); ++i)
-    {
-      v[i] = glm::dvec3(this->CasterTriangles[3 * i], this->CasterTriangles[3 * i + 1],
-        this->CasterTriangles[3 * i + 2]);
-    }
-    this->CasterClusters = ss::ClusterTriangles(v, 1024);
-    std::vector<float> tri(this->CasterTriangles.size()), opacity(n, 1.0f);
-    for (std::size_t t = 0; t < n; ++t)
-    {
-      const std::size_t from = this->CasterClusters.order[t];
-      std::copy_n(&this->CasterTriangles[9 * from], 9, &tri[9 * t]);
-      opacity[t] = from < this->CasterOpacity.size() ? this->CasterOpacity[from] : 1.0f;
-    }
-    this->CasterTriangles = std::move(tri);
-    this->CasterOpacity = std::move(opacity);
-    this->ClusterVersion = this->CasterVersion;
-    this->CasterUploaded = false;
-  }
+  // --- caster set (world triangles relative to Casters.Origin)
+  ss::CasterSet Casters;
   // Ray-traced reference (CPU): its scene is rebuilt when the caster set changes.
   std::unique_ptr<ss::ReferenceSolver> Reference;
   unsigned long ReferenceVersion = 0;
@@ -396,22 +236,13 @@ public:
                               st.trianglesPerCellAvg * st.nonEmptyCells) / std::max<std::size_t>(a.nonEmptyCells, 1);
     a.samplesPerCellAvg = a.nonEmptyCells ? static_cast<double>(a.samples) / a.nonEmptyCells : 0.0;
   }
-  glm::dvec3 CasterOrigin{ 0.0 };
-  ss::Box CasterBox; // absolute
-  bool CasterUploaded = false;
-  bool TranslucentCasters = false;
-  std::size_t SkippedTriangles = 0;
-  unsigned long CasterVersion = 0;
-
-  std::size_t NumberOfTriangles() const { return this->CasterTriangles.size() / 9; }
+  std::size_t NumberOfTriangles() const { return this->Casters.NumberOfTriangles(); }
 
   int CountResources() const
   {
     int n = 0;
     auto tex = [&](vtkTextureObject* t) { n += (t && t->GetHandle() != 0) ? 1 : 0; };
-    tex(this->GPosition);
-    tex(this->GNormal);
-    tex(this->GDepth);
+    n += this->GBuf.CountGraphicsResources();
     n += this->Shadow.Handle != 0 ? 1 : 0;
     n += this->Tile.Handle != 0 ? 1 : 0;
     n += this->Grid.Handle != 0 ? 1 : 0;
@@ -423,7 +254,7 @@ public:
     }
     n += (this->KernelQuad ? 1 : 0) + (this->FilterQuad ? 1 : 0) + (this->ResolveQuad ? 1 : 0);
     n += (this->FBO && this->FBO->GetFBOIndex() != 0) ? 1 : 0;
-    n += (this->CasterVBO && this->CasterVBO->GetHandle() != 0) ? 1 : 0;
+    n += this->Casters.CountGraphicsResources();
     n += this->VisibilityQuad ? 1 : 0;
     return n;
   }
@@ -437,9 +268,7 @@ public:
         b += static_cast<long long>(t->GetWidth()) * t->GetHeight() * std::max(1u, t->GetDepth()) * bpp;
       }
     };
-    tex(this->GPosition, 16);
-    tex(this->GNormal, 16);
-    tex(this->GDepth, 4);
+    b += this->GBuf.Bytes();
     b += this->Shadow.Bytes() + this->Tile.Bytes() + this->Grid.Bytes();
     b += this->Visibility.Bytes();
     for (int i = 0; i < 3; ++i)
@@ -447,10 +276,7 @@ public:
       tex(this->Kernel[i], 16);
     }
     tex(this->Accum, 16);
-    if (this->CasterUploaded)
-    {
-      b += static_cast<long long>(this->CasterTriangles.size()) * 4;
-    }
+    b += this->Casters.Bytes();
     return b;
   }
 
@@ -466,31 +292,13 @@ public:
       this->ReduceQuad.reset();
     }
     this->Visibility.Release();
-    for (auto* t : { this->GPosition.Get(), this->GNormal.Get(), this->GDepth.Get() })
-    {
-      if (t)
-      {
-        t->ReleaseGraphicsResources(w);
-      }
-    }
-    this->GPosition = nullptr;
-    this->GNormal = nullptr;
-    this->GDepth = nullptr;
+    this->GBuf.ReleaseGraphicsResources(w);
     if (this->FBO)
     {
       this->FBO->ReleaseGraphicsResources(w);
       this->FBO = nullptr;
     }
-    if (this->CasterVAO)
-    {
-      this->CasterVAO->ReleaseGraphicsResources();
-      this->CasterVAO = nullptr;
-    }
-    if (this->CasterVBO)
-    {
-      this->CasterVBO->ReleaseGraphicsResources();
-      this->CasterVBO = nullptr;
-    }
+    this->Casters.ReleaseGraphicsResources();
     if (this->VisibilityQuad)
     {
       this->VisibilityQuad->ReleaseGraphicsResources(w);
@@ -532,8 +340,6 @@ public:
     this->ConservativeProgram = nullptr;
     this->GridProgram = nullptr;
     this->PVSMSceneKey.clear();
-    this->CasterProgram = nullptr;
-    this->CasterUploaded = false;
     this->HaveResults = false;
     this->LastSignature.clear();
   }
@@ -621,136 +427,14 @@ bool vtkSoftShadowPass::GetReceivesShadows(vtkProp* prop)
 }
 
 //------------------------------------------------------------------------------
-// Caster set: the world-space triangles of every visible, shadow-casting actor.
-namespace
-{
-void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, float opacity, std::vector<glm::dvec3>& tris,
-  std::vector<float>& opacities, std::size_t& skipped)
-{
-  vtkPoints* pts = pd->GetPoints();
-  if (!pts || pts->GetNumberOfPoints() == 0)
-  {
-    return;
-  }
-  const vtkIdType np = pts->GetNumberOfPoints();
-  std::vector<glm::dvec3> world(static_cast<std::size_t>(np));
-  std::vector<char> finite(static_cast<std::size_t>(np));
-  for (vtkIdType i = 0; i < np; ++i)
-  {
-    double p[3];
-    pts->GetPoint(i, p);
-    double in[4] = { p[0], p[1], p[2], 1.0 }, out[4];
-    m->MultiplyPoint(in, out);
-    const double w = (out[3] != 0.0) ? out[3] : 1.0;
-    world[i] = glm::dvec3(out[0] / w, out[1] / w, out[2] / w);
-    finite[i] = std::isfinite(world[i].x) && std::isfinite(world[i].y) && std::isfinite(world[i].z);
-  }
-  auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
-    if (a < 0 || b < 0 || c < 0 || a >= np || b >= np || c >= np || !finite[a] || !finite[b] ||
-      !finite[c])
-    {
-      ++skipped;
-      return;
-    }
-    const glm::dvec3 e = glm::cross(world[b] - world[a], world[c] - world[a]);
-    if (!(glm::dot(e, e) > 0.0))
-    {
-      ++skipped; // zero-area triangles cast nothing
-      return;
-    }
-    tris.push_back(world[a]);
-    tris.push_back(world[b]);
-    tris.push_back(world[c]);
-    opacities.push_back(opacity);
-  };
-  auto polys = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
-  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    polys->GetCurrentCell(n, ids);
-    for (vtkIdType k = 1; k + 1 < n; ++k)
-    {
-      emit(ids[0], ids[k], ids[k + 1]);
-    }
-  }
-  auto strips = vtk::TakeSmartPointer(pd->GetStrips()->NewIterator());
-  for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    strips->GetCurrentCell(n, ids);
-    for (vtkIdType k = 0; k + 2 < n; ++k)
-    {
-      if (k % 2 == 0)
-      {
-        emit(ids[k], ids[k + 1], ids[k + 2]);
-      }
-      else
-      {
-        emit(ids[k + 1], ids[k], ids[k + 2]);
-      }
-    }
-  }
-}
-
-// Leaves of a prop (assemblies included) with their world matrices.
-template <typename F>
-void ForEachActor(vtkRenderer* ren, F&& f)
-{
-  vtkPropCollection* props = ren->GetViewProps();
-  vtkCollectionSimpleIterator pit;
-  props->InitTraversal(pit);
-  while (vtkProp* prop = props->GetNextProp(pit))
-  {
-    if (!prop->GetVisibility())
-    {
-      continue;
-    }
-    prop->InitPathTraversal();
-    while (vtkAssemblyPath* path = prop->GetNextPath())
-    {
-      vtkAssemblyNode* node = path->GetLastNode();
-      vtkActor* actor = vtkActor::SafeDownCast(node->GetViewProp());
-      if (!actor || !actor->GetVisibility() || !actor->GetMapper())
-      {
-        continue;
-      }
-      vtkMatrix4x4* m = node->GetMatrix() ? node->GetMatrix() : actor->GetMatrix();
-      f(actor, m);
-    }
-  }
-}
-
-template <typename F>
-void ForEachPolyData(vtkDataObject* data, F&& f)
-{
-  if (auto* pd = vtkPolyData::SafeDownCast(data))
-  {
-    f(pd);
-  }
-  else if (auto* cd = vtkCompositeDataSet::SafeDownCast(data))
-  {
-    auto it = vtk::TakeSmartPointer(cd->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-    {
-      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-      {
-        f(leaf);
-      }
-    }
-  }
-}
-}
-
-//------------------------------------------------------------------------------
 void vtkSoftShadowPass::Render(const vtkRenderState* s)
 {
   vtkOpenGLClearErrorMacro();
   this->NumberOfRenderedProps = 0;
   auto& in = *this->Internals;
   const auto tFrame = Clock::now();
-  in.Timings.clear();
+  in.Timings.Clear();
+  in.Timings.SetMeasure(this->MeasureTimings);
 
   vtkRenderer* ren = s->GetRenderer();
   auto* win = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
@@ -790,10 +474,12 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   {
     return;
   }
-  in.Width = w;
-  in.Height = h;
-  in.ViewportOrigin[0] = x0;
-  in.ViewportOrigin[1] = y0;
+  in.Frame.Width = w;
+  in.Frame.Height = h;
+  in.Frame.ViewportOrigin[0] = x0;
+  in.Frame.ViewportOrigin[1] = y0;
+  in.Frame.FrameSize[0] = w;
+  in.Frame.FrameSize[1] = h;
 
   // Lights first: their transformed positions and VTK's light numbering.
   this->ClearLights(ren);
@@ -805,147 +491,28 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   if (this->AutomaticPositionsOrigin)
   {
     const double* fp = cam->GetFocalPoint();
-    in.Origin = glm::dvec3(fp[0], fp[1], fp[2]);
+    in.Frame.Origin = glm::dvec3(fp[0], fp[1], fp[2]);
   }
   else
   {
-    in.Origin = glm::dvec3(this->PositionsOrigin[0], this->PositionsOrigin[1], this->PositionsOrigin[2]);
+    in.Frame.Origin = glm::dvec3(this->PositionsOrigin[0], this->PositionsOrigin[1], this->PositionsOrigin[2]);
   }
-  in.Eye = glm::dvec3(cam->GetPosition()[0], cam->GetPosition()[1], cam->GetPosition()[2]) - in.Origin;
+  in.Frame.Eye = glm::dvec3(cam->GetPosition()[0], cam->GetPosition()[1], cam->GetPosition()[2]) - in.Frame.Origin;
 
   // --- caster set, rebuilt only when a prop, its data or its transform changed
   auto tStage = Clock::now();
-  std::vector<CasterKey> keys;
-  ss::Box receivers;
-  std::size_t receiverProps = 0;
-  ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
-    vtkMapper* mapper = actor->GetMapper();
-    if (GetReceivesShadows(actor))
-    {
-      double b[6];
-      actor->GetBounds(b);
-      if (vtkMath::AreBoundsInitialized(b) && Finite3(b) && Finite3(b + 3))
-      {
-        receivers.Add(glm::dvec3(b[0], b[2], b[4]));
-        receivers.Add(glm::dvec3(b[1], b[3], b[5]));
-        ++receiverProps;
-      }
-    }
-    if (!GetCastsShadows(actor))
-    {
-      return;
-    }
-    mapper->Update();
-    vtkDataObject* data = mapper->GetInputDataObject(0, 0);
-    keys.emplace_back(actor, data, data ? data->GetMTime() : 0, MatrixHash(m),
-      std::max(mapper->GetMTime(), actor->GetProperty()->GetMTime()));
-  });
-  if (keys != in.CasterKeys)
-  {
-    std::vector<glm::dvec3> tris;
-    std::vector<float> opacities;
-    std::size_t skipped = 0;
-    bool translucent = false;
-    ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
-      if (!GetCastsShadows(actor))
-      {
-        return;
-      }
-      const float opacity = static_cast<float>(actor->GetProperty()->GetOpacity());
-      translucent = translucent || opacity < 1.0f;
-      ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0),
-        [&](vtkPolyData* pd) { AppendPolyData(pd, m, opacity, tris, opacities, skipped); });
-    });
-    if (skipped > 0 && skipped != in.SkippedTriangles)
-    {
-      vtkWarningMacro("Caster set: skipped " << skipped
-                                             << " zero-area, degenerate or non-finite triangles.");
-    }
-    in.SkippedTriangles = skipped;
-    in.TranslucentCasters = translucent;
-    in.CasterBox = ss::Box{};
-    for (const auto& p : tris)
-    {
-      in.CasterBox.Add(p);
-    }
-    in.CasterOrigin = in.CasterBox.Empty() ? glm::dvec3(0.0) : in.CasterBox.Center();
-    in.CasterTriangles.resize(tris.size() * 3);
-    for (std::size_t i = 0; i < tris.size(); ++i)
-    {
-      const glm::dvec3 r = tris[i] - in.CasterOrigin;
-      in.CasterTriangles[3 * i + 0] = static_cast<float>(r.x);
-      in.CasterTriangles[3 * i + 1] = static_cast<float>(r.y);
-      in.CasterTriangles[3 * i + 2] = static_cast<float>(r.z);
-    }
-    in.CasterOpacity = std::move(opacities);
-    in.CasterKeys = keys;
-    in.CasterUploaded = false;
-    ++in.CasterVersion;
-  }
-  in.Timings["caster_set"] = Seconds(tStage, Clock::now());
+  in.Casters.Update(ren, this);
+  in.Timings.Set("caster_set", Seconds(tStage, Clock::now()));
 
   // --- lights and the effect plan
-  in.Lights.clear();
-  {
-    vtkLightCollection* lc = ren->GetLights();
-    vtkCollectionSimpleIterator lit;
-    int shaderIndex = 0;
-    for (lc->InitTraversal(lit); vtkLight* light = lc->GetNextLight(lit);)
-    {
-      if (light->GetSwitch() <= 0)
-      {
-        continue;
-      }
-      ShadowLight sl;
-      sl.Light = light;
-      sl.ShaderIndex = shaderIndex++;
-      sl.Planner.headlight = light->LightTypeIsHeadlight() != 0;
-      sl.Planner.castsShadows = vtkSoftShadowLight::GetCastsShadows(light);
-      double pos[3], fp[3];
-      light->GetTransformedPosition(pos);
-      light->GetTransformedFocalPoint(fp);
-      try
-      {
-        const glm::dvec3 p(pos[0], pos[1], pos[2]);
-        const glm::dvec3 f(fp[0], fp[1], fp[2]);
-        if (light->GetPositional())
-        {
-          double size[2];
-          vtkSoftShadowLight::GetAreaSize(light, size);
-          if (size[0] > 0.0 || size[1] > 0.0)
-          {
-            double up[3] = { 0, 0, 0 };
-            vtkSoftShadowLight::GetAreaUp(light, up);
-            sl.Frame = ss::MakeRectLightFrame(
-              p - in.Origin, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
-          }
-          else
-          {
-            sl.Frame = ss::MakePointLightFrame(p - in.Origin);
-          }
-        }
-        else
-        {
-          const double angle = vtkSoftShadowLight::GetAngularDiameter(light);
-          sl.Frame = ss::MakeDirectionalLightFrame(f - p, angle * M_PI / 180.0);
-        }
-      }
-      catch (const std::exception& e)
-      {
-        sl.Planner.valid = false;
-        sl.Planner.invalidReason = e.what();
-      }
-      sl.Planner.frame = sl.Frame;
-      in.Lights.push_back(sl);
-    }
-  }
+  in.Frame.Lights = ss::CollectLights(ren, in.Frame.Origin);
 
   ss::PlannerInput pin;
   pin.requested = static_cast<ss::Method>(this->Method);
   pin.casterTriangles = in.NumberOfTriangles();
-  pin.receiverProps = receiverProps;
-  pin.translucentCasters = in.TranslucentCasters;
-  for (const auto& l : in.Lights)
+  pin.receiverProps = in.Casters.ReceiverProps;
+  pin.translucentCasters = in.Casters.Translucent;
+  for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
   }
@@ -962,13 +529,13 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     }
     sig << cam->GetViewAngle() << ',' << cam->GetParallelProjection() << ','
         << cam->GetParallelScale() << ',' << ren->GetTiledAspectRatio() << ',' << w << 'x' << h
-        << ',' << in.CasterVersion << ',' << this->GetMTime() << ',' << in.Origin.x << ','
-        << in.Origin.y << ',' << in.Origin.z;
-    for (const auto& l : in.Lights)
+        << ',' << in.Casters.Version << ',' << this->GetMTime() << ',' << in.Frame.Origin.x << ','
+        << in.Frame.Origin.y << ',' << in.Frame.Origin.z;
+    for (const auto& l : in.Frame.Lights)
     {
       sig << ',' << l.Light << ':' << l.Light->GetMTime();
     }
-    for (const auto& k : keys)
+    for (const auto& k : in.Casters.Keys)
     {
       sig << ',' << std::get<0>(k) << ':' << std::get<3>(k) << ':' << std::get<4>(k);
     }
@@ -977,12 +544,12 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   in.Plan = ss::MakeEffectPlan(pin);
 
   int layers = 0;
-  for (std::size_t i = 0; i < in.Lights.size(); ++i)
+  for (std::size_t i = 0; i < in.Frame.Lights.size(); ++i)
   {
-    in.Lights[i].Method = in.Plan.lights[i].method;
-    if (in.Lights[i].Method != ss::Method::None)
+    in.Frame.Lights[i].Method = in.Plan.lights[i].method;
+    if (in.Frame.Lights[i].Method != ss::Method::None)
     {
-      in.Lights[i].Layer = layers++;
+      in.Frame.Lights[i].Layer = layers++;
     }
   }
   in.ShadowsThisFrame = in.Plan.shadowWork && layers > 0;
@@ -998,7 +565,6 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     vtkOpenGLState::ScopedglDepthMask depthMaskSaver(ostate);
     vtkOpenGLState::ScopedglClearColor clearSaver(ostate);
     this->RenderGBuffer(s);
-    in.Receivers = receivers;
     this->SolveVisibility(s);
     // a solve that could not allocate its textures turned shadows off: try
     // again next frame rather than reuse nothing
@@ -1031,7 +597,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   if (in.ShadowsThisFrame)
   {
     in.VisibilityUnit = in.Visibility.Bind(win);
-    in.GPosition->Activate();
+    in.GBuf.Position->Activate();
   }
   this->PreRender(s);
   if (this->DelegatePass)
@@ -1046,16 +612,13 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   this->PostRender(s);
   if (in.ShadowsThisFrame)
   {
-    in.GPosition->Deactivate();
+    in.GBuf.Position->Deactivate();
     TextureArray::Unbind(win, in.VisibilityUnit);
     in.VisibilityUnit = -1;
   }
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["shading"] = Seconds(tStage, Clock::now());
-  in.Timings["pass_total"] = Seconds(tFrame, Clock::now());
+  in.Timings.Finish();
+  in.Timings.Set("shading", Seconds(tStage, Clock::now()));
+  in.Timings.Set("pass_total", Seconds(tFrame, Clock::now()));
   vtkOpenGLCheckErrorMacro("failed after vtkSoftShadowPass::Render");
 }
 
@@ -1066,114 +629,43 @@ void vtkSoftShadowPass::RenderGBuffer(const vtkRenderState* s)
   const auto t0 = Clock::now();
   vtkRenderer* ren = s->GetRenderer();
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
-  vtkOpenGLState* ostate = win->GetState();
-  const int w = in.Width, h = in.Height;
-
-  EnsureTexture2D(win, in.GPosition, w, h, 4);
-  EnsureTexture2D(win, in.GNormal, w, h, 4);
-  if (!in.GDepth)
-  {
-    in.GDepth = vtkSmartPointer<vtkTextureObject>::New();
-    in.GDepth->SetContext(win);
-    in.GDepth->AllocateDepth(w, h, vtkTextureObject::Float32);
-  }
-  else if (static_cast<int>(in.GDepth->GetWidth()) != w || static_cast<int>(in.GDepth->GetHeight()) != h)
-  {
-    in.GDepth->Resize(w, h);
-  }
   if (!in.FBO)
   {
     in.FBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
     in.FBO->SetContext(win);
   }
-
-  // Camera matrices in double: VC -> world relative to the frame origin.
-  vtkCamera* cam = ren->GetActiveCamera();
-  vtkMatrix4x4* view = cam->GetModelViewTransformMatrix(); // WC -> VC, row-major
-  glm::dmat3 R;
-  glm::dvec3 t;
-  for (int r = 0; r < 3; ++r)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      R[c][r] = view->GetElement(r, c); // glm is column-major: R[col][row]
-    }
-    t[r] = view->GetElement(r, 3);
-  }
-  const glm::dmat3 Rt = glm::transpose(R);
-  const glm::dvec3 off = -(Rt * t) - in.Origin;
-  for (int c = 0; c < 3; ++c)
-  {
-    for (int r = 0; r < 3; ++r)
-    {
-      in.VCToWC[c * 3 + r] = static_cast<float>(Rt[c][r]);
-    }
-    in.VCToRelOffset[c] = static_cast<float>(off[c]);
-  }
-  vtkNew<vtkMatrix4x4> proj;
-  proj->DeepCopy(cam->GetProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1));
-  proj->Invert();
-  for (int c = 0; c < 4; ++c)
-  {
-    for (int r = 0; r < 4; ++r)
-    {
-      in.DCToVC[c * 4 + r] = static_cast<float>(proj->GetElement(r, c));
-    }
-  }
-
-  ostate->PushFramebufferBindings();
-  in.FBO->Bind();
-  in.FBO->AddColorAttachment(0, in.GPosition);
-  in.FBO->AddColorAttachment(1, in.GNormal);
-  in.FBO->AddDepthAttachment(in.GDepth);
-  in.FBO->ActivateDrawBuffers(2);
-  ostate->vtkglViewport(0, 0, w, h);
-  ostate->vtkglScissor(0, 0, w, h);
-  ostate->vtkglDisable(GL_BLEND);
-  ostate->vtkglEnable(GL_DEPTH_TEST);
-  ostate->vtkglDepthMask(GL_TRUE);
-  ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
-  ostate->vtkglClearDepth(1.0);
-  ostate->vtkglClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-
+  in.GBuf.Begin(ren, win, in.FBO, in.Frame);
   if (in.CurrentStage != Stage::GBuffer)
   {
     in.CurrentStage = Stage::GBuffer;
     in.StageTime.Modified();
   }
   this->PreRender(s);
-  vtkRenderer* r = s->GetRenderer();
   for (int i = 0; i < s->GetPropArrayCount(); ++i)
   {
     vtkProp* prop = s->GetPropArray()[i];
     if (prop->GetVisibility() && prop->HasOpaqueGeometry())
     {
-      this->NumberOfRenderedProps += prop->RenderOpaqueGeometry(r);
+      this->NumberOfRenderedProps += prop->RenderOpaqueGeometry(ren);
     }
   }
   this->PostRender(s);
-  in.FBO->RemoveColorAttachments(2);
-  in.FBO->RemoveDepthAttachment();
-  ostate->PopFramebufferBindings();
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["gbuffer"] = Seconds(t0, Clock::now());
+  in.GBuf.End(win, in.FBO);
+  in.Timings.Finish();
+  in.Timings.Set("gbuffer", Seconds(t0, Clock::now()));
 }
 
 //------------------------------------------------------------------------------
 void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 {
   auto& in = *this->Internals;
-  const ss::Box& receiversAbs = in.Receivers;
   vtkRenderer* ren = s->GetRenderer();
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
   vtkOpenGLState* ostate = win->GetState();
   // Power-of-two maps keep every texel of the min pyramid covered. PVSM's
   // low-resolution maps have their own size when no other light needs a map.
   bool anyMap = false, allPVSM = true;
-  for (const auto& l : in.Lights)
+  for (const auto& l : in.Frame.Lights)
   {
     if (l.Layer >= 0 && !ss::IsTriangleSolver(l.Method))
     {
@@ -1200,19 +692,10 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   }
 
   // Views of every light, fitted to the receivers (relative coordinates).
-  ss::Box receivers, casters;
-  if (!receiversAbs.Empty())
-  {
-    receivers.Add(receiversAbs.min - in.Origin);
-    receivers.Add(receiversAbs.max - in.Origin);
-  }
-  if (!in.CasterBox.Empty())
-  {
-    casters.Add(in.CasterBox.min - in.Origin);
-    casters.Add(in.CasterBox.max - in.Origin);
-  }
+  const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
+  const ss::Box casters = ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin);
   int totalViews = 0, numShadowLights = 0;
-  for (auto& l : in.Lights)
+  for (auto& l : in.Frame.Lights)
   {
     if (l.Layer < 0)
     {
@@ -1224,24 +707,8 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       l.Views.clear();
       continue; // solved from the caster triangles below: no shadow map
     }
-    l.Views = ss::MakeLightViews(l.Frame, receivers, casters, l.ViewInfo);
+    ss::FitShadowViews(l, receivers, casters, in.Casters, in.Frame.Origin);
     totalViews += static_cast<int>(l.Views.size());
-    // PCSS blocker-search plane: the nearest caster in front of the light.
-    const ss::ShadowView& v0 = l.Views.front();
-    double zMin = std::numeric_limits<double>::max();
-    const glm::dvec3 co = in.CasterOrigin - in.Origin;
-    for (std::size_t i = 0; i < in.CasterTriangles.size(); i += 3)
-    {
-      const glm::dvec3 p = co +
-        glm::dvec3(in.CasterTriangles[i], in.CasterTriangles[i + 1], in.CasterTriangles[i + 2]);
-      const double z = v0.ToLightSpace(p).z;
-      if (z > 0.0 && z < zMin)
-      {
-        zMin = z;
-      }
-    }
-    const double diag = std::max(casters.Diagonal(), receivers.Diagonal());
-    l.SearchDepth = (zMin == std::numeric_limits<double>::max()) ? diag : std::max(zMin, 1e-4 * diag);
   }
 
   // --- shadow maps: the caster set drawn by our own small program
@@ -1262,38 +729,22 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.ShadowsThisFrame = false;
     return;
   }
-  if (!in.CasterVBO)
-  {
-    in.CasterVBO = vtkSmartPointer<vtkOpenGLBufferObject>::New();
-    in.CasterVBO->SetType(vtkOpenGLBufferObject::ArrayBuffer);
-    in.CasterVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
-  }
-  in.CasterProgram = win->GetShaderCache()->ReadyShaderProgram(ssCasterVS, ssCasterFS, "");
-  if (!in.CasterProgram)
-  {
-    vtkErrorMacro("Could not build the caster shadow-map program.");
-    return;
-  }
   const bool pvsmCulling = this->PVSMTileCulling &&
-    std::any_of(in.Lights.begin(), in.Lights.end(),
+    std::any_of(in.Frame.Lights.begin(), in.Frame.Lights.end(),
       [](const auto& l) { return l.Layer >= 0 && l.Method == ss::Method::PVSM; });
-  if (pvsmCulling && in.ClusterVersion != in.CasterVersion)
+  if (pvsmCulling)
   {
-    in.ClusterCasters();
+    in.Casters.EnsureClusters();
   }
-  if (!in.CasterUploaded)
+  std::string casterError;
+  vtkShaderProgram* casterProgram = in.Casters.ReadyProgram(win, casterError);
+  if (!casterError.empty())
   {
-    in.CasterVBO->Upload(in.CasterTriangles, vtkOpenGLBufferObject::ArrayBuffer);
-    in.CasterVAO->Bind();
-    in.CasterVAO->RemoveAttributeArray("vertexRel");
-    if (!in.CasterVAO->AddAttributeArray(
-          in.CasterProgram, in.CasterVBO, "vertexRel", 0, 3 * sizeof(float), VTK_FLOAT, 3, false))
-    {
-      vtkErrorMacro("Could not bind the caster vertex buffer.");
-    }
-    in.CasterVAO->Release();
-    in.CasterUploaded = true;
-    ++in.CasterUploads;
+    vtkErrorMacro(<< casterError);
+  }
+  if (!casterProgram)
+  {
+    return;
   }
 
   ostate->PushFramebufferBindings();
@@ -1307,9 +758,9 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   ostate->vtkglBlendEquation(GL_MIN);
   ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
   ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-  const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
+  const glm::dvec3 casterOffset = in.Casters.Origin - in.Frame.Origin;
   int layer = 0;
-  for (auto& l : in.Lights)
+  for (auto& l : in.Frame.Lights)
   {
     if (l.Layer < 0)
     {
@@ -1317,9 +768,8 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     }
     l.FirstLayer = layer;
     // PVSM §5.2 step 2: its low-resolution map is rasterised conservatively
-    vtkShaderProgram* p = in.CasterProgram;
-    vtkOpenGLVertexArrayObject* vao = in.CasterVAO;
-    win->GetShaderCache()->ReadyShaderProgram(p);
+    vtkShaderProgram* p = in.Casters.UseProgram(win);
+    vtkOpenGLVertexArrayObject* vao = in.Casters.GetVertexArray();
     if (l.Method == ss::Method::PVSM && !l.Views.empty())
     {
       p = in.ReadyConservativeProgram(win);
@@ -1327,9 +777,8 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       if (!p)
       {
         vtkErrorMacro("Could not build the conservative rasterisation program.");
-        p = in.CasterProgram;
-        vao = in.CasterVAO;
-        win->GetShaderCache()->ReadyShaderProgram(p);
+        p = in.Casters.UseProgram(win);
+        vao = in.Casters.GetVertexArray();
       }
       else
       {
@@ -1346,9 +795,9 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     {
       in.Shadow.Attach(in.FBO, 0, layer);
       ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-      if (!in.CasterTriangles.empty())
+      if (!in.Casters.Triangles.empty())
       {
-        DrawCasters(p, vao, v, v.extent, casterOffset, in.CasterTriangles.size() / 3);
+        in.Casters.Draw(p, vao, v, v.extent, casterOffset);
       }
       ++layer;
     }
@@ -1357,19 +806,16 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   ostate->vtkglDisable(GL_BLEND);
   this->BuildMinPyramid(win);
   TextureArray::Detach();
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["shadow_maps"] = Seconds(tStage, Clock::now());
+  in.Timings.Finish();
+  in.Timings.Set("shadow_maps", Seconds(tStage, Clock::now()));
 
   // --- visibility: one full-screen pass per light into its layer
   tStage = Clock::now();
-  if (std::max(in.Width, in.Height) > limits.maxTextureSize || numShadowLights > limits.maxArrayTextureLayers ||
-    !in.Visibility.EnsureScreen(in.Width, in.Height, numShadowLights))
+  if (std::max(in.Frame.Width, in.Frame.Height) > limits.maxTextureSize || numShadowLights > limits.maxArrayTextureLayers ||
+    !in.Visibility.EnsureScreen(in.Frame.Width, in.Frame.Height, numShadowLights))
   {
-    vtkErrorMacro("Could not allocate the visibility of " << numShadowLights << " light(s) at " << in.Width
-                                                          << "x" << in.Height << " (this GL allows "
+    vtkErrorMacro("Could not allocate the visibility of " << numShadowLights << " light(s) at " << in.Frame.Width
+                                                          << "x" << in.Frame.Height << " (this GL allows "
                                                           << limits.maxTextureSize << " pixels a side and "
                                                           << limits.maxArrayTextureLayers
                                                           << " layers); no shadows this frame.");
@@ -1384,9 +830,9 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     ostate->PopFramebufferBindings();
     return;
   }
-  ostate->vtkglViewport(0, 0, in.Width, in.Height);
-  ostate->vtkglScissor(0, 0, in.Width, in.Height);
-  for (auto& l : in.Lights)
+  ostate->vtkglViewport(0, 0, in.Frame.Width, in.Frame.Height);
+  ostate->vtkglScissor(0, 0, in.Frame.Width, in.Frame.Height);
+  for (auto& l : in.Frame.Lights)
   {
     if (l.Layer < 0 || ss::IsTriangleSolver(l.Method) || l.Method == ss::Method::PVSM ||
       l.Method == ss::Method::HardAverage)
@@ -1400,16 +846,13 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.VisibilityQuad->Render();
   }
   TextureArray::Unbind(win, shadowUnit);
-  in.GNormal->Deactivate();
-  in.GPosition->Deactivate();
+  in.GBuf.Normal->Deactivate();
+  in.GBuf.Position->Deactivate();
   TextureArray::Detach();
   in.FBO->RemoveColorAttachments(1);
   ostate->PopFramebufferBindings();
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["visibility"] = Seconds(tStage, Clock::now());
+  in.Timings.Finish();
+  in.Timings.Set("visibility", Seconds(tStage, Clock::now()));
   this->SolvePVSM(s);
   this->SolveHardAverage(win, receivers, casters, S);
   this->SolveOnTriangles(win);
@@ -1430,11 +873,11 @@ vtkShaderProgram* vtkSoftShadowPass::ReadyVisibilityProgram(
     vtkErrorMacro("Could not build the visibility program.");
     return nullptr;
   }
-  in.GPosition->Activate();
-  in.GNormal->Activate();
+  in.GBuf.Position->Activate();
+  in.GBuf.Normal->Activate();
   shadowUnit = in.Shadow.Bind(win);
-  prog->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
-  prog->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
+  prog->SetUniformi("gPosition", in.GBuf.Position->GetTextureUnit());
+  prog->SetUniformi("gNormal", in.GBuf.Normal->GetTextureUnit());
   prog->SetUniformi("shadowMaps", shadowUnit);
   prog->SetUniformf("mapSize", static_cast<float>(mapSize));
   prog->SetUniformi("numLevels", in.Shadow.Levels);
@@ -1458,7 +901,7 @@ void vtkSoftShadowPass::SolveHardAverage(
   auto& in = *this->Internals;
   in.HardAverageMaps = 0;
   bool any = false;
-  for (const auto& l : in.Lights)
+  for (const auto& l : in.Frame.Lights)
   {
     any = any || (l.Layer >= 0 && l.Method == ss::Method::HardAverage);
   }
@@ -1468,8 +911,8 @@ void vtkSoftShadowPass::SolveHardAverage(
   }
   const auto tStage = Clock::now();
   vtkOpenGLState* ostate = win->GetState();
-  const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
-  const std::size_t vertices = in.CasterTriangles.size() / 3;
+  const glm::dvec3 casterOffset = in.Casters.Origin - in.Frame.Origin;
+  const std::size_t vertices = in.Casters.Triangles.size() / 3;
   long long maps = 0;
   ostate->PushFramebufferBindings();
   in.FBO->Bind();
@@ -1477,7 +920,7 @@ void vtkSoftShadowPass::SolveHardAverage(
   ostate->vtkglDisable(GL_DEPTH_TEST);
   ostate->vtkglDisable(GL_CULL_FACE);
   ostate->vtkglEnable(GL_BLEND);
-  for (const auto& l : in.Lights)
+  for (const auto& l : in.Frame.Lights)
   {
     if (l.Layer < 0 || l.Method != ss::Method::HardAverage)
     {
@@ -1486,8 +929,8 @@ void vtkSoftShadowPass::SolveHardAverage(
     // a point light has one sample; every other light k x k
     const int k = l.Frame.IsSoft() ? this->AverageSamples : 1;
     const float weight = 1.0f / static_cast<float>(k * k);
-    ostate->vtkglViewport(0, 0, in.Width, in.Height);
-    ostate->vtkglScissor(0, 0, in.Width, in.Height);
+    ostate->vtkglViewport(0, 0, in.Frame.Width, in.Frame.Height);
+    ostate->vtkglScissor(0, 0, in.Frame.Width, in.Frame.Height);
     in.Visibility.Attach(in.FBO, 0, l.Layer);
     in.FBO->ActivateDrawBuffers(1);
     ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
@@ -1511,14 +954,14 @@ void vtkSoftShadowPass::SolveHardAverage(
         ostate->vtkglBlendEquation(GL_MIN);
         ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
         ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-        win->GetShaderCache()->ReadyShaderProgram(in.CasterProgram);
+        vtkShaderProgram* casterProgram = in.Casters.UseProgram(win);
         for (std::size_t v = 0; v < sl.Views.size(); ++v)
         {
           in.Shadow.Attach(in.FBO, 0, l.FirstLayer + static_cast<int>(v));
           ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
           if (vertices > 0)
           {
-            DrawCasters(in.CasterProgram, in.CasterVAO, sl.Views[v], sl.Views[v].extent, casterOffset, vertices);
+            in.Casters.Draw(casterProgram, in.Casters.GetVertexArray(), sl.Views[v], sl.Views[v].extent, casterOffset);
           }
           ++maps;
         }
@@ -1533,8 +976,8 @@ void vtkSoftShadowPass::SolveHardAverage(
         }
         SetLightUniforms(prog, sl);
         prog->SetUniformi("method", static_cast<int>(ss::Method::Hard));
-        ostate->vtkglViewport(0, 0, in.Width, in.Height);
-        ostate->vtkglScissor(0, 0, in.Width, in.Height);
+        ostate->vtkglViewport(0, 0, in.Frame.Width, in.Frame.Height);
+        ostate->vtkglScissor(0, 0, in.Frame.Width, in.Frame.Height);
         in.Visibility.Attach(in.FBO, 0, l.Layer);
         in.FBO->ActivateDrawBuffers(1);
         ostate->vtkglBlendEquation(GL_FUNC_ADD);
@@ -1542,8 +985,8 @@ void vtkSoftShadowPass::SolveHardAverage(
         glBlendColor(weight, weight, weight, weight);
         in.VisibilityQuad->Render();
         TextureArray::Unbind(win, shadowUnit);
-        in.GNormal->Deactivate();
-        in.GPosition->Deactivate();
+        in.GBuf.Normal->Deactivate();
+        in.GBuf.Position->Deactivate();
       }
     }
   }
@@ -1554,11 +997,8 @@ void vtkSoftShadowPass::SolveHardAverage(
   TextureArray::Detach();
   in.FBO->RemoveColorAttachments(1);
   ostate->PopFramebufferBindings();
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["hard_average"] = Seconds(tStage, Clock::now());
+  in.Timings.Finish();
+  in.Timings.Set("hard_average", Seconds(tStage, Clock::now()));
   in.HardAverageMaps = maps;
 }
 
@@ -1574,7 +1014,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
   auto& in = *this->Internals;
   in.PVSMLights = 0;
   bool any = false;
-  for (const auto& l : in.Lights)
+  for (const auto& l : in.Frame.Lights)
   {
     any = any || (l.Layer >= 0 && l.Method == ss::Method::PVSM && !l.Views.empty());
   }
@@ -1586,7 +1026,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
   vtkRenderer* ren = s->GetRenderer();
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
   vtkOpenGLState* ostate = win->GetState();
-  const int W = in.Width, H = in.Height;
+  const int W = in.Frame.Width, H = in.Frame.Height;
   auto finish = [&]() {
     if (this->MeasureTimings)
     {
@@ -1594,8 +1034,8 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
     }
   };
   ss::PVSMStats st;
-  st.msGBuffer = in.Timings["gbuffer"];
-  st.msLowResSM = in.Timings["shadow_maps"];
+  st.msGBuffer = in.Timings.Get("gbuffer");
+  st.msLowResSM = in.Timings.Get("shadow_maps");
   st.quality = this->PVSMQuality;
 
   // §5.1: the static metric when only the camera moved since the last frame:
@@ -1603,8 +1043,8 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
   // moves with it, so its transformed position is part of the key)
   std::ostringstream key;
   key.precision(9);
-  key << in.CasterVersion;
-  for (const auto& l : in.Lights)
+  key << in.Casters.Version;
+  for (const auto& l : in.Frame.Lights)
   {
     key << ';' << l.Light << ':' << l.Light->GetMTime() << ':' << l.Layer;
     if (!l.Light->LightTypeIsSceneLight())
@@ -1659,7 +1099,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
   shift->Identity();
   for (int r = 0; r < 3; ++r)
   {
-    shift->SetElement(r, 3, in.Origin[r]);
+    shift->SetElement(r, 3, in.Frame.Origin[r]);
   }
   vtkMatrix4x4::Multiply4x4(
     cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1), shift, relToClip);
@@ -1671,7 +1111,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
 
   static const std::string kernelFS = WithCommon(ssPVSMKernelFS);
   static const std::string filterFS = WithCommon(ssPVSMFilterFS);
-  const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
+  const glm::dvec3 casterOffset = in.Casters.Origin - in.Frame.Origin;
   const float screen[2] = { static_cast<float>(W), static_cast<float>(H) };
 
   ostate->PushFramebufferBindings();
@@ -1688,8 +1128,8 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
     ostate->vtkglScissor(0, 0, w, h);
   };
   auto commonUniforms = [&](vtkShaderProgram* p, const ShadowLight& l, int shadowUnit) {
-    p->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
-    p->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
+    p->SetUniformi("gPosition", in.GBuf.Position->GetTextureUnit());
+    p->SetUniformi("gNormal", in.GBuf.Normal->GetTextureUnit());
     p->SetUniformi("shadowMaps", shadowUnit);
     p->SetUniformf("mapSize", static_cast<float>(in.Shadow.Size));
     p->SetUniformi("numLevels", in.Shadow.Levels);
@@ -1698,7 +1138,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
     SetLightUniforms(p, l);
   };
 
-  for (auto& l : in.Lights)
+  for (auto& l : in.Frame.Lights)
   {
     if (l.Layer < 0 || l.Method != ss::Method::PVSM || l.Views.empty())
     {
@@ -1713,8 +1153,8 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
       vtkErrorMacro("Could not build the PVSM kernel-shape program.");
       break;
     }
-    in.GPosition->Activate();
-    in.GNormal->Activate();
+    in.GBuf.Position->Activate();
+    in.GBuf.Normal->Activate();
     int shadowUnit = in.Shadow.Bind(win);
     commonUniforms(kp, l, shadowUnit);
     kp->SetUniformMatrix("clipToRel", clipToRel);
@@ -1810,28 +1250,28 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
         ostate->vtkglScissor(0, 0, tile.resX, tile.resY);
         ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
         ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-        if (!in.CasterTriangles.empty())
+        if (!in.Casters.Triangles.empty())
         {
-          win->GetShaderCache()->ReadyShaderProgram(in.CasterProgram);
+          vtkShaderProgram* casterProgram = in.Casters.UseProgram(win);
           ostate->vtkglEnable(GL_BLEND);
           ostate->vtkglBlendEquation(GL_MIN);
           ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
           const ss::Rect r{ tile.rect[0], tile.rect[1], tile.rect[2], tile.rect[3] };
-          if (this->PVSMTileCulling && in.ClusterVersion == in.CasterVersion)
+          if (this->PVSMTileCulling && in.Casters.HasClusters())
           {
             // only the clusters whose light-space bounds reach the tile; the
             // pad (1e-3 of the tile) covers the GPU's float projection
-            const auto ranges = ss::VisibleTriangleRanges(in.CasterClusters, view, casterOffset, r, 1e-3);
+            const auto ranges = ss::VisibleTriangleRanges(in.Casters.Clusters, view, casterOffset, r, 1e-3);
             for (const auto& range : ranges)
             {
               st.tileTrianglesDrawn += static_cast<double>(range.second);
             }
-            DrawCasters(in.CasterProgram, in.CasterVAO, view, r, casterOffset, 0, &ranges);
+            in.Casters.Draw(casterProgram, in.Casters.GetVertexArray(), view, r, casterOffset, &ranges);
           }
           else
           {
             st.tileTrianglesDrawn += static_cast<double>(in.NumberOfTriangles());
-            DrawCasters(in.CasterProgram, in.CasterVAO, view, r, casterOffset, in.CasterTriangles.size() / 3);
+            in.Casters.Draw(casterProgram, in.Casters.GetVertexArray(), view, r, casterOffset);
           }
           ostate->vtkglBlendEquation(GL_FUNC_ADD);
           ostate->vtkglDisable(GL_BLEND);
@@ -1912,8 +1352,8 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
     {
       vtkErrorMacro("Could not build the PVSM resolve program.");
     }
-    in.GNormal->Deactivate();
-    in.GPosition->Deactivate();
+    in.GBuf.Normal->Deactivate();
+    in.GBuf.Position->Deactivate();
     finish();
     st.msFiltering += Seconds(t0, Clock::now());
   }
@@ -1924,7 +1364,7 @@ void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
     static_cast<double>(G) * G * 8 + static_cast<double>(W) * H * (3 * 16 + 8);
   st.msTotal = st.msGBuffer + st.msLowResSM + st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
   in.LastPVSMStats = st;
-  in.Timings["pvsm"] = st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
+  in.Timings.Set("pvsm", st.msKernel + st.msTiling + st.msTileSM + st.msFiltering);
 }
 
 //------------------------------------------------------------------------------
@@ -1937,7 +1377,7 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
 {
   auto& in = *this->Internals;
   bool anyRef = false, anyGears = false;
-  for (const auto& l : in.Lights)
+  for (const auto& l : in.Frame.Lights)
   {
     anyRef = anyRef || (l.Layer >= 0 && l.Method == ss::Method::Reference);
     anyGears = anyGears || (l.Layer >= 0 && l.Method == ss::Method::GEARS);
@@ -1954,51 +1394,37 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
   const auto t0 = Clock::now();
   std::vector<glm::dvec3> verts;
   auto worldTriangles = [&]() -> const std::vector<glm::dvec3>& {
-    if (verts.empty() && !in.CasterTriangles.empty())
+    if (verts.empty())
     {
-      verts.resize(in.CasterTriangles.size() / 3);
-      for (std::size_t i = 0; i < verts.size(); ++i)
-      {
-        verts[i] = in.CasterOrigin +
-          glm::dvec3(in.CasterTriangles[3 * i], in.CasterTriangles[3 * i + 1], in.CasterTriangles[3 * i + 2]);
-      }
+      verts = in.Casters.WorldVertices();
     }
     return verts;
   };
-  if (anyRef && (!in.Reference || in.ReferenceVersion != in.CasterVersion))
+  if (anyRef && (!in.Reference || in.ReferenceVersion != in.Casters.Version))
   {
     if (!in.Reference)
     {
       in.Reference.reset(new ss::ReferenceSolver);
     }
-    in.Reference->SetTriangles(worldTriangles(), in.CasterOpacity);
-    in.ReferenceVersion = in.CasterVersion;
+    in.Reference->SetTriangles(worldTriangles(), in.Casters.Opacity);
+    in.ReferenceVersion = in.Casters.Version;
   }
-  if (anyGears && (!in.Gears || in.GearsVersion != in.CasterVersion))
+  if (anyGears && (!in.Gears || in.GearsVersion != in.Casters.Version))
   {
     if (!in.Gears)
     {
       in.Gears.reset(new ss::GearsSolver);
     }
-    in.Gears->SetTriangles(worldTriangles(), in.CasterOpacity);
-    in.GearsVersion = in.CasterVersion;
+    in.Gears->SetTriangles(worldTriangles(), in.Casters.Opacity);
+    in.GearsVersion = in.Casters.Version;
   }
-  std::vector<float> pos4, nrm4;
-  ss::ReadTexture(win, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, pos4);
-  ss::ReadTexture(win, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm4);
-  const std::size_t n = static_cast<std::size_t>(in.Width) * in.Height;
-  std::vector<float> pos(3 * n), nrm(3 * n);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const bool fg = pos4[4 * i + 3] > 0.0f;
-    for (int c = 0; c < 3; ++c)
-    {
-      pos[3 * i + c] = fg ? pos4[4 * i + c] : nan;
-      nrm[3 * i + c] = nrm4[4 * i + c];
-    }
-  }
-  in.Timings["triangle_solver_input"] = Seconds(t0, Clock::now());
+  const std::vector<float>* positions = nullptr;
+  const std::vector<float>* normals = nullptr;
+  in.GBuf.ReadForCPU(win, in.FBO, in.Frame.Width, in.Frame.Height, positions, normals);
+  const std::vector<float>& pos = *positions;
+  const std::vector<float>& nrm = *normals;
+  const std::size_t n = static_cast<std::size_t>(in.Frame.Width) * in.Frame.Height;
+  in.Timings.Set("triangle_solver_input", Seconds(t0, Clock::now()));
   ss::ReferenceOptions ropt;
   ropt.k = this->ReferenceSamples;
   ropt.pattern = this->ReferencePattern == 1 ? ss::LightSamplePattern::Stratified
@@ -2009,7 +1435,7 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
   gopt.raster = this->GearsRaster == 1 ? ss::GearsRaster::LUT : ss::GearsRaster::EdgePlane;
   gopt.countNecessary = this->GearsCountNecessary;
   double msRef = 0.0, msGears = 0.0;
-  for (const auto& l : in.Lights)
+  for (const auto& l : in.Frame.Lights)
   {
     if (l.Layer < 0 || !ss::IsTriangleSolver(l.Method))
     {
@@ -2017,13 +1443,13 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
     }
     // The light frame is relative to the frame origin; the solvers want world.
     ss::LightFrame world = l.Frame;
-    world.center += in.Origin;
+    world.center += in.Frame.Origin;
     const auto tl = Clock::now();
     std::vector<float> V;
     if (l.Method == ss::Method::Reference)
     {
       ss::ReferenceStats st;
-      V = in.Reference->Solve(world, in.Origin, pos.data(), nrm.data(), n, ropt, &st);
+      V = in.Reference->Solve(world, in.Frame.Origin, pos.data(), nrm.data(), n, ropt, &st);
       in.LastReferenceStats.rays += st.rays;
       in.LastReferenceStats.milliseconds += st.milliseconds;
       msRef += Seconds(tl, Clock::now());
@@ -2041,7 +1467,7 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
         // raw GL programs: VTK's shader cache must rebind its own afterwards
         win->GetShaderCache()->ReleaseCurrentShader();
         std::string why;
-        onGPU = in.GearsGL->Solve(*in.Gears, world, in.Origin, pos.data(), nrm.data(), n, gopt, V, &st, nullptr, &why);
+        onGPU = in.GearsGL->Solve(*in.Gears, world, in.Frame.Origin, pos.data(), nrm.data(), n, gopt, V, &st, nullptr, &why);
         vtkOpenGLCheckErrorMacro("after the GEARS compute backend");
         if (!onGPU)
         {
@@ -2055,7 +1481,7 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
       }
       if (!onGPU)
       {
-        V = in.Gears->Solve(world, in.Origin, pos.data(), nrm.data(), n, gopt, &st);
+        V = in.Gears->Solve(world, in.Frame.Origin, pos.data(), nrm.data(), n, gopt, &st);
       }
       in.GearsBackendUsed = onGPU ? "gl" : "cpu";
       in.AccumulateGearsStats(st);
@@ -2067,7 +1493,7 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
     }
     glBindTexture(GL_TEXTURE_2D_ARRAY, in.Visibility.Handle);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, l.Layer, in.Width, in.Height, 1, GL_RED, GL_FLOAT, V.data());
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, l.Layer, in.Frame.Width, in.Frame.Height, 1, GL_RED, GL_FLOAT, V.data());
     glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
   }
   in.LastReferenceStats.raysPerSecond = in.LastReferenceStats.milliseconds > 0
@@ -2075,11 +1501,11 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
     : 0.0;
   if (anyRef)
   {
-    in.Timings["reference"] = msRef;
+    in.Timings.Set("reference", msRef);
   }
   if (anyGears)
   {
-    in.Timings["gears"] = msGears;
+    in.Timings.Set("gears", msGears);
   }
 }
 
@@ -2120,31 +1546,7 @@ bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader,
 
   if (in.CurrentStage == Stage::GBuffer)
   {
-    const bool haveVC = fragmentShader.find("vec4 vertexVC") != std::string::npos;
-    const bool haveN = fragmentShader.find("normalVCVSOutput") != std::string::npos;
-    std::string impl = "  {\n";
-    if (haveVC)
-    {
-      impl += "    vec3 ssVC = vertexVC.xyz;\n";
-    }
-    else
-    {
-      impl += "    vec4 ssNDC = vec4(2.0 * (gl_FragCoord.xy / ssViewportSize) - 1.0,"
-              " 2.0 * gl_FragCoord.z - 1.0, 1.0);\n"
-              "    vec4 ssVC4 = ssDCToVC * ssNDC;\n"
-              "    vec3 ssVC = ssVC4.xyz / ssVC4.w;\n";
-    }
-    impl += "    gl_FragData[0] = vec4(ssVCToWC * ssVC + ssVCToRelOffset, ssPropId);\n";
-    impl += haveN ? "    gl_FragData[1] = vec4(normalize(ssVCToWC * normalVCVSOutput), 1.0);\n"
-                  : "    gl_FragData[1] = vec4(0.0);\n";
-    impl += "  }\n";
-    fragmentShader.insert(endPos, impl);
-    fragmentShader.insert(mainPos,
-      "uniform mat3 ssVCToWC;\n"
-      "uniform vec3 ssVCToRelOffset;\n"
-      "uniform mat4 ssDCToVC;\n"
-      "uniform vec2 ssViewportSize;\n"
-      "uniform float ssPropId;\n");
+    ss::GBuffer::InjectOutputs(fragmentShader, mainPos, endPos);
     return true;
   }
 
@@ -2224,17 +1626,7 @@ bool vtkSoftShadowPass::SetShaderParameters(
     {
       return true;
     }
-    auto it = in.PropIds.find(prop);
-    if (it == in.PropIds.end())
-    {
-      it = in.PropIds.emplace(prop, static_cast<int>(in.PropIds.size()) + 1).first;
-    }
-    program->SetUniformMatrix3x3("ssVCToWC", in.VCToWC);
-    program->SetUniform3f("ssVCToRelOffset", in.VCToRelOffset);
-    program->SetUniformMatrix4x4("ssDCToVC", in.DCToVC);
-    const float vs[2] = { static_cast<float>(in.Width), static_cast<float>(in.Height) };
-    program->SetUniform2f("ssViewportSize", vs);
-    program->SetUniformf("ssPropId", static_cast<float>(it->second));
+    in.GBuf.SetShaderParameters(program, prop, in.Frame.Width, in.Frame.Height);
     return true;
   }
   if (in.CurrentStage != Stage::Shade || !in.ShadeShadows || !polyMapper ||
@@ -2242,21 +1634,21 @@ bool vtkSoftShadowPass::SetShaderParameters(
   {
     return true;
   }
-  const auto it = in.PropIds.find(prop);
-  const bool use = in.ShadowsThisFrame && it != in.PropIds.end() && GetReceivesShadows(prop);
+  const int propId = in.GBuf.FindPropId(prop);
+  const bool use = in.ShadowsThisFrame && propId != 0 && GetReceivesShadows(prop);
   program->SetUniformi("ssUseVis", use ? 1 : 0);
   // Samplers always point at the bound textures: two sampler types left on
   // unit 0 make every draw of that shader fail (GL_INVALID_OPERATION).
-  program->SetUniformi("ssGPosition", in.GPosition->GetTextureUnit());
+  program->SetUniformi("ssGPosition", in.GBuf.Position->GetTextureUnit());
   program->SetUniformi("ssVisTex", in.VisibilityUnit);
   if (use)
   {
-    const float vo[2] = { static_cast<float>(in.ViewportOrigin[0]),
-      static_cast<float>(in.ViewportOrigin[1]) };
+    const float vo[2] = { static_cast<float>(in.Frame.ViewportOrigin[0]),
+      static_cast<float>(in.Frame.ViewportOrigin[1]) };
     program->SetUniform2f("ssViewportOrigin", vo);
-    program->SetUniformf("ssPropId", static_cast<float>(it->second));
+    program->SetUniformf("ssPropId", static_cast<float>(propId));
   }
-  for (const auto& l : in.Lights)
+  for (const auto& l : in.Frame.Lights)
   {
     const std::string name = "ssLightLayer" + std::to_string(l.ShaderIndex);
     if (program->IsUniformUsed(name.c_str()))
@@ -2299,7 +1691,7 @@ int vtkSoftShadowPass::GetNumberOfShadowLights()
   int n = 0;
   if (this->Internals->HaveResults)
   {
-    for (const auto& l : this->Internals->Lights)
+    for (const auto& l : this->Internals->Frame.Lights)
     {
       n += l.Layer >= 0 ? 1 : 0;
     }
@@ -2315,8 +1707,8 @@ bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
   {
     return false;
   }
-  std::vector<float> v(static_cast<std::size_t>(in.Width) * in.Height);
-  if (in.Visibility.Width != in.Width || in.Visibility.Height != in.Height ||
+  std::vector<float> v(static_cast<std::size_t>(in.Frame.Width) * in.Frame.Height);
+  if (in.Visibility.Width != in.Frame.Width || in.Visibility.Height != in.Frame.Height ||
     !in.Visibility.Read(in.Window, in.FBO, shadowLight, v.data()))
   {
     return false;
@@ -2336,7 +1728,7 @@ bool vtkSoftShadowPass::GetPositionsImage(vtkFloatArray* out)
   auto& in = *this->Internals;
   std::vector<float> v;
   if (!out || !in.HaveResults || !in.Window ||
-    !ss::ReadTexture(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, v))
+    !in.GBuf.Read(in.Window, in.FBO, 0, in.Frame.Width, in.Frame.Height, v))
   {
     return false;
   }
@@ -2359,14 +1751,14 @@ bool vtkSoftShadowPass::GetDiffuseCosineImage(int shadowLight, vtkFloatArray* ou
 {
   auto& in = *this->Internals;
   const ShadowLight* light = nullptr;
-  for (const auto& l : in.Lights)
+  for (const auto& l : in.Frame.Lights)
   {
     light = (l.Layer == shadowLight && shadowLight >= 0) ? &l : light;
   }
   std::vector<float> p, nrm;
   if (!out || !light || !in.HaveResults || !in.Window ||
-    !ss::ReadTexture(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, p) ||
-    !ss::ReadTexture(in.Window, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm) || p.size() != nrm.size())
+    !in.GBuf.Read(in.Window, in.FBO, 0, in.Frame.Width, in.Frame.Height, p) ||
+    !in.GBuf.Read(in.Window, in.FBO, 1, in.Frame.Width, in.Frame.Height, nrm) || p.size() != nrm.size())
   {
     return false;
   }
@@ -2376,7 +1768,7 @@ bool vtkSoftShadowPass::GetDiffuseCosineImage(int shadowLight, vtkFloatArray* ou
   for (std::size_t i = 0; i < n; ++i)
   {
     const glm::dvec3 x(p[4 * i], p[4 * i + 1], p[4 * i + 2]), nv(nrm[4 * i], nrm[4 * i + 1], nrm[4 * i + 2]);
-    const double c = p[4 * i + 3] > 0.0f ? ss::DiffuseCosine(light->Frame, x, nv, in.Eye)
+    const double c = p[4 * i + 3] > 0.0f ? ss::DiffuseCosine(light->Frame, x, nv, in.Frame.Eye)
                                          : std::numeric_limits<double>::quiet_NaN();
     out->SetValue(static_cast<vtkIdType>(i), static_cast<float>(c));
   }
@@ -2418,19 +1810,19 @@ bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFl
 
 int vtkSoftShadowPass::GetLastWidth()
 {
-  return this->Internals->Width;
+  return this->Internals->Frame.Width;
 }
 
 int vtkSoftShadowPass::GetLastHeight()
 {
-  return this->Internals->Height;
+  return this->Internals->Frame.Height;
 }
 
 void vtkSoftShadowPass::GetLastPositionsOrigin(double origin[3])
 {
   for (int i = 0; i < 3; ++i)
   {
-    origin[i] = this->Internals->Origin[i];
+    origin[i] = this->Internals->Frame.Origin[i];
   }
 }
 
@@ -2447,43 +1839,45 @@ std::string vtkSoftShadowPass::GetPlanDescription()
 std::string vtkSoftShadowPass::GetStatsJSON()
 {
   auto& in = *this->Internals;
+  ss::FrameStats st;
+  st.PlanJSON = in.Plan.ToJSON();
+  st.Timings = &in.Timings;
+  st.MemoryBytes = in.MemoryBytes();
+  st.CasterTriangles = in.NumberOfTriangles();
+  st.SkippedTriangles = in.Casters.Skipped;
   std::ostringstream o;
   o.precision(17);
-  o << "{\"plan\": " << in.Plan.ToJSON() << ", \"timings_ms\": {";
-  bool first = true;
-  for (const auto& t : in.Timings)
-  {
-    o << (first ? "" : ", ") << '"' << t.first << "\": " << t.second;
-    first = false;
-  }
-  o << "}, \"memory_bytes\": " << in.MemoryBytes() << ", \"caster_triangles\": "
-    << in.NumberOfTriangles() << ", \"skipped_triangles\": " << in.SkippedTriangles
-    << ", \"reference\": {\"samples_per_axis\": " << this->ReferenceSamples
-    << ", \"rays\": " << in.LastReferenceStats.rays << ", \"rays_per_second\": "
-    << in.LastReferenceStats.raysPerSecond << "}"
-    << ", \"gears\": {\"samples_per_axis\": " << this->GearsSamples << ", \"grid\": " << this->GearsGrid
+  o << "{\"samples_per_axis\": " << this->ReferenceSamples << ", \"rays\": " << in.LastReferenceStats.rays
+    << ", \"rays_per_second\": " << in.LastReferenceStats.raysPerSecond << "}";
+  st.Solvers.emplace_back("reference", o.str());
+  o.str("");
+  o << "{\"samples_per_axis\": " << this->GearsSamples << ", \"grid\": " << this->GearsGrid
     << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \"" << in.GearsBackendUsed << "\", \"backend_requested\": \""
     << (this->GearsBackend == GEARS_BACKEND_GL ? "gl" : "cpu") << "\", \"backend_note\": \""
     << ss::JSONEscape(in.GearsBackendNote) << "\""
     << ", \"lights\": " << in.GearsLights
-    << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}"
-    << ", \"pvsm\": {\"lights\": " << in.PVSMLights << ", \"low_resolution\": " << this->PVSMLowResolution
+    << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}";
+  st.Solvers.emplace_back("gears", o.str());
+  o.str("");
+  o << "{\"lights\": " << in.PVSMLights << ", \"low_resolution\": " << this->PVSMLowResolution
     << ", \"grid\": " << this->PVSMGridSize << ", \"max_tile\": " << this->PVSMMaxTileResolution
-    << ", \"stats\": " << ss::PVSMStatsToJSON(in.LastPVSMStats) << "}"
-    << ", \"hardavg\": {\"samples_per_axis\": " << this->AverageSamples << ", \"maps\": " << in.HardAverageMaps << "}"
-    << ", \"shadow_map_size\": " << in.Shadow.Size << ", \"shadow_map_size_note\": \""
-    << ss::JSONEscape(in.ShadowMapSizeNote) << "\", \"lights\": [";
-  first = true;
-  for (const auto& l : in.Lights)
+    << ", \"stats\": " << ss::PVSMStatsToJSON(in.LastPVSMStats) << "}";
+  st.Solvers.emplace_back("pvsm", o.str());
+  o.str("");
+  o << "{\"samples_per_axis\": " << this->AverageSamples << ", \"maps\": " << in.HardAverageMaps << "}";
+  st.Solvers.emplace_back("hardavg", o.str());
+  st.ShadowMapSize = in.Shadow.Size;
+  st.ShadowMapSizeNote = in.ShadowMapSizeNote;
+  for (const auto& l : in.Frame.Lights)
   {
-    o << (first ? "" : ", ") << "{\"shader_index\": " << l.ShaderIndex
+    o.str("");
+    o << "{\"shader_index\": " << l.ShaderIndex
       << ", \"method\": \"" << ss::MethodName(l.Method) << "\", \"views\": " << l.Views.size()
       << ", \"cube\": " << (l.ViewInfo.cube ? "true" : "false")
       << ", \"clamped\": " << (l.ViewInfo.clamped ? "true" : "false") << "}";
-    first = false;
+    st.Lights.push_back(o.str());
   }
-  o << "]}";
-  return o.str();
+  return ss::StatsToJSON(st);
 }
 
 //------------------------------------------------------------------------------
