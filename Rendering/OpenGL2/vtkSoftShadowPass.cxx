@@ -59,6 +59,12 @@
 #include "ssGBuffer.h"
 #include "ssPassStats.h"
 #include "ssShadowViews.h"
+#include "ssPVSMSolver.h"
+#include "ssShadowMapSolver.h"
+#include "ssShadowMaps.h"
+#include "ssSolverRegistry.h"
+#include "ssVisibilityLayers.h"
+#include "ssVisibilitySolver.h"
 #include "ssFullScreenQuad.h"
 #include "ssTextureArray.h"
 
@@ -122,64 +128,38 @@ public:
   // --- GPU resources (all released by ReleaseGraphicsResources)
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   ss::GBuffer GBuf;
-  // Shadow maps: a GL_TEXTURE_2D_ARRAY (one layer per view, RG32F linear
-  // depth) whose mip levels hold the (min, max) depth of the level below: the
-  // PCSS blocker search looks at a whole region without missing a blocker
-  // between samples, and the filter decides coarse quads exactly where it can.
-  TextureArray Shadow;
-  std::string ShadowMapSizeNote; // why the maps are smaller than asked (GL limit)
-  int WarnedShadowMapSize = 0;   // the request last warned about (warn once)
-  // PVSM: one virtual shadow-map tile at a time (a single layer, same layout).
-  TextureArray Tile;
-  std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
-  TextureArray Visibility; // R32F, one layer per shadow light
-  int VisibilityUnit = -1; // its texture unit while the shading pass runs
-  // PVSM (§5.2): conservative low-res maps, kernel-shape buffer, SMTG, tiles
-  vtkShaderProgram* ConservativeProgram = nullptr;
-  vtkSmartPointer<vtkOpenGLVertexArrayObject> ConservativeVAO;
-  unsigned long ConservativeVAOUploads = 0;
-  vtkSmartPointer<vtkTextureObject> Kernel[3]; // RGBA32F, screen size
-  vtkSmartPointer<vtkTextureObject> Accum;     // RGBA32F (V·A within reach, A, back-projection, unused), screen size
-  TextureArray Grid; // RG32F SMTG and its pyramid (one layer, all levels)
-  std::vector<std::vector<float>> LastGridLevels; // the last view's SMTG pyramid as read back
-  vtkShaderProgram* GridProgram = nullptr;
-  vtkSmartPointer<vtkOpenGLVertexArrayObject> EmptyVAO;
-  std::unique_ptr<vtkOpenGLQuadHelper> KernelQuad, FilterQuad, ResolveQuad;
-  ss::PVSMStats LastPVSMStats;
-  int PVSMLights = 0;
-  long long HardAverageMaps = 0; // hard maps rendered by HARDAVG in the last frame
-  std::string PVSMSceneKey; // casters and lights of the last PVSM frame (static metric)
-
-  vtkShaderProgram* ReadyConservativeProgram(vtkOpenGLRenderWindow* win)
+  ss::ShadowMaps Maps;
+  ss::VisibilityLayers Visibility;
+  // one solver per registered method, in registry order
+  std::vector<std::unique_ptr<ss::VisibilitySolver>> Solvers;
+  ss::VisibilitySolver* SolverFor(ss::Method m) const
   {
-    this->ConservativeProgram =
-      win->GetShaderCache()->ReadyShaderProgram(ssCasterVS, ssConservativeFS, ssConservativeGS);
-    if (!this->ConservativeProgram)
+    for (const auto& solver : this->Solvers)
     {
-      return nullptr;
-    }
-    if (!this->ConservativeVAO)
-    {
-      this->ConservativeVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
-      this->ConservativeVAOUploads = 0;
-    }
-    if (this->ConservativeVAOUploads != this->Casters.GetUploads())
-    {
-      this->ConservativeVAO->Bind();
-      this->ConservativeVAO->RemoveAttributeArray("vertexRel");
-      const bool ok = this->ConservativeVAO->AddAttributeArray(this->ConservativeProgram, this->Casters.GetVertexBuffer(),
-        "vertexRel", 0, 3 * sizeof(float), VTK_FLOAT, 3, false);
-      this->ConservativeVAO->Release();
-      if (!ok)
+      if (solver->GetMethod() == m)
       {
-        return nullptr;
+        return solver.get();
       }
-      this->ConservativeVAOUploads = this->Casters.GetUploads();
     }
-    return this->ConservativeProgram;
+    return nullptr;
   }
-  std::unique_ptr<vtkOpenGLQuadHelper> VisibilityQuad;
+  ss::SolverFrame MakeFrame(vtkRenderer* ren, vtkOpenGLRenderWindow* win, vtkObject* reporter)
+  {
+    ss::SolverFrame f;
+    f.Renderer = ren;
+    f.Window = win;
+    f.FBO = this->FBO;
+    f.State = &this->Frame;
+    f.GBuffer = &this->GBuf;
+    f.Casters = &this->Casters;
+    f.Maps = &this->Maps;
+    f.Visibility = &this->Visibility;
+    f.Timings = &this->Timings;
+    f.Reporter = reporter;
+    return f;
+  }
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+  long long HardAverageMaps = 0; // hard maps rendered by HARDAVG in the last frame
 
   // --- per-frame state
   Stage CurrentStage = Stage::Idle;
@@ -240,58 +220,34 @@ public:
 
   int CountResources() const
   {
-    int n = 0;
-    auto tex = [&](vtkTextureObject* t) { n += (t && t->GetHandle() != 0) ? 1 : 0; };
-    n += this->GBuf.CountGraphicsResources();
-    n += this->Shadow.Handle != 0 ? 1 : 0;
-    n += this->Tile.Handle != 0 ? 1 : 0;
-    n += this->Grid.Handle != 0 ? 1 : 0;
-    n += this->ReduceQuad ? 1 : 0;
-    n += this->Visibility.Handle != 0 ? 1 : 0;
-    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
+    int n = this->GBuf.CountGraphicsResources() + this->Maps.CountGraphicsResources() +
+      this->Visibility.CountGraphicsResources() + this->Casters.CountGraphicsResources();
+    for (const auto& solver : this->Solvers)
     {
-      tex(t);
+      n += solver->GetNumberOfGraphicsResources();
     }
-    n += (this->KernelQuad ? 1 : 0) + (this->FilterQuad ? 1 : 0) + (this->ResolveQuad ? 1 : 0);
     n += (this->FBO && this->FBO->GetFBOIndex() != 0) ? 1 : 0;
-    n += this->Casters.CountGraphicsResources();
-    n += this->VisibilityQuad ? 1 : 0;
     return n;
   }
 
   long long MemoryBytes() const
   {
-    long long b = 0;
-    auto tex = [&](vtkTextureObject* t, int bpp) {
-      if (t && t->GetHandle() != 0)
-      {
-        b += static_cast<long long>(t->GetWidth()) * t->GetHeight() * std::max(1u, t->GetDepth()) * bpp;
-      }
-    };
-    b += this->GBuf.Bytes();
-    b += this->Shadow.Bytes() + this->Tile.Bytes() + this->Grid.Bytes();
-    b += this->Visibility.Bytes();
-    for (int i = 0; i < 3; ++i)
+    long long b = this->GBuf.Bytes() + this->Maps.Bytes() + this->Visibility.Bytes() + this->Casters.Bytes();
+    for (const auto& solver : this->Solvers)
     {
-      tex(this->Kernel[i], 16);
+      b += solver->GetMemoryBytes();
     }
-    tex(this->Accum, 16);
-    b += this->Casters.Bytes();
     return b;
   }
 
   void Release(vtkWindow* w)
   {
-    this->Shadow.Release();
-    this->Tile.Release();
-    this->Grid.Release();
-    this->LastGridLevels.clear();
-    if (this->ReduceQuad)
+    this->Maps.ReleaseGraphicsResources(w);
+    for (const auto& solver : this->Solvers)
     {
-      this->ReduceQuad->ReleaseGraphicsResources(w);
-      this->ReduceQuad.reset();
+      solver->ReleaseGraphicsResources(w);
     }
-    this->Visibility.Release();
+    this->Visibility.ReleaseGraphicsResources();
     this->GBuf.ReleaseGraphicsResources(w);
     if (this->FBO)
     {
@@ -299,47 +255,11 @@ public:
       this->FBO = nullptr;
     }
     this->Casters.ReleaseGraphicsResources();
-    if (this->VisibilityQuad)
-    {
-      this->VisibilityQuad->ReleaseGraphicsResources(w);
-      this->VisibilityQuad.reset();
-    }
-    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
-    {
-      if (t)
-      {
-        t->ReleaseGraphicsResources(w);
-      }
-    }
-    for (auto& t : this->Kernel)
-    {
-      t = nullptr;
-    }
-    this->Accum = nullptr;
-    for (auto* q : { &this->KernelQuad, &this->FilterQuad, &this->ResolveQuad })
-    {
-      if (*q)
-      {
-        (*q)->ReleaseGraphicsResources(w);
-        q->reset();
-      }
-    }
-    for (auto* vao : { &this->ConservativeVAO, &this->EmptyVAO })
-    {
-      if (*vao)
-      {
-        (*vao)->ReleaseGraphicsResources();
-        *vao = nullptr;
-      }
-    }
     if (this->GearsGL)
     {
       this->GearsGL->ReleaseGraphicsResources();
       this->GearsGL.reset();
     }
-    this->ConservativeProgram = nullptr;
-    this->GridProgram = nullptr;
-    this->PVSMSceneKey.clear();
     this->HaveResults = false;
     this->LastSignature.clear();
   }
@@ -349,6 +269,13 @@ public:
 vtkSoftShadowPass::vtkSoftShadowPass()
   : Internals(new vtkInternals)
 {
+  for (const auto& entry : ss::SolverRegistry())
+  {
+    if (entry.Factory)
+    {
+      this->Internals->Solvers.push_back(entry.Factory(entry.Method));
+    }
+  }
 }
 
 vtkSoftShadowPass::~vtkSoftShadowPass()
@@ -359,20 +286,41 @@ vtkSoftShadowPass::~vtkSoftShadowPass()
 vtkCxxSetObjectMacro(vtkSoftShadowPass, DelegatePass, vtkRenderPass);
 
 //------------------------------------------------------------------------------
+void vtkSoftShadowPass::SetMethod(int method)
+{
+  method = std::max(this->GetMethodMinValue(), std::min(method, this->GetMethodMaxValue()));
+  if (this->Method != method)
+  {
+    this->Method = method;
+    this->Modified();
+  }
+}
+
+int vtkSoftShadowPass::GetMethodMinValue()
+{
+  return AUTO;
+}
+
+int vtkSoftShadowPass::GetMethodMaxValue()
+{
+  return ss::MaxMethodNumber();
+}
+
 bool vtkSoftShadowPass::SetMethodByName(const char* name)
 {
-  ss::Method m;
-  if (!name || !ss::MethodFromName(name, m))
+  const ss::SolverEntry* entry = name ? ss::FindSolverEntry(std::string(name)) : nullptr;
+  if (!entry)
   {
     return false;
   }
-  this->SetMethod(static_cast<int>(m));
+  this->SetMethod(static_cast<int>(entry->Method));
   return true;
 }
 
 const char* vtkSoftShadowPass::GetMethodName(int method)
 {
-  return ss::MethodName(static_cast<ss::Method>(method));
+  const ss::SolverEntry* entry = ss::FindSolverEntry(static_cast<ss::Method>(method));
+  return entry ? entry->Name : "none";
 }
 
 //------------------------------------------------------------------------------
@@ -512,6 +460,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   pin.casterTriangles = in.NumberOfTriangles();
   pin.receiverProps = in.Casters.ReceiverProps;
   pin.translucentCasters = in.Casters.Translucent;
+  pin.methods = ss::PlannerMethods();
   for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
@@ -596,7 +545,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   }
   if (in.ShadowsThisFrame)
   {
-    in.VisibilityUnit = in.Visibility.Bind(win);
+    in.Visibility.BindForShading(win);
     in.GBuf.Position->Activate();
   }
   this->PreRender(s);
@@ -613,8 +562,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   if (in.ShadowsThisFrame)
   {
     in.GBuf.Position->Deactivate();
-    TextureArray::Unbind(win, in.VisibilityUnit);
-    in.VisibilityUnit = -1;
+    in.Visibility.UnbindAfterShading(win);
   }
   in.Timings.Finish();
   in.Timings.Set("shading", Seconds(tStage, Clock::now()));
@@ -661,40 +609,38 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   auto& in = *this->Internals;
   vtkRenderer* ren = s->GetRenderer();
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
-  vtkOpenGLState* ostate = win->GetState();
-  // Power-of-two maps keep every texel of the min pyramid covered. PVSM's
-  // low-resolution maps have their own size when no other light needs a map.
-  bool anyMap = false, allPVSM = true;
-  for (const auto& l : in.Frame.Lights)
-  {
-    if (l.Layer >= 0 && !ss::IsTriangleSolver(l.Method))
-    {
-      anyMap = true;
-      allPVSM = allPVSM && l.Method == ss::Method::PVSM;
-    }
-  }
-  const int wantSize = (anyMap && allPVSM) ? this->PVSMLowResolution : this->ShadowMapSize;
-  // Capped by this context's GL_MAX_TEXTURE_SIZE (8192 on many GPUs, 16384
-  // on llvmpipe): a larger request renders at the limit, with a warning in
-  // the stats, instead of failing to allocate.
-  const ss::GLLimits limits = ss::QueryGLLimits();
-  int S = ss::FitPowerOfTwo(wantSize, limits.maxTextureSize);
-  in.ShadowMapSizeNote.clear();
-  if (S < wantSize)
-  {
-    in.ShadowMapSizeNote = "shadow map size " + std::to_string(wantSize) + " capped at this GL's limit of " +
-      std::to_string(S);
-    if (in.WarnedShadowMapSize != wantSize)
-    {
-      vtkWarningMacro(<< in.ShadowMapSizeNote << ".");
-      in.WarnedShadowMapSize = wantSize;
-    }
-  }
+  ss::SolverFrame frame = in.MakeFrame(ren, win, this);
 
-  // Views of every light, fitted to the receivers (relative coordinates).
+  // Each solver learns its lights of the frame (maybe none).
+  std::vector<std::vector<const ShadowLight*>> lightsOf(in.Solvers.size());
+  for (std::size_t i = 0; i < in.Solvers.size(); ++i)
+  {
+    for (const auto& l : in.Frame.Lights)
+    {
+      if (l.Layer >= 0 && l.Method == in.Solvers[i]->GetMethod())
+      {
+        lightsOf[i].push_back(&l);
+      }
+    }
+    in.Solvers[i]->Configure(this);
+    in.Solvers[i]->BeginFrame(frame, lightsOf[i]);
+  }
+  // (legacy: hardavg and the triangle solvers are not solvers yet)
+  auto usesMaps = [&](const ShadowLight& l) {
+    ss::VisibilitySolver* solver = in.SolverFor(l.Method);
+    return solver ? solver->UsesShadowMaps() : !(l.Method == ss::Method::Reference || l.Method == ss::Method::GEARS);
+  };
+  auto askedSize = [&](const ShadowLight& l) {
+    ss::VisibilitySolver* solver = in.SolverFor(l.Method);
+    return solver ? solver->GetShadowMapSize() : this->ShadowMapSize;
+  };
+
+  // --- whole-view shadow maps: views fitted to the receivers (relative
+  // coordinates), one shared array
   const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   const ss::Box casters = ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin);
   int totalViews = 0, numShadowLights = 0;
+  std::vector<int> asked;
   for (auto& l : in.Frame.Lights)
   {
     if (l.Layer < 0)
@@ -702,63 +648,42 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       continue;
     }
     ++numShadowLights;
-    if (ss::IsTriangleSolver(l.Method))
+    if (!usesMaps(l))
     {
       l.Views.clear();
-      continue; // solved from the caster triangles below: no shadow map
+      continue;
     }
     ss::FitShadowViews(l, receivers, casters, in.Casters, in.Frame.Origin);
     totalViews += static_cast<int>(l.Views.size());
+    asked.push_back(askedSize(l));
   }
-
-  // --- shadow maps: the caster set drawn by our own small program
+  const ss::GLLimits limits = ss::QueryGLLimits();
+  const int S = in.Maps.ChooseSize(asked, this->ShadowMapSize, limits.maxTextureSize, this);
   auto tStage = Clock::now();
-  if (totalViews > limits.maxArrayTextureLayers)
+  std::string error;
+  if (!in.Maps.Allocate(S, totalViews, limits, error))
   {
-    vtkErrorMacro("The lights need " << totalViews << " shadow map views, more than this GL's "
-                                     << limits.maxArrayTextureLayers
-                                     << " array texture layers; no shadows this frame.");
+    vtkErrorMacro(<< error);
     in.ShadowsThisFrame = false;
     return;
   }
-  in.Shadow.Ensure(S, std::max(totalViews, 1));
-  if (!in.Shadow.Handle)
+  for (std::size_t i = 0; i < in.Solvers.size(); ++i)
   {
-    vtkErrorMacro("Could not allocate " << std::max(totalViews, 1) << " shadow map(s) of " << S << "x" << S
-                                        << "; no shadows this frame.");
-    in.ShadowsThisFrame = false;
-    return;
+    if (!lightsOf[i].empty())
+    {
+      in.Solvers[i]->PrepareCasters(in.Casters);
+    }
   }
-  const bool pvsmCulling = this->PVSMTileCulling &&
-    std::any_of(in.Frame.Lights.begin(), in.Frame.Lights.end(),
-      [](const auto& l) { return l.Layer >= 0 && l.Method == ss::Method::PVSM; });
-  if (pvsmCulling)
+  vtkShaderProgram* casterProgram = in.Casters.ReadyProgram(win, error);
+  if (!error.empty())
   {
-    in.Casters.EnsureClusters();
-  }
-  std::string casterError;
-  vtkShaderProgram* casterProgram = in.Casters.ReadyProgram(win, casterError);
-  if (!casterError.empty())
-  {
-    vtkErrorMacro(<< casterError);
+    vtkErrorMacro(<< error);
   }
   if (!casterProgram)
   {
     return;
   }
-
-  ostate->PushFramebufferBindings();
-  in.FBO->Bind();
-  in.FBO->RemoveDepthAttachment();
-  ostate->vtkglViewport(0, 0, S, S);
-  ostate->vtkglScissor(0, 0, S, S);
-  ostate->vtkglDisable(GL_DEPTH_TEST);
-  ostate->vtkglDisable(GL_CULL_FACE);
-  ostate->vtkglEnable(GL_BLEND);
-  ostate->vtkglBlendEquation(GL_MIN);
-  ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-  ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-  const glm::dvec3 casterOffset = in.Casters.Origin - in.Frame.Origin;
+  in.Maps.BeginDrawing(win, in.FBO);
   int layer = 0;
   for (auto& l : in.Frame.Lights)
   {
@@ -767,126 +692,50 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       continue;
     }
     l.FirstLayer = layer;
-    // PVSM §5.2 step 2: its low-resolution map is rasterised conservatively
-    vtkShaderProgram* p = in.Casters.UseProgram(win);
-    vtkOpenGLVertexArrayObject* vao = in.Casters.GetVertexArray();
-    if (l.Method == ss::Method::PVSM && !l.Views.empty())
+    layer += static_cast<int>(l.Views.size());
+    if (ss::VisibilitySolver* solver = in.SolverFor(l.Method))
     {
-      p = in.ReadyConservativeProgram(win);
-      vao = in.ConservativeVAO;
-      if (!p)
+      if (solver->UsesShadowMaps())
       {
-        vtkErrorMacro("Could not build the conservative rasterisation program.");
-        p = in.Casters.UseProgram(win);
-        vao = in.Casters.GetVertexArray();
+        solver->DrawShadowMaps(frame, l);
       }
-      else
-      {
-        const float vp[2] = { static_cast<float>(S), static_cast<float>(S) };
-        p->SetUniform2f("viewportSize", vp);
-      }
-    }
-    if (l.Method == ss::Method::HardAverage)
-    {
-      layer += static_cast<int>(l.Views.size()); // one map per light sample, later
-      continue;
-    }
-    for (const auto& v : l.Views)
-    {
-      in.Shadow.Attach(in.FBO, 0, layer);
-      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-      if (!in.Casters.Triangles.empty())
-      {
-        in.Casters.Draw(p, vao, v, v.extent, casterOffset);
-      }
-      ++layer;
     }
   }
-  ostate->vtkglBlendEquation(GL_FUNC_ADD);
-  ostate->vtkglDisable(GL_BLEND);
-  this->BuildMinPyramid(win);
-  TextureArray::Detach();
+  if (!in.Maps.EndDrawing(win, in.FBO))
+  {
+    vtkErrorMacro("Could not build the min-depth reduction program.");
+  }
   in.Timings.Finish();
   in.Timings.Set("shadow_maps", Seconds(tStage, Clock::now()));
 
-  // --- visibility: one full-screen pass per light into its layer
+  // --- the visibility layers, one per shadow light
   tStage = Clock::now();
-  if (std::max(in.Frame.Width, in.Frame.Height) > limits.maxTextureSize || numShadowLights > limits.maxArrayTextureLayers ||
-    !in.Visibility.EnsureScreen(in.Frame.Width, in.Frame.Height, numShadowLights))
+  if (!in.Visibility.Allocate(in.Frame.Width, in.Frame.Height, numShadowLights, limits, error))
   {
-    vtkErrorMacro("Could not allocate the visibility of " << numShadowLights << " light(s) at " << in.Frame.Width
-                                                          << "x" << in.Frame.Height << " (this GL allows "
-                                                          << limits.maxTextureSize << " pixels a side and "
-                                                          << limits.maxArrayTextureLayers
-                                                          << " layers); no shadows this frame.");
+    vtkErrorMacro(<< error);
     in.ShadowsThisFrame = false;
-    ostate->PopFramebufferBindings();
     return;
   }
-  int shadowUnit = -1;
-  vtkShaderProgram* prog = this->ReadyVisibilityProgram(win, S, shadowUnit);
-  if (!prog)
+  in.Timings.Set("visibility", Seconds(tStage, Clock::now()));
+
+  // --- one solver per light writes its layer
+  for (const auto& l : in.Frame.Lights)
   {
-    ostate->PopFramebufferBindings();
-    return;
-  }
-  ostate->vtkglViewport(0, 0, in.Frame.Width, in.Frame.Height);
-  ostate->vtkglScissor(0, 0, in.Frame.Width, in.Frame.Height);
-  for (auto& l : in.Frame.Lights)
-  {
-    if (l.Layer < 0 || ss::IsTriangleSolver(l.Method) || l.Method == ss::Method::PVSM ||
-      l.Method == ss::Method::HardAverage)
+    if (l.Layer < 0)
     {
       continue;
     }
-    SetLightUniforms(prog, l);
-    prog->SetUniformi("method", static_cast<int>(l.Method));
-    in.Visibility.Attach(in.FBO, 0, l.Layer);
-    in.FBO->ActivateDrawBuffers(1);
-    in.VisibilityQuad->Render();
+    if (ss::VisibilitySolver* solver = in.SolverFor(l.Method))
+    {
+      solver->Compute(frame, l);
+    }
   }
-  TextureArray::Unbind(win, shadowUnit);
-  in.GBuf.Normal->Deactivate();
-  in.GBuf.Position->Deactivate();
-  TextureArray::Detach();
-  in.FBO->RemoveColorAttachments(1);
-  ostate->PopFramebufferBindings();
-  in.Timings.Finish();
-  in.Timings.Set("visibility", Seconds(tStage, Clock::now()));
-  this->SolvePVSM(s);
+  for (const auto& solver : in.Solvers)
+  {
+    solver->EndFrame(frame);
+  }
   this->SolveHardAverage(win, receivers, casters, S);
   this->SolveOnTriangles(win);
-}
-
-//------------------------------------------------------------------------------
-// The full-screen visibility program (hard, PCF, PCSS) readied with the
-// G-buffer and the shadow-map array bound and every uniform that does not
-// depend on the light; null (with an error) when it does not build.
-vtkShaderProgram* vtkSoftShadowPass::ReadyVisibilityProgram(
-  vtkOpenGLRenderWindow* win, int mapSize, int& shadowUnit)
-{
-  auto& in = *this->Internals;
-  static const std::string visibilityFS = WithCommon(ssVisibilityFS);
-  vtkShaderProgram* prog = ReadyQuad(in.VisibilityQuad, win, visibilityFS.c_str());
-  if (!prog)
-  {
-    vtkErrorMacro("Could not build the visibility program.");
-    return nullptr;
-  }
-  in.GBuf.Position->Activate();
-  in.GBuf.Normal->Activate();
-  shadowUnit = in.Shadow.Bind(win);
-  prog->SetUniformi("gPosition", in.GBuf.Position->GetTextureUnit());
-  prog->SetUniformi("gNormal", in.GBuf.Normal->GetTextureUnit());
-  prog->SetUniformi("shadowMaps", shadowUnit);
-  prog->SetUniformf("mapSize", static_cast<float>(mapSize));
-  prog->SetUniformi("numLevels", in.Shadow.Levels);
-  prog->SetUniformi("searchSamples", this->BlockerSearchSamples);
-  prog->SetUniformi("maxQuads", this->FilterMaxQuads);
-  prog->SetUniformf("pcfRadius", static_cast<float>(this->PCFRadius));
-  prog->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
-  prog->SetUniformf("slopeBias", static_cast<float>(this->SlopeBias));
-  return prog;
 }
 
 //------------------------------------------------------------------------------
@@ -911,6 +760,8 @@ void vtkSoftShadowPass::SolveHardAverage(
   }
   const auto tStage = Clock::now();
   vtkOpenGLState* ostate = win->GetState();
+  ss::SolverFrame frame = in.MakeFrame(nullptr, win, this);
+  auto* hard = static_cast<ss::ShadowMapSolver*>(in.SolverFor(ss::Method::Hard));
   const glm::dvec3 casterOffset = in.Casters.Origin - in.Frame.Origin;
   const std::size_t vertices = in.Casters.Triangles.size() / 3;
   long long maps = 0;
@@ -931,8 +782,7 @@ void vtkSoftShadowPass::SolveHardAverage(
     const float weight = 1.0f / static_cast<float>(k * k);
     ostate->vtkglViewport(0, 0, in.Frame.Width, in.Frame.Height);
     ostate->vtkglScissor(0, 0, in.Frame.Width, in.Frame.Height);
-    in.Visibility.Attach(in.FBO, 0, l.Layer);
-    in.FBO->ActivateDrawBuffers(1);
+    in.Visibility.Attach(in.FBO, l.Layer);
     ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
     ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
     for (int j = 0; j < k; ++j)
@@ -957,7 +807,7 @@ void vtkSoftShadowPass::SolveHardAverage(
         vtkShaderProgram* casterProgram = in.Casters.UseProgram(win);
         for (std::size_t v = 0; v < sl.Views.size(); ++v)
         {
-          in.Shadow.Attach(in.FBO, 0, l.FirstLayer + static_cast<int>(v));
+          in.Maps.Attach(in.FBO, l.FirstLayer + static_cast<int>(v));
           ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
           if (vertices > 0)
           {
@@ -968,25 +818,20 @@ void vtkSoftShadowPass::SolveHardAverage(
         TextureArray::Detach();
         // its hard test, added with weight 1/k^2
         int shadowUnit = -1;
-        vtkShaderProgram* prog = this->ReadyVisibilityProgram(win, S, shadowUnit);
+        vtkShaderProgram* prog = hard->ReadyProgram(frame, shadowUnit);
         if (!prog)
         {
           ostate->PopFramebufferBindings();
           return;
         }
-        SetLightUniforms(prog, sl);
-        prog->SetUniformi("method", static_cast<int>(ss::Method::Hard));
         ostate->vtkglViewport(0, 0, in.Frame.Width, in.Frame.Height);
         ostate->vtkglScissor(0, 0, in.Frame.Width, in.Frame.Height);
-        in.Visibility.Attach(in.FBO, 0, l.Layer);
-        in.FBO->ActivateDrawBuffers(1);
+        in.Visibility.Attach(in.FBO, l.Layer);
         ostate->vtkglBlendEquation(GL_FUNC_ADD);
         ostate->vtkglBlendFunc(GL_CONSTANT_COLOR, GL_ONE);
         glBlendColor(weight, weight, weight, weight);
-        in.VisibilityQuad->Render();
-        TextureArray::Unbind(win, shadowUnit);
-        in.GBuf.Normal->Deactivate();
-        in.GBuf.Position->Deactivate();
+        hard->DrawVisibility(prog, sl, ss::Method::Hard);
+        ss::ShadowMapSolver::ReleaseProgram(frame, shadowUnit);
       }
     }
   }
@@ -1000,371 +845,6 @@ void vtkSoftShadowPass::SolveHardAverage(
   in.Timings.Finish();
   in.Timings.Set("hard_average", Seconds(tStage, Clock::now()));
   in.HardAverageMaps = maps;
-}
-
-//------------------------------------------------------------------------------
-// PVSM (Shen, Guennebaud, Yang, Feng 2011), §5.2 steps 3-8 for every PVSM
-// light; steps 1 (G-buffer) and 2 (conservative low-resolution maps) ran
-// before. Per light: the kernel-shape buffer; per view: the SMTG, its pyramid
-// and kd-tree (Rendering/Core/ssPVSM), then each leaf tile rendered at its
-// predicted resolution and used at once by the pixels whose kernel reaches
-// it, merged by V·A / A; finally V into the light's visibility layer.
-void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
-{
-  auto& in = *this->Internals;
-  in.PVSMLights = 0;
-  bool any = false;
-  for (const auto& l : in.Frame.Lights)
-  {
-    any = any || (l.Layer >= 0 && l.Method == ss::Method::PVSM && !l.Views.empty());
-  }
-  if (!any)
-  {
-    in.LastPVSMStats = ss::PVSMStats{};
-    return;
-  }
-  vtkRenderer* ren = s->GetRenderer();
-  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
-  vtkOpenGLState* ostate = win->GetState();
-  const int W = in.Frame.Width, H = in.Frame.Height;
-  auto finish = [&]() {
-    if (this->MeasureTimings)
-    {
-      glFinish();
-    }
-  };
-  ss::PVSMStats st;
-  st.msGBuffer = in.Timings.Get("gbuffer");
-  st.msLowResSM = in.Timings.Get("shadow_maps");
-  st.quality = this->PVSMQuality;
-
-  // §5.1: the static metric when only the camera moved since the last frame:
-  // the same caster set and the same lights (a light that follows the camera
-  // moves with it, so its transformed position is part of the key)
-  std::ostringstream key;
-  key.precision(9);
-  key << in.Casters.Version;
-  for (const auto& l : in.Frame.Lights)
-  {
-    key << ';' << l.Light << ':' << l.Light->GetMTime() << ':' << l.Layer;
-    if (!l.Light->LightTypeIsSceneLight())
-    {
-      double p[3], f[3];
-      l.Light->GetTransformedPosition(p);
-      l.Light->GetTransformedFocalPoint(f);
-      key << ':' << p[0] << ',' << p[1] << ',' << p[2] << ',' << f[0] << ',' << f[1] << ',' << f[2];
-    }
-  }
-  const bool changed = key.str() != in.PVSMSceneKey;
-  in.PVSMSceneKey = key.str();
-  const ss::PerceptualMetric metric = ss::ChooseMetric(this->PVSMMetric, changed);
-  st.metric = ss::PerceptualMetricName(metric);
-  double rc[4], rhoEnd = 0.0;
-  ss::PerceptualRhoCubic(metric, rc, rhoEnd);
-  const float rhoCoeffs[4] = { static_cast<float>(rc[0]), static_cast<float>(rc[1]), static_cast<float>(rc[2]),
-    static_cast<float>(rc[3]) };
-
-  // resources
-  for (auto& k : in.Kernel)
-  {
-    EnsureTexture2D(win, k, W, H, 4);
-  }
-  EnsureTexture2D(win, in.Accum, W, H, 4);
-  int G = 4;
-  while (G < this->PVSMGridSize)
-  {
-    G *= 2;
-  }
-  in.Grid.Ensure(G, 1);
-  const GLint maxTexture = ss::QueryGLLimits().maxTextureSize;
-  int tileMax = std::min(this->PVSMMaxTileResolution, static_cast<int>(maxTexture));
-  int T = 64;
-  while (T < tileMax)
-  {
-    T *= 2;
-  }
-  T = std::min(T, static_cast<int>(maxTexture));
-  tileMax = std::min(tileMax, T);
-  in.Tile.Ensure(T, 1);
-  if (!in.EmptyVAO)
-  {
-    in.EmptyVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
-  }
-  GLfloat pointRange[2] = { 1.0f, 1.0f };
-  glGetFloatv(GL_POINT_SIZE_RANGE, pointRange);
-
-  // the camera: clip space -> world relative to the frame origin
-  vtkCamera* cam = ren->GetActiveCamera();
-  vtkNew<vtkMatrix4x4> relToClip, shift;
-  shift->Identity();
-  for (int r = 0; r < 3; ++r)
-  {
-    shift->SetElement(r, 3, in.Frame.Origin[r]);
-  }
-  vtkMatrix4x4::Multiply4x4(
-    cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1), shift, relToClip);
-  vtkNew<vtkMatrix4x4> clipToRel;
-  vtkMatrix4x4::Invert(relToClip, clipToRel);
-  // SetUniformMatrix hands VTK's row-major storage to GL as column-major:
-  // transpose so that GLSL's clipToRel * v is the product above
-  clipToRel->Transpose();
-
-  static const std::string kernelFS = WithCommon(ssPVSMKernelFS);
-  static const std::string filterFS = WithCommon(ssPVSMFilterFS);
-  const glm::dvec3 casterOffset = in.Casters.Origin - in.Frame.Origin;
-  const float screen[2] = { static_cast<float>(W), static_cast<float>(H) };
-
-  ostate->PushFramebufferBindings();
-  in.FBO->Bind();
-  in.FBO->RemoveDepthAttachment();
-  ostate->vtkglDisable(GL_DEPTH_TEST);
-  ostate->vtkglDisable(GL_CULL_FACE);
-  ostate->vtkglDisable(GL_BLEND);
-  auto target = [&](vtkTextureObject* t, int w, int h) {
-    in.FBO->RemoveColorAttachments(3);
-    in.FBO->AddColorAttachment(0, t);
-    in.FBO->ActivateDrawBuffers(1);
-    ostate->vtkglViewport(0, 0, w, h);
-    ostate->vtkglScissor(0, 0, w, h);
-  };
-  auto commonUniforms = [&](vtkShaderProgram* p, const ShadowLight& l, int shadowUnit) {
-    p->SetUniformi("gPosition", in.GBuf.Position->GetTextureUnit());
-    p->SetUniformi("gNormal", in.GBuf.Normal->GetTextureUnit());
-    p->SetUniformi("shadowMaps", shadowUnit);
-    p->SetUniformf("mapSize", static_cast<float>(in.Shadow.Size));
-    p->SetUniformi("numLevels", in.Shadow.Levels);
-    p->SetUniformi("searchSamples", this->BlockerSearchSamples);
-    p->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
-    SetLightUniforms(p, l);
-  };
-
-  for (auto& l : in.Frame.Lights)
-  {
-    if (l.Layer < 0 || l.Method != ss::Method::PVSM || l.Views.empty())
-    {
-      continue;
-    }
-    ++in.PVSMLights;
-    // --- step 3: kernel-shape buffer (blocker search, footprint, convolution, prediction)
-    auto t0 = Clock::now();
-    vtkShaderProgram* kp = ReadyQuad(in.KernelQuad, win, kernelFS.c_str());
-    if (!kp)
-    {
-      vtkErrorMacro("Could not build the PVSM kernel-shape program.");
-      break;
-    }
-    in.GBuf.Position->Activate();
-    in.GBuf.Normal->Activate();
-    int shadowUnit = in.Shadow.Bind(win);
-    commonUniforms(kp, l, shadowUnit);
-    kp->SetUniformMatrix("clipToRel", clipToRel);
-    kp->SetUniform2f("screenSize", screen);
-    kp->SetUniform4f("rhoCoeffs", rhoCoeffs);
-    kp->SetUniformf("rhoEnd", static_cast<float>(rhoEnd));
-    kp->SetUniformf("quality", static_cast<float>(this->PVSMQuality));
-    in.FBO->RemoveColorAttachments(3);
-    for (int i = 0; i < 3; ++i)
-    {
-      in.FBO->AddColorAttachment(static_cast<unsigned int>(i), in.Kernel[i]);
-    }
-    in.FBO->ActivateDrawBuffers(3);
-    ostate->vtkglViewport(0, 0, W, H);
-    ostate->vtkglScissor(0, 0, W, H);
-    in.KernelQuad->Render();
-    TextureArray::Unbind(win, shadowUnit);
-    finish();
-    auto t1 = Clock::now();
-    st.msKernel += Seconds(t0, t1);
-
-    target(in.Accum, W, H);
-    ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
-    ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-    for (int vi = 0; vi < static_cast<int>(l.Views.size()); ++vi)
-    {
-      const ss::ShadowView& view = l.Views[vi];
-      // --- step 4: the SMTG, one point per pixel, min-blended
-      t0 = Clock::now();
-      in.Grid.Attach(in.FBO, 0, 0);
-      ostate->vtkglViewport(0, 0, G, G);
-      ostate->vtkglScissor(0, 0, G, G);
-      ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-      in.GridProgram = win->GetShaderCache()->ReadyShaderProgram(ssPVSMGridVS, ssPVSMGridFS, "");
-      if (!in.GridProgram)
-      {
-        vtkErrorMacro("Could not build the PVSM tile-grid program.");
-        break;
-      }
-      for (int i = 0; i < 3; ++i)
-      {
-        in.Kernel[i]->Activate();
-      }
-      vtkShaderProgram* gp = in.GridProgram;
-      gp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
-      gp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
-      gp->SetUniformi("kernel2", in.Kernel[2]->GetTextureUnit());
-      gp->SetUniformi("screenWidth", W);
-      gp->SetUniformi("view", vi);
-      const float ext[4] = { static_cast<float>(view.extent.x0), static_cast<float>(view.extent.y0),
-        static_cast<float>(view.extent.x1), static_cast<float>(view.extent.y1) };
-      gp->SetUniform4f("extent", ext);
-      gp->SetUniformf("gridSize", static_cast<float>(G));
-      gp->SetUniformf("maxPointSize", std::min(pointRange[1], static_cast<float>(2 * G + 1)));
-      ostate->vtkglEnable(GL_BLEND);
-      ostate->vtkglBlendEquation(GL_MIN);
-      ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-      glEnable(GL_PROGRAM_POINT_SIZE);
-      in.EmptyVAO->Bind();
-      glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(W) * H);
-      in.EmptyVAO->Release();
-      glDisable(GL_PROGRAM_POINT_SIZE);
-      ostate->vtkglBlendEquation(GL_FUNC_ADD);
-      ostate->vtkglDisable(GL_BLEND);
-      // --- step 5: the SMTG pyramid on the GPU (the paper's one change to
-      // [GW07]), then all its levels (4/3 G^2 texels) to the host for the
-      // kd-tree of step 6
-      BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Grid, G, G, 1);
-      in.LastGridLevels.assign(static_cast<std::size_t>(in.Grid.Levels), {});
-      glPixelStorei(GL_PACK_ALIGNMENT, 1);
-      for (int level = 0; level < in.Grid.Levels; ++level)
-      {
-        const int sz = std::max(1, G >> level);
-        in.Grid.Attach(in.FBO, level, 0);
-        in.FBO->ActivateReadBuffer(0);
-        in.LastGridLevels[level].resize(static_cast<std::size_t>(sz) * sz * 2);
-        glReadPixels(0, 0, sz, sz, GL_RG, GL_FLOAT, in.LastGridLevels[level].data());
-      }
-      TextureArray::Detach();
-      const ss::TileGridPyramid pyramid(in.LastGridLevels, G);
-      const double extent[4] = { view.extent.x0, view.extent.y0, view.extent.x1, view.extent.y1 };
-      const std::vector<ss::ShadowTile> tiles = ss::BuildShadowTiles(pyramid, extent, tileMax);
-      t1 = Clock::now();
-      st.msTiling += Seconds(t0, t1);
-
-      for (const ss::ShadowTile& tile : tiles)
-      {
-        // --- step 7: the tile's shadow map at its predicted resolution
-        t0 = Clock::now();
-        in.Tile.Attach(in.FBO, 0, 0);
-        ostate->vtkglViewport(0, 0, tile.resX, tile.resY);
-        ostate->vtkglScissor(0, 0, tile.resX, tile.resY);
-        ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-        ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-        if (!in.Casters.Triangles.empty())
-        {
-          vtkShaderProgram* casterProgram = in.Casters.UseProgram(win);
-          ostate->vtkglEnable(GL_BLEND);
-          ostate->vtkglBlendEquation(GL_MIN);
-          ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-          const ss::Rect r{ tile.rect[0], tile.rect[1], tile.rect[2], tile.rect[3] };
-          if (this->PVSMTileCulling && in.Casters.HasClusters())
-          {
-            // only the clusters whose light-space bounds reach the tile; the
-            // pad (1e-3 of the tile) covers the GPU's float projection
-            const auto ranges = ss::VisibleTriangleRanges(in.Casters.Clusters, view, casterOffset, r, 1e-3);
-            for (const auto& range : ranges)
-            {
-              st.tileTrianglesDrawn += static_cast<double>(range.second);
-            }
-            in.Casters.Draw(casterProgram, in.Casters.GetVertexArray(), view, r, casterOffset, &ranges);
-          }
-          else
-          {
-            st.tileTrianglesDrawn += static_cast<double>(in.NumberOfTriangles());
-            in.Casters.Draw(casterProgram, in.Casters.GetVertexArray(), view, r, casterOffset);
-          }
-          ostate->vtkglBlendEquation(GL_FUNC_ADD);
-          ostate->vtkglDisable(GL_BLEND);
-        }
-        BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Tile, tile.resX, tile.resY);
-        TextureArray::Detach();
-        finish();
-        t1 = Clock::now();
-        st.msTileSM += Seconds(t0, t1);
-        st.texelsRendered += static_cast<double>(tile.resX) * tile.resY;
-        st.tileResolutions.emplace_back(tile.resX, tile.resY);
-        st.clampedTiles += tile.clamped ? 1 : 0;
-
-        // --- step 8: filtering of the pixels whose kernel reaches the tile
-        vtkShaderProgram* fp = ReadyQuad(in.FilterQuad, win, filterFS.c_str());
-        if (!fp)
-        {
-          vtkErrorMacro("Could not build the PVSM filter program.");
-          break;
-        }
-        target(in.Accum, W, H);
-        const int tileUnit = in.Tile.Bind(win);
-        commonUniforms(fp, l, -1);
-        fp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
-        fp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
-        fp->SetUniformi("kernel2", in.Kernel[2]->GetTextureUnit());
-        fp->SetUniformi("tileMap", tileUnit);
-        const float tr[4] = { static_cast<float>(tile.rect[0]), static_cast<float>(tile.rect[1]),
-          static_cast<float>(tile.rect[2]), static_cast<float>(tile.rect[3]) };
-        fp->SetUniform4f("tileRect", tr);
-        const float res[2] = { static_cast<float>(tile.resX), static_cast<float>(tile.resY) };
-        fp->SetUniform2f("tileRes", res);
-        int levels = 1;
-        while ((std::max(tile.resX, tile.resY) >> levels) > 0 && levels < in.Tile.Levels)
-        {
-          ++levels;
-        }
-        fp->SetUniformi("tileLevels", levels);
-        fp->SetUniformi("view", vi);
-        fp->SetUniformi("maxQuads", this->FilterMaxQuads);
-        fp->SetUniformf("nearFraction", static_cast<float>(ss::ReachParams{}.nearFraction));
-        ostate->vtkglEnable(GL_BLEND);
-        ostate->vtkglBlendEquation(GL_FUNC_ADD);
-        ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-        in.FilterQuad->Render();
-        ostate->vtkglDisable(GL_BLEND);
-        TextureArray::Unbind(win, tileUnit);
-        finish();
-        st.msFiltering += Seconds(t1, Clock::now());
-      }
-      st.tiles += tiles.size();
-      for (int i = 0; i < 3; ++i)
-      {
-        in.Kernel[i]->Deactivate();
-      }
-    }
-    // --- V = (V·A) / A into the light's visibility layer
-    t0 = Clock::now();
-    vtkShaderProgram* rp = ReadyQuad(in.ResolveQuad, win, ssPVSMResolveFS);
-    if (rp)
-    {
-      in.Kernel[0]->Activate();
-      in.Kernel[1]->Activate();
-      in.Accum->Activate();
-      rp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
-      rp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
-      rp->SetUniformi("accum", in.Accum->GetTextureUnit());
-      in.Visibility.Attach(in.FBO, 0, l.Layer);
-      in.FBO->ActivateDrawBuffers(1);
-      ostate->vtkglViewport(0, 0, W, H);
-      ostate->vtkglScissor(0, 0, W, H);
-      in.ResolveQuad->Render();
-      in.Accum->Deactivate();
-      in.Kernel[1]->Deactivate();
-      in.Kernel[0]->Deactivate();
-    }
-    else
-    {
-      vtkErrorMacro("Could not build the PVSM resolve program.");
-    }
-    in.GBuf.Normal->Deactivate();
-    in.GBuf.Position->Deactivate();
-    finish();
-    st.msFiltering += Seconds(t0, Clock::now());
-  }
-  TextureArray::Detach();
-  in.FBO->RemoveColorAttachments(3);
-  ostate->PopFramebufferBindings();
-  st.shadowMemoryBytes = static_cast<double>(in.Shadow.Bytes() + in.Tile.Bytes()) +
-    static_cast<double>(G) * G * 8 + static_cast<double>(W) * H * (3 * 16 + 8);
-  st.msTotal = st.msGBuffer + st.msLowResSM + st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
-  in.LastPVSMStats = st;
-  in.Timings.Set("pvsm", st.msKernel + st.msTiling + st.msTileSM + st.msFiltering);
 }
 
 //------------------------------------------------------------------------------
@@ -1437,7 +917,7 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
   double msRef = 0.0, msGears = 0.0;
   for (const auto& l : in.Frame.Lights)
   {
-    if (l.Layer < 0 || !ss::IsTriangleSolver(l.Method))
+    if (l.Layer < 0 || !(l.Method == ss::Method::Reference || l.Method == ss::Method::GEARS))
     {
       continue;
     }
@@ -1487,14 +967,7 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
       in.AccumulateGearsStats(st);
       msGears += Seconds(tl, Clock::now());
     }
-    for (auto& v : V)
-    {
-      v = std::isnan(v) ? -1.0f : v; // background marker, as the GPU solvers write
-    }
-    glBindTexture(GL_TEXTURE_2D_ARRAY, in.Visibility.Handle);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, l.Layer, in.Frame.Width, in.Frame.Height, 1, GL_RED, GL_FLOAT, V.data());
-    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+    in.Visibility.Upload(l.Layer, V);
   }
   in.LastReferenceStats.raysPerSecond = in.LastReferenceStats.milliseconds > 0
     ? in.LastReferenceStats.rays / (in.LastReferenceStats.milliseconds * 1e-3)
@@ -1509,15 +982,6 @@ void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
   }
 }
 
-//------------------------------------------------------------------------------
-void vtkSoftShadowPass::BuildMinPyramid(vtkOpenGLRenderWindow* win)
-{
-  auto& in = *this->Internals;
-  if (!BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Shadow, in.Shadow.Size, in.Shadow.Size))
-  {
-    vtkErrorMacro("Could not build the min-depth reduction program.");
-  }
-}
 
 //------------------------------------------------------------------------------
 bool vtkSoftShadowPass::PreReplaceShaderValues(std::string&, std::string&, std::string&,
@@ -1640,7 +1104,7 @@ bool vtkSoftShadowPass::SetShaderParameters(
   // Samplers always point at the bound textures: two sampler types left on
   // unit 0 make every draw of that shader fail (GL_INVALID_OPERATION).
   program->SetUniformi("ssGPosition", in.GBuf.Position->GetTextureUnit());
-  program->SetUniformi("ssVisTex", in.VisibilityUnit);
+  program->SetUniformi("ssVisTex", in.Visibility.GetShadingUnit());
   if (use)
   {
     const float vo[2] = { static_cast<float>(in.Frame.ViewportOrigin[0]),
@@ -1707,9 +1171,9 @@ bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
   {
     return false;
   }
-  std::vector<float> v(static_cast<std::size_t>(in.Frame.Width) * in.Frame.Height);
-  if (in.Visibility.Width != in.Frame.Width || in.Visibility.Height != in.Frame.Height ||
-    !in.Visibility.Read(in.Window, in.FBO, shadowLight, v.data()))
+  std::vector<float> v;
+  if (in.Visibility.GetWidth() != in.Frame.Width || in.Visibility.GetHeight() != in.Frame.Height ||
+    !in.Visibility.Read(in.Window, in.FBO, shadowLight, v))
   {
     return false;
   }
@@ -1777,17 +1241,19 @@ bool vtkSoftShadowPass::GetDiffuseCosineImage(int shadowLight, vtkFloatArray* ou
 
 int vtkSoftShadowPass::GetLastPVSMTileGridLevels()
 {
-  return static_cast<int>(this->Internals->LastGridLevels.size());
+  auto* pvsm = dynamic_cast<ss::PVSMSolver*>(this->Internals->SolverFor(ss::Method::PVSM));
+  return pvsm ? static_cast<int>(pvsm->GetLastTileGridLevels().size()) : 0;
 }
 
 bool vtkSoftShadowPass::GetLastPVSMTileGridLevel(int level, vtkFloatArray* out)
 {
-  const auto& levels = this->Internals->LastGridLevels;
-  if (!out || level < 0 || level >= static_cast<int>(levels.size()))
+  auto* pvsm = dynamic_cast<ss::PVSMSolver*>(this->Internals->SolverFor(ss::Method::PVSM));
+  const auto* levels = pvsm ? &pvsm->GetLastTileGridLevels() : nullptr;
+  if (!levels || !out || level < 0 || level >= static_cast<int>(levels->size()))
   {
     return false;
   }
-  const std::vector<float>& l = levels[static_cast<std::size_t>(level)];
+  const std::vector<float>& l = (*levels)[static_cast<std::size_t>(level)];
   out->SetNumberOfComponents(2);
   out->SetNumberOfTuples(static_cast<vtkIdType>(l.size() / 2));
   std::copy(l.begin(), l.end(), out->GetPointer(0));
@@ -1798,14 +1264,15 @@ bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFl
 {
   vtkInternals& in = *this->Internals;
   auto* ow = vtkOpenGLRenderWindow::SafeDownCast(win);
-  if (!ow || !out || !in.FBO || !in.Shadow.Handle || layer < 0 || layer >= in.Shadow.Layers)
+  const ss::TextureArray& maps = in.Maps.GetArray();
+  if (!ow || !out || !in.FBO || !maps.Handle || layer < 0 || layer >= maps.Layers)
   {
     return false;
   }
-  const int S = in.Shadow.Size;
+  const int S = maps.Size;
   out->SetNumberOfComponents(2);
   out->SetNumberOfTuples(static_cast<vtkIdType>(S) * S);
-  return in.Shadow.Read(ow, in.FBO, layer, out->GetPointer(0));
+  return in.Maps.Read(ow, in.FBO, layer, out->GetPointer(0));
 }
 
 int vtkSoftShadowPass::GetLastWidth()
@@ -1847,32 +1314,46 @@ std::string vtkSoftShadowPass::GetStatsJSON()
   st.SkippedTriangles = in.Casters.Skipped;
   std::ostringstream o;
   o.precision(17);
-  o << "{\"samples_per_axis\": " << this->ReferenceSamples << ", \"rays\": " << in.LastReferenceStats.rays
-    << ", \"rays_per_second\": " << in.LastReferenceStats.raysPerSecond << "}";
-  st.Solvers.emplace_back("reference", o.str());
-  o.str("");
-  o << "{\"samples_per_axis\": " << this->GearsSamples << ", \"grid\": " << this->GearsGrid
-    << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \"" << in.GearsBackendUsed << "\", \"backend_requested\": \""
-    << (this->GearsBackend == GEARS_BACKEND_GL ? "gl" : "cpu") << "\", \"backend_note\": \""
-    << ss::JSONEscape(in.GearsBackendNote) << "\""
-    << ", \"lights\": " << in.GearsLights
-    << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}";
-  st.Solvers.emplace_back("gears", o.str());
-  o.str("");
-  o << "{\"lights\": " << in.PVSMLights << ", \"low_resolution\": " << this->PVSMLowResolution
-    << ", \"grid\": " << this->PVSMGridSize << ", \"max_tile\": " << this->PVSMMaxTileResolution
-    << ", \"stats\": " << ss::PVSMStatsToJSON(in.LastPVSMStats) << "}";
-  st.Solvers.emplace_back("pvsm", o.str());
-  o.str("");
-  o << "{\"samples_per_axis\": " << this->AverageSamples << ", \"maps\": " << in.HardAverageMaps << "}";
-  st.Solvers.emplace_back("hardavg", o.str());
-  st.ShadowMapSize = in.Shadow.Size;
-  st.ShadowMapSizeNote = in.ShadowMapSizeNote;
+  for (const auto& entry : ss::SolverRegistry())
+  {
+    o.str("");
+    if (ss::VisibilitySolver* solver = in.SolverFor(entry.Method))
+    {
+      solver->Configure(this);
+      if (!solver->GetStatsJSON().empty())
+      {
+        st.Solvers.emplace_back(entry.Name, solver->GetStatsJSON());
+      }
+    }
+    else if (entry.Method == ss::Method::Reference)
+    {
+      o << "{\"samples_per_axis\": " << this->ReferenceSamples << ", \"rays\": " << in.LastReferenceStats.rays
+        << ", \"rays_per_second\": " << in.LastReferenceStats.raysPerSecond << "}";
+      st.Solvers.emplace_back("reference", o.str());
+    }
+    else if (entry.Method == ss::Method::GEARS)
+    {
+      o << "{\"samples_per_axis\": " << this->GearsSamples << ", \"grid\": " << this->GearsGrid
+        << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \"" << in.GearsBackendUsed << "\", \"backend_requested\": \""
+        << (this->GearsBackend == GEARS_BACKEND_GL ? "gl" : "cpu") << "\", \"backend_note\": \""
+        << ss::JSONEscape(in.GearsBackendNote) << "\""
+        << ", \"lights\": " << in.GearsLights
+        << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}";
+      st.Solvers.emplace_back("gears", o.str());
+    }
+    else if (entry.Method == ss::Method::HardAverage)
+    {
+      o << "{\"samples_per_axis\": " << this->AverageSamples << ", \"maps\": " << in.HardAverageMaps << "}";
+      st.Solvers.emplace_back("hardavg", o.str());
+    }
+  }
+  st.ShadowMapSize = in.Maps.GetArray().Size;
+  st.ShadowMapSizeNote = in.Maps.GetSizeNote();
   for (const auto& l : in.Frame.Lights)
   {
     o.str("");
     o << "{\"shader_index\": " << l.ShaderIndex
-      << ", \"method\": \"" << ss::MethodName(l.Method) << "\", \"views\": " << l.Views.size()
+      << ", \"method\": \"" << GetMethodName(static_cast<int>(l.Method)) << "\", \"views\": " << l.Views.size()
       << ", \"cube\": " << (l.ViewInfo.cube ? "true" : "false")
       << ", \"clamped\": " << (l.ViewInfo.clamped ? "true" : "false") << "}";
     st.Lights.push_back(o.str());

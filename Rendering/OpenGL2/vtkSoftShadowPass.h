@@ -79,8 +79,11 @@ public:
   /**
    * The visibility solver used for every shadow-casting light.
    */
-  vtkSetClampMacro(Method, int, AUTO, HARDAVG);
+  virtual void SetMethod(int method);
   vtkGetMacro(Method, int);
+  /** SetMethod clamps to this range: every registered method (ssSolverRegistry). */
+  virtual int GetMethodMinValue();
+  virtual int GetMethodMaxValue();
   /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
@@ -348,12 +351,9 @@ private:
 
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
-  void BuildMinPyramid(vtkOpenGLRenderWindow* win);
-  void SolveOnTriangles(vtkOpenGLRenderWindow* win);
-  void SolvePVSM(const vtkRenderState* s);
-  vtkShaderProgram* ReadyVisibilityProgram(vtkOpenGLRenderWindow* win, int mapSize, int& shadowUnit);
   void SolveHardAverage(
     vtkOpenGLRenderWindow* win, const ss::Box& receivers, const ss::Box& casters, int mapSize);
+  void SolveOnTriangles(vtkOpenGLRenderWindow* win);
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

@@ -1,0 +1,79 @@
+#include "ssSolverRegistry.h"
+
+#include "ssPVSMSolver.h"
+#include "ssShadowMapSolver.h"
+
+namespace ss
+{
+namespace
+{
+template <class SolverType>
+std::unique_ptr<VisibilitySolver> Make(Method m)
+{
+  return std::unique_ptr<VisibilitySolver>(new SolverType(m));
+}
+}
+
+const std::vector<SolverEntry>& SolverRegistry()
+{
+  // One line per method. The planner rule says when method auto picks it
+  // (ssEffectPlanner.cxx, MakeEffectPlan): at most one method per rule.
+  static const std::vector<SolverEntry> table = {
+    // name       method               solver factory           planner rule              translucent casters
+    { "auto",      Method::Auto,        nullptr,                 PlannerRule::OnRequest,   false },
+    { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,   false },
+    { "hard",      Method::Hard,        Make<ShadowMapSolver>,   PlannerRule::HardLights,  false },
+    { "pcf",       Method::PCF,         Make<ShadowMapSolver>,   PlannerRule::OnRequest,   false },
+    { "pcss",      Method::PCSS,        Make<ShadowMapSolver>,   PlannerRule::SoftLights,  false },
+    { "reference", Method::Reference,   nullptr,                 PlannerRule::OnRequest,   true },
+    { "gears",     Method::GEARS,       nullptr,                 PlannerRule::OnRequest,   true },
+    { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,   false },
+    { "hardavg",   Method::HardAverage, nullptr,                 PlannerRule::OnRequest,   false },
+  };
+  return table;
+}
+
+const SolverEntry* FindSolverEntry(Method m)
+{
+  for (const auto& e : SolverRegistry())
+  {
+    if (e.Method == m)
+    {
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
+const SolverEntry* FindSolverEntry(const std::string& name)
+{
+  for (const auto& e : SolverRegistry())
+  {
+    if (name == e.Name)
+    {
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
+std::vector<MethodInfo> PlannerMethods()
+{
+  std::vector<MethodInfo> methods;
+  for (const auto& e : SolverRegistry())
+  {
+    methods.push_back({ e.Method, e.Name, e.Rule, e.TranslucentCasters });
+  }
+  return methods;
+}
+
+int MaxMethodNumber()
+{
+  int m = 0;
+  for (const auto& e : SolverRegistry())
+  {
+    m = std::max(m, static_cast<int>(e.Method));
+  }
+  return m;
+}
+}
