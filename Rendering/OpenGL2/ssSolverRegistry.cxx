@@ -1,5 +1,6 @@
 #include "ssSolverRegistry.h"
 
+#include "ssHardAverageSolver.h"
 #include "ssPVSMSolver.h"
 #include "ssShadowMapSolver.h"
 
@@ -28,7 +29,7 @@ const std::vector<SolverEntry>& SolverRegistry()
     { "reference", Method::Reference,   nullptr,                 PlannerRule::OnRequest,   true },
     { "gears",     Method::GEARS,       nullptr,                 PlannerRule::OnRequest,   true },
     { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,   false },
-    { "hardavg",   Method::HardAverage, nullptr,                 PlannerRule::OnRequest,   false },
+    { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,   false },
   };
   return table;
 }

@@ -159,7 +159,6 @@ public:
     return f;
   }
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
-  long long HardAverageMaps = 0; // hard maps rendered by HARDAVG in the last frame
 
   // --- per-frame state
   Stage CurrentStage = Stage::Idle;
@@ -625,7 +624,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.Solvers[i]->Configure(this);
     in.Solvers[i]->BeginFrame(frame, lightsOf[i]);
   }
-  // (legacy: hardavg and the triangle solvers are not solvers yet)
+  // (legacy: the triangle solvers are not solvers yet)
   auto usesMaps = [&](const ShadowLight& l) {
     ss::VisibilitySolver* solver = in.SolverFor(l.Method);
     return solver ? solver->UsesShadowMaps() : !(l.Method == ss::Method::Reference || l.Method == ss::Method::GEARS);
@@ -734,117 +733,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   {
     solver->EndFrame(frame);
   }
-  this->SolveHardAverage(win, receivers, casters, S);
   this->SolveOnTriangles(win);
-}
-
-//------------------------------------------------------------------------------
-// The brute-force soft shadow PVSM §6 measures itself against: one hard shadow
-// map per sample of a regular k x k grid over the light (ss::LightSampleFrame),
-// each used at once by the hard test of the visibility shader and summed with
-// weight 1/k^2 into the light's visibility layer. Cost grows with k^2 maps of
-// ShadowMapSize^2; memory stays one map.
-void vtkSoftShadowPass::SolveHardAverage(
-  vtkOpenGLRenderWindow* win, const ss::Box& receivers, const ss::Box& casters, int S)
-{
-  auto& in = *this->Internals;
-  in.HardAverageMaps = 0;
-  bool any = false;
-  for (const auto& l : in.Frame.Lights)
-  {
-    any = any || (l.Layer >= 0 && l.Method == ss::Method::HardAverage);
-  }
-  if (!any)
-  {
-    return;
-  }
-  const auto tStage = Clock::now();
-  vtkOpenGLState* ostate = win->GetState();
-  ss::SolverFrame frame = in.MakeFrame(nullptr, win, this);
-  auto* hard = static_cast<ss::ShadowMapSolver*>(in.SolverFor(ss::Method::Hard));
-  const glm::dvec3 casterOffset = in.Casters.Origin - in.Frame.Origin;
-  const std::size_t vertices = in.Casters.Triangles.size() / 3;
-  long long maps = 0;
-  ostate->PushFramebufferBindings();
-  in.FBO->Bind();
-  in.FBO->RemoveDepthAttachment();
-  ostate->vtkglDisable(GL_DEPTH_TEST);
-  ostate->vtkglDisable(GL_CULL_FACE);
-  ostate->vtkglEnable(GL_BLEND);
-  for (const auto& l : in.Frame.Lights)
-  {
-    if (l.Layer < 0 || l.Method != ss::Method::HardAverage)
-    {
-      continue;
-    }
-    // a point light has one sample; every other light k x k
-    const int k = l.Frame.IsSoft() ? this->AverageSamples : 1;
-    const float weight = 1.0f / static_cast<float>(k * k);
-    ostate->vtkglViewport(0, 0, in.Frame.Width, in.Frame.Height);
-    ostate->vtkglScissor(0, 0, in.Frame.Width, in.Frame.Height);
-    in.Visibility.Attach(in.FBO, l.Layer);
-    ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
-    ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-    for (int j = 0; j < k; ++j)
-    {
-      for (int i = 0; i < k; ++i)
-      {
-        ShadowLight sl = l;
-        sl.Frame = ss::LightSampleFrame(l.Frame, i, j, k);
-        ss::LightViewInfo info;
-        sl.Views = ss::MakeLightViews(sl.Frame, receivers, casters, info);
-        if (sl.Views.size() > l.Views.size())
-        {
-          vtkErrorMacro("A light sample needs more shadow-map views than its light; sample skipped.");
-          continue;
-        }
-        // the sample's hard map (min-blended linear depth, as every map)
-        ostate->vtkglViewport(0, 0, S, S);
-        ostate->vtkglScissor(0, 0, S, S);
-        ostate->vtkglBlendEquation(GL_MIN);
-        ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-        ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-        vtkShaderProgram* casterProgram = in.Casters.UseProgram(win);
-        for (std::size_t v = 0; v < sl.Views.size(); ++v)
-        {
-          in.Maps.Attach(in.FBO, l.FirstLayer + static_cast<int>(v));
-          ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-          if (vertices > 0)
-          {
-            in.Casters.Draw(casterProgram, in.Casters.GetVertexArray(), sl.Views[v], sl.Views[v].extent, casterOffset);
-          }
-          ++maps;
-        }
-        TextureArray::Detach();
-        // its hard test, added with weight 1/k^2
-        int shadowUnit = -1;
-        vtkShaderProgram* prog = hard->ReadyProgram(frame, shadowUnit);
-        if (!prog)
-        {
-          ostate->PopFramebufferBindings();
-          return;
-        }
-        ostate->vtkglViewport(0, 0, in.Frame.Width, in.Frame.Height);
-        ostate->vtkglScissor(0, 0, in.Frame.Width, in.Frame.Height);
-        in.Visibility.Attach(in.FBO, l.Layer);
-        ostate->vtkglBlendEquation(GL_FUNC_ADD);
-        ostate->vtkglBlendFunc(GL_CONSTANT_COLOR, GL_ONE);
-        glBlendColor(weight, weight, weight, weight);
-        hard->DrawVisibility(prog, sl, ss::Method::Hard);
-        ss::ShadowMapSolver::ReleaseProgram(frame, shadowUnit);
-      }
-    }
-  }
-  glBlendColor(0.f, 0.f, 0.f, 0.f);
-  ostate->vtkglBlendEquation(GL_FUNC_ADD);
-  ostate->vtkglBlendFunc(GL_ONE, GL_ZERO);
-  ostate->vtkglDisable(GL_BLEND);
-  TextureArray::Detach();
-  in.FBO->RemoveColorAttachments(1);
-  ostate->PopFramebufferBindings();
-  in.Timings.Finish();
-  in.Timings.Set("hard_average", Seconds(tStage, Clock::now()));
-  in.HardAverageMaps = maps;
 }
 
 //------------------------------------------------------------------------------
@@ -1340,11 +1229,6 @@ std::string vtkSoftShadowPass::GetStatsJSON()
         << ", \"lights\": " << in.GearsLights
         << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}";
       st.Solvers.emplace_back("gears", o.str());
-    }
-    else if (entry.Method == ss::Method::HardAverage)
-    {
-      o << "{\"samples_per_axis\": " << this->AverageSamples << ", \"maps\": " << in.HardAverageMaps << "}";
-      st.Solvers.emplace_back("hardavg", o.str());
     }
   }
   st.ShadowMapSize = in.Maps.GetArray().Size;

@@ -351,8 +351,6 @@ private:
 
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
-  void SolveHardAverage(
-    vtkOpenGLRenderWindow* win, const ss::Box& receivers, const ss::Box& casters, int mapSize);
   void SolveOnTriangles(vtkOpenGLRenderWindow* win);
 
   class vtkInternals;
