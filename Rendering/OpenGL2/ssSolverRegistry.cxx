@@ -3,6 +3,7 @@
 #include "ssHardAverageSolver.h"
 #include "ssPVSMSolver.h"
 #include "ssShadowMapSolver.h"
+#include "ssTriangleSolver.h"
 
 namespace ss
 {
@@ -26,8 +27,8 @@ const std::vector<SolverEntry>& SolverRegistry()
     { "hard",      Method::Hard,        Make<ShadowMapSolver>,   PlannerRule::HardLights,  false },
     { "pcf",       Method::PCF,         Make<ShadowMapSolver>,   PlannerRule::OnRequest,   false },
     { "pcss",      Method::PCSS,        Make<ShadowMapSolver>,   PlannerRule::SoftLights,  false },
-    { "reference", Method::Reference,   nullptr,                 PlannerRule::OnRequest,   true },
-    { "gears",     Method::GEARS,       nullptr,                 PlannerRule::OnRequest,   true },
+    { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
+    { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
     { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,   false },
     { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,   false },
   };

@@ -63,6 +63,7 @@
 #include "ssShadowMapSolver.h"
 #include "ssShadowMaps.h"
 #include "ssSolverRegistry.h"
+#include "ssTriangleSolver.h"
 #include "ssVisibilityLayers.h"
 #include "ssVisibilitySolver.h"
 #include "ssFullScreenQuad.h"
@@ -173,48 +174,6 @@ public:
 
   // --- caster set (world triangles relative to Casters.Origin)
   ss::CasterSet Casters;
-  // Ray-traced reference (CPU): its scene is rebuilt when the caster set changes.
-  std::unique_ptr<ss::ReferenceSolver> Reference;
-  unsigned long ReferenceVersion = 0;
-  ss::ReferenceStats LastReferenceStats;
-  // GEARS (CPU): its triangles are re-read when the caster set changes.
-  std::unique_ptr<ss::GearsSolver> Gears;
-  unsigned long GearsVersion = 0;
-  // GEARS (GL compute backend, ssGearsGL): the backend the last frame used,
-  // and why it was not the one asked for.
-  std::unique_ptr<ss::GearsGL> GearsGL;
-  std::string GearsBackendUsed = "cpu";
-  std::string GearsBackendNote;
-  std::string GearsWarned;
-  ss::GearsStats LastGearsStats; // summed over the GEARS lights of the frame
-  int GearsLights = 0;
-  void AccumulateGearsStats(const ss::GearsStats& st)
-  {
-    ss::GearsStats& a = LastGearsStats;
-    a.msProject += st.msProject;
-    a.msPrefixSum += st.msPrefixSum;
-    a.msRelate += st.msRelate;
-    a.msSort += st.msSort;
-    a.msRaster += st.msRaster;
-    a.msTotal += st.msTotal;
-    a.triangles = st.triangles;
-    a.samples += st.samples;
-    a.gridCells += st.gridCells;
-    a.nonEmptyCells += st.nonEmptyCells;
-    a.pairs += st.pairs;
-    a.trianglesPerCellMax = std::max(a.trianglesPerCellMax, st.trianglesPerCellMax);
-    a.samplesPerCellMax = std::max(a.samplesPerCellMax, st.samplesPerCellMax);
-    a.assignmentsTotal += st.assignmentsTotal;
-    a.assignmentsNecessary = st.assignmentsNecessary < 0 ? -1.0
-      : std::max(a.assignmentsNecessary, 0.0) + st.assignmentsNecessary;
-    a.fullGridTriangles += st.fullGridTriangles;
-    a.lutFallbacks += st.lutFallbacks;
-    ++GearsLights;
-    // averages over all non-empty cells of the frame's GEARS lights
-    a.trianglesPerCellAvg = (a.trianglesPerCellAvg * (a.nonEmptyCells - st.nonEmptyCells) +
-                              st.trianglesPerCellAvg * st.nonEmptyCells) / std::max<std::size_t>(a.nonEmptyCells, 1);
-    a.samplesPerCellAvg = a.nonEmptyCells ? static_cast<double>(a.samples) / a.nonEmptyCells : 0.0;
-  }
   std::size_t NumberOfTriangles() const { return this->Casters.NumberOfTriangles(); }
 
   int CountResources() const
@@ -254,11 +213,6 @@ public:
       this->FBO = nullptr;
     }
     this->Casters.ReleaseGraphicsResources();
-    if (this->GearsGL)
-    {
-      this->GearsGL->ReleaseGraphicsResources();
-      this->GearsGL.reset();
-    }
     this->HaveResults = false;
     this->LastSignature.clear();
   }
@@ -624,15 +578,6 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.Solvers[i]->Configure(this);
     in.Solvers[i]->BeginFrame(frame, lightsOf[i]);
   }
-  // (legacy: the triangle solvers are not solvers yet)
-  auto usesMaps = [&](const ShadowLight& l) {
-    ss::VisibilitySolver* solver = in.SolverFor(l.Method);
-    return solver ? solver->UsesShadowMaps() : !(l.Method == ss::Method::Reference || l.Method == ss::Method::GEARS);
-  };
-  auto askedSize = [&](const ShadowLight& l) {
-    ss::VisibilitySolver* solver = in.SolverFor(l.Method);
-    return solver ? solver->GetShadowMapSize() : this->ShadowMapSize;
-  };
 
   // --- whole-view shadow maps: views fitted to the receivers (relative
   // coordinates), one shared array
@@ -647,14 +592,15 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       continue;
     }
     ++numShadowLights;
-    if (!usesMaps(l))
+    ss::VisibilitySolver* solver = in.SolverFor(l.Method);
+    if (!solver->UsesShadowMaps())
     {
       l.Views.clear();
       continue;
     }
     ss::FitShadowViews(l, receivers, casters, in.Casters, in.Frame.Origin);
     totalViews += static_cast<int>(l.Views.size());
-    asked.push_back(askedSize(l));
+    asked.push_back(solver->GetShadowMapSize());
   }
   const ss::GLLimits limits = ss::QueryGLLimits();
   const int S = in.Maps.ChooseSize(asked, this->ShadowMapSize, limits.maxTextureSize, this);
@@ -733,144 +679,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   {
     solver->EndFrame(frame);
   }
-  this->SolveOnTriangles(win);
 }
-
-//------------------------------------------------------------------------------
-// Solvers that work on the caster triangles rather than a shadow map: the
-// ground truth (k x k shadow rays per pixel, Embree) and GEARS (triangles
-// assigned to pixels by a grid, k x k bitmasks). Both read the G-buffer's
-// positions and normals and write the light's visibility layer, so shading
-// and readback are the same as for the shadow-map solvers.
-void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
-{
-  auto& in = *this->Internals;
-  bool anyRef = false, anyGears = false;
-  for (const auto& l : in.Frame.Lights)
-  {
-    anyRef = anyRef || (l.Layer >= 0 && l.Method == ss::Method::Reference);
-    anyGears = anyGears || (l.Layer >= 0 && l.Method == ss::Method::GEARS);
-  }
-  in.LastReferenceStats = ss::ReferenceStats{};
-  in.LastGearsStats = ss::GearsStats{};
-  in.GearsLights = 0;
-  in.GearsBackendUsed = "cpu";
-  in.GearsBackendNote.clear();
-  if (!anyRef && !anyGears)
-  {
-    return;
-  }
-  const auto t0 = Clock::now();
-  std::vector<glm::dvec3> verts;
-  auto worldTriangles = [&]() -> const std::vector<glm::dvec3>& {
-    if (verts.empty())
-    {
-      verts = in.Casters.WorldVertices();
-    }
-    return verts;
-  };
-  if (anyRef && (!in.Reference || in.ReferenceVersion != in.Casters.Version))
-  {
-    if (!in.Reference)
-    {
-      in.Reference.reset(new ss::ReferenceSolver);
-    }
-    in.Reference->SetTriangles(worldTriangles(), in.Casters.Opacity);
-    in.ReferenceVersion = in.Casters.Version;
-  }
-  if (anyGears && (!in.Gears || in.GearsVersion != in.Casters.Version))
-  {
-    if (!in.Gears)
-    {
-      in.Gears.reset(new ss::GearsSolver);
-    }
-    in.Gears->SetTriangles(worldTriangles(), in.Casters.Opacity);
-    in.GearsVersion = in.Casters.Version;
-  }
-  const std::vector<float>* positions = nullptr;
-  const std::vector<float>* normals = nullptr;
-  in.GBuf.ReadForCPU(win, in.FBO, in.Frame.Width, in.Frame.Height, positions, normals);
-  const std::vector<float>& pos = *positions;
-  const std::vector<float>& nrm = *normals;
-  const std::size_t n = static_cast<std::size_t>(in.Frame.Width) * in.Frame.Height;
-  in.Timings.Set("triangle_solver_input", Seconds(t0, Clock::now()));
-  ss::ReferenceOptions ropt;
-  ropt.k = this->ReferenceSamples;
-  ropt.pattern = this->ReferencePattern == 1 ? ss::LightSamplePattern::Stratified
-                                             : ss::LightSamplePattern::Regular;
-  ss::GearsOptions gopt;
-  gopt.k = this->GearsSamples;
-  gopt.grid = this->GearsGrid;
-  gopt.raster = this->GearsRaster == 1 ? ss::GearsRaster::LUT : ss::GearsRaster::EdgePlane;
-  gopt.countNecessary = this->GearsCountNecessary;
-  double msRef = 0.0, msGears = 0.0;
-  for (const auto& l : in.Frame.Lights)
-  {
-    if (l.Layer < 0 || !(l.Method == ss::Method::Reference || l.Method == ss::Method::GEARS))
-    {
-      continue;
-    }
-    // The light frame is relative to the frame origin; the solvers want world.
-    ss::LightFrame world = l.Frame;
-    world.center += in.Frame.Origin;
-    const auto tl = Clock::now();
-    std::vector<float> V;
-    if (l.Method == ss::Method::Reference)
-    {
-      ss::ReferenceStats st;
-      V = in.Reference->Solve(world, in.Frame.Origin, pos.data(), nrm.data(), n, ropt, &st);
-      in.LastReferenceStats.rays += st.rays;
-      in.LastReferenceStats.milliseconds += st.milliseconds;
-      msRef += Seconds(tl, Clock::now());
-    }
-    else
-    {
-      ss::GearsStats st;
-      bool onGPU = false;
-      if (this->GearsBackend == GEARS_BACKEND_GL)
-      {
-        if (!in.GearsGL)
-        {
-          in.GearsGL.reset(new ss::GearsGL);
-        }
-        // raw GL programs: VTK's shader cache must rebind its own afterwards
-        win->GetShaderCache()->ReleaseCurrentShader();
-        std::string why;
-        onGPU = in.GearsGL->Solve(*in.Gears, world, in.Frame.Origin, pos.data(), nrm.data(), n, gopt, V, &st, nullptr, &why);
-        vtkOpenGLCheckErrorMacro("after the GEARS compute backend");
-        if (!onGPU)
-        {
-          in.GearsBackendNote = why;
-          if (in.GearsWarned != why)
-          {
-            vtkWarningMacro(<< why << "; GEARS runs on the CPU.");
-            in.GearsWarned = why;
-          }
-        }
-      }
-      if (!onGPU)
-      {
-        V = in.Gears->Solve(world, in.Frame.Origin, pos.data(), nrm.data(), n, gopt, &st);
-      }
-      in.GearsBackendUsed = onGPU ? "gl" : "cpu";
-      in.AccumulateGearsStats(st);
-      msGears += Seconds(tl, Clock::now());
-    }
-    in.Visibility.Upload(l.Layer, V);
-  }
-  in.LastReferenceStats.raysPerSecond = in.LastReferenceStats.milliseconds > 0
-    ? in.LastReferenceStats.rays / (in.LastReferenceStats.milliseconds * 1e-3)
-    : 0.0;
-  if (anyRef)
-  {
-    in.Timings.Set("reference", msRef);
-  }
-  if (anyGears)
-  {
-    in.Timings.Set("gears", msGears);
-  }
-}
-
 
 //------------------------------------------------------------------------------
 bool vtkSoftShadowPass::PreReplaceShaderValues(std::string&, std::string&, std::string&,
@@ -1020,7 +829,8 @@ vtkMTimeType vtkSoftShadowPass::GetShaderStageMTime()
 //------------------------------------------------------------------------------
 const char* vtkSoftShadowPass::GetLastGearsBackend()
 {
-  return this->Internals->GearsBackendUsed.c_str();
+  auto* gears = dynamic_cast<ss::TriangleSolver*>(this->Internals->SolverFor(ss::Method::GEARS));
+  return gears ? gears->GetLastBackend().c_str() : "cpu";
 }
 
 //------------------------------------------------------------------------------
@@ -1213,22 +1023,6 @@ std::string vtkSoftShadowPass::GetStatsJSON()
       {
         st.Solvers.emplace_back(entry.Name, solver->GetStatsJSON());
       }
-    }
-    else if (entry.Method == ss::Method::Reference)
-    {
-      o << "{\"samples_per_axis\": " << this->ReferenceSamples << ", \"rays\": " << in.LastReferenceStats.rays
-        << ", \"rays_per_second\": " << in.LastReferenceStats.raysPerSecond << "}";
-      st.Solvers.emplace_back("reference", o.str());
-    }
-    else if (entry.Method == ss::Method::GEARS)
-    {
-      o << "{\"samples_per_axis\": " << this->GearsSamples << ", \"grid\": " << this->GearsGrid
-        << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \"" << in.GearsBackendUsed << "\", \"backend_requested\": \""
-        << (this->GearsBackend == GEARS_BACKEND_GL ? "gl" : "cpu") << "\", \"backend_note\": \""
-        << ss::JSONEscape(in.GearsBackendNote) << "\""
-        << ", \"lights\": " << in.GearsLights
-        << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}";
-      st.Solvers.emplace_back("gears", o.str());
     }
   }
   st.ShadowMapSize = in.Maps.GetArray().Size;

@@ -351,7 +351,6 @@ private:
 
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
-  void SolveOnTriangles(vtkOpenGLRenderWindow* win);
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;
