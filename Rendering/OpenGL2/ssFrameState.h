@@ -14,10 +14,13 @@
 #include <vector>
 
 class vtkLight;
+class vtkRenderState;
 class vtkRenderer;
 
 namespace ss
 {
+class CasterSet;
+
 /// One light of the renderer, in the order VTK numbers lightColorN.
 struct ShadowLight
 {
@@ -60,6 +63,18 @@ struct FrameState
 /// them), their frames relative to `origin` and what the planner needs of
 /// them. A light whose geometry is invalid is kept, with the reason.
 std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origin);
+
+/// Sets the viewport (the render state's framebuffer, else the renderer's
+/// tiled viewport, as vtkCameraPass does), the origin (the camera's focal
+/// point, or `fixedOrigin` when not null) and the camera position. False
+/// when the viewport is empty.
+bool UpdateFrameState(FrameState& frame, const vtkRenderState* s, const double* fixedOrigin);
+
+/// Everything a frame's visibility depends on: the camera, the viewport, the
+/// caster set, the pass's settings (`settingsTime`: its MTime), the origin
+/// and the lights. Equal signatures: the last frame's visibility is valid.
+std::string FrameSignature(vtkRenderer* ren, const FrameState& frame, const CasterSet& casters,
+  unsigned long long settingsTime);
 }
 
 #endif

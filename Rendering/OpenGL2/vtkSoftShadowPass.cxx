@@ -1,96 +1,51 @@
+// vtkSoftShadowPass orchestrates one frame (DESIGN.md "one data flow"):
+//
+//   frame state ─► caster set ─► effect plan ─► G-buffer ─► shadow maps (shared)
+//     ─► per light: its solver writes its visibility layer ─► shading
+//
+// Each stage lives in its own file (Documentation/architecture.md): the frame
+// state and lights in ssFrameState, the caster set in ssCasterSet, the plan in
+// Rendering/Core ssEffectPlanner with the registry's catalogue, the G-buffer in
+// ssGBuffer, the whole-view shadow maps in ssShadowMaps (views fitted by
+// ssShadowViews), the visibility layers in ssVisibilityLayers, the solvers
+// behind ssVisibilitySolver (one per method, listed in ssSolverRegistry), the
+// shading code in ssShadingSubstitution and the stats in ssPassStats.
 #include "vtkSoftShadowPass.h"
 
-#include "vtkSoftShadowLight.h"
-
-#include "vtkActor.h"
-#include "vtkAssemblyNode.h"
-#include "vtkAssemblyPath.h"
-#include "vtkCamera.h"
-#include "vtkCellArray.h"
-#include "vtkCellArrayIterator.h"
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkFloatArray.h"
-#include "vtkInformation.h"
-#include "vtkInformationIntegerKey.h"
-#include "vtkLight.h"
-#include "vtkLightCollection.h"
-#include "vtkMapper.h"
-#include "vtkMatrix4x4.h"
-#include "vtkObjectFactory.h"
-#include "vtkOpenGLBufferObject.h"
-#include "vtkOpenGLError.h"
-#include "vtkOpenGLFramebufferObject.h"
-#include "vtkOpenGLPolyDataMapper.h"
-#include "vtkOpenGLQuadHelper.h"
-#include "vtkOpenGLRenderUtilities.h"
-#include "vtkOpenGLRenderWindow.h"
-#include "vtkOpenGLRenderer.h"
-#include "vtkOpenGLShaderCache.h"
-#include "vtkOpenGLState.h"
-#include "vtkOpenGLVertexArrayObject.h"
-#include "vtkPoints.h"
-#include "vtkPolyData.h"
-#include "vtkProp.h"
-#include "vtkPropCollection.h"
-#include "vtkProperty.h"
-#include "vtkRenderState.h"
-#include "vtkShaderProgram.h"
-#include "vtkTextureObject.h"
-#include "vtkTextureUnitManager.h"
-#include "vtkWeakPointer.h"
-#include "vtk_glew.h"
-#include "vtkMath.h"
-#include "vtkSmartPointer.h"
-
-#include <glm/gtc/type_ptr.hpp>
-
-#include "ssCasterClusters.h"
-#include "ssEffectPlanner.h"
-#include "ssLightFrame.h"
-#include "ssGEARS.h"
-#include "ssGearsGL.h"
-#include "ssGLLimits.h"
-#include "ssPVSM.h"
-#include "ssReference.h"
-#include "ssShadowView.h"
 #include "ssCasterSet.h"
 #include "ssFrameState.h"
 #include "ssGBuffer.h"
-#include "ssPassStats.h"
-#include "ssShadowViews.h"
+#include "ssGLLimits.h"
 #include "ssPVSMSolver.h"
-#include "ssShadowMapSolver.h"
+#include "ssPassStats.h"
+#include "ssShadingSubstitution.h"
 #include "ssShadowMaps.h"
+#include "ssShadowViews.h"
 #include "ssSolverRegistry.h"
 #include "ssTriangleSolver.h"
 #include "ssVisibilityLayers.h"
 #include "ssVisibilitySolver.h"
-#include "ssFullScreenQuad.h"
-#include "ssTextureArray.h"
 
-#include "ssCasterFS.h"
-#include "ssCasterVS.h"
-#include "ssConservativeFS.h"
-#include "ssConservativeGS.h"
-#include "ssMinReduceFS.h"
-#include "ssPVSMFilterFS.h"
-#include "ssPVSMGridFS.h"
-#include "ssPVSMGridVS.h"
-#include "ssPVSMKernelFS.h"
-#include "ssPVSMResolveFS.h"
-#include "ssQuadLit.h"
-#include "ssShadowCommon.h"
-#include "ssVisibilityFS.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationIntegerKey.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLError.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLPolyDataMapper.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkProp.h"
+#include "vtkRenderState.h"
+#include "vtkRenderer.h"
+#include "vtkShaderProgram.h"
+#include "vtkTextureObject.h"
+#include "vtkWeakPointer.h"
+#include "vtk_glew.h"
 
 #include <algorithm>
-#include <chrono>
-#include <cstdint>
-#include <cmath>
 #include <limits>
-#include <map>
 #include <sstream>
-#include <tuple>
 #include <vector>
 
 vtkStandardNewMacro(vtkSoftShadowPass);
@@ -99,40 +54,44 @@ vtkInformationKeyMacro(vtkSoftShadowPass, RECEIVES_SHADOWS, Integer);
 
 namespace
 {
-using ss::BuildDepthPyramid;
-using ss::EnsureTexture2D;
-using ss::ReadyQuad;
-using ss::TextureArray;
-using ss::WithCommon;
-using Clock = std::chrono::steady_clock;
+using ss::Clock;
+using ss::ShadowLight;
 
+// Which code the mappers' shaders get: the G-buffer outputs while the
+// G-buffer is drawn, the visibility multiplication while shading.
 enum class Stage
 {
   Idle,
   GBuffer,
   Shade
 };
-
-using ss::ShadowLight;
-
-double Seconds(Clock::time_point a, Clock::time_point b)
-{
-  return ss::Milliseconds(a, b);
-}
-
-
 }
 
 class vtkSoftShadowPass::vtkInternals
 {
 public:
-  // --- GPU resources (all released by ReleaseGraphicsResources)
-  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
+  // --- the frame and its shared pieces (GPU ones released by Release)
+  ss::FrameState Frame;
+  ss::CasterSet Casters;
+  ss::EffectPlan Plan;
   ss::GBuffer GBuf;
   ss::ShadowMaps Maps;
   ss::VisibilityLayers Visibility;
-  // one solver per registered method, in registry order
+  ss::StageTimings Timings;
+  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO; // render target of the off-screen stages
+  vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+
+  // --- one solver per registered method, in registry order
   std::vector<std::unique_ptr<ss::VisibilitySolver>> Solvers;
+
+  // --- what the mappers' shaders carry, and whether the results are valid
+  Stage CurrentStage = Stage::Idle;
+  vtkTimeStamp StageTime;
+  bool ShadowsThisFrame = false;
+  bool ShadeShadows = false; // whether the shading shaders carry the visibility code
+  std::string LastSignature;
+  bool HaveResults = false;
+
   ss::VisibilitySolver* SolverFor(ss::Method m) const
   {
     for (const auto& solver : this->Solvers)
@@ -144,7 +103,8 @@ public:
     }
     return nullptr;
   }
-  ss::SolverFrame MakeFrame(vtkRenderer* ren, vtkOpenGLRenderWindow* win, vtkObject* reporter)
+
+  ss::SolverFrame MakeSolverFrame(vtkRenderer* ren, vtkOpenGLRenderWindow* win, vtkObject* reporter)
   {
     ss::SolverFrame f;
     f.Renderer = ren;
@@ -159,22 +119,6 @@ public:
     f.Reporter = reporter;
     return f;
   }
-  vtkWeakPointer<vtkOpenGLRenderWindow> Window;
-
-  // --- per-frame state
-  Stage CurrentStage = Stage::Idle;
-  vtkTimeStamp StageTime;
-  bool ShadowsThisFrame = false;
-  bool ShadeShadows = false; // whether the shading shaders carry the visibility code
-  ss::FrameState Frame;
-  ss::EffectPlan Plan;
-  ss::StageTimings Timings;
-  std::string LastSignature;
-  bool HaveResults = false;
-
-  // --- caster set (world triangles relative to Casters.Origin)
-  ss::CasterSet Casters;
-  std::size_t NumberOfTriangles() const { return this->Casters.NumberOfTriangles(); }
 
   int CountResources() const
   {
@@ -276,6 +220,16 @@ const char* vtkSoftShadowPass::GetMethodName(int method)
   return entry ? entry->Name : "none";
 }
 
+std::string vtkSoftShadowPass::GetMethodNames()
+{
+  std::string names;
+  for (const auto& entry : ss::SolverRegistry())
+  {
+    names += (names.empty() ? "" : ", ") + std::string(entry.Name);
+  }
+  return names;
+}
+
 //------------------------------------------------------------------------------
 namespace
 {
@@ -347,115 +301,38 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   win->MakeCurrent();
   in.Window = win;
   vtkOpenGLState* ostate = win->GetState();
-
   if (!ren->IsActiveCameraCreated())
   {
     ren->GetActiveCamera();
     ren->ResetCamera();
   }
 
-  // Viewport, scissor and clear as vtkCameraPass does, so the pass works both
-  // installed directly on a renderer and as the delegate of a camera pass.
-  int w, h, x0 = 0, y0 = 0;
-  if (auto* fbo = vtkOpenGLFramebufferObject::SafeDownCast(s->GetFrameBuffer()))
-  {
-    int size[2];
-    fbo->GetLastSize(size);
-    w = size[0];
-    h = size[1];
-  }
-  else
-  {
-    ren->GetTiledSizeAndOrigin(&w, &h, &x0, &y0);
-  }
+  // --- frame state: viewport, scissor and clear as vtkCameraPass does, so
+  // the pass works both installed on a renderer and as a camera pass's
+  // delegate; the origin all float positions are relative to
   vtkOpenGLState::ScopedglViewport vsaver(ostate);
   vtkOpenGLState::ScopedglScissor ssaver(ostate);
   vtkOpenGLState::ScopedglEnableDisable stsaver(ostate, GL_SCISSOR_TEST);
-  if (w <= 0 || h <= 0)
+  if (!ss::UpdateFrameState(in.Frame, s, this->AutomaticPositionsOrigin ? nullptr : this->PositionsOrigin))
   {
     return;
   }
-  in.Frame.Width = w;
-  in.Frame.Height = h;
-  in.Frame.ViewportOrigin[0] = x0;
-  in.Frame.ViewportOrigin[1] = y0;
-  in.Frame.FrameSize[0] = w;
-  in.Frame.FrameSize[1] = h;
-
-  // Lights first: their transformed positions and VTK's light numbering.
+  // the lights' transformed positions and VTK's light numbering
   this->ClearLights(ren);
   this->UpdateLightGeometry(ren);
   this->UpdateLights(ren);
 
-  // Frame origin: positions and all float math are relative to it.
-  vtkCamera* cam = ren->GetActiveCamera();
-  if (this->AutomaticPositionsOrigin)
-  {
-    const double* fp = cam->GetFocalPoint();
-    in.Frame.Origin = glm::dvec3(fp[0], fp[1], fp[2]);
-  }
-  else
-  {
-    in.Frame.Origin = glm::dvec3(this->PositionsOrigin[0], this->PositionsOrigin[1], this->PositionsOrigin[2]);
-  }
-  in.Frame.Eye = glm::dvec3(cam->GetPosition()[0], cam->GetPosition()[1], cam->GetPosition()[2]) - in.Frame.Origin;
-
   // --- caster set, rebuilt only when a prop, its data or its transform changed
   auto tStage = Clock::now();
   in.Casters.Update(ren, this);
-  in.Timings.Set("caster_set", Seconds(tStage, Clock::now()));
+  in.Timings.Set("caster_set", ss::Milliseconds(tStage, Clock::now()));
 
   // --- lights and the effect plan
   in.Frame.Lights = ss::CollectLights(ren, in.Frame.Origin);
+  const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
+  this->PlanFrame(in.HaveResults && signature == in.LastSignature);
 
-  ss::PlannerInput pin;
-  pin.requested = static_cast<ss::Method>(this->Method);
-  pin.casterTriangles = in.NumberOfTriangles();
-  pin.receiverProps = in.Casters.ReceiverProps;
-  pin.translucentCasters = in.Casters.Translucent;
-  pin.methods = ss::PlannerMethods();
-  for (const auto& l : in.Frame.Lights)
-  {
-    pin.lights.push_back(l.Planner);
-  }
-
-  // Nothing changed since the last frame: the visibility is still valid.
-  std::ostringstream sig;
-  {
-    double vm[16];
-    vtkMatrix4x4::DeepCopy(vm, cam->GetModelViewTransformMatrix());
-    sig.precision(17);
-    for (double v : vm)
-    {
-      sig << v << ',';
-    }
-    sig << cam->GetViewAngle() << ',' << cam->GetParallelProjection() << ','
-        << cam->GetParallelScale() << ',' << ren->GetTiledAspectRatio() << ',' << w << 'x' << h
-        << ',' << in.Casters.Version << ',' << this->GetMTime() << ',' << in.Frame.Origin.x << ','
-        << in.Frame.Origin.y << ',' << in.Frame.Origin.z;
-    for (const auto& l : in.Frame.Lights)
-    {
-      sig << ',' << l.Light << ':' << l.Light->GetMTime();
-    }
-    for (const auto& k : in.Casters.Keys)
-    {
-      sig << ',' << std::get<0>(k) << ':' << std::get<3>(k) << ':' << std::get<4>(k);
-    }
-  }
-  pin.unchangedSinceLastFrame = in.HaveResults && sig.str() == in.LastSignature;
-  in.Plan = ss::MakeEffectPlan(pin);
-
-  int layers = 0;
-  for (std::size_t i = 0; i < in.Frame.Lights.size(); ++i)
-  {
-    in.Frame.Lights[i].Method = in.Plan.lights[i].method;
-    if (in.Frame.Lights[i].Method != ss::Method::None)
-    {
-      in.Frame.Lights[i].Layer = layers++;
-    }
-  }
-  in.ShadowsThisFrame = in.Plan.shadowWork && layers > 0;
-
+  // --- G-buffer and one solver per light, unless the last frame's V holds
   if (in.ShadowsThisFrame && !in.Plan.reuse)
   {
     // Our stages change blending, depth and clear state: give VTK's shading
@@ -471,7 +348,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     // a solve that could not allocate its textures turned shadows off: try
     // again next frame rather than reuse nothing
     in.HaveResults = in.ShadowsThisFrame;
-    in.LastSignature = in.ShadowsThisFrame ? sig.str() : std::string();
+    in.LastSignature = in.ShadowsThisFrame ? signature : std::string();
   }
   else if (!in.ShadowsThisFrame)
   {
@@ -481,46 +358,42 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 
   // --- shading: VTK's own lighting, each light multiplied by its visibility
   tStage = Clock::now();
-  ostate->vtkglViewport(x0, y0, w, h);
-  ostate->vtkglEnable(GL_SCISSOR_TEST);
-  ostate->vtkglScissor(x0, y0, w, h);
-  if (ren->GetRenderWindow()->GetErase() && ren->GetErase())
-  {
-    ren->Clear();
-  }
-  // The shading code is injected only while there are shadows (its samplers
-  // must be bound to real textures): rebuild shaders when that changes.
-  if (in.CurrentStage != Stage::Shade || in.ShadeShadows != in.ShadowsThisFrame)
-  {
-    in.CurrentStage = Stage::Shade;
-    in.ShadeShadows = in.ShadowsThisFrame;
-    in.StageTime.Modified();
-  }
-  if (in.ShadowsThisFrame)
-  {
-    in.Visibility.BindForShading(win);
-    in.GBuf.Position->Activate();
-  }
-  this->PreRender(s);
-  if (this->DelegatePass)
-  {
-    this->DelegatePass->Render(s);
-    this->NumberOfRenderedProps += this->DelegatePass->GetNumberOfRenderedProps();
-  }
-  else
-  {
-    this->UpdateGeometry(ren, s->GetFrameBuffer());
-  }
-  this->PostRender(s);
-  if (in.ShadowsThisFrame)
-  {
-    in.GBuf.Position->Deactivate();
-    in.Visibility.UnbindAfterShading(win);
-  }
+  this->Shade(s);
   in.Timings.Finish();
-  in.Timings.Set("shading", Seconds(tStage, Clock::now()));
-  in.Timings.Set("pass_total", Seconds(tFrame, Clock::now()));
+  in.Timings.Set("shading", ss::Milliseconds(tStage, Clock::now()));
+  in.Timings.Set("pass_total", ss::Milliseconds(tFrame, Clock::now()));
   vtkOpenGLCheckErrorMacro("failed after vtkSoftShadowPass::Render");
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
+{
+  auto& in = *this->Internals;
+  ss::PlannerInput pin;
+  pin.requested = static_cast<ss::Method>(this->Method);
+  pin.casterTriangles = in.Casters.NumberOfTriangles();
+  pin.receiverProps = in.Casters.ReceiverProps;
+  pin.translucentCasters = in.Casters.Translucent;
+  pin.methods = ss::PlannerMethods();
+  for (const auto& l : in.Frame.Lights)
+  {
+    pin.lights.push_back(l.Planner);
+  }
+  pin.unchangedSinceLastFrame = unchangedSinceLastFrame;
+  in.Plan = ss::MakeEffectPlan(pin);
+
+  int layers = 0;
+  for (std::size_t i = 0; i < in.Frame.Lights.size(); ++i)
+  {
+    ShadowLight& l = in.Frame.Lights[i];
+    l.Method = in.Plan.lights[i].method;
+    // every planned method has its solver (the registry's factory)
+    if (l.Method != ss::Method::None && in.SolverFor(l.Method))
+    {
+      l.Layer = layers++;
+    }
+  }
+  in.ShadowsThisFrame = in.Plan.shadowWork && layers > 0;
 }
 
 //------------------------------------------------------------------------------
@@ -541,6 +414,8 @@ void vtkSoftShadowPass::RenderGBuffer(const vtkRenderState* s)
     in.CurrentStage = Stage::GBuffer;
     in.StageTime.Modified();
   }
+  // the opaque props through their own mappers, with the G-buffer outputs
+  // injected (PostReplaceShaderValues)
   this->PreRender(s);
   for (int i = 0; i < s->GetPropArrayCount(); ++i)
   {
@@ -553,7 +428,7 @@ void vtkSoftShadowPass::RenderGBuffer(const vtkRenderState* s)
   this->PostRender(s);
   in.GBuf.End(win, in.FBO);
   in.Timings.Finish();
-  in.Timings.Set("gbuffer", Seconds(t0, Clock::now()));
+  in.Timings.Set("gbuffer", ss::Milliseconds(t0, Clock::now()));
 }
 
 //------------------------------------------------------------------------------
@@ -562,9 +437,9 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   auto& in = *this->Internals;
   vtkRenderer* ren = s->GetRenderer();
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
-  ss::SolverFrame frame = in.MakeFrame(ren, win, this);
+  ss::SolverFrame frame = in.MakeSolverFrame(ren, win, this);
 
-  // Each solver learns its lights of the frame (maybe none).
+  // Each solver reads its options and learns its lights of the frame (maybe none).
   std::vector<std::vector<const ShadowLight*>> lightsOf(in.Solvers.size());
   for (std::size_t i = 0; i < in.Solvers.size(); ++i)
   {
@@ -579,8 +454,8 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.Solvers[i]->BeginFrame(frame, lightsOf[i]);
   }
 
-  // --- whole-view shadow maps: views fitted to the receivers (relative
-  // coordinates), one shared array
+  // --- whole-view shadow maps, one shared array: views fitted to the
+  // receivers (relative coordinates), the size the lights agree on
   const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   const ss::Box casters = ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin);
   int totalViews = 0, numShadowLights = 0;
@@ -638,12 +513,10 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     }
     l.FirstLayer = layer;
     layer += static_cast<int>(l.Views.size());
-    if (ss::VisibilitySolver* solver = in.SolverFor(l.Method))
+    ss::VisibilitySolver* solver = in.SolverFor(l.Method);
+    if (solver->UsesShadowMaps())
     {
-      if (solver->UsesShadowMaps())
-      {
-        solver->DrawShadowMaps(frame, l);
-      }
+      solver->DrawShadowMaps(frame, l);
     }
   }
   if (!in.Maps.EndDrawing(win, in.FBO))
@@ -651,7 +524,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     vtkErrorMacro("Could not build the min-depth reduction program.");
   }
   in.Timings.Finish();
-  in.Timings.Set("shadow_maps", Seconds(tStage, Clock::now()));
+  in.Timings.Set("shadow_maps", ss::Milliseconds(tStage, Clock::now()));
 
   // --- the visibility layers, one per shadow light
   tStage = Clock::now();
@@ -661,18 +534,14 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.ShadowsThisFrame = false;
     return;
   }
-  in.Timings.Set("visibility", Seconds(tStage, Clock::now()));
+  in.Timings.Set("visibility", ss::Milliseconds(tStage, Clock::now()));
 
   // --- one solver per light writes its layer
   for (const auto& l : in.Frame.Lights)
   {
-    if (l.Layer < 0)
+    if (l.Layer >= 0)
     {
-      continue;
-    }
-    if (ss::VisibilitySolver* solver = in.SolverFor(l.Method))
-    {
-      solver->Compute(frame, l);
+      in.SolverFor(l.Method)->Compute(frame, l);
     }
   }
   for (const auto& solver : in.Solvers)
@@ -682,14 +551,60 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 }
 
 //------------------------------------------------------------------------------
-bool vtkSoftShadowPass::PreReplaceShaderValues(std::string&, std::string&, std::string&,
-  vtkAbstractMapper*, vtkProp*)
+void vtkSoftShadowPass::Shade(const vtkRenderState* s)
+{
+  auto& in = *this->Internals;
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
+  vtkOpenGLState* ostate = win->GetState();
+  const int w = in.Frame.Width, h = in.Frame.Height;
+  ostate->vtkglViewport(in.Frame.ViewportOrigin[0], in.Frame.ViewportOrigin[1], w, h);
+  ostate->vtkglEnable(GL_SCISSOR_TEST);
+  ostate->vtkglScissor(in.Frame.ViewportOrigin[0], in.Frame.ViewportOrigin[1], w, h);
+  if (ren->GetRenderWindow()->GetErase() && ren->GetErase())
+  {
+    ren->Clear();
+  }
+  // The shading code is injected only while there are shadows (its samplers
+  // must be bound to real textures): rebuild shaders when that changes.
+  if (in.CurrentStage != Stage::Shade || in.ShadeShadows != in.ShadowsThisFrame)
+  {
+    in.CurrentStage = Stage::Shade;
+    in.ShadeShadows = in.ShadowsThisFrame;
+    in.StageTime.Modified();
+  }
+  if (in.ShadowsThisFrame)
+  {
+    in.Visibility.BindForShading(win);
+    in.GBuf.Position->Activate();
+  }
+  this->PreRender(s);
+  if (this->DelegatePass)
+  {
+    this->DelegatePass->Render(s);
+    this->NumberOfRenderedProps += this->DelegatePass->GetNumberOfRenderedProps();
+  }
+  else
+  {
+    this->UpdateGeometry(ren, s->GetFrameBuffer());
+  }
+  this->PostRender(s);
+  if (in.ShadowsThisFrame)
+  {
+    in.GBuf.Position->Deactivate();
+    in.Visibility.UnbindAfterShading(win);
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkSoftShadowPass::PreReplaceShaderValues(
+  std::string&, std::string&, std::string&, vtkAbstractMapper*, vtkProp*)
 {
   return true;
 }
 
-bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader,
-  std::string& geometryShader, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
+bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader, std::string& geometryShader,
+  std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
 {
   (void)vertexShader;
   (void)geometryShader;
@@ -705,74 +620,22 @@ bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader,
     vtkErrorMacro("Unexpected fragment shader layout: no main().");
     return false;
   }
-
   if (in.CurrentStage == Stage::GBuffer)
   {
     ss::GBuffer::InjectOutputs(fragmentShader, mainPos, endPos);
     return true;
   }
-
   if (in.CurrentStage != Stage::Shade || !in.ShadeShadows)
   {
     return true;
   }
-  // Shading: multiply each light's terms by its visibility. The exact lines
-  // differ with the lighting complexity (vtkOpenGLPolyDataMapper): count the
-  // hits and fail loudly if VTK's lighting code changed under us.
-  int lightsInShader = 0;
-  while (fragmentShader.find("lightColor" + std::to_string(lightsInShader)) != std::string::npos)
-  {
-    ++lightsInShader;
-  }
-  const bool headlightOnly = fragmentShader.find("vec3 diffuse = df * diffuseColor * lightColor0;") !=
-    std::string::npos;
-  if (lightsInShader == 0 || headlightOnly)
-  {
-    return true; // unlit, or a headlight (which never casts shadows)
-  }
-  int hits = 0;
-  for (int i = 0; i < lightsInShader; ++i)
-  {
-    const std::string n = std::to_string(i);
-    const std::string vis = "ssVisibility(ssLightLayer" + n + ")";
-    const std::pair<std::string, std::string> subs[] = {
-      { "diffuse += (df * lightColor" + n + ");", "diffuse += (df * lightColor" + n + " * " + vis + ");" },
-      { "specular += (sf * lightColor" + n + ");", "specular += (sf * lightColor" + n + " * " + vis + ");" },
-      { "radiance = lightColor" + n + ";", "radiance = lightColor" + n + " * " + vis + ";" },
-      { "radiance = lightColor" + n + " * attenuation;",
-        "radiance = lightColor" + n + " * attenuation * " + vis + ";" },
-    };
-    for (const auto& sub : subs)
-    {
-      hits += vtkShaderProgram::Substitute(fragmentShader, sub.first, sub.second, false) ? 1 : 0;
-    }
-  }
-  if (hits < lightsInShader)
+  if (const int missing = ss::InjectVisibility(fragmentShader))
   {
     vtkErrorMacro("vtkSoftShadowPass: could not find the light terms of "
-      << lightsInShader - hits << " light(s) in the shader of " << (prop ? prop->GetClassName() : "?")
+      << missing << " light(s) in the shader of " << (prop ? prop->GetClassName() : "?")
       << "; shadows would be silently missing.");
     return false;
   }
-  std::string decl = "uniform sampler2D ssGPosition;\n"
-                     "uniform sampler2DArray ssVisTex;\n"
-                     "uniform vec2 ssViewportOrigin;\n"
-                     "uniform float ssPropId;\n"
-                     "uniform int ssUseVis;\n";
-  for (int i = 0; i < lightsInShader; ++i)
-  {
-    decl += "uniform int ssLightLayer" + std::to_string(i) + ";\n";
-  }
-  decl += "float ssVisibility(int layer)\n"
-          "{\n"
-          "  if (ssUseVis == 0 || layer < 0) { return 1.0; }\n"
-          "  ivec2 pix = ivec2(gl_FragCoord.xy - ssViewportOrigin);\n"
-          "  vec4 g = texelFetch(ssGPosition, pix, 0);\n"
-          "  // only the surface that is in the G-buffer (not translucent props)\n"
-          "  if (abs(g.w - ssPropId) > 0.5) { return 1.0; }\n"
-          "  return clamp(texelFetch(ssVisTex, ivec3(pix, layer), 0).r, 0.0, 1.0);\n"
-          "}\n";
-  fragmentShader.insert(fragmentShader.find("void main"), decl);
   return true;
 }
 
@@ -784,53 +647,30 @@ bool vtkSoftShadowPass::SetShaderParameters(
   if (in.CurrentStage == Stage::GBuffer)
   {
     in.FBO->ActivateDrawBuffers(polyMapper ? 2 : 1);
-    if (!polyMapper)
+    if (polyMapper)
     {
-      return true;
+      in.GBuf.SetShaderParameters(program, prop, in.Frame.Width, in.Frame.Height);
     }
-    in.GBuf.SetShaderParameters(program, prop, in.Frame.Width, in.Frame.Height);
     return true;
   }
-  if (in.CurrentStage != Stage::Shade || !in.ShadeShadows || !polyMapper ||
-    !program->IsUniformUsed("ssUseVis"))
+  if (in.CurrentStage != Stage::Shade || !in.ShadeShadows || !polyMapper || !program->IsUniformUsed("ssUseVis"))
   {
     return true;
   }
-  const int propId = in.GBuf.FindPropId(prop);
-  const bool use = in.ShadowsThisFrame && propId != 0 && GetReceivesShadows(prop);
-  program->SetUniformi("ssUseVis", use ? 1 : 0);
-  // Samplers always point at the bound textures: two sampler types left on
-  // unit 0 make every draw of that shader fail (GL_INVALID_OPERATION).
-  program->SetUniformi("ssGPosition", in.GBuf.Position->GetTextureUnit());
-  program->SetUniformi("ssVisTex", in.Visibility.GetShadingUnit());
-  if (use)
-  {
-    const float vo[2] = { static_cast<float>(in.Frame.ViewportOrigin[0]),
-      static_cast<float>(in.Frame.ViewportOrigin[1]) };
-    program->SetUniform2f("ssViewportOrigin", vo);
-    program->SetUniformf("ssPropId", static_cast<float>(propId));
-  }
-  for (const auto& l : in.Frame.Lights)
-  {
-    const std::string name = "ssLightLayer" + std::to_string(l.ShaderIndex);
-    if (program->IsUniformUsed(name.c_str()))
-    {
-      program->SetUniformi(name.c_str(), use ? l.Layer : -1);
-    }
-  }
+  ss::ShadingUniforms u;
+  u.PropId = in.GBuf.FindPropId(prop);
+  u.Use = in.ShadowsThisFrame && u.PropId != 0 && GetReceivesShadows(prop);
+  u.PositionUnit = in.GBuf.Position->GetTextureUnit();
+  u.VisibilityUnit = in.Visibility.GetShadingUnit();
+  u.ViewportOrigin[0] = in.Frame.ViewportOrigin[0];
+  u.ViewportOrigin[1] = in.Frame.ViewportOrigin[1];
+  ss::SetVisibilityUniforms(program, u, in.Frame.Lights);
   return true;
 }
 
 vtkMTimeType vtkSoftShadowPass::GetShaderStageMTime()
 {
   return this->Internals->StageTime.GetMTime();
-}
-
-//------------------------------------------------------------------------------
-const char* vtkSoftShadowPass::GetLastGearsBackend()
-{
-  auto* gears = dynamic_cast<ss::TriangleSolver*>(this->Internals->SolverFor(ss::Method::GEARS));
-  return gears ? gears->GetLastBackend().c_str() : "cpu";
 }
 
 //------------------------------------------------------------------------------
@@ -849,6 +689,7 @@ int vtkSoftShadowPass::GetNumberOfGraphicsResources()
 }
 
 //------------------------------------------------------------------------------
+// Results of the last frame
 int vtkSoftShadowPass::GetNumberOfShadowLights()
 {
   int n = 0;
@@ -865,8 +706,7 @@ int vtkSoftShadowPass::GetNumberOfShadowLights()
 bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
 {
   auto& in = *this->Internals;
-  if (!out || !in.HaveResults || !in.Window || shadowLight < 0 ||
-    shadowLight >= this->GetNumberOfShadowLights())
+  if (!out || !in.HaveResults || !in.Window || shadowLight < 0 || shadowLight >= this->GetNumberOfShadowLights())
   {
     return false;
   }
@@ -890,8 +730,7 @@ bool vtkSoftShadowPass::GetPositionsImage(vtkFloatArray* out)
 {
   auto& in = *this->Internals;
   std::vector<float> v;
-  if (!out || !in.HaveResults || !in.Window ||
-    !in.GBuf.Read(in.Window, in.FBO, 0, in.Frame.Width, in.Frame.Height, v))
+  if (!out || !in.HaveResults || !in.Window || !in.GBuf.Read(in.Window, in.FBO, 0, in.Frame.Width, in.Frame.Height, v))
   {
     return false;
   }
@@ -947,16 +786,21 @@ int vtkSoftShadowPass::GetLastPVSMTileGridLevels()
 bool vtkSoftShadowPass::GetLastPVSMTileGridLevel(int level, vtkFloatArray* out)
 {
   auto* pvsm = dynamic_cast<ss::PVSMSolver*>(this->Internals->SolverFor(ss::Method::PVSM));
-  const auto* levels = pvsm ? &pvsm->GetLastTileGridLevels() : nullptr;
-  if (!levels || !out || level < 0 || level >= static_cast<int>(levels->size()))
+  if (!pvsm || !out || level < 0 || level >= static_cast<int>(pvsm->GetLastTileGridLevels().size()))
   {
     return false;
   }
-  const std::vector<float>& l = (*levels)[static_cast<std::size_t>(level)];
+  const std::vector<float>& l = pvsm->GetLastTileGridLevels()[static_cast<std::size_t>(level)];
   out->SetNumberOfComponents(2);
   out->SetNumberOfTuples(static_cast<vtkIdType>(l.size() / 2));
   std::copy(l.begin(), l.end(), out->GetPointer(0));
   return true;
+}
+
+const char* vtkSoftShadowPass::GetLastGearsBackend()
+{
+  auto* gears = dynamic_cast<ss::TriangleSolver*>(this->Internals->SolverFor(ss::Method::GEARS));
+  return gears ? gears->GetLastBackend().c_str() : "cpu";
 }
 
 bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFloatArray* out)
@@ -968,9 +812,8 @@ bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFl
   {
     return false;
   }
-  const int S = maps.Size;
   out->SetNumberOfComponents(2);
-  out->SetNumberOfTuples(static_cast<vtkIdType>(S) * S);
+  out->SetNumberOfTuples(static_cast<vtkIdType>(maps.Size) * maps.Size);
   return in.Maps.Read(ow, in.FBO, layer, out->GetPointer(0));
 }
 
@@ -994,7 +837,7 @@ void vtkSoftShadowPass::GetLastPositionsOrigin(double origin[3])
 
 int vtkSoftShadowPass::GetLastNumberOfCasterTriangles()
 {
-  return static_cast<int>(this->Internals->NumberOfTriangles());
+  return static_cast<int>(this->Internals->Casters.NumberOfTriangles());
 }
 
 std::string vtkSoftShadowPass::GetPlanDescription()
@@ -1009,30 +852,24 @@ std::string vtkSoftShadowPass::GetStatsJSON()
   st.PlanJSON = in.Plan.ToJSON();
   st.Timings = &in.Timings;
   st.MemoryBytes = in.MemoryBytes();
-  st.CasterTriangles = in.NumberOfTriangles();
+  st.CasterTriangles = in.Casters.NumberOfTriangles();
   st.SkippedTriangles = in.Casters.Skipped;
-  std::ostringstream o;
-  o.precision(17);
-  for (const auto& entry : ss::SolverRegistry())
+  for (const auto& solver : in.Solvers)
   {
-    o.str("");
-    if (ss::VisibilitySolver* solver = in.SolverFor(entry.Method))
+    solver->Configure(this); // the settings the fragment reports are the current ones
+    const std::string fragment = solver->GetStatsJSON();
+    if (!fragment.empty())
     {
-      solver->Configure(this);
-      if (!solver->GetStatsJSON().empty())
-      {
-        st.Solvers.emplace_back(entry.Name, solver->GetStatsJSON());
-      }
+      st.Solvers.emplace_back(GetMethodName(static_cast<int>(solver->GetMethod())), fragment);
     }
   }
   st.ShadowMapSize = in.Maps.GetArray().Size;
   st.ShadowMapSizeNote = in.Maps.GetSizeNote();
   for (const auto& l : in.Frame.Lights)
   {
-    o.str("");
-    o << "{\"shader_index\": " << l.ShaderIndex
-      << ", \"method\": \"" << GetMethodName(static_cast<int>(l.Method)) << "\", \"views\": " << l.Views.size()
-      << ", \"cube\": " << (l.ViewInfo.cube ? "true" : "false")
+    std::ostringstream o;
+    o << "{\"shader_index\": " << l.ShaderIndex << ", \"method\": \"" << GetMethodName(static_cast<int>(l.Method))
+      << "\", \"views\": " << l.Views.size() << ", \"cube\": " << (l.ViewInfo.cube ? "true" : "false")
       << ", \"clamped\": " << (l.ViewInfo.clamped ? "true" : "false") << "}";
     st.Lights.push_back(o.str());
   }

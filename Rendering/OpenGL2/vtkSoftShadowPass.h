@@ -15,9 +15,10 @@
  *    the world normal, the prop id and whether the prop receives shadows.
  * 2. Caster set: the world-space triangles of every shadow-casting prop,
  *    rebuilt only when a prop, its data or its transform changed.
- * 3. Effect plan: per light, what to simulate (none, hard, pcf, pcss) and why.
- * 4. Per shadow-casting light, a solver writes a visibility texture
- *    V(x,y) in [0,1]: the fraction of the light visible from the surface.
+ * 3. Effect plan: per light, what to simulate (which method, or none) and why.
+ * 4. Per shadow-casting light, the method's solver writes a visibility
+ *    texture V(x,y) in [0,1]: the fraction of the light visible from the
+ *    surface. Solvers that use shadow maps share one array of whole-view maps.
  * 5. Shading: the delegate pass (by default the renderer's standard path, so
  *    translucency, depth peeling, volumes and overlays keep working) renders
  *    with VTK's own lighting; each light's diffuse and specular terms (Phong)
@@ -87,6 +88,8 @@ public:
   /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
+  /** Every method's name, comma-separated, in the registry's order. */
+  static std::string GetMethodNames();
   ///@}
 
   ///@{
@@ -349,8 +352,11 @@ private:
   vtkSoftShadowPass(const vtkSoftShadowPass&) = delete;
   void operator=(const vtkSoftShadowPass&) = delete;
 
+  // The stages of Render (vtkSoftShadowPass.cxx says which file owns what).
+  void PlanFrame(bool unchangedSinceLastFrame);
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
+  void Shade(const vtkRenderState* s);
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;
