@@ -18,19 +18,22 @@ std::unique_ptr<VisibilitySolver> Make(Method m)
 
 const std::vector<SolverEntry>& SolverRegistry()
 {
-  // One line per method. The planner rule says when method auto picks it
-  // (ssEffectPlanner.cxx, MakeEffectPlan): at most one method per rule.
+  // One line per method, in the order the CLI lists them and the stats
+  // report them. The planner rule says when method auto picks it
+  // (ssEffectPlanner.cxx, MakeEffectPlan): one method per rule; OnRequest
+  // methods run only when asked for by name. auto and none are modes of the
+  // planner, not solvers.
   static const std::vector<SolverEntry> table = {
     // name       method               solver factory           planner rule              translucent casters
     { "auto",      Method::Auto,        nullptr,                 PlannerRule::OnRequest,   false },
-    { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,   false },
     { "hard",      Method::Hard,        Make<ShadowMapSolver>,   PlannerRule::HardLights,  false },
     { "pcf",       Method::PCF,         Make<ShadowMapSolver>,   PlannerRule::OnRequest,   false },
     { "pcss",      Method::PCSS,        Make<ShadowMapSolver>,   PlannerRule::SoftLights,  false },
-    { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
-    { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
     { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,   false },
     { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,   false },
+    { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
+    { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
+    { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,   false },
   };
   return table;
 }
