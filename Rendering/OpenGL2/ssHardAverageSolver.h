@@ -28,7 +28,7 @@ public:
   void ReleaseGraphicsResources(vtkWindow* w) override { this->HardTest.ReleaseGraphicsResources(w); }
 
 private:
-  int AverageSamples = 8; ///< k: samples per side (vtkSoftShadowPass::AverageSamples)
+  int AverageSamples = 0; ///< k: samples per side (vtkSoftShadowPass::AverageSamples, read by Configure)
   long long Maps = 0;     ///< hard maps rendered in the last frame
   ShadowMapSolver HardTest{ Method::Hard };
 };

@@ -29,18 +29,19 @@ namespace ss
 class PVSMSolver : public VisibilitySolver
 {
 public:
-  /// vtkSoftShadowPass's PVSM* properties, and the shared filter settings it uses.
+  /// vtkSoftShadowPass's PVSM* properties and the shared filter settings
+  /// it uses, read by Configure (the pass holds their defaults).
   struct Options
   {
-    int LowResolution = 1024;
-    int GridSize = 64;
-    int MaxTileResolution = 4096;
-    double Quality = 1.0;
+    int LowResolution = 0;
+    int GridSize = 0;
+    int MaxTileResolution = 0;
+    double Quality = 0.0;
     int Metric = 0; ///< 0 automatic, 1 dynamic, 2 static
-    bool TileCulling = true;
-    int BlockerSearchSamples = 8;
-    int FilterMaxQuads = 24;
-    double ConstantBias = 1.0;
+    bool TileCulling = false;
+    int BlockerSearchSamples = 0;
+    int FilterMaxQuads = 0;
+    double ConstantBias = 0.0;
   };
 
   explicit PVSMSolver(Method method);

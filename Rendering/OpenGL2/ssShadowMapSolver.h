@@ -20,15 +20,16 @@ namespace ss
 class ShadowMapSolver : public VisibilitySolver
 {
 public:
-  /// Options of the family (vtkSoftShadowPass properties of the same names).
+  /// Options of the family: vtkSoftShadowPass's properties of the same
+  /// names, read by Configure (the pass holds their defaults).
   struct Options
   {
-    int ShadowMapSize = 2048;
-    double PCFRadius = 1.5;
-    int BlockerSearchSamples = 8;
-    int FilterMaxQuads = 24;
-    double ConstantBias = 1.0;
-    double SlopeBias = 2.0;
+    int ShadowMapSize = 0;
+    double PCFRadius = 0.0;
+    int BlockerSearchSamples = 0;
+    int FilterMaxQuads = 0;
+    double ConstantBias = 0.0;
+    double SlopeBias = 0.0;
   };
 
   /// `method`: Method::Hard, Method::PCF or Method::PCSS.
