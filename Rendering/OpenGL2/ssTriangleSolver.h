@@ -25,7 +25,7 @@ class GearsGL;
 class TriangleSolver : public VisibilitySolver
 {
 public:
-  /// vtkSoftShadowPass's Reference* and Gears* properties.
+  /// vtkSoftShadowPass's Reference* and Gears* properties, read by Configure.
   struct Options
   {
     ReferenceOptions Reference;
@@ -43,6 +43,7 @@ public:
   void Compute(SolverFrame& frame, const ShadowLight& light) override;
   void EndFrame(SolverFrame& frame) override;
   std::string GetStatsJSON() const override;
+  int GetNumberOfGraphicsResources() const override { return this->GL ? 1 : 0; }
   void ReleaseGraphicsResources(vtkWindow* w) override;
 
   /// Where GEARS ran in the last frame: "cpu" or "gl" ("cpu" before any GEARS frame).
