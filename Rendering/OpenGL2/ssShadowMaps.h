@@ -67,6 +67,8 @@ public:
   bool Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int layer, float* out) const;
   /// Why the maps are smaller than asked (the GL limit), or empty.
   const std::string& GetSizeNote() const { return this->SizeNote; }
+  /// A frame without maps: no note.
+  void ClearSizeNote() { this->SizeNote.clear(); }
 
   long long Bytes() const { return this->Array.Bytes(); }
   int CountGraphicsResources() const;

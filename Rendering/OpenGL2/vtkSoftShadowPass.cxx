@@ -120,6 +120,55 @@ public:
     return f;
   }
 
+  // The whole-view shadow maps of the frame, drawn by the solvers of the
+  // lights that use them into one shared array. False (with `error`) when the
+  // maps cannot be made; `error` may also hold a non-fatal error.
+  bool DrawShadowMaps(ss::SolverFrame& frame, const std::vector<std::vector<const ShadowLight*>>& lightsOf,
+    const std::vector<int>& asked, int fallbackSize, int views, const ss::GLLimits& limits, std::string& error)
+  {
+    const int S = this->Maps.ChooseSize(asked, fallbackSize, limits.maxTextureSize, frame.Reporter);
+    const auto t0 = Clock::now();
+    if (!this->Maps.Allocate(S, views, limits, error))
+    {
+      this->ShadowsThisFrame = false;
+      return false;
+    }
+    for (std::size_t i = 0; i < this->Solvers.size(); ++i)
+    {
+      if (!lightsOf[i].empty())
+      {
+        this->Solvers[i]->PrepareCasters(this->Casters);
+      }
+    }
+    if (!this->Casters.ReadyProgram(frame.Window, error))
+    {
+      return false;
+    }
+    this->Maps.BeginDrawing(frame.Window, this->FBO);
+    int layer = 0;
+    for (auto& l : this->Frame.Lights)
+    {
+      if (l.Layer < 0)
+      {
+        continue;
+      }
+      l.FirstLayer = layer;
+      layer += static_cast<int>(l.Views.size());
+      ss::VisibilitySolver* solver = this->SolverFor(l.Method);
+      if (solver->UsesShadowMaps())
+      {
+        solver->DrawShadowMaps(frame, l);
+      }
+    }
+    if (!this->Maps.EndDrawing(frame.Window, this->FBO))
+    {
+      error = "Could not build the min-depth reduction program.";
+    }
+    this->Timings.Finish();
+    this->Timings.Set("shadow_maps", ss::Milliseconds(t0, Clock::now()));
+    return true;
+  }
+
   int CountResources() const
   {
     int n = this->GBuf.CountGraphicsResources() + this->Maps.CountGraphicsResources() +
@@ -478,56 +527,23 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     asked.push_back(solver->GetShadowMapSize());
   }
   const ss::GLLimits limits = ss::QueryGLLimits();
-  const int S = in.Maps.ChooseSize(asked, this->ShadowMapSize, limits.maxTextureSize, this);
-  auto tStage = Clock::now();
   std::string error;
-  if (!in.Maps.Allocate(S, totalViews, limits, error))
+  if (totalViews == 0)
+  {
+    in.Maps.ClearSizeNote(); // only solvers on the caster triangles: no maps this frame
+  }
+  else if (!in.DrawShadowMaps(frame, lightsOf, asked, this->ShadowMapSize, totalViews, limits, error))
   {
     vtkErrorMacro(<< error);
-    in.ShadowsThisFrame = false;
     return;
   }
-  for (std::size_t i = 0; i < in.Solvers.size(); ++i)
-  {
-    if (!lightsOf[i].empty())
-    {
-      in.Solvers[i]->PrepareCasters(in.Casters);
-    }
-  }
-  vtkShaderProgram* casterProgram = in.Casters.ReadyProgram(win, error);
-  if (!error.empty())
+  else if (!error.empty())
   {
     vtkErrorMacro(<< error);
   }
-  if (!casterProgram)
-  {
-    return;
-  }
-  in.Maps.BeginDrawing(win, in.FBO);
-  int layer = 0;
-  for (auto& l : in.Frame.Lights)
-  {
-    if (l.Layer < 0)
-    {
-      continue;
-    }
-    l.FirstLayer = layer;
-    layer += static_cast<int>(l.Views.size());
-    ss::VisibilitySolver* solver = in.SolverFor(l.Method);
-    if (solver->UsesShadowMaps())
-    {
-      solver->DrawShadowMaps(frame, l);
-    }
-  }
-  if (!in.Maps.EndDrawing(win, in.FBO))
-  {
-    vtkErrorMacro("Could not build the min-depth reduction program.");
-  }
-  in.Timings.Finish();
-  in.Timings.Set("shadow_maps", ss::Milliseconds(tStage, Clock::now()));
 
   // --- the visibility layers, one per shadow light
-  tStage = Clock::now();
+  const auto tStage = Clock::now();
   if (!in.Visibility.Allocate(in.Frame.Width, in.Frame.Height, numShadowLights, limits, error))
   {
     vtkErrorMacro(<< error);
