@@ -44,10 +44,6 @@ class vtkProp;
 class vtkRenderPass;
 class vtkRenderWindow;
 class vtkShaderProgram;
-namespace ss
-{
-struct Box;
-}
 
 class SOFTSHADOWSRENDERINGOPENGL2_EXPORT vtkSoftShadowPass : public vtkOpenGLRenderPass
 {
