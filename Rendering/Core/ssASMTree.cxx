@@ -48,6 +48,10 @@ std::string ASMSettings::Check() const
   {
     o << "bytes per texel must be positive";
   }
+  else if (!PowerOfTwo(this->summaryBlock) || this->summaryBlock > this->pageSize)
+  {
+    o << "summary block " << this->summaryBlock << " is not a power of two <= the page size";
+  }
   return o.str();
 }
 

@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,8 +30,18 @@ struct ASMSettings
   int minResolution = 16; ///< the smallest resolution a node is rendered at (power of two <= P)
   int maxDepth = 10;      ///< levels below a root (float precision on the GPU bounds it, asm.md)
   int bytesPerTexel = 8;  ///< a texel holds the light-space depth and the caster triangle id (§4.2)
+  /// A page also keeps, per block of summaryBlock^2 texels, the nearest depth
+  /// of any caster touching the block (conservative rasterisation, 4 bytes):
+  /// casters thinner than a texel, missed by the texels' centres, still mark
+  /// the block as a shadow edge to refine (asm.md, "thin casters").
+  int summaryBlock = 4;
 
-  long long PageBytes() const { return static_cast<long long>(pageSize) * pageSize * bytesPerTexel; }
+  int SummarySize() const { return std::max(1, pageSize / summaryBlock); }
+  long long PageBytes() const
+  {
+    return static_cast<long long>(pageSize) * pageSize * bytesPerTexel +
+      static_cast<long long>(SummarySize()) * SummarySize() * 4;
+  }
   /// Empty when the settings are usable, else what is wrong.
   std::string Check() const;
 };

@@ -444,10 +444,10 @@ TEST(ASM, StillViewRefinesProgressivelyUntilResolved)
 
 TEST(ASM, LRUAndBudgetUnderACameraPath)
 {
-  // 24 pages of 32^2 x 8 bytes: a budget of 196,608 bytes
-  const long long budget = 24LL * 32 * 32 * 8;
+  // 24 pages of 32^2 texels (8 bytes each, and the 8^2 summary of 4 bytes)
   World w;
   const ASMSettings s = Small(32, 4, 10);
+  const long long budget = 24 * s.PageBytes();
   w.tree = ASMTree(s, static_cast<int>(budget / s.PageBytes()));
   w.cost.a = 1e-3;
   w.cost.b = 0.5;
