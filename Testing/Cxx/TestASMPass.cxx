@@ -85,9 +85,9 @@ void Wires(Scene& s)
     s.renderer->AddActor(Box(0, y, 7.85, 80.0, 0.03, 0.03));
   }
   s.renderer->AddActor(Box(8, -6, 0.6, 1.2, 1.2, 1.2));
-  s.renderer->AddLight(RectLight(10, -14, 30, 0, 0, 0, 0, 0));
-  // close-up of the wires' shadows (they fall near y = 3.2 .. 6.7 on the ground)
-  s.Camera(-2.0, 3.0, 2.5, 0.5, 5.8, 0.0, 40);
+  s.renderer->AddLight(RectLight(10, -14, 60, 0, 0, 0, 0, 0));
+  // close-up of the wires' shadows (they fall near y = 0.6 .. 3.6 on the ground)
+  s.Camera(-2.0, -0.7, 2.5, 0.5, 2.1, 0.0, 40);
 }
 
 Frame Render(const std::function<void(Scene&)>& build, int method, int frames = 1, int w = 320, int h = 240,
@@ -143,7 +143,7 @@ TEST(ASM, StillViewErrorFallsMonotonically)
   }
   EXPECT_FALSE(stillRefining) << "a still view is refined until nothing is left";
   EXPECT_LT(errors.back(), 0.5 * errors.front());
-  EXPECT_LT(errors.back(), 0.6 * hard);
+  EXPECT_LT(errors.back(), hard / 4.0); // the target: >= 4x lower
 }
 
 // §3.2: the memory budget holds in every frame of a camera path that sweeps
@@ -153,14 +153,15 @@ TEST(ASM, BudgetHoldsEveryFrameOfACameraPath)
   Scene s(320, 240);
   Wires(s);
   s.pass->SetMethod(ASM);
-  s.pass->SetASMMemoryBudget(0.25);
-  s.pass->SetASMPageSize(64);
+  s.pass->SetASMMemoryBudget(1.0);
+  s.pass->SetASMPageSize(128);
+  s.pass->SetASMTimeBudget(500.0); // each view refined at once: the budget binds, not the time
   double evicted = 0.0, maxUsed = 0.0;
-  const double budget = 0.25 * 1024 * 1024;
+  const double budget = 1.0 * 1024 * 1024;
   for (int f = 0; f < 24; ++f)
   {
     const double x = -24.0 + 2.0 * f;
-    s.Camera(x - 2.0, 3.0, 2.5, x + 0.5, 5.8, 0.0, 40);
+    s.Camera(x - 2.0, -0.7, 2.5, x + 0.5, 2.1, 0.0, 40);
     s.Render();
     const double used = ASMStat(s.pass, "memory_used_bytes");
     ASSERT_GE(used, 0.0);
@@ -168,6 +169,7 @@ TEST(ASM, BudgetHoldsEveryFrameOfACameraPath)
     EXPECT_LE(ASMStat(s.pass, "memory_budget_bytes"), budget);
     evicted += ASMStat(s.pass, "evicted_lru") + ASMStat(s.pass, "replaced");
     maxUsed = std::max(maxUsed, used);
+    std::cout << "frame " << f << ": used " << used << ", nodes " << ASMStat(s.pass, "nodes") << ", candidates " << ASMStat(s.pass, "candidates") << ", created " << ASMStat(s.pass, "created") << ", skipped " << ASMStat(s.pass, "skipped_for_memory") << ", capacity " << ASMStat(s.pass, "capacity") << "\n";
   }
   std::cout << "asm camera path: max memory used " << maxUsed << " of " << budget << " bytes, " << evicted
             << " nodes evicted or replaced\n";
