@@ -3,29 +3,15 @@
 // issue 21). Documentation/asm.md shows its pictures and plot.
 #include "ssBenchCommon.h"
 
-#include "ssImageIO.h"
+#include "ssPlot.h"
 #include "ssScene.h"
 
-#include "vtkAxis.h"
 #include "vtkCamera.h"
-#include "vtkChartLegend.h"
-#include "vtkChartXY.h"
-#include "vtkContextScene.h"
-#include "vtkContextView.h"
 #include "vtkFloatArray.h"
-#include "vtkImageData.h"
 #include "vtkNew.h"
-#include "vtkPen.h"
-#include "vtkPlot.h"
-#include "vtkPointData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkSmartPointer.h"
 #include "vtkSoftShadowPass.h"
-#include "vtkTable.h"
-#include "vtkTextProperty.h"
-#include "vtkUnsignedCharArray.h"
-#include "vtkWindowToImageFilter.h"
 
 #include <nlohmann/json.hpp>
 
@@ -43,83 +29,57 @@ namespace
 // The window's picture as a PNG (throws with the path on failure).
 void SavePicture(vtkRenderWindow* win, const fs::path& path)
 {
-  vtkNew<vtkWindowToImageFilter> w2i;
-  w2i->SetInput(win);
-  w2i->SetInputBufferTypeToRGB();
-  w2i->ReadFrontBufferOff();
-  w2i->Update();
-  int dims[3];
-  w2i->GetOutput()->GetDimensions(dims);
-  auto* rgb = vtkUnsignedCharArray::SafeDownCast(w2i->GetOutput()->GetPointData()->GetScalars());
   std::string message;
-  if (!rgb || !WriteRGB8Image(path.string(), rgb->GetPointer(0), dims[0], dims[1], 3, message))
+  if (!WriteWindowPNG(win, path.string(), message))
   {
     throw std::runtime_error("could not write " + path.string() + ": " + message);
   }
 }
 
-// Error (left axis, per config) and ASM memory in MB (right axis) per frame,
-// with VTK's charts.
+// Error (left axis, per config) and ASM memory in MB (right axis, dashed) per
+// frame.
 void PlotPerFrame(const fs::path& path, const std::string& title, const std::vector<std::string>& configs,
-  const json& rows, int frames)
+  const json& rows)
 {
-  vtkNew<vtkContextView> view;
-  view->GetRenderWindow()->SetOffScreenRendering(1);
-  view->GetRenderWindow()->SetMultiSamples(0);
-  view->GetRenderWindow()->SetSize(900, 560);
-  view->GetRenderer()->SetBackground(1, 1, 1);
-  vtkNew<vtkChartXY> chart;
-  view->GetScene()->AddItem(chart);
-  chart->SetTitle(title);
-  chart->GetTitleProperties()->SetFontSize(15);
-  chart->SetShowLegend(true);
-  chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::CENTER);
-  chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
-  chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("walkthrough frame");
-  chart->GetAxis(vtkAxis::LEFT)->SetTitle("mean absolute error vs exact hard shadow (solid)");
-  chart->GetAxis(vtkAxis::RIGHT)->SetTitle("ASM memory used, MB (dashed)");
   const unsigned char colors[][3] = { { 127, 127, 127 }, { 31, 119, 180 }, { 214, 39, 40 } };
+  std::vector<PlotSeries> series;
   int ci = 0;
   for (const auto& cfg : configs)
   {
-    vtkNew<vtkTable> table;
-    vtkNew<vtkFloatArray> x, err, mem;
-    x->SetName("frame");
-    err->SetName((cfg + " error").c_str());
-    mem->SetName((cfg + " memory").c_str());
-    bool hasMemory = false;
+    PlotSeries err, mem;
+    err.name = cfg + " error";
+    mem.name = cfg + " memory";
+    mem.rightAxis = mem.dashed = true;
+    for (int k = 0; k < 3; ++k)
+    {
+      err.rgb[k] = mem.rgb[k] = colors[ci % 3][k];
+    }
+    ++ci;
     for (const auto& r : rows)
     {
       if (r["config"] == cfg && r.contains("mae"))
       {
-        x->InsertNextValue(r["frame"].get<float>());
-        err->InsertNextValue(r["mae"].get<float>());
-        const bool isASM = r.contains("asm_memory_bytes");
-        hasMemory = hasMemory || isASM;
-        mem->InsertNextValue(isASM ? static_cast<float>(r["asm_memory_bytes"].get<double>() / (1 << 20)) : 0.0f);
+        err.x.push_back(r["frame"].get<double>());
+        err.y.push_back(r["mae"].get<double>());
+        if (r.contains("asm_memory_bytes"))
+        {
+          mem.x.push_back(r["frame"].get<double>());
+          mem.y.push_back(r["asm_memory_bytes"].get<double>() / (1 << 20));
+        }
       }
     }
-    table->AddColumn(x);
-    table->AddColumn(err);
-    table->AddColumn(mem);
-    const auto* c = colors[ci++ % 3];
-    vtkPlot* line = chart->AddPlot(vtkChart::LINE);
-    line->SetInputData(table, 0, 1);
-    line->SetColor(c[0], c[1], c[2], 255);
-    line->SetWidth(2.5);
-    if (hasMemory)
+    series.push_back(err);
+    if (!mem.x.empty())
     {
-      vtkPlot* m = chart->AddPlot(vtkChart::LINE);
-      m->SetInputData(table, 0, 2);
-      m->SetColor(c[0], c[1], c[2], 255);
-      m->SetWidth(1.5);
-      m->GetPen()->SetLineType(vtkPen::DASH_LINE);
-      chart->SetPlotCorner(m, 1); // right axis
+      series.push_back(mem);
     }
   }
-  chart->GetAxis(vtkAxis::BOTTOM)->SetRange(0, std::max(1, frames - 1));
-  view->GetRenderWindow()->Render();
-  SavePicture(view->GetRenderWindow(), path);
+  std::string message;
+  if (!PlotLines(path.string(), title, "walkthrough frame", "mean absolute error vs exact hard shadow (solid)",
+        "ASM memory used, MB (dashed)", series, message))
+  {
+    throw std::runtime_error("could not write " + path.string() + ": " + message);
+  }
 }
 
 // The scripted walkthrough: the scene's camera dollied towards its focal
@@ -296,7 +256,7 @@ int BenchASM(const std::vector<std::string>& args)
       labels.push_back(cfg.label);
     }
     PlotPerFrame(fs::path(ba.out) / ("asm-bench-" + name + ".png"),
-      name + ": error and ASM memory per walkthrough frame", labels, data, frames);
+      name + ": error and ASM memory per walkthrough frame", labels, data);
   }
   std::cerr << "\n";
   WriteReport(fs::path(ba.out) / "asm-bench.json", data.dump(2) + "\n");
