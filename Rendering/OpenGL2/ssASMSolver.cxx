@@ -420,13 +420,8 @@ void ASMSolver::RenderNode(
   const ShadowView rel = Relative(ls.Views.views[static_cast<std::size_t>(view)], frame.State->Origin);
   const glm::dvec3 offset = casters.Origin - frame.State->Origin;
   vtkOpenGLState::ScopedglDepthFunc depthFunc(ostate);
-  this->Tex.Begin(win, this->Tex.Scratch, -1, this->Tex.ScratchDepth);
-  ostate->vtkglViewport(0, 0, res, res);
-  ostate->vtkglScissor(0, 0, res, res);
-  const GLuint far[4] = { 0xFFFFFFFFu, 0u, 0u, 0u };
-  glClearBufferuiv(GL_COLOR, 0, far);
-  const GLfloat one = 1.0f;
-  glClearBufferfv(GL_DEPTH, 0, &one);
+  const unsigned int far[4] = { 0xFFFFFFFFu, 0u, 0u, 0u };
+  this->Tex.BeginCleared(win, this->Tex.Scratch, this->Tex.ScratchDepth, res, res, far);
   ostate->vtkglDisable(GL_BLEND);
   ostate->vtkglDisable(GL_CULL_FACE);
   ostate->vtkglEnable(GL_DEPTH_TEST);
@@ -480,13 +475,8 @@ void ASMSolver::IdPass(SolverFrame& frame)
   vtkOpenGLVertexArrayObject* vao =
     this->IdProgram ? this->ReadyVAO(frame, this->IdProgram, this->IdVAO, this->IdVAOUploads) : nullptr;
   vtkOpenGLState::ScopedglDepthFunc depthFunc(ostate);
-  this->Tex.Begin(win, this->Tex.Ids, -1, this->Tex.IdDepth);
-  ostate->vtkglViewport(0, 0, W, H);
-  ostate->vtkglScissor(0, 0, W, H);
-  const GLuint zero[4] = { 0u, 0u, 0u, 0u };
-  glClearBufferuiv(GL_COLOR, 0, zero);
-  const GLfloat one = 1.0f;
-  glClearBufferfv(GL_DEPTH, 0, &one);
+  const unsigned int zero[4] = { 0u, 0u, 0u, 0u };
+  this->Tex.BeginCleared(win, this->Tex.Ids, this->Tex.IdDepth, W, H, zero);
   if (vao && casters.NumberOfTriangles() > 0)
   {
     vtkCamera* cam = frame.Renderer->GetActiveCamera();

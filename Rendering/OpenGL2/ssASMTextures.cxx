@@ -197,6 +197,18 @@ void ASMTextures::Begin(vtkOpenGLRenderWindow* win, unsigned int color, int laye
   this->FBO->ActivateDrawBuffers(1);
 }
 
+void ASMTextures::BeginCleared(vtkOpenGLRenderWindow* win, unsigned int color, unsigned int depth, int w, int h,
+  const unsigned int clear[4])
+{
+  this->Begin(win, color, -1, depth);
+  win->GetState()->vtkglViewport(0, 0, w, h);
+  win->GetState()->vtkglScissor(0, 0, w, h);
+  const GLuint c[4] = { clear[0], clear[1], clear[2], clear[3] };
+  glClearBufferuiv(GL_COLOR, 0, c);
+  const GLfloat one = 1.0f;
+  glClearBufferfv(GL_DEPTH, 0, &one);
+}
+
 void ASMTextures::End(vtkOpenGLRenderWindow* win)
 {
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);

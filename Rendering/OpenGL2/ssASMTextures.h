@@ -43,6 +43,10 @@ public:
   /// bindings) with `color` (a 2-D texture, or layer `layer` of a 2-D array)
   /// on attachment 0 and `depth` on the depth attachment (0: none).
   void Begin(vtkOpenGLRenderWindow* win, unsigned int color, int layer, unsigned int depth);
+  /// Begin on a w x h corner of an unsigned `color` target with a depth
+  /// buffer: viewport and scissor set, color cleared to `clear`, depth to 1.
+  void BeginCleared(vtkOpenGLRenderWindow* win, unsigned int color, unsigned int depth, int w, int h,
+    const unsigned int clear[4]);
   void End(vtkOpenGLRenderWindow* win);
   /// Copies the bound scratch target's corner of `res`^2 into page `page`
   /// of the atlas (`summary` false) or of the summary.
