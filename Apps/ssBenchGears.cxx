@@ -1,5 +1,6 @@
 // softshadows bench --gears: GEARS against the reference at identical samples.
 #include "ssBenchCommon.h"
+#include "ssBenchGearsFrame.h"
 
 #include "ssHeadless.h"
 #include "ssMetrics.h"
@@ -46,6 +47,7 @@ int BenchGEARS(const std::vector<std::string>& args)
   std::vector<std::pair<int, int>> sizes = { { 512, 512 }, { 1024, 1024 } };
   std::vector<int> ks = { 16, 32 };
   std::string out = "Documentation";
+  std::string dump;
   for (std::size_t i = 0; i < args.size(); ++i)
   {
     const std::string& a = args[i];
@@ -90,6 +92,10 @@ int BenchGEARS(const std::vector<std::string>& args)
     {
       out = value();
     }
+    else if (a == "--dump")
+    {
+      dump = value();
+    }
     else
     {
       throw UsageError("bench --gears: unknown argument '" + a + "'");
@@ -101,6 +107,35 @@ int BenchGEARS(const std::vector<std::string>& args)
   }
   PrivateDisplay display;
   StartBench(display, out);
+  if (!dump.empty())
+  {
+    for (const auto& scene : scenes)
+    {
+      for (const auto& size : sizes)
+      {
+        vtkNew<vtkRenderer> ren;
+        LoadScene(scene, ren);
+        vtkNew<vtkRenderWindow> win;
+        win->SetOffScreenRendering(1);
+        win->SetMultiSamples(0);
+        win->SetSize(size.first, size.second);
+        win->AddRenderer(ren);
+        GearsFrame f = CaptureGearsFrame(win, ren);
+        const std::string name = fs::path(scene).stem().string() + "_" + std::to_string(size.first) + ".bin";
+        std::ofstream o(fs::path(dump) / name, std::ios::binary);
+        auto w = [&](const void* p, std::size_t b) { o.write(static_cast<const char*>(p), static_cast<std::streamsize>(b)); };
+        std::uint64_t np = f.pos.size() / 3, nt = f.tris.size() / 3, npc = f.pieces.orientation.size();
+        w(&np, 8); w(&nt, 8); w(&npc, 8);
+        w(&f.light, sizeof(f.light)); w(&f.origin, sizeof(f.origin));
+        w(f.pos.data(), 4 * f.pos.size()); w(f.nrm.data(), 4 * f.nrm.size());
+        w(f.tris.data(), sizeof(glm::dvec3) * f.tris.size()); w(f.opacity.data(), 4 * f.opacity.size());
+        w(f.pieces.piece.data(), 4 * f.pieces.piece.size()); w(f.pieces.orientation.data(), npc);
+        std::cerr << name << ": " << f.foreground << " px, " << nt << " tris, " << npc << " pieces, " << f.closedPieces
+                  << " closed (" << f.closedTriangles << " tris), capture " << f.msCapture << " ms, pieces " << f.msPieces << " ms\n";
+      }
+    }
+    return 0;
+  }
   json data = json::array();
   std::string renderer = "?";
   for (const auto& scene : scenes)
