@@ -457,7 +457,7 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
             w.box.data() + 3 * boxStride };
           // One candidate's exact bitmask into the pixel's rows, given what
           // SetupBatch found for it (kind 1-3).
-          auto drawCandidate = [&](std::uint32_t a, int kind, const SpanSetup& e, int lane) {
+          auto drawCandidate = [&](std::uint32_t a, int kind, int lane) {
             ++cc.rasterised;
             const float alpha = D.opacity[w.list[a]];
             std::uint32_t tmp[40];
@@ -471,8 +471,8 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
             bool hit = false, fallback = false;
             if (kind == 4)
             {
-              j0 = e.j0;
-              j1 = std::min(e.j0 + kPointRows - 1, e.j1);
+              j0 = b.j0[lane];
+              j1 = std::min(j0 + kPointRows - 1, b.j1[lane]);
               std::uint32_t any = 0;
               for (int rr = 0; rr <= j1 - j0; ++rr)
               {
@@ -483,9 +483,9 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
             }
             else if (kind == 1)
             {
-              j0 = e.j0;
-              j1 = e.j1;
-              hit = K.spans(e, k, target);
+              j0 = b.j0[lane];
+              j1 = b.j1[lane];
+              hit = K.spans(b, lane, k, target);
             }
             else
             {
@@ -571,7 +571,7 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
               {
                 continue;
               }
-              drawCandidate(ids[ln], job.lut && (kind == 1 || kind == 4) ? 3 : kind, b.span[ln], ln);
+              drawCandidate(ids[ln], job.lut && (kind == 1 || kind == 4) ? 3 : kind, ln);
             }
           }
           lap(cc.msExact);

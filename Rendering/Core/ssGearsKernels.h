@@ -51,16 +51,7 @@ struct GroupArrays
 
 /// Candidates whose sample box is at most kPointRows x kPointCols get their
 /// bits by evaluating the constraints at each sample (SetupBatch).
-constexpr int kPointRows = 4, kPointCols = 4;
-
-/// A triangle's constraints for the span raster (RowsSpan): F_m(i, j) =
-/// (A_m + C_m j) + B_m i for the three edge planes (>= 0) and, if nf == 4,
-/// the triangle's plane (> 0), over rows j0..j1.
-struct SpanSetup
-{
-  double A[4], B[4], C[4];
-  int nf, j0, j1;
-};
+constexpr int kPointRows = 6, kPointCols = 6;
 
 /// A cell's triangles in double for the exact raster, one array per column:
 /// vertices (light frame: x0 y0 z0 x1 .. z2), the plane normal (x1 - x0) x
@@ -72,11 +63,17 @@ struct ExactColumns
 };
 
 /// What SetupBatch found for up to 8 candidate triangles of one pixel.
+/// Per lane: the triangle's constraints F_m(i, j) = (A_m + C_m j) + B_m i for
+/// the three edge planes (>= 0) and, if nf == 4, its own plane (> 0), over
+/// rows j0..j1 (RowsSpan draws them).
 struct ExactBatch
 {
-  int kind[8];                  ///< 0 nothing, 1 spans, 2 start rule, 4 bits ready
-  SpanSetup span[8];
-  std::uint32_t bits[kPointRows][8]; ///< kind 4: rows j0 .. j0 + kPointRows - 1
+  alignas(64) double A[4][8];
+  alignas(64) double B[4][8];
+  alignas(64) double C[4][8];
+  alignas(64) std::uint32_t bits[kPointRows][8]; ///< kind 4: rows j0 .. j0 + kPointRows - 1
+  int kind[8];                                   ///< 0 nothing, 1 spans, 2 start rule, 4 bits ready
+  int nf[8], j0[8], j1[8];
 };
 
 /// One pixel sample for the exact raster, in double, in the light frame.
@@ -111,7 +108,7 @@ struct KernelTable
   std::size_t (*shaft)(const GroupArrays&, const Shaft&, std::int32_t* keep, std::uint32_t* out);
   void (*setup)(ExactBatch& b, const ExactColumns& cols, const std::uint32_t* ids, const float* const* box,
     const std::uint32_t* gids, const ExactPixel& p, int count);
-  bool (*spans)(const SpanSetup& t, int k, std::uint32_t* rows);
+  bool (*spans)(const ExactBatch& b, int lane, int k, std::uint32_t* rows);
 };
 const KernelTable& KernelsScalar();
 const KernelTable& KernelsAVX2();
@@ -311,12 +308,23 @@ static inline VD RowBoundV(double A, double B, double C, double P, double Q, boo
 
 // The rows t.j0..t.j1, kRowLanes at a time, ORed into rows (which must hold
 // j1 + kRowLanes entries); returns whether any bit was set.
-static inline bool RowsSpan(const SpanSetup& t, int k, std::uint32_t* rows)
+static inline bool RowsSpan(const ExactBatch& b, int which, int k, std::uint32_t* rows)
 {
+  struct
+  {
+    double A[4], B[4], C[4];
+    int nf, j0, j1;
+  } t;
+  t.nf = b.nf[which];
+  t.j0 = b.j0[which];
+  t.j1 = b.j1[which];
   double P[4], Q[4];
   bool steep[4];
   for (int m = 0; m < t.nf; ++m)
   {
+    t.A[m] = b.A[m][which];
+    t.B[m] = b.B[m][which];
+    t.C[m] = b.C[m][which];
     const double B = t.B[m];
     P[m] = B != 0.0 ? -t.A[m] / B : 0.0;
     Q[m] = B != 0.0 ? -t.C[m] / B : 0.0;
@@ -474,11 +482,6 @@ static inline void SetupBatch(ExactBatch& b, const ExactColumns& cols, const std
       colsNeeded = std::max(colsNeeded, static_cast<int>(i1[q] - i0[q]) + 1);
     }
   }
-  VU bits[kPointRows];
-  for (int r = 0; r < kPointRows; ++r)
-  {
-    bits[r] = VU{} + 0u;
-  }
   for (int r = 0; r < rowsNeeded; ++r)
   {
     const VD jv = j0 + double(r);
@@ -496,7 +499,13 @@ static inline void SetupBatch(ExactBatch& b, const ExactColumns& cols, const std
       const VU bit = (VU{} + 1u) << (VU)__builtin_convertvector(iv, VJ);
       rb |= __builtin_convertvector(in, VJ) != 0 ? bit : VU{} + 0u;
     }
-    bits[r] = rb;
+    __builtin_memcpy(b.bits[r], &rb, sizeof(rb));
+  }
+  for (int m = 0; m < 4; ++m)
+  {
+    __builtin_memcpy(b.A[m], &A[m], sizeof(VD));
+    __builtin_memcpy(b.B[m], &Bc[m], sizeof(VD));
+    __builtin_memcpy(b.C[m], &C[m], sizeof(VD));
   }
   for (int q = 0; q < count; ++q)
   {
@@ -518,20 +527,9 @@ static inline void SetupBatch(ExactBatch& b, const ExactColumns& cols, const std
       kind = 1;
     }
     b.kind[q] = kind;
-    SpanSetup& t = b.span[q];
-    for (int m = 0; m < 4; ++m)
-    {
-      t.A[m] = A[m][q];
-      t.B[m] = Bc[m][q];
-      t.C[m] = C[m][q];
-    }
-    t.nf = cross[q] ? 4 : 3;
-    t.j0 = static_cast<int>(j0[q]);
-    t.j1 = static_cast<int>(j1[q]);
-    for (int r = 0; r < kPointRows; ++r)
-    {
-      b.bits[r][q] = bits[r][q];
-    }
+    b.nf[q] = cross[q] ? 4 : 3;
+    b.j0[q] = static_cast<int>(j0[q]);
+    b.j1[q] = static_cast<int>(j1[q]);
   }
 }
 
