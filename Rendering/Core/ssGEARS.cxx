@@ -302,6 +302,15 @@ std::size_t GearsSolver::NumberOfClusters() const
   return P->D.Clusters();
 }
 
+std::vector<std::int8_t> GearsSolver::ClosedRuleFlags(const LightFrame& light, const GearsOptions& options) const
+{
+  LightFrame L = light;
+  L.center -= P->D.center;
+  std::vector<std::int8_t> flags;
+  gears::ClosedRuleFlags(P->D, L, options, flags);
+  return flags;
+}
+
 std::size_t GearsSolver::ClosedTriangles() const
 {
   return P->D.closedTriangles;

@@ -219,6 +219,11 @@ public:
   /// std::invalid_argument if the order is not a permutation of the input.
   void SetClusters(const std::vector<std::size_t>& order, const std::vector<std::size_t>& first);
   std::size_t NumberOfClusters() const;
+  /// The closed-mesh rule as Solve applies it for `light` (world): per
+  /// solver triangle 0 (rule off), +1 / -1 (its closed piece's orientation,
+  /// for the per-pixel test "S behind the outward face"), or 2 (faces away
+  /// from every light sample: never drawn). For the GL backend.
+  std::vector<std::int8_t> ClosedRuleFlags(const LightFrame& light, const GearsOptions& options) const;
   std::size_t ClosedTriangles() const; ///< triangles of closed pieces (SetPieces)
 
   /// Same contract as ReferenceSolver::Solve. masks (optional) receives one

@@ -396,9 +396,25 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
             BelowHorizonRows(lf.s, N, below);
             std::copy(below, below + k, rows);
           }
+          bool haveTrans = false;
+          // umbra: every row full (checked after each hit, from the first row
+          // on; a pixel that is not in umbra stops at its first open row)
+          auto umbra = [&]() {
+            int j = 0;
+            while (j < k && rows[j] == fullRow)
+            {
+              ++j;
+            }
+            return j == k;
+          };
+          bool full = umbra();
           cc.listed += static_cast<double>(ng);
           std::size_t ncand = ng;
-          if (opt.pairRejection)
+          if (full && !opt.countNecessary)
+          {
+            ncand = 0; // every light sample below the horizon: nothing to draw
+          }
+          else if (opt.pairRejection)
           {
             PixelParams pp;
             pp.sx = static_cast<float>(S.x - o.x);
@@ -435,18 +451,6 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           }
           cc.total += static_cast<double>(ncand);
           lap(cc.msReject);
-          bool haveTrans = false;
-          // umbra: every row full (checked after each hit, from the first row
-          // on; a pixel that is not in umbra stops at its first open row)
-          auto umbra = [&]() {
-            int j = 0;
-            while (j < k && rows[j] == fullRow)
-            {
-              ++j;
-            }
-            return j == k;
-          };
-          bool full = umbra();
           ExactBatch& b = w.batch;
           ExactColumns cols;
           for (int col = 0; col < 16; ++col)

@@ -312,6 +312,13 @@ inline bool ClusterEmpty(const float* b)
   return !(b[0] <= b[3]);
 }
 
+/// The closed-mesh rule for light L (solver frame) per triangle: 0 rule off
+/// (open piece, translucent piece, light inside the piece's box), +-1 the
+/// closed piece's orientation (world frame), 2 dropped (faces away from every
+/// light sample). Returns the number dropped.
+std::size_t ClosedRuleFlags(
+  const SolverData& D, const LightFrame& L, const GearsOptions& opt, std::vector<std::int8_t>& flags);
+
 /// The face's triangles in its light frame (C.u, C.v, C.n at the light
 /// centre), the closed-mesh rule's flags, the clusters' boxes and their
 /// order by depth. L is in the solver's frame.

@@ -83,6 +83,68 @@ Shaft MakeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double H, 
   return s;
 }
 
+std::size_t ClosedRuleFlags(
+  const SolverData& D, const LightFrame& L, const GearsOptions& opt, std::vector<std::int8_t>& flags)
+{
+  const std::size_t NT = D.Triangles();
+  flags.assign(NT, 0);
+  if (!opt.closedMeshRule || D.orient.empty())
+  {
+    return 0;
+  }
+  const LightCorners lc = MakeCorners(L);
+  // The rule holds for a piece only if no light sample lies inside it: the
+  // light's rectangle (or point) must miss the piece's box.
+  const std::size_t NP = D.pieceBox.size() / 6;
+  std::vector<char> lightOutside(NP, 0);
+  glm::dvec3 llo(std::numeric_limits<double>::max()), lhi(-std::numeric_limits<double>::max());
+  for (const auto& p : lc.p)
+  {
+    llo = glm::min(llo, p);
+    lhi = glm::max(lhi, p);
+  }
+  for (std::size_t p = 0; p < NP; ++p)
+  {
+    const double* b = &D.pieceBox[6 * p];
+    const double pad = 1e-6 * (D.extent + glm::length(L.center));
+    bool overlap = true;
+    for (int a = 0; a < 3; ++a)
+    {
+      overlap = overlap && llo[a] <= b[3 + a] + pad && lhi[a] >= b[a] - pad;
+    }
+    lightOutside[p] = lc.dir || !overlap;
+  }
+  std::atomic<std::size_t> dropped{ 0 };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NT, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::size_t localDropped = 0;
+    for (std::size_t t = r.begin(); t != r.end(); ++t)
+    {
+      const int o = D.orient[t];
+      if (o == 0 || !lightOutside[D.piece[t]])
+      {
+        continue;
+      }
+      // Closed piece, light outside: a face that faces away from every light
+      // sample is never the last crossing of a segment that ends outside the
+      // piece (that one leaves the solid through a face facing the sample),
+      // so it changes no bit once the others are drawn (gears.md).
+      const glm::dvec3 B0 = D.Vertex(t, 0);
+      const glm::dvec3 no = double(o) * glm::cross(D.Vertex(t, 1) - B0, D.Vertex(t, 2) - B0);
+      const double nl = glm::length(no);
+      bool away = nl > 0.0;
+      for (int q = 0; q < 4 && away; ++q)
+      {
+        const glm::dvec3 d = lc.dir ? lc.towards[q] : lc.p[q] - B0;
+        away = glm::dot(no, d) < -1e-9 * nl * glm::length(d);
+      }
+      flags[t] = static_cast<std::int8_t>(away ? 2 : o);
+      localDropped += away ? 1 : 0;
+    }
+    dropped += localDropped;
+  });
+  return dropped.load();
+}
+
 void PrepareFaceTriangles(
   const SolverData& D, const LightFrame& L, const GearsGridCamera& C, const GearsOptions& opt, FaceTriangles& ft)
 {
@@ -100,69 +162,29 @@ void PrepareFaceTriangles(
   // size of the scene and its distance to the light
   const double R = D.extent + glm::length(L.center) + L.width + L.height;
   ft.margin = 1e-5 * R;
-  const LightCorners lc = MakeCorners(L);
-  // The closed-mesh rule holds for a piece only if no light sample lies
-  // inside it: the light's rectangle (or point) must miss the piece's box.
-  const std::size_t NP = D.pieceBox.size() / 6;
-  std::vector<char> lightOutside(NP, 0);
-  if (opt.closedMeshRule)
-  {
-    glm::dvec3 llo(std::numeric_limits<double>::max()), lhi(-std::numeric_limits<double>::max());
-    for (const auto& p : lc.p)
-    {
-      llo = glm::min(llo, p);
-      lhi = glm::max(lhi, p);
-    }
-    for (std::size_t p = 0; p < NP; ++p)
-    {
-      const double* b = &D.pieceBox[6 * p];
-      const double pad = 1e-6 * (D.extent + glm::length(L.center));
-      bool overlap = true;
-      for (int a = 0; a < 3; ++a)
-      {
-        overlap = overlap && llo[a] <= b[3 + a] + pad && lhi[a] >= b[a] - pad;
-      }
-      lightOutside[p] = lc.dir || !overlap;
-    }
-  }
-  std::atomic<std::size_t> dropped{ 0 };
+  // light-frame vertices in float, for culling
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NT, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-    std::size_t localDropped = 0;
     for (std::size_t t = r.begin(); t != r.end(); ++t)
     {
-      glm::dvec3 B[3];
       for (int m = 0; m < 3; ++m)
       {
-        B[m] = D.Vertex(t, m);
-        const glm::dvec3 l = ft.ToLight(B[m]);
+        const glm::dvec3 l = ft.ToLight(D.Vertex(t, m));
         ft.x[3 * t + m] = static_cast<float>(l.x);
         ft.y[3 * t + m] = static_cast<float>(l.y);
         ft.z[3 * t + m] = static_cast<float>(l.z);
       }
-      const int o = D.orient.empty() ? 0 : D.orient[t];
-      if (o == 0 || !lightOutside[D.piece[t]])
-      {
-        continue;
-      }
-      // Closed piece, light outside: a face that faces away from every light
-      // sample is never the last crossing of a segment that ends outside the
-      // piece (that one leaves the solid through a face facing the sample),
-      // so it changes no bit once the others are drawn (gears.md).
-      const glm::dvec3 no = double(o) * glm::cross(B[1] - B[0], B[2] - B[0]);
-      const double nl = glm::length(no);
-      bool away = nl > 0.0;
-      for (int q = 0; q < 4 && away; ++q)
-      {
-        const glm::dvec3 d = lc.dir ? lc.towards[q] : lc.p[q] - B[0];
-        away = glm::dot(no, d) < -1e-9 * nl * glm::length(d);
-      }
-      ft.closed[t] = static_cast<std::int8_t>(o);
-      ft.drop[t] = away ? 1 : 0;
-      localDropped += away ? 1 : 0;
     }
-    dropped += localDropped;
   });
-  ft.dropped = dropped.load();
+  // the closed-mesh rule, with the orientation turned into this frame's
+  // (a left-handed frame would flip the normals computed in it)
+  std::vector<std::int8_t> flags;
+  ft.dropped = ClosedRuleFlags(D, L, opt, flags);
+  const int hand = glm::dot(glm::cross(ft.u, ft.v), ft.n) < 0.0 ? -1 : 1;
+  for (std::size_t t = 0; t < NT; ++t)
+  {
+    ft.drop[t] = flags[t] == 2 ? 1 : 0;
+    ft.closed[t] = static_cast<std::int8_t>(flags[t] == 2 ? 0 : flags[t] * hand);
+  }
   // cluster boxes over the kept triangles
   const std::size_t NCl = D.Clusters();
   ft.cbox.assign(6 * NCl, 0.0f);
