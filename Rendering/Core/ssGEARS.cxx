@@ -115,6 +115,8 @@ struct GearsSolver::Impl
     {
       inputToSolver[d.input[t]] = static_cast<std::int64_t>(t);
     }
+    d.real = d.input.size();
+    d.realClusters = d.clusterFirst.size() - 1;
     d.orient.clear();
     d.piece.clear();
     d.pieceBox.clear();
@@ -228,6 +230,7 @@ void GearsSolver::SetClusters(const std::vector<std::size_t>& order, const std::
     }
     d.pieceBox = boxes;
     d.closedTriangles = closed;
+    AppendOccluders(d);
   }
 }
 
@@ -273,6 +276,8 @@ void GearsSolver::SetPieces(const GearsPieces& pieces)
     }
   }
   d.closedTriangles = 0;
+  d.V.resize(9 * d.real);
+  d.opacity.resize(d.real);
   for (std::size_t t = 0; t < ns; ++t)
   {
     const std::uint32_t p = pieces.piece[d.input[t]];
@@ -290,11 +295,13 @@ void GearsSolver::SetPieces(const GearsPieces& pieces)
       }
     }
   }
+  BuildOccluders(d);
+  AppendOccluders(d);
 }
 
 std::size_t GearsSolver::NumberOfTriangles() const
 {
-  return P->D.Triangles();
+  return P->D.real;
 }
 
 std::size_t GearsSolver::NumberOfClusters() const
@@ -308,6 +315,7 @@ std::vector<std::int8_t> GearsSolver::ClosedRuleFlags(const LightFrame& light, c
   L.center -= P->D.center;
   std::vector<std::int8_t> flags;
   gears::ClosedRuleFlags(P->D, L, options, flags);
+  flags.resize(P->D.real);
   return flags;
 }
 
@@ -346,7 +354,7 @@ GearsTriangleData GearsSolver::Data() const
   GearsTriangleData r;
   r.vertices = d.V.data();
   r.opacity = d.opacity.data();
-  r.count = d.opacity.size();
+  r.count = d.real;
   r.center = d.center;
   r.extent = d.extent;
   r.translucent = d.translucent;
@@ -371,7 +379,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   const double eps = 1e-5 * D.extent;
   const Isa isa = ResolveIsa(opt.simd);
   st.simd = IsaName(isa);
-  st.triangles = D.Triangles();
+  st.triangles = D.real;
   st.clusters = D.Clusters();
   std::vector<float> V(n, std::numeric_limits<float>::quiet_NaN());
   if (masksOut)
@@ -533,11 +541,13 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   st.clustersCulled = counters.clustersCulled;
   st.trianglesCulled = counters.trianglesCulled;
   st.groups = counters.groups;
+  st.coveredSkips = counters.coveredSkips;
+  st.occluderBoxes = D.occPiece.size();
   st.cpuCellLists = counters.msLists;
   st.cpuCellArrays = counters.msArrays;
   st.cpuGroups = counters.msGroups;
-  st.cpuReject = counters.msReject;
-  st.cpuRaster = counters.msExact;
+  st.cpuPixels = counters.msExact;
+  st.cellsInUmbra = counters.cellsInUmbra;
   st.lutFallbacks = counters.lutFallbacks;
   st.msTotal = Ms(tStart, Clock::now());
   if (statsOut)
@@ -562,9 +572,11 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"clusters\": " << s.clusters << ", \"cluster_pairs\": " << s.clusterPairs
     << ", \"dropped_triangles\": " << s.droppedTriangles << ", \"clusters_culled\": " << s.clustersCulled
     << ", \"triangles_culled\": " << s.trianglesCulled << ", \"groups\": " << s.groups
+    << ", \"covered_skips\": " << s.coveredSkips << ", \"occluder_boxes\": " << s.occluderBoxes
     << ", \"assignments_listed\": " << s.assignmentsListed << ", \"assignments_rasterised\": " << s.assignmentsRasterised
     << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists << ", \"cell_arrays\": " << s.cpuCellArrays
-    << ", \"groups\": " << s.cpuGroups << ", \"reject\": " << s.cpuReject << ", \"raster\": " << s.cpuRaster << "}}";
+    << ", \"groups\": " << s.cpuGroups << ", \"pixels\": " << s.cpuPixels << "}, \"cells_in_umbra\": " << s.cellsInUmbra
+    << "}";
   return o.str();
 }
 }

@@ -83,12 +83,15 @@ struct GearsStats
   std::size_t groups = 0;            ///< sample groups (cells split into groups)
   double assignmentsListed = 0;      ///< sum over pixels of their group's list (before per-pair rejection)
   double assignmentsRasterised = 0;  ///< pairs that reached the exact raster (a full mask stops early)
+  std::size_t coveredSkips = 0;      ///< pairs not drawn: the samples they may hide are hidden already
+  std::size_t occluderBoxes = 0;     ///< inner occluders of closed pieces (SetPieces)
   std::string simd;                  ///< the kernels' instruction set
   /// Step 4's parts in thread time (ms summed over the threads; a profile,
   /// not wall time): cell lists (clusters and triangles against the cell's
-  /// shaft), the lists' double and float arrays, the sample groups, the
-  /// per-pixel rejection, and the exact raster with V.
-  double cpuCellLists = 0, cpuCellArrays = 0, cpuGroups = 0, cpuReject = 0, cpuRaster = 0;
+  /// shaft, the inner occluders' pre-pass), the lists' double and float
+  /// arrays, the sample groups, and the pixels (rejection, exact raster, V).
+  double cpuCellLists = 0, cpuCellArrays = 0, cpuGroups = 0, cpuPixels = 0;
+  std::size_t cellsInUmbra = 0; ///< cells whose samples the horizon and inner occluders left in umbra
 };
 
 /// One pixel's light bitmask: row j (light v axis), bit i (light u axis);

@@ -43,6 +43,8 @@ void CellCounters::Add(const CellCounters& o)
   trianglesTested += o.trianglesTested;
   trianglesCulled += o.trianglesCulled;
   groups += o.groups;
+  coveredSkips += o.coveredSkips;
+  cellsInUmbra += o.cellsInUmbra;
   lutFallbacks += o.lutFallbacks;
   msLists += o.msLists;
   msArrays += o.msArrays;
@@ -53,7 +55,6 @@ void CellCounters::Add(const CellCounters& o)
 
 namespace
 {
-constexpr std::size_t kPad = 16; // floats past the end of a kernel's arrays
 // A shaft (MakeShaft) in float for coordinates relative to `o`.
 Shaft RelativeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double H, bool dir, double m, const glm::dvec3& o)
 {
@@ -102,26 +103,6 @@ inline bool BoxInShaft(const Shaft& s, const float* b, float m)
     !(z0 < s.zhi));
 }
 
-// Per-thread buffers, kept between cells.
-struct Scratch
-{
-  std::vector<glm::dvec3> S, N;        // the cell's starts and normals (light frame)
-  std::vector<std::size_t> pixel;      // the cell's pixels
-  std::vector<std::uint32_t> sampleOrder, groupEnd;
-  std::vector<std::uint32_t> list;     // the cell's triangles
-  std::vector<double> d[16]; // the cell's triangles in double (ExactColumns order)
-  ExactBatch batch;
-  std::vector<std::int8_t> closed;
-  std::vector<float> f[15];            // the cell's float arrays (GroupArrays order)
-  std::vector<float> gf[15];           // one group's gathered arrays
-  std::vector<std::uint32_t> glist;    // one group's entries (indices into list)
-  std::vector<std::int32_t> keep;
-  std::vector<float> box;
-  std::vector<std::uint32_t> cand;
-  std::vector<float> trans;
-  CellCounters counters;
-};
-
 GroupArrays Arrays(std::vector<float>* a, std::size_t n)
 {
   return { a[0].data(), a[1].data(), a[2].data(), a[3].data(), a[4].data(), a[5].data(), a[6].data(), a[7].data(),
@@ -161,14 +142,11 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
   const FaceTriangles& ft = *job.ft;
   const FacePairs& pairs = *job.pairs;
   const GearsOptions& opt = *job.opt;
-  const int k = job.k;
-  const std::uint32_t fullRow = job.fullRow;
-  const double W = job.W, H = job.H, eps = job.eps;
+  const double W = job.W, H = job.H;
   const bool dir = job.dir;
   const double m = ft.margin;
   const float mf = static_cast<float>(m);
   const KernelTable& K = Kernels(job.isa);
-  const bool project = k > 1 && W > 0.0 && H > 0.0;
   const std::size_t NC = static_cast<std::size_t>(g.C.G) * g.C.G;
   // light corners in the light frame (rect, point) or the corner directions (directional)
   glm::dvec3 corner[4];
@@ -194,25 +172,80 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     groupLists.resize(NC);
     groupPixels.resize(NC);
   }
-  tbb::enumerable_thread_specific<Scratch> scratch;
+  // w.list in double (exact raster) and in float relative to o (rejection kernel)
+  auto fillArraysFor = [&](CellScratch& w, const glm::dvec3& o) {
+    const std::size_t nl = w.list.size();
+        for (auto& col : w.d)
+        {
+          col.resize(nl + kPad);
+        }
+        for (auto& a : w.f)
+        {
+          a.resize(nl + kPad); // the kernels read whole vectors
+        }
+        for (std::size_t a = 0; a < nl; ++a)
+        {
+          const std::uint32_t t = w.list[a];
+          glm::dvec3 B[3];
+          for (int q = 0; q < 3; ++q)
+          {
+            B[q] = ft.ToLight(D.Vertex(t, q));
+            w.d[3 * q][a] = B[q].x;
+            w.d[3 * q + 1][a] = B[q].y;
+            w.d[3 * q + 2][a] = B[q].z;
+            w.f[3 * q][a] = static_cast<float>(B[q].x - o.x);
+            w.f[3 * q + 1][a] = static_cast<float>(B[q].y - o.y);
+            w.f[3 * q + 2][a] = static_cast<float>(B[q].z - o.z);
+          }
+          const glm::dvec3 nT = glm::cross(B[1] - B[0], B[2] - B[0]);
+          double lo1 = 1e300, hi1 = -1e300;
+          for (int q = 0; q < 4; ++q)
+          {
+            const double v = glm::dot(nT, dir ? corner[q] : corner[q] - B[0]);
+            lo1 = std::min(lo1, v);
+            hi1 = std::max(hi1, v);
+          }
+          const double len = glm::length(nT);
+          w.d[9][a] = nT.x;
+          w.d[10][a] = nT.y;
+          w.d[11][a] = nT.z;
+          w.d[12][a] = len;
+          w.d[13][a] = lo1;
+          w.d[14][a] = hi1;
+          w.d[15][a] = double(ft.closed[t]);
+          const glm::dvec3 un = len > 0.0 ? nT / len : glm::dvec3(0.0);
+          w.f[9][a] = static_cast<float>(un.x);
+          w.f[10][a] = static_cast<float>(un.y);
+          w.f[11][a] = static_cast<float>(un.z);
+          w.f[12][a] = static_cast<float>(glm::dot(un, B[0] - o));
+          // the plane test in the kernel needs the light on one side by more than the margin
+          const double scale = len > 0.0 ? (dir ? 1e-6 : m) * len : 1e300;
+          w.f[13][a] = (ft.closed[t] > 0 || lo1 > scale) ? 1.0f : 0.0f;
+          w.f[14][a] = (ft.closed[t] < 0 || hi1 < -scale) ? 1.0f : 0.0f;
+        }
+  };
+  tbb::enumerable_thread_specific<CellScratch> scratch;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-    Scratch& w = scratch.local();
+    CellScratch& w = scratch.local();
     CellCounters& cc = w.counters;
     for (std::size_t ci = r.begin(); ci != r.end(); ++ci)
     {
       const std::uint32_t c = cells[ci];
-      // --- the cell's samples in the light frame
       auto tc = Clock::now();
       auto lap = [&](double& acc) {
         const auto now = Clock::now();
         acc += Ms(tc, now);
         tc = now;
       };
+      // --- the cell's samples in the light frame, their horizons
       const std::uint32_t ns = g.Count(c);
       w.S.resize(ns);
       w.N.resize(ns);
       w.pixel.resize(ns);
+      w.state.resize(ns);
+      w.trans.resize(std::max<std::size_t>(w.trans.size(), ns));
       glm::dvec3 lo(1e300), hi(-1e300);
+      bool allFull = true;
       for (std::uint32_t q = 0; q < ns; ++q)
       {
         const std::size_t pixel = g.pix[g.cellPix[g.cellStart[c] + q]];
@@ -222,11 +255,89 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         w.N[q] = Nw == glm::dvec3(0.0) ? Nw : glm::dvec3(glm::dot(Nw, ft.u), glm::dot(Nw, ft.v), glm::dot(Nw, ft.n));
         lo = glm::min(lo, w.S[q]);
         hi = glm::max(hi, w.S[q]);
+        PixelStart(job, w, q);
+        allFull = allFull && w.state[q].full;
+      }
+      const Shaft shaft = RelativeShaft(lo, hi, W, H, dir, m, glm::dvec3(0.0));
+      // --- inner occluders first (their clusters lead the cell's list): a
+      // cell whose segments to the light all pass through one box is in
+      // umbra; otherwise the boxes' faces S lies behind are drawn (their
+      // bits are the solid's too) and fill many samples' masks at once
+      std::uint32_t a0 = pairs.cellBegin[c];
+      w.list.clear();
+      bool cellUmbra = false;
+      for (; a0 < pairs.cellBegin[c + 1] && pairs.clusters[a0] >= D.realClusters; ++a0)
+      {
+        const std::uint32_t cl = pairs.clusters[a0];
+        // (a box all of whose faces the closed-mesh rule drops stands for a
+        // piece the light is inside, or the rule is off)
+        bool off = true;
+        for (std::uint32_t t = D.clusterFirst[cl]; t < D.clusterFirst[cl + 1]; ++t)
+        {
+          off = off && ft.drop[t];
+        }
+        if (allFull || cellUmbra || opt.countNecessary || off ||
+          (opt.shaftCulling && !BoxInShaft(shaft, &ft.cbox[6 * cl], mf)))
+        {
+          continue;
+        }
+        glm::dvec3 corners[8];
+        for (int q = 0; q < 8; ++q)
+        {
+          corners[q] = ft.Lc + ((q & 1) ? hi.x : lo.x) * ft.u + ((q & 2) ? hi.y : lo.y) * ft.v +
+            ((q & 4) ? hi.z : lo.z) * ft.n;
+        }
+        cellUmbra = UmbraBox(job, corners, 8, &D.occBox[6 * (cl - D.realClusters)]);
+        for (std::uint32_t t = D.clusterFirst[cl]; t < D.clusterFirst[cl + 1]; ++t)
+        {
+          if (!ft.drop[t] && (!opt.shaftCulling || InShaft(shaft, &ft.x[3 * t], &ft.y[3 * t], &ft.z[3 * t])))
+          {
+            w.list.push_back(t);
+          }
+        }
+      }
+      if (cellUmbra)
+      {
+        for (std::uint32_t q = 0; q < ns; ++q)
+        {
+          std::fill(w.state[q].rows, w.state[q].rows + job.k, job.fullRow);
+          w.state[q].full = true;
+        }
+        allFull = true;
+      }
+      else if (!allFull && !w.list.empty())
+      {
+        const glm::dvec3 o = 0.5 * (lo + hi);
+        fillArraysFor(w, o);
+        GroupView gv;
+        gv.ga = Arrays(w.f, w.list.size());
+        gv.entry = nullptr;
+        gv.ng = w.list.size();
+        gv.o = o;
+        gv.counting = false;
+        w.keep.resize(gv.ng + kPad);
+        w.cand.resize(gv.ng + kPad);
+        w.box.resize(4 * (gv.ng + kPad));
+        allFull = true;
+        for (std::uint32_t q = 0; q < ns; ++q)
+        {
+          DrawPixel(job, K, w, gv, q);
+          allFull = allFull && w.state[q].full;
+        }
+      }
+      if (allFull && !opt.countNecessary && !assign)
+      {
+        for (std::uint32_t q = 0; q < ns; ++q)
+        {
+          PixelFinish(job, w, q);
+        }
+        ++cc.cellsInUmbra;
+        lap(cc.msLists);
+        continue;
       }
       // --- the cell's triangles: clusters, then triangles, against its shaft
-      const Shaft shaft = RelativeShaft(lo, hi, W, H, dir, m, glm::dvec3(0.0));
       w.list.clear();
-      for (std::uint32_t a = pairs.cellBegin[c]; a < pairs.cellBegin[c + 1]; ++a)
+      for (std::uint32_t a = a0; a < pairs.cellBegin[c + 1]; ++a)
       {
         const std::uint32_t cl = pairs.clusters[a];
         ++cc.clustersTested;
@@ -239,7 +350,7 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         {
           if (ft.drop[t])
           {
-            continue;
+            continue; // the closed-mesh rule: faces away from the whole light
           }
           ++cc.trianglesTested;
           if (opt.shaftCulling && !InShaft(shaft, &ft.x[3 * t], &ft.y[3 * t], &ft.z[3 * t]))
@@ -252,65 +363,16 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       }
       const std::size_t nl = w.list.size();
       cc.cellTriangles += static_cast<double>(nl);
-      lap(cc.msLists);
       cc.cellTrianglesMax = std::max(cc.cellTrianglesMax, nl);
       if (assign)
       {
         cellLists[c] = w.list;
       }
+      lap(cc.msLists);
       // --- the list in double (exact raster) and in float relative to the
       // cell's centre (rejection kernel)
       const glm::dvec3 o = 0.5 * (lo + hi);
-      for (auto& col : w.d)
-      {
-        col.resize(nl + kPad);
-      }
-      w.closed.resize(nl);
-      for (auto& a : w.f)
-      {
-        a.resize(nl + kPad); // the kernels read whole vectors
-      }
-      for (std::size_t a = 0; a < nl; ++a)
-      {
-        const std::uint32_t t = w.list[a];
-        glm::dvec3 B[3];
-        for (int q = 0; q < 3; ++q)
-        {
-          B[q] = ft.ToLight(D.Vertex(t, q));
-          w.d[3 * q][a] = B[q].x;
-          w.d[3 * q + 1][a] = B[q].y;
-          w.d[3 * q + 2][a] = B[q].z;
-          w.f[3 * q][a] = static_cast<float>(B[q].x - o.x);
-          w.f[3 * q + 1][a] = static_cast<float>(B[q].y - o.y);
-          w.f[3 * q + 2][a] = static_cast<float>(B[q].z - o.z);
-        }
-        const glm::dvec3 nT = glm::cross(B[1] - B[0], B[2] - B[0]);
-        double lo1 = 1e300, hi1 = -1e300;
-        for (int q = 0; q < 4; ++q)
-        {
-          const double v = glm::dot(nT, dir ? corner[q] : corner[q] - B[0]);
-          lo1 = std::min(lo1, v);
-          hi1 = std::max(hi1, v);
-        }
-        w.d[9][a] = nT.x;
-        w.d[10][a] = nT.y;
-        w.d[11][a] = nT.z;
-        w.d[13][a] = lo1;
-        w.d[14][a] = hi1;
-        w.d[15][a] = double(ft.closed[t]);
-        w.closed[a] = ft.closed[t];
-        const double len = glm::length(nT);
-        w.d[12][a] = len;
-        const glm::dvec3 un = len > 0.0 ? nT / len : glm::dvec3(0.0);
-        w.f[9][a] = static_cast<float>(un.x);
-        w.f[10][a] = static_cast<float>(un.y);
-        w.f[11][a] = static_cast<float>(un.z);
-        w.f[12][a] = static_cast<float>(glm::dot(un, B[0] - o));
-        // the plane test in the kernel needs the light on one side by more than the margin
-        const double scale = len > 0.0 ? (dir ? 1e-6 : m) * len : 1e300;
-        w.f[13][a] = (ft.closed[t] > 0 || lo1 > scale) ? 1.0f : 0.0f;
-        w.f[14][a] = (ft.closed[t] < 0 || hi1 < -scale) ? 1.0f : 0.0f;
-      }
+      fillArraysFor(w, o);
       lap(cc.msArrays);
       // --- groups of samples
       w.sampleOrder.resize(ns);
@@ -330,10 +392,17 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       for (const std::uint32_t gend : w.groupEnd)
       {
         // the group's list: the cell's, culled against the group's shaft
-        GroupArrays ga;
-        std::size_t ng = nl;
-        const std::uint32_t* entry = nullptr; // group entry -> cell list entry (null: identity)
-        if (w.groupEnd.size() > 1)
+        GroupView gv;
+        gv.o = o;
+        gv.ng = nl;
+        gv.entry = nullptr;
+        gv.counting = true;
+        bool groupFull = true;
+        for (std::uint32_t q = gbegin; q < gend; ++q)
+        {
+          groupFull = groupFull && w.state[w.sampleOrder[q]].full;
+        }
+        if (w.groupEnd.size() > 1 && !(groupFull && !opt.countNecessary && !assign))
         {
           glm::dvec3 glo(1e300), ghi(-1e300);
           for (std::uint32_t q = gbegin; q < gend; ++q)
@@ -345,30 +414,28 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           w.glist.resize(nl + kPad);
           w.keep.resize(nl + kPad);
           w.glist.resize(K.shaft(Arrays(w.f, nl), gshaft, w.keep.data(), w.glist.data()));
-          ng = w.glist.size();
+          gv.ng = w.glist.size();
           for (int q = 0; q < 15; ++q)
           {
-            w.gf[q].resize(ng + kPad);
-            for (std::size_t a = 0; a < ng; ++a)
+            w.gf[q].resize(gv.ng + kPad);
+            for (std::size_t a = 0; a < gv.ng; ++a)
             {
               w.gf[q][a] = w.f[q][w.glist[a]];
             }
           }
-          ga = Arrays(w.gf, ng);
-          entry = w.glist.data();
+          gv.ga = Arrays(w.gf, gv.ng);
+          gv.entry = w.glist.data();
         }
         else
         {
-          ga = Arrays(w.f, nl);
+          gv.ga = Arrays(w.f, nl);
         }
         if (assign)
         {
-          std::vector<std::uint32_t> gl(ng);
-          for (std::size_t a = 0; a < ng; ++a)
+          for (std::size_t a = 0; a < gv.ng; ++a)
           {
-            gl[a] = w.list[entry ? entry[a] : a];
+            groupLists[c].push_back(w.list[gv.entry ? gv.entry[a] : a]);
           }
-          groupLists[c].insert(groupLists[c].end(), gl.begin(), gl.end());
           groupLists[c].push_back(0xFFFFFFFFu); // group separator
           for (std::uint32_t q = gbegin; q < gend; ++q)
           {
@@ -376,236 +443,23 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           }
           groupPixels[c].push_back(0xFFFFFFFFu);
         }
-        w.keep.resize(ng + kPad);
-        w.cand.resize(ng + kPad);
-        w.box.resize(4 * (ng + kPad));
-        const std::size_t boxStride = ng + kPad;
+        w.keep.resize(gv.ng + kPad);
+        w.cand.resize(gv.ng + kPad);
+        w.box.resize(4 * (gv.ng + kPad));
         lap(cc.msGroups);
         // --- per pixel
         for (std::uint32_t q = gbegin; q < gend; ++q)
         {
           const std::uint32_t sq = w.sampleOrder[q];
-          const std::size_t pixel = w.pixel[sq];
-          const glm::dvec3 S = w.S[sq];
-          const glm::dvec3 N = w.N[sq];
-          const LightSpace lf = MakeLightSpace(S, W, H, dir, k);
-          std::uint32_t rows[40] = { 0 }; // the row kernels write whole vectors
-          std::uint32_t below[40] = { 0 };
-          if (N != glm::dvec3(0.0))
-          {
-            BelowHorizonRows(lf.s, N, below);
-            std::copy(below, below + k, rows);
-          }
-          bool haveTrans = false;
-          // umbra: every row full (checked after each hit, from the first row
-          // on; a pixel that is not in umbra stops at its first open row)
-          auto umbra = [&]() {
-            int j = 0;
-            while (j < k && rows[j] == fullRow)
-            {
-              ++j;
-            }
-            return j == k;
-          };
-          bool full = umbra();
-          cc.listed += static_cast<double>(ng);
-          std::size_t ncand = ng;
-          if (full && !opt.countNecessary)
-          {
-            ncand = 0; // every light sample below the horizon: nothing to draw
-          }
-          else if (opt.pairRejection)
-          {
-            PixelParams pp;
-            pp.sx = static_cast<float>(S.x - o.x);
-            pp.sy = static_cast<float>(S.y - o.y);
-            pp.sz = static_cast<float>(S.z - o.z);
-            pp.cz = static_cast<float>(o.z);
-            pp.Sx = static_cast<float>(S.x);
-            pp.Sy = static_cast<float>(S.y);
-            pp.Sz = static_cast<float>(S.z);
-            const double nl2 = glm::length(N);
-            const glm::dvec3 un = nl2 > 0.0 ? N / nl2 : glm::dvec3(0.0);
-            pp.px = static_cast<float>(un.x);
-            pp.py = static_cast<float>(un.y);
-            pp.pz = static_cast<float>(un.z);
-            pp.kx = project ? static_cast<float>(k / W) : 0.0f;
-            pp.ky = project ? static_cast<float>(k / H) : 0.0f;
-            pp.off = static_cast<float>(0.5 * k - 0.5);
-            pp.last = static_cast<float>(k - 1);
-            pp.m = mf;
-            pp.dir = dir ? 1 : 0;
-            pp.project = project ? 1 : 0;
-            ncand = K.reject(ga, pp, w.keep.data(), w.cand.data(), w.box.data(), boxStride);
-          }
-          else
-          {
-            std::iota(w.cand.begin(), w.cand.begin() + ng, 0u);
-            for (std::size_t a = 0; a < ng; ++a)
-            {
-              w.box[a] = 0.0f;
-              w.box[boxStride + a] = static_cast<float>(k - 1);
-              w.box[2 * boxStride + a] = 0.0f;
-              w.box[3 * boxStride + a] = static_cast<float>(k - 1);
-            }
-          }
-          cc.total += static_cast<double>(ncand);
-          lap(cc.msReject);
-          ExactBatch& b = w.batch;
-          ExactColumns cols;
-          for (int col = 0; col < 16; ++col)
-          {
-            cols.c[col] = w.d[col].data();
-          }
-          const float* boxCols[4] = { w.box.data(), w.box.data() + boxStride, w.box.data() + 2 * boxStride,
-            w.box.data() + 3 * boxStride };
-          // One candidate's exact bitmask into the pixel's rows, given what
-          // SetupBatch found for it (kind 1-3).
-          auto drawCandidate = [&](std::uint32_t a, int kind, int lane) {
-            ++cc.rasterised;
-            const float alpha = D.opacity[w.list[a]];
-            std::uint32_t tmp[40];
-            std::uint32_t* target = rows;
-            if (alpha < 1.0f || opt.countNecessary)
-            {
-              std::fill(tmp, tmp + 40, 0u);
-              target = tmp;
-            }
-            int j0 = 0, j1 = k - 1;
-            bool hit = false, fallback = false;
-            if (kind == 4)
-            {
-              j0 = b.j0[lane];
-              j1 = std::min(j0 + kPointRows - 1, b.j1[lane]);
-              std::uint32_t any = 0;
-              for (int rr = 0; rr <= j1 - j0; ++rr)
-              {
-                target[j0 + rr] |= b.bits[rr][lane];
-                any |= b.bits[rr][lane];
-              }
-              hit = any != 0u;
-            }
-            else if (kind == 1)
-            {
-              j0 = b.j0[lane];
-              j1 = b.j1[lane];
-              hit = K.spans(b, lane, k, target);
-            }
-            else
-            {
-              const glm::dvec3 B0(w.d[0][a], w.d[1][a], w.d[2][a]), B1(w.d[3][a], w.d[4][a], w.d[5][a]),
-                B2(w.d[6][a], w.d[7][a], w.d[8][a]);
-              // the start rule tests only samples not known to be hidden
-              hit = kind == 2 ? RasterizeNearTriangle(lf, B0, B1, B2, eps, target, target == rows ? rows : below)
-                              : RasterizeTriangle(lf, S, B0, B1, B2, job.lut, target, j0, j1, fallback);
-            }
-            cc.lutFallbacks += fallback ? 1 : 0;
-            if (hit && opt.countNecessary)
-            {
-              bool above = false;
-              for (int j = j0; j <= j1; ++j)
-              {
-                above = above || (tmp[j] & ~below[j]) != 0u;
-              }
-              cc.necessary += above ? 1.0 : 0.0;
-            }
-            if (alpha < 1.0f && hit)
-            {
-              if (!haveTrans)
-              {
-                w.trans.assign(static_cast<std::size_t>(k) * k, 1.0f);
-                haveTrans = true;
-              }
-              for (int j = j0; j <= j1; ++j)
-              {
-                for (std::uint32_t bits = tmp[j]; bits; bits &= bits - 1)
-                {
-                  const int i = __builtin_ctz(bits);
-                  w.trans[static_cast<std::size_t>(j) * k + i] *= (1.0f - alpha);
-                }
-              }
-            }
-            else if (hit)
-            {
-              if (target == tmp)
-              {
-                for (int j = j0; j <= j1; ++j)
-                {
-                  rows[j] |= tmp[j];
-                }
-              }
-              full = umbra();
-            }
-          };
-          // candidates in their order, K.lanes at a time through SetupBatch
-          // (the closed-mesh rule, the start rule's test, projection, edges)
-          ExactPixel ep;
-          ep.Sx = S.x;
-          ep.Sy = S.y;
-          ep.Sz = S.z;
-          ep.eps = eps;
-          ep.W = W;
-          ep.H = H;
-          ep.invK = lf.s.invK;
-          ep.k = k;
-          ep.dir = dir;
-          ep.project = project;
-          for (std::size_t c0 = 0; c0 < ncand; c0 += static_cast<std::size_t>(K.lanes))
-          {
-            if (full && !opt.countNecessary)
-            {
-              break; // umbra: no further triangle changes V
-            }
-            const int count = static_cast<int>(std::min<std::size_t>(K.lanes, ncand - c0));
-            std::uint32_t ids[8], gids[8];
-            for (int ln = 0; ln < K.lanes; ++ln)
-            {
-              gids[ln] = w.cand[c0 + (ln < count ? ln : 0)];
-              ids[ln] = entry ? entry[gids[ln]] : gids[ln];
-            }
-            K.setup(b, cols, ids, boxCols, gids, ep, count);
-            for (int ln = 0; ln < count; ++ln)
-            {
-              if (full && !opt.countNecessary)
-              {
-                break;
-              }
-              const int kind = b.kind[ln];
-              if (kind == 0)
-              {
-                continue;
-              }
-              drawCandidate(ids[ln], job.lut && (kind == 1 || kind == 4) ? 3 : kind, ln);
-            }
-          }
-          lap(cc.msExact);
-          double visible = 0.0;
-          for (int j = 0; j < k; ++j)
-          {
-            const std::uint32_t lit = ~rows[j] & fullRow;
-            if (!haveTrans)
-            {
-              visible += __builtin_popcount(lit);
-            }
-            else
-            {
-              for (std::uint32_t bits = lit; bits; bits &= bits - 1)
-              {
-                visible += w.trans[static_cast<std::size_t>(j) * k + __builtin_ctz(bits)];
-              }
-            }
-          }
-          job.V[pixel] = static_cast<float>(visible / (static_cast<double>(k) * k));
-          if (job.masks)
-          {
-            std::copy(rows, rows + 32, job.masks[pixel].begin());
-          }
+          DrawPixel(job, K, w, gv, sq);
+          PixelFinish(job, w, sq);
         }
+        lap(cc.msExact);
         gbegin = gend;
       }
     }
   });
-  for (const Scratch& w : scratch)
+  for (const CellScratch& w : scratch)
   {
     counters.Add(w.counters);
   }

@@ -270,6 +270,13 @@ struct SolverData
   std::vector<std::uint32_t> piece;    ///< per triangle: its piece (solver-local index)
   std::vector<double> pieceBox;        ///< per piece: min xyz, max xyz (solver frame)
   std::size_t skipped = 0, closedTriangles = 0;
+  /// The real triangles are [0, real) in realClusters clusters; after them
+  /// come the inner occluders of closed pieces (ssGearsOccluders.cxx), 12
+  /// triangles and one cluster per box, kept here to append again.
+  std::size_t real = 0, realClusters = 0;
+  std::vector<float> occV;             ///< 108 floats per box
+  std::vector<std::uint32_t> occPiece; ///< per box: its piece
+  std::vector<double> occBox;          ///< per box: min xyz, max xyz (solver frame)
   bool translucent = false;
   std::uint64_t version = 0;
   std::size_t Triangles() const { return opacity.size(); }
@@ -311,6 +318,16 @@ inline bool ClusterEmpty(const float* b)
 {
   return !(b[0] <= b[3]);
 }
+
+/// Occluders: pieces with at least this many triangles get inner boxes from
+/// a grid of kOccluderGrid voxels along their longest side, at most
+/// kOccluderBoxes boxes of at least kOccluderMinVoxels voxels.
+constexpr std::size_t kOccluderMinTriangles = 256, kOccluderBoxes = 64, kOccluderMinVoxels = 8;
+constexpr int kOccluderGrid = 32;
+/// The inner occluders of D's closed pieces (into occV, occPiece).
+void BuildOccluders(SolverData& D);
+/// D's arrays cut back to the real triangles, then the occluders appended.
+void AppendOccluders(SolverData& D);
 
 /// The closed-mesh rule for light L (solver frame) per triangle: 0 rule off
 /// (open piece, translucent piece, light inside the piece's box), +-1 the
@@ -355,8 +372,10 @@ struct CellCounters
   double cellTriangles = 0; ///< sum over non-empty cells of their list's length after culling
   std::size_t cellTrianglesMax = 0;
   std::size_t clustersTested = 0, clustersCulled = 0, trianglesTested = 0, trianglesCulled = 0;
-  std::size_t groups = 0, lutFallbacks = 0;
-  // thread time (ms, summed over threads) of the parts of step 4
+  std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0;
+  // thread time (ms, summed over threads) of the parts of step 4: cell
+  // lists (with the occluders' pre-pass), their arrays, the groups, and the
+  // pixels (rejection and exact raster)
   double msLists = 0, msArrays = 0, msGroups = 0, msReject = 0, msExact = 0;
   void Add(const CellCounters& o);
 };
@@ -385,6 +404,69 @@ struct CellJob
   GearsMask* masks;
 };
 void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Face* assign, std::int32_t* pixelGroup);
+
+constexpr std::size_t kPad = 16; ///< floats past the end of a kernel's arrays
+
+/// Every one of the k rows full (from the first row on: a pixel not in
+/// umbra stops at its first open row).
+inline bool Umbra(const std::uint32_t* rows, int k, std::uint32_t fullRow)
+{
+  int j = 0;
+  while (j < k && rows[j] == fullRow)
+  {
+    ++j;
+  }
+  return j == k;
+}
+
+/// One pixel sample's mask while its cell is drawn.
+struct PixelState
+{
+  std::uint32_t rows[40];  ///< the row kernels write whole vectors past row 31
+  std::uint32_t below[40]; ///< the samples below its horizon
+  bool full = false, haveTrans = false;
+};
+
+/// A thread's buffers for the cells stage, kept between cells.
+struct CellScratch
+{
+  std::vector<glm::dvec3> S, N;         ///< the cell's starts and normals (light frame)
+  std::vector<std::size_t> pixel;       ///< the cell's pixels
+  std::vector<PixelState> state;
+  std::vector<std::vector<float>> trans; ///< per sample: transmittance of translucent casters
+  std::vector<std::uint32_t> sampleOrder, groupEnd;
+  std::vector<std::uint32_t> list, occList; ///< the cell's triangles; its inner occluders' faces
+  std::vector<double> d[16];            ///< the list in double (ExactColumns order)
+  std::vector<float> f[15];             ///< the list in float relative to the cell's centre (GroupArrays order)
+  std::vector<float> gf[15];            ///< one group's gathered arrays
+  std::vector<std::uint32_t> glist;     ///< one group's entries (indices into list)
+  std::vector<std::int32_t> keep;
+  std::vector<float> box;
+  std::vector<std::uint32_t> cand;
+  ExactBatch batch;
+  CellCounters counters;
+};
+
+/// One sample group's list: the kernel arrays, entry -> cell list index
+/// (null: the cell's own list), its length and the cell's centre.
+struct GroupView
+{
+  GroupArrays ga;
+  const std::uint32_t* entry;
+  std::size_t ng;
+  glm::dvec3 o;
+  bool counting; ///< false for the inner occluders' faces (not the scene's triangles)
+};
+
+/// ssGearsPixel.cxx: a sample's starting mask (horizon), the occluders'
+/// pre-pass of a cell's samples, a sample's list, and its V and mask.
+void PixelStart(const CellJob& job, CellScratch& w, std::uint32_t sq);
+/// Whether every segment from the points `from` to the light (job.L: its
+/// corners, or corner directions) passes through inner occluder `box`
+/// (solver frame): their points at some common parameter t all lie in it.
+bool UmbraBox(const CellJob& job, const glm::dvec3* from, int count, const double* box);
+void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv, std::uint32_t sq);
+void PixelFinish(const CellJob& job, CellScratch& w, std::uint32_t sq);
 
 /// Stable counting sort of `count` (item, cell) pairs on the cell, in parallel
 /// chunks; cellBegin (NC + 1) gets the per-cell ranges of `sorted`.

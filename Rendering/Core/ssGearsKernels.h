@@ -68,10 +68,10 @@ struct ExactColumns
 /// rows j0..j1 (RowsSpan draws them).
 struct ExactBatch
 {
-  alignas(64) double A[4][8];
-  alignas(64) double B[4][8];
-  alignas(64) double C[4][8];
-  alignas(64) std::uint32_t bits[kPointRows][8]; ///< kind 4: rows j0 .. j0 + kPointRows - 1
+  double A[4][8];
+  double B[4][8];
+  double C[4][8];
+  std::uint32_t bits[kPointRows][8]; ///< kind 4: rows j0 .. j0 + kPointRows - 1
   int kind[8];                                   ///< 0 nothing, 1 spans, 2 start rule, 4 bits ready
   int nf[8], j0[8], j1[8];
 };

@@ -90,7 +90,11 @@ std::size_t ClosedRuleFlags(
   flags.assign(NT, 0);
   if (!opt.closedMeshRule || D.orient.empty())
   {
-    return 0;
+    for (std::size_t t = D.real; t < NT; ++t)
+    {
+      flags[t] = 2; // no inner occluders without the rule
+    }
+    return NT - D.real;
   }
   const LightCorners lc = MakeCorners(L);
   // The rule holds for a piece only if no light sample lies inside it: the
@@ -120,6 +124,12 @@ std::size_t ClosedRuleFlags(
     for (std::size_t t = r.begin(); t != r.end(); ++t)
     {
       const int o = D.orient[t];
+      if (t >= D.real && !lightOutside[D.piece[t]])
+      {
+        flags[t] = 2; // an inner occluder stands in for its piece only while the light is outside it
+        ++localDropped;
+        continue;
+      }
       if (o == 0 || !lightOutside[D.piece[t]])
       {
         continue;
@@ -220,8 +230,17 @@ void PrepareFaceTriangles(
   });
   // blocker order: clusters nearest the receivers (farthest from the light)
   // first, so that umbra masks fill early
+  // (inner occluders before everything: they fill umbra masks with few triangles)
   ft.clusterOrder.clear();
-  for (std::size_t c = 0; c < NCl; ++c)
+  for (std::size_t c = D.realClusters; c < NCl; ++c)
+  {
+    if (!ClusterEmpty(&ft.cbox[6 * c]))
+    {
+      ft.clusterOrder.push_back(static_cast<std::uint32_t>(c));
+    }
+  }
+  const std::size_t firstReal = ft.clusterOrder.size();
+  for (std::size_t c = 0; c < D.realClusters; ++c)
   {
     if (!ClusterEmpty(&ft.cbox[6 * c]))
     {
@@ -230,7 +249,7 @@ void PrepareFaceTriangles(
   }
   if (opt.depthOrder)
   {
-    tbb::parallel_sort(ft.clusterOrder.begin(), ft.clusterOrder.end(), [&](std::uint32_t a, std::uint32_t b) {
+    tbb::parallel_sort(ft.clusterOrder.begin() + firstReal, ft.clusterOrder.end(), [&](std::uint32_t a, std::uint32_t b) {
       const float za = ft.cbox[6 * a + 5], zb = ft.cbox[6 * b + 5];
       return za != zb ? za > zb : a < b;
     });
