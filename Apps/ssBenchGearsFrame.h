@@ -8,7 +8,10 @@
 #include "ssGEARS.h"
 #include "ssLightFrame.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstddef>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -50,6 +53,9 @@ GearsFrame CaptureGearsFrame(vtkRenderWindow* win, vtkRenderer* ren);
 /// start offset, tangent-plane rule and one-sided light as the reference.
 /// Returns V (NaN background); rays counts the rays traced.
 std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, double& rays);
+
+/// gears-bench.md from the rows bench --gears measured (ssBenchGearsReport.cxx).
+void WriteGearsBenchReport(const nlohmann::json& meta, const nlohmann::json& rows, const std::filesystem::path& md);
 }
 }
 
