@@ -4,6 +4,8 @@
 //         [--output img.png] [--visibility vis.pfm] [--positions pos.pfm]
 //         [--stats stats.json] [--frames N] [--option key=value ...]
 //   softshadows compare A.pfm B.pfm     (B is the reference)
+//   softshadows bake / prepare / bench --filters: see ssBake.h (no GPU)
+#include "ssBake.h"
 #include "ssBench.h"
 #include "ssHeadless.h"
 #include "ssImageIO.h"
@@ -56,26 +58,36 @@ using ssapp::Median;
 using ssapp::ParseInt;
 using ssapp::UsageError;
 
-const char* kUsage =
-  "usage:\n"
-  "  softshadows render SCENE.json [--method M] [--size WxH] [--light I]\n"
-  "        [--output img.png] [--visibility vis.pfm] [--positions pos.pfm]\n"
-  "        [--stats stats.json] [--frames N] [--option key=value ...]\n"
-  "  softshadows compare A.pfm B.pfm\n"
-  "  softshadows bench [--smoke] [--scenes a.json,b.json] [--out DIR] [--frames N]\n"
-  "        [--size WxH] [--reference-samples K]\n"
-  "  softshadows bench --gears --scenes a.json,... [--sizes 512x512,1024x1024]\n"
-  "        [--samples 16,32] [--out DIR]\n"
-  "  softshadows bench --pvsm --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
-  "        [--reference-samples K]   (PVSM vs fixed PCSS vs 8x8 hard maps; cameras, lights)\n"
-  "methods: auto (default), hard, pcf, pcss, pvsm, hardavg, reference, gears, vtk, none\n"
-  "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
-  "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"
-  "         gears_samples (1..32), gears_grid, gears_raster (edge|lut), gears_backend (cpu|gl),\n"
-  "         gears_necessary (0|1: count Table 9's necessary assignments),\n"
-  "         pvsm_quality (scale on rho), pvsm_metric (auto|dynamic|static), pvsm_grid,\n"
-  "         pvsm_max_tile, pvsm_low_resolution, average_samples (hardavg: k per side, 1..32)\n";
-
+// The methods are the solver registry's (vtkSoftShadowPass::GetMethodNames) and vtk.
+std::string Usage()
+{
+  return "usage:\n"
+         "  softshadows render SCENE.json [--method M] [--size WxH] [--light I]\n"
+         "        [--output img.png] [--visibility vis.pfm] [--positions pos.pfm]\n"
+         "        [--stats stats.json] [--frames N] [--option key=value ...]\n"
+         "  softshadows compare A.pfm B.pfm\n"
+         "  softshadows bench [--smoke] [--scenes a.json,b.json] [--out DIR] [--frames N]\n"
+         "        [--size WxH] [--reference-samples K]\n"
+         "  softshadows bench --gears --scenes a.json,... [--sizes 512x512,1024x1024]\n"
+         "        [--samples 16,32] [--out DIR]\n"
+         "  softshadows bench --pvsm --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
+         "        [--reference-samples K]   (PVSM vs fixed PCSS vs 8x8 hard maps; cameras, lights)\n"
+         "  softshadows bench --filters --mesh M [--points N] [--runs R] [--samples K] [--out DIR]\n"
+         "        (caster preparation per million triangles, baking an N-point surface; --smoke: tiny)\n"
+         "  softshadows bake SCENE.json --object I --output baked.vtp [--samples K]\n"
+         "        [--method gears|reference]   (visible fraction of each light per point, CPU)\n"
+         "  softshadows prepare MESH --output prepared.vtp [--tolerance F] [--cluster-size N]\n"
+         "        [--boxes plane|optimal|aligned] [--no-snap] [--no-self-intersections] [--report r.json]\n"
+         "methods: " +
+    vtkSoftShadowPass::GetMethodNames() +
+    ", vtk (auto is the default)\n"
+    "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
+    "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"
+    "         gears_samples (1..32), gears_grid, gears_raster (edge|lut), gears_backend (cpu|gl),\n"
+    "         gears_necessary (0|1: count Table 9's necessary assignments),\n"
+    "         pvsm_quality (scale on rho), pvsm_metric (auto|dynamic|static), pvsm_grid,\n"
+    "         pvsm_max_tile, pvsm_low_resolution, average_samples (hardavg: k per side, 1..32)\n";
+}
 }
 
 namespace ssapp
@@ -374,13 +386,12 @@ int Render(const std::vector<std::string>& args)
   if (!vtkMethod && !pass->SetMethodByName(method.c_str()))
   {
     static const std::vector<std::string> later = { "vpcss", "asm" };
+    const std::string available = vtkSoftShadowPass::GetMethodNames() + ", vtk";
     if (std::find(later.begin(), later.end(), method) != later.end())
     {
-      throw UsageError("--method " + method + ": not implemented yet (available: auto, hard, pcf, "
-                                              "pcss, pvsm, hardavg, reference, gears, vtk, none)");
+      throw UsageError("--method " + method + ": not implemented yet (available: " + available + ")");
     }
-    throw UsageError("--method: unknown method '" + method +
-      "' (expected auto, hard, pcf, pcss, pvsm, hardavg, reference, gears, vtk, none)");
+    throw UsageError("--method: unknown method '" + method + "' (expected " + available + ")");
   }
   if (vtkMethod && (!visibility.empty() || !positions.empty()))
   {
@@ -563,12 +574,11 @@ int Render(const std::vector<std::string>& args)
       s["memory_bytes"] = st["memory_bytes"];
       s["pass"] = st;
     }
-    std::ofstream out(stats);
-    if (!out)
+    std::string wmsg;
+    if (!ssapp::WriteTextFile(stats, s.dump(2) + "\n", wmsg))
     {
-      throw std::runtime_error("cannot write '" + stats + "'");
+      throw std::runtime_error(wmsg);
     }
-    out << std::setprecision(17) << s.dump(2) << "\n";
     std::cout << "softshadows: wrote stats " << stats << "\n";
   }
   std::cout << "softshadows: " << method << " " << w << "x" << h << ", " << info.objects
@@ -624,7 +634,7 @@ int main(int argc, char* argv[])
   {
     if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help")
     {
-      std::cout << kUsage;
+      std::cout << Usage();
       return args.empty() ? 2 : 0;
     }
     const std::string cmd = args[0];
@@ -637,15 +647,27 @@ int main(int argc, char* argv[])
     {
       return Compare(args);
     }
+    if (cmd == "bench" && std::find(args.begin(), args.end(), "--filters") != args.end())
+    {
+      return ssapp::BenchFilters(args);
+    }
     if (cmd == "bench")
     {
       return ssapp::Bench(args);
     }
-    throw UsageError("unknown command '" + cmd + "' (expected render, compare or bench)");
+    if (cmd == "bake")
+    {
+      return ssapp::Bake(args);
+    }
+    if (cmd == "prepare")
+    {
+      return ssapp::Prepare(args);
+    }
+    throw UsageError("unknown command '" + cmd + "' (expected render, compare, bench, bake or prepare)");
   }
   catch (const UsageError& e)
   {
-    std::cerr << "softshadows: error: " << e.what() << "\n" << kUsage;
+    std::cerr << "softshadows: error: " << e.what() << "\n" << Usage();
     return 2;
   }
   catch (const std::exception& e)

@@ -1,5 +1,7 @@
 #include "ssBenchCommon.h"
 
+#include "ssImageIO.h"
+
 #include "vtkCamera.h"
 #include "vtkImageData.h"
 #include "vtkPointData.h"
@@ -12,11 +14,26 @@
 #include <algorithm>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 namespace ssapp
 {
 namespace bench
 {
+void ReportFile::Commit() const
+{
+  WriteReport(this->Path, this->str());
+}
+
+void WriteReport(const std::filesystem::path& path, const std::string& text)
+{
+  std::string message;
+  if (!WriteTextFile(path.string(), text, message))
+  {
+    throw std::runtime_error(message);
+  }
+}
+
 std::vector<float> Luminance(vtkRenderWindow* win)
 {
   vtkNew<vtkWindowToImageFilter> w2i;

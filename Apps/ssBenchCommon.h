@@ -17,6 +17,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,21 @@ namespace ssapp
 namespace bench
 {
 using json = nlohmann::json;
+
+/// A report file: text is collected here and written by Commit(), which
+/// checks the write and throws with the path and the reason on failure.
+class ReportFile : public std::ostringstream
+{
+public:
+  explicit ReportFile(const std::filesystem::path& path)
+    : Path(path.string())
+  {
+  }
+  void Commit() const;
+  std::string Path;
+};
+/// Writes `text` to `path` (checked; throws with the path and the reason).
+void WriteReport(const std::filesystem::path& path, const std::string& text);
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 

@@ -17,10 +17,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 namespace ssapp
@@ -72,6 +75,11 @@ void WriteFrame(const GearsFrame& f, const fs::path& path)
   w(f.opacity.data(), 4 * f.opacity.size());
   w(f.pieces.piece.data(), 4 * f.pieces.piece.size());
   w(f.pieces.orientation.data(), npc);
+  o.close();
+  if (!o)
+  {
+    throw std::runtime_error("bench --gears --dump: cannot write " + path.string() + ": " + std::strerror(errno));
+  }
 }
 }
 
@@ -307,7 +315,7 @@ int BenchGEARS(const std::vector<std::string>& args)
   json meta{ { "renderer", renderer }, { "machine", machine }, { "loadavg_before", loadBefore },
     { "loadavg_after", loadAfter }, { "frames", frames }, { "smoke", smoke },
     { "simd", data.empty() ? std::string() : data[0]["gears_stats"].value("simd", std::string()) } };
-  std::ofstream(fs::path(out) / "gears-bench.json") << json{ { "meta", meta }, { "rows", data } }.dump(2) << "\n";
+  WriteReport(fs::path(out) / "gears-bench.json", json{ { "meta", meta }, { "rows", data } }.dump(2) + "\n");
   WriteGearsBenchReport(meta, data, fs::path(out) / "gears-bench.md");
   std::cout << "softshadows: bench --gears wrote " << (fs::path(out) / "gears-bench.md").string() << " and .json\n";
   return 0;

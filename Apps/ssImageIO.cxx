@@ -1,5 +1,8 @@
 #include "ssImageIO.h"
 
+#include "ssImageCheck.h"
+
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cctype>
@@ -10,8 +13,46 @@
 
 namespace ssapp
 {
+bool WriteFileBytes(const std::string& path, const void* data, std::size_t size, std::string& message)
+{
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f)
+  {
+    message = "cannot write '" + path + "': " + std::strerror(errno);
+    return false;
+  }
+  // Every step is checked: a full disk (or /dev/full) fails at fwrite, at
+  // the flush or at the close, and the message says which reason.
+  errno = 0;
+  bool ok = std::fwrite(data, 1, size, f) == size;
+  int err = errno;
+  if (ok && std::fflush(f) != 0)
+  {
+    ok = false;
+    err = errno;
+  }
+  if (std::fclose(f) != 0 && ok)
+  {
+    ok = false;
+    err = errno;
+  }
+  if (!ok)
+  {
+    message = "cannot write '" + path + "': " + (err ? std::strerror(err) : "write failed");
+    return false;
+  }
+  return true;
+}
+
+bool WriteTextFile(const std::string& path, const std::string& text, std::string& message)
+{
+  return WriteFileBytes(path, text.data(), text.size(), message);
+}
+
 namespace
 {
+// OpenImageIO encodes into memory (its PNG writer does not report a failed
+// write to the file); the bytes are then written with every step checked.
 template <typename T>
 bool Write(const std::string& path, const T* data, int w, int h, int ch, OIIO::TypeDesc type,
   std::string& message)
@@ -20,6 +61,14 @@ bool Write(const std::string& path, const T* data, int w, int h, int ch, OIIO::T
   if (!out)
   {
     message = "cannot write '" + path + "': " + OIIO::geterror();
+    return false;
+  }
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  if (!out->supports("ioproxy") || !out->set_ioproxy(&memory))
+  {
+    message = "cannot write '" + path + "': the " + std::string(out->format_name()) +
+      " writer cannot encode into memory";
     return false;
   }
   OIIO::ImageSpec spec(w, h, ch, type);
@@ -36,7 +85,12 @@ bool Write(const std::string& path, const T* data, int w, int h, int ch, OIIO::T
     message = "cannot write '" + path + "': " + out->geterror();
     return false;
   }
-  return true;
+  if (bytes.empty())
+  {
+    message = "cannot write '" + path + "': the image encoder produced no data";
+    return false;
+  }
+  return WriteFileBytes(path, bytes.data(), bytes.size(), message);
 }
 }
 
@@ -51,22 +105,13 @@ bool WritePFM(const std::string& path, const float* data, int w, int h, int ch, 
     message = "cannot write '" + path + "': PFM holds 1 or 3 channels, not " + std::to_string(ch);
     return false;
   }
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f)
-  {
-    message = "cannot write '" + path + "': " + std::strerror(errno);
-    return false;
-  }
   // a negative scale means little-endian floats (x86)
-  std::fprintf(f, "%s\n%d %d\n-1.0\n", ch == 3 ? "PF" : "Pf", w, h);
+  std::string bytes = std::string(ch == 3 ? "PF" : "Pf") + "\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n";
+  const std::size_t header = bytes.size();
   const std::size_t n = static_cast<std::size_t>(w) * h * ch;
-  const bool ok = std::fwrite(data, sizeof(float), n, f) == n;
-  if (std::fclose(f) != 0 || !ok)
-  {
-    message = "cannot write '" + path + "': write failed";
-    return false;
-  }
-  return true;
+  bytes.resize(header + n * sizeof(float));
+  std::memcpy(&bytes[header], data, n * sizeof(float));
+  return WriteFileBytes(path, bytes.data(), bytes.size(), message);
 }
 
 bool WriteFloatImage(const std::string& path, const float* data, int width, int height, int channels,
@@ -93,6 +138,21 @@ bool WriteRGB8Image(const std::string& path, const unsigned char* data, int widt
 bool ReadFloatImage(const std::string& path, std::vector<float>& data, int& width, int& height,
   int& channels, std::string& message)
 {
+  std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+  for (auto& ch : ext)
+  {
+    ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  }
+  if (ext == ".pfm")
+  {
+    // OpenImageIO trusts a PFM header (scale 0, 2e9 x 2e9): checked first
+    const ss::io::ImageCheck check = ss::io::CheckPFMFile(path);
+    if (!check.Ok)
+    {
+      message = "cannot read '" + path + "': " + check.Error;
+      return false;
+    }
+  }
   auto in = OIIO::ImageInput::open(path);
   if (!in)
   {
@@ -103,6 +163,14 @@ bool ReadFloatImage(const std::string& path, std::vector<float>& data, int& widt
   width = spec.width;
   height = spec.height;
   channels = spec.nchannels;
+  if (width < 1 || height < 1 || channels < 1 ||
+    static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) * static_cast<std::uint64_t>(channels) >
+      ss::io::MaximumImageValues)
+  {
+    message = "cannot read '" + path + "': image of " + std::to_string(width) + " x " + std::to_string(height) +
+      " x " + std::to_string(channels) + " values (limit " + std::to_string(ss::io::MaximumImageValues) + ")";
+    return false;
+  }
   data.resize(static_cast<std::size_t>(width) * height * channels);
   const OIIO::stride_t ys =
     -static_cast<OIIO::stride_t>(width) * channels * static_cast<OIIO::stride_t>(sizeof(float));

@@ -2,6 +2,7 @@
 #ifndef ssImageIO_h
 #define ssImageIO_h
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,10 @@ bool WriteFloatImage(const std::string& path, const float* data, int width, int 
   std::string& message);
 bool WriteRGB8Image(const std::string& path, const unsigned char* data, int width, int height,
   int channels, std::string& message);
+/// Writes bytes to `path`, checking the open, every write, the flush and the
+/// close; the message names the path and the reason (errno).
+bool WriteFileBytes(const std::string& path, const void* data, std::size_t size, std::string& message);
+bool WriteTextFile(const std::string& path, const std::string& text, std::string& message);
 /// Reads a float image (any channel count), returned bottom-up like VTK.
 bool ReadFloatImage(const std::string& path, std::vector<float>& data, int& width, int& height,
   int& channels, std::string& message);

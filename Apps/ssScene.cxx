@@ -7,39 +7,34 @@
 #include "vtkExecutive.h"
 #include "vtkCubeSource.h"
 #include "vtkCylinderSource.h"
-#include "vtkDataSetReader.h"
-#include "vtkDataSetSurfaceFilter.h"
 #include "vtkRegularPolygonSource.h"
 #include "vtkLight.h"
 #include "vtkLogger.h"
 #include "vtkNew.h"
-#include "vtkOBJReader.h"
 #include "vtkOutputWindow.h"
-#include "vtkPLYReader.h"
 #include "vtkPlaneSource.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
-#include "vtkSTLReader.h"
 #include "vtkSoftShadowLight.h"
+#include "ssMeshCheck.h"
+#include "vtkShadowMeshReader.h"
 #include "vtkSoftShadowPass.h"
 #include "vtkSphereSource.h"
 #include "vtkTransform.h"
 #include "vtkTransformPolyDataFilter.h"
 #include "vtkTriangleFilter.h"
-#include "vtkXMLPolyDataReader.h"
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <set>
 #include <sstream>
 
@@ -49,18 +44,7 @@ namespace ssapp
 // the text after the object's address, newlines folded.
 std::string OneLine(std::string m)
 {
-  const auto where = m.find(", line ");
-  const auto addr = m.find("): ");
-  if (where != std::string::npos && addr != std::string::npos && where < addr)
-  {
-    m = m.substr(addr + 3);
-  }
-  std::replace(m.begin(), m.end(), '\n', ' ');
-  while (!m.empty() && (m.back() == ' ' || m.back() == '\r'))
-  {
-    m.pop_back();
-  }
-  return m;
+  return ss::io::OneLineMessage(std::move(m));
 }
 
 void ErrorCapture::Execute(vtkObject*, unsigned long, void* data)
@@ -391,41 +375,6 @@ private:
   vtkNew<CaptureOutputWindow> Capture;
 };
 
-vtkSmartPointer<vtkPolyData> ReadOFF(const std::string& path, const Ctx& c)
-{
-  // OpenMesh reports problems on its own streams; the error line below names
-  // the key and the file instead.
-  omerr().disable();
-  omlog().disable();
-  omout().disable();
-  OpenMesh::PolyMesh_ArrayKernelT<> mesh;
-  if (!OpenMesh::IO::read_mesh(mesh, path))
-  {
-    c.Fail("could not read OFF mesh '" + path + "'");
-  }
-  auto pd = vtkSmartPointer<vtkPolyData>::New();
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  for (auto v : mesh.vertices())
-  {
-    const auto p = mesh.point(v);
-    pts->InsertNextPoint(p[0], p[1], p[2]);
-  }
-  vtkNew<vtkCellArray> polys;
-  for (auto f : mesh.faces())
-  {
-    std::vector<vtkIdType> ids;
-    for (auto fv : mesh.fv_range(f))
-    {
-      ids.push_back(fv.idx());
-    }
-    polys->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
-  }
-  pd->SetPoints(pts);
-  pd->SetPolys(polys);
-  return pd;
-}
-
 vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::path& sceneDir)
 {
   if (!o["mesh"].is_string())
@@ -434,72 +383,74 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::pat
   }
   const fs::path rel = o["mesh"].get<std::string>();
   const fs::path path = rel.is_absolute() ? rel : sceneDir / rel;
-  if (!fs::is_regular_file(path))
+  // the non-throwing overload: a name too long for the file system is an
+  // error of this key, not an exception from std::filesystem
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
   {
-    (c / "mesh").Fail("mesh file not found: '" + path.string() + "'");
+    (c / "mesh").Fail("mesh file not found: '" + path.string() + "'" + (ec ? " (" + ec.message() + ")" : ""));
   }
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
-  vtkSmartPointer<vtkPolyData> pd;
-  // Readers report problems through ErrorEvent; an observer keeps them from
-  // printing their own lines so the user gets one error line naming the key.
+  if (!vtkShadowMeshReader::IsSupportedFileName(path.string().c_str()))
+  {
+    (c / "mesh").Fail("unsupported mesh format '" + path.extension().string() +
+      "' (expected .vtp .vtk .stl .ply .obj .off)");
+  }
+  // vtkShadowMeshReader checks the file before VTK's readers (or OpenMesh)
+  // see it and reports one error line naming the file; an observer keeps it
+  // from printing its own, and messages of objects without observers inside
+  // VTK's readers are captured too.
   vtkNew<ErrorCapture> errors;
+  vtkNew<ErrorCapture> warnings;
   ScopedOutputCapture unobserved;
-  auto run = [&](auto reader) {
-    reader->AddObserver(vtkCommand::ErrorEvent, errors);
-    reader->AddObserver(vtkCommand::WarningEvent, errors);
-    reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
-    reader->SetFileName(path.string().c_str());
-    reader->Update();
-    pd = reader->GetOutput();
-  };
-  if (ext == ".vtp")
-  {
-    run(vtkSmartPointer<vtkXMLPolyDataReader>::New());
-  }
-  else if (ext == ".stl")
-  {
-    run(vtkSmartPointer<vtkSTLReader>::New());
-  }
-  else if (ext == ".ply")
-  {
-    run(vtkSmartPointer<vtkPLYReader>::New());
-  }
-  else if (ext == ".obj")
-  {
-    run(vtkSmartPointer<vtkOBJReader>::New());
-  }
-  else if (ext == ".vtk")
-  {
-    vtkNew<vtkDataSetReader> r;
-    r->AddObserver(vtkCommand::ErrorEvent, errors);
-    r->AddObserver(vtkCommand::WarningEvent, errors);
-    r->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
-    r->SetFileName(path.string().c_str());
-    vtkNew<vtkDataSetSurfaceFilter> surf;
-    surf->SetInputConnection(r->GetOutputPort());
-    surf->Update();
-    pd = surf->GetOutput();
-  }
-  else if (ext == ".off")
-  {
-    pd = ReadOFF(path.string(), c / "mesh");
-  }
-  else
-  {
-    (c / "mesh").Fail("unsupported mesh format '" + ext + "' (expected .vtp .vtk .stl .ply .obj .off)");
-  }
-  const std::string readerMessage = !errors->Message.empty() ? errors->Message : unobserved.First();
+  vtkNew<vtkShadowMeshReader> reader;
+  reader->AddObserver(vtkCommand::ErrorEvent, errors);
+  reader->AddObserver(vtkCommand::WarningEvent, warnings);
+  reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+  reader->SetFileName(path.string().c_str());
+  reader->Update();
   if (!errors->Message.empty())
   {
-    (c / "mesh").Fail("could not read '" + path.string() + "': " + readerMessage);
+    (c / "mesh").Fail("could not read " + std::string(reader->GetErrorMessage()[0] ? reader->GetErrorMessage()
+                                                                                     : errors->Message.c_str()));
   }
-  if (!pd || pd->GetNumberOfPoints() == 0 || pd->GetNumberOfCells() == 0)
+  if (!warnings->Message.empty())
   {
-    (c / "mesh").Fail("could not read a surface from '" + path.string() + "' (empty or unreadable" +
-      (readerMessage.empty() ? std::string(")") : "; " + readerMessage + ")"));
+    std::cerr << "softshadows: warning: " << c.file << ": " << (c / "mesh").key << ": " << warnings->Message << "\n";
   }
+  vtkSmartPointer<vtkPolyData> pd = reader->GetOutput();
   return pd;
+}
+
+// Points that a float cannot hold (1e39) become NaN, so the shadow pass drops
+// their triangles with its one warning (scene-format.md: drop-and-warn)
+// instead of casting nothing from an overflowed caster box.
+void FloatRangeToNaN(vtkPolyData* pd, const Ctx& c)
+{
+  vtkPoints* pts = pd->GetPoints();
+  if (!pts || pts->GetDataType() != VTK_DOUBLE)
+  {
+    return; // float points cannot exceed the float range
+  }
+  std::size_t n = 0;
+  for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    pts->GetPoint(i, p);
+    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) &&
+      std::fabs(p[0]) <= FLT_MAX && std::fabs(p[1]) <= FLT_MAX && std::fabs(p[2]) <= FLT_MAX)
+    {
+      continue;
+    }
+    const double nan = std::nan("");
+    pts->SetPoint(i, nan, nan, nan);
+    ++n;
+  }
+  if (n > 0)
+  {
+    std::cerr << "softshadows: warning: " << c.file << ": " << (c.key.empty() ? "(top level)" : c.key) << ": " << n
+              << " vertices beyond the float range (|x| > 3.4e38) are treated as non-finite: their triangles "
+                 "are dropped\n";
+  }
 }
 
 vtkSmartPointer<vtkPolyData> Inline(const json& o, const Ctx& c)
@@ -598,9 +549,10 @@ void ApplyTransform(vtkActor* actor, const json& o, const Ctx& c)
 SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
 {
   const Ctx top{ path, "" };
-  if (!fs::is_regular_file(path))
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
   {
-    throw SceneError(path + ": cannot open the scene file (not found or not a file)");
+    throw SceneError(path + ": cannot open the scene file (not found or not a file" + (ec ? "; " + ec.message() : "") + ")");
   }
   json doc;
   {
@@ -637,7 +589,7 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
   {
     (top / "objects").Fail("missing or not an array (an empty array is allowed)");
   }
-  const fs::path sceneDir = fs::absolute(path).parent_path();
+  const fs::path sceneDir = fs::absolute(path, ec).parent_path();
   const json& objects = doc["objects"];
   for (std::size_t i = 0; i < objects.size(); ++i)
   {
@@ -665,6 +617,7 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
     }
     vtkSmartPointer<vtkPolyData> pd =
       o.contains("mesh") ? ReadMesh(o, c, sceneDir) : o.contains("vertices") ? Inline(o, c) : Primitive(o, c);
+    FloatRangeToNaN(pd, c);
     vtkNew<vtkTriangleFilter> tri;
     tri->SetInputData(pd);
     tri->Update();
@@ -810,5 +763,12 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
   }
   renderer->ResetCameraClippingRange();
   return info;
+}
+
+vtkSmartPointer<vtkPolyData> ReadMeshFile(const std::string& path)
+{
+  json o;
+  o["mesh"] = path;
+  return ReadMesh(o, Ctx{ path, "" }, fs::current_path());
 }
 }

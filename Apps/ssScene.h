@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+class vtkPolyData;
 class vtkRenderer;
 
 namespace ssapp
@@ -34,6 +35,10 @@ struct SceneInfo
 /// Reads `path` and fills `renderer` (actors, lights, camera, background).
 /// Throws SceneError for any bad input.
 SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer);
+
+/// Reads one mesh file the way the scene loader reads an object's "mesh"
+/// (.vtp .vtk .stl .ply .obj .off). Throws SceneError ("<path>: mesh: <what>").
+vtkSmartPointer<vtkPolyData> ReadMeshFile(const std::string& path);
 
 /// One line from a VTK message ("ERROR: In file, line N\nclass (0x..): text"):
 /// the text after the object's address, newlines folded.

@@ -1,11 +1,15 @@
 #include "ssCasterClusters.h"
 
+#include "ssClusterBounds.h"
+
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 
 namespace ss
 {
@@ -27,9 +31,11 @@ std::uint64_t Spread3(std::uint64_t v)
   v = (v | (v << 2)) & 0x1249249249249249ULL;
   return v;
 }
-}
 
-TriangleClusters ClusterTriangles(const std::vector<glm::dvec3>& vertices, std::size_t maxTriangles)
+// groups == nullptr: 21 Morton bits per axis (the whole key). Otherwise the
+// group sits in the top 4 bits above 20 bits per axis.
+TriangleClusters Cluster(
+  const std::vector<glm::dvec3>& vertices, const std::vector<std::uint8_t>* groups, std::size_t maxTriangles)
 {
   TriangleClusters out;
   maxTriangles = std::max<std::size_t>(maxTriangles, 1);
@@ -61,9 +67,14 @@ TriangleClusters ClusterTriangles(const std::vector<glm::dvec3>& vertices, std::
       continue;
     }
     const glm::dvec3* v = &vertices[3 * t];
-    const glm::dvec3 q = glm::clamp(((v[0] + v[1] + v[2]) / 3.0 - all.min) / size, 0.0, 1.0) * 2097151.0;
-    const std::uint64_t key = Spread3(static_cast<std::uint64_t>(q.x)) |
+    const double cells = groups ? 1048575.0 : 2097151.0;
+    const glm::dvec3 q = glm::clamp(((v[0] + v[1] + v[2]) / 3.0 - all.min) / size, 0.0, 1.0) * cells;
+    std::uint64_t key = Spread3(static_cast<std::uint64_t>(q.x)) |
       (Spread3(static_cast<std::uint64_t>(q.y)) << 1) | (Spread3(static_cast<std::uint64_t>(q.z)) << 2);
+    if (groups)
+    {
+      key |= static_cast<std::uint64_t>(std::min<int>((*groups)[t], kMaxClusterGroup)) << 60;
+    }
     keys[t] = { key, t };
   }
   tbb::parallel_sort(keys.begin(), keys.end());
@@ -105,7 +116,10 @@ TriangleClusters ClusterTriangles(const std::vector<glm::dvec3>& vertices, std::
     const auto [lo, hi] = stack.back();
     stack.pop_back();
     const std::uint64_t a = keys[lo].first, b = keys[hi - 1].first;
-    if (hi - lo <= maxTriangles && (finite[out.order[lo]] != 0) == (finite[out.order[hi - 1]] != 0))
+    // keys are sorted, so equal top bits at both ends mean one group throughout
+    const bool oneGroup = !groups || (a >> 60) == (b >> 60);
+    if (hi - lo <= maxTriangles && oneGroup &&
+      (finite[out.order[lo]] != 0) == (finite[out.order[hi - 1]] != 0))
     {
       emit(lo, hi);
       continue;
@@ -132,6 +146,22 @@ TriangleClusters ClusterTriangles(const std::vector<glm::dvec3>& vertices, std::
   out.first.push_back(n);
   return out;
 }
+}
+
+TriangleClusters ClusterTriangles(const std::vector<glm::dvec3>& vertices, std::size_t maxTriangles)
+{
+  return Cluster(vertices, nullptr, maxTriangles);
+}
+
+TriangleClusters ClusterTriangles(
+  const std::vector<glm::dvec3>& vertices, const std::vector<std::uint8_t>& groups, std::size_t maxTriangles)
+{
+  if (groups.size() < vertices.size() / 3)
+  {
+    throw std::invalid_argument("ClusterTriangles: one group per triangle expected");
+  }
+  return Cluster(vertices, &groups, maxTriangles);
+}
 
 bool BoxMayReachWindow(const ShadowView& view, const Box& box, const Rect& r, double pad)
 {
@@ -143,35 +173,12 @@ bool BoxMayReachWindow(const ShadowView& view, const Box& box, const Rect& r, do
   {
     return false;
   }
-  double x0 = std::numeric_limits<double>::max(), y0 = x0;
-  double x1 = -x0, y1 = -x0;
-  int behind = 0;
+  std::array<glm::dvec3, 8> corners;
   for (int i = 0; i < 8; ++i)
   {
-    const glm::dvec3 p = view.ToLightSpace(box.Corner(i));
-    if (!view.orthographic && p.z <= 0.0)
-    {
-      ++behind;
-      continue;
-    }
-    const glm::dvec2 X = view.Project(p);
-    x0 = std::min(x0, X.x);
-    x1 = std::max(x1, X.x);
-    y0 = std::min(y0, X.y);
-    y1 = std::max(y1, X.y);
+    corners[i] = box.Corner(i);
   }
-  if (behind == 8)
-  {
-    return false; // the whole box is behind a one-sided perspective view: clipped
-  }
-  if (behind > 0)
-  {
-    return true; // reaches the light plane: its projection is unbounded
-  }
-  // Every point of the box has z > 0, so the projection of the box is the
-  // convex hull of its projected corners (a perspective map keeps segments).
-  const double px = (r.x1 - r.x0) * pad, py = (r.y1 - r.y0) * pad;
-  return x1 >= r.x0 - px && x0 <= r.x1 + px && y1 >= r.y0 - py && y0 <= r.y1 + py;
+  return CornersMayReachWindow(view, corners, r, pad);
 }
 
 std::vector<std::pair<std::size_t, std::size_t>> VisibleTriangleRanges(

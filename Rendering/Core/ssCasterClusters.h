@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -30,6 +31,17 @@ struct TriangleClusters
 /// clusters of their own whose bounds are not finite (always drawn).
 /// maxTriangles is at least 1.
 TriangleClusters ClusterTriangles(const std::vector<glm::dvec3>& vertices, std::size_t maxTriangles);
+
+/// The largest group ClusterTriangles takes (larger values count as this one).
+constexpr int kMaxClusterGroup = 14;
+
+/// The same with one group per triangle (0..kMaxClusterGroup): no cluster
+/// mixes two groups; clusters come in group order, each group in Morton order
+/// (20 bits per axis instead of 21). vtkShadowCasterPreparation groups by
+/// piece class and normal bucket so that a cluster is all closed-outward or
+/// not, and its normal cone is narrower than a hemisphere.
+TriangleClusters ClusterTriangles(
+  const std::vector<glm::dvec3>& vertices, const std::vector<std::uint8_t>& groups, std::size_t maxTriangles);
 
 /// Whether any point of `box` can be drawn into the window `r` of `view` (box
 /// and view in the same coordinates). Conservative: true for a box that is

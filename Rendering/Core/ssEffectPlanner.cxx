@@ -1,52 +1,51 @@
 #include "ssEffectPlanner.h"
 
+#include <cctype>
 #include <sstream>
 
 namespace ss
 {
-const char* MethodName(Method m)
+const MethodInfo* FindMethod(const std::vector<MethodInfo>& methods, Method m)
 {
-  switch (m)
+  for (const auto& info : methods)
   {
-    case Method::Auto:
-      return "auto";
-    case Method::Hard:
-      return "hard";
-    case Method::PCF:
-      return "pcf";
-    case Method::PCSS:
-      return "pcss";
-    case Method::None:
-      return "none";
-    case Method::Reference:
-      return "reference";
-    case Method::GEARS:
-      return "gears";
-    case Method::PVSM:
-      return "pvsm";
-    case Method::HardAverage:
-      return "hardavg";
-  }
-  return "none";
-}
-
-bool MethodFromName(const std::string& s, Method& out)
-{
-  for (Method m : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS, Method::None, Method::Reference,
-         Method::GEARS, Method::PVSM, Method::HardAverage })
-  {
-    if (s == MethodName(m))
+    if (info.method == m)
     {
-      out = m;
-      return true;
+      return &info;
     }
   }
-  return false;
+  return nullptr;
 }
 
-bool IsTriangleSolver(Method m)
+namespace
 {
-  return m == Method::Reference || m == Method::GEARS;
+std::string NameOf(const std::vector<MethodInfo>& methods, Method m)
+{
+  const MethodInfo* info = FindMethod(methods, m);
+  return info ? info->name : "method " + std::to_string(static_cast<int>(m));
+}
+
+// The method that serves `rule`, or null when none is registered for it.
+const MethodInfo* ForRule(const std::vector<MethodInfo>& methods, PlannerRule rule)
+{
+  for (const auto& info : methods)
+  {
+    if (info.rule == rule)
+    {
+      return &info;
+    }
+  }
+  return nullptr;
+}
+
+std::string Upper(std::string s)
+{
+  for (char& c : s)
+  {
+    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  }
+  return s;
+}
 }
 
 std::string JSONEscape(const std::string& s)
@@ -79,7 +78,7 @@ std::string EffectPlan::ToJSON() const
     << "\", \"lights\": [";
   for (std::size_t i = 0; i < lights.size(); ++i)
   {
-    o << (i ? ", " : "") << "{\"method\": \"" << MethodName(lights[i].method)
+    o << (i ? ", " : "") << "{\"method\": \"" << JSONEscape(lights[i].name)
       << "\", \"reason\": \"" << JSONEscape(lights[i].reason) << "\"}";
   }
   o << "]}";
@@ -93,7 +92,7 @@ std::string EffectPlan::ToText() const
     << reason;
   for (std::size_t i = 0; i < lights.size(); ++i)
   {
-    o << "\n  light " << i << ": " << MethodName(lights[i].method) << " - " << lights[i].reason;
+    o << "\n  light " << i << ": " << lights[i].name << " - " << lights[i].reason;
   }
   return o.str();
 }
@@ -101,7 +100,11 @@ std::string EffectPlan::ToText() const
 EffectPlan MakeEffectPlan(const PlannerInput& in)
 {
   EffectPlan plan;
-  plan.lights.resize(in.lights.size());
+  const std::string none = NameOf(in.methods, Method::None);
+  plan.lights.resize(in.lights.size(), LightPlan{ Method::None, std::string(), none });
+  auto off = [&](LightPlan& p, const std::string& why) {
+    p = { Method::None, why, none };
+  };
   std::string frameReason;
   if (in.requested == Method::None)
   {
@@ -124,7 +127,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
     plan.reason = frameReason;
     for (auto& l : plan.lights)
     {
-      l = { Method::None, frameReason };
+      off(l, frameReason);
     }
     return plan;
   }
@@ -134,38 +137,63 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
     LightPlan& p = plan.lights[i];
     if (l.headlight)
     {
-      p = { Method::None, "headlight: never casts shadows" };
+      off(p, "headlight: never casts shadows");
     }
     else if (!l.castsShadows)
     {
-      p = { Method::None, "light does not cast shadows" };
+      off(p, "light does not cast shadows");
     }
     else if (!l.valid)
     {
-      p = { Method::None, "invalid light: " + l.invalidReason };
+      off(p, "invalid light: " + l.invalidReason);
     }
     else if (in.requested != Method::Auto)
     {
-      p.method = in.requested;
-      p.reason = std::string("requested ") + MethodName(in.requested);
-      if (in.requested == Method::PCSS && !l.frame.IsSoft())
+      const MethodInfo* info = FindMethod(in.methods, in.requested);
+      if (!info)
       {
-        p.reason += " (point/zero-size light: PCSS degenerates to an antialiased hard shadow)";
+        off(p, NameOf(in.methods, in.requested) + " is not a registered method");
       }
-      if (in.requested == Method::HardAverage && !l.frame.IsSoft())
+      else
       {
-        p.reason += " (point/zero-size light: every sample is the same, one hard map)";
+        p = { in.requested, "requested " + info->name, info->name };
+        if (in.requested == Method::PCSS && !l.frame.IsSoft())
+        {
+          p.reason += " (point/zero-size light: PCSS degenerates to an antialiased hard shadow)";
+        }
+        if (in.requested == Method::HardAverage && !l.frame.IsSoft())
+        {
+          p.reason += " (point/zero-size light: every sample is the same, one hard map)";
+        }
       }
     }
+    // --- method auto: the rules, one branch each (PlannerRule)
     else if (!l.frame.IsSoft())
     {
-      p = { Method::Hard, l.frame.type == LightType::Directional
-          ? "directional light without angular size: hard shadows"
-          : "point/zero-size light: hard shadows" };
+      const MethodInfo* info = ForRule(in.methods, PlannerRule::HardLights);
+      const std::string why = l.frame.type == LightType::Directional
+        ? "directional light without angular size: hard shadows"
+        : "point/zero-size light: hard shadows";
+      if (info)
+      {
+        p = { info->method, why, info->name };
+      }
+      else
+      {
+        off(p, why + ", but no method is registered for them");
+      }
     }
     else
     {
-      p = { Method::PCSS, "area light: soft shadows (PCSS)" };
+      const MethodInfo* info = ForRule(in.methods, PlannerRule::SoftLights);
+      if (info)
+      {
+        p = { info->method, "area light: soft shadows (" + Upper(info->name) + ")", info->name };
+      }
+      else
+      {
+        off(p, "area light: soft shadows, but no method is registered for them");
+      }
     }
     plan.shadowWork = plan.shadowWork || p.method != Method::None;
   }
@@ -173,12 +201,13 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
                                 : "no light casts shadows";
   if (plan.shadowWork && in.translucentCasters)
   {
-    bool mapSolver = false;
+    bool opaqueOnly = false;
     for (const auto& l : plan.lights)
     {
-      mapSolver = mapSolver || (l.method != Method::None && !IsTriangleSolver(l.method));
+      const MethodInfo* info = FindMethod(in.methods, l.method);
+      opaqueOnly = opaqueOnly || (l.method != Method::None && !(info && info->translucentCasters));
     }
-    if (mapSolver)
+    if (opaqueOnly)
     {
       plan.reason += "; translucent casters are treated as opaque by shadow-map methods (planner v1)";
     }

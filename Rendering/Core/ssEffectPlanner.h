@@ -9,7 +9,9 @@
 
 namespace ss
 {
-/// Same numbers as vtkSoftShadowPass::MethodType.
+/// Same numbers as vtkSoftShadowPass::MethodType. The solver registry
+/// (Rendering/OpenGL2/ssSolverRegistry.cxx) gives each its name, its solver
+/// and the rule by which the planner picks it.
 enum class Method
 {
   Auto = 0,
@@ -22,10 +24,26 @@ enum class Method
   PVSM = 7,      ///< predicted virtual soft shadow maps (adaptive tiles, anisotropic filtering)
   HardAverage = 8 ///< brute force: the average of k x k hard shadow maps, one per light sample
 };
-const char* MethodName(Method m);
-/// Solved per pixel from the caster triangles (no shadow map).
-bool IsTriangleSolver(Method m);
-bool MethodFromName(const std::string& s, Method& out);
+
+/// When the planner uses a method on its own (method auto). Each rule is one
+/// branch of MakeEffectPlan; the registry says which method serves it.
+enum class PlannerRule
+{
+  OnRequest,  ///< only when asked for by name
+  HardLights, ///< auto: lights without extent (point, zero-size rect, directional without angular size)
+  SoftLights  ///< auto: lights with extent (rect, directional with angular size)
+};
+
+/// What the planner knows of a registered method.
+struct MethodInfo
+{
+  Method method = Method::None;
+  std::string name;
+  PlannerRule rule = PlannerRule::OnRequest;
+  /// Its solver weighs casters by their opacity; otherwise translucent
+  /// casters shadow as if opaque (and the plan says so).
+  bool translucentCasters = false;
+};
 
 struct PlannerLight
 {
@@ -44,12 +62,16 @@ struct PlannerInput
   bool translucentCasters = false;
   bool unchangedSinceLastFrame = false;
   std::vector<PlannerLight> lights;
+  /// The registered methods (auto and none included); a method the plan
+  /// names must be here.
+  std::vector<MethodInfo> methods;
 };
 
 struct LightPlan
 {
   Method method = Method::None;
   std::string reason;
+  std::string name; ///< the method's name
 };
 
 /// What to simulate this frame, and why (DESIGN.md "effect plan").
@@ -64,6 +86,8 @@ struct EffectPlan
 };
 
 EffectPlan MakeEffectPlan(const PlannerInput& in);
+/// The entry of `m` in `methods`, or null.
+const MethodInfo* FindMethod(const std::vector<MethodInfo>& methods, Method m);
 /// s as the inside of a JSON string (quotes, backslashes, newlines escaped; other control characters dropped).
 std::string JSONEscape(const std::string& s);
 }

@@ -350,7 +350,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
       for (int s0 = 0; s0 < ns; s0 += 16)
       {
         RTCRay16 rays;
-        int valid[16];
+        alignas(64) int valid[16]; // rtcOccluded16 wants the mask 64-byte aligned
         float transmittance[16];
         for (int q2 = 0; q2 < 16; ++q2)
         {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ss
 {
@@ -208,5 +209,21 @@ std::vector<ShadowView> MakeLightViews(
   v.extent = r;
   views.push_back(v);
   return views;
+}
+
+double BlockerSearchDepth(
+  const ShadowView& view, const float* xyz, std::size_t count, const glm::dvec3& offset, double diagonal)
+{
+  double zMin = std::numeric_limits<double>::max();
+  for (std::size_t i = 0; i + 2 < count; i += 3)
+  {
+    const glm::dvec3 p = offset + glm::dvec3(xyz[i], xyz[i + 1], xyz[i + 2]);
+    const double z = view.ToLightSpace(p).z;
+    if (z > 0.0 && z < zMin)
+    {
+      zMin = z;
+    }
+  }
+  return (zMin == std::numeric_limits<double>::max()) ? diagonal : std::max(zMin, 1e-4 * diagonal);
 }
 }

@@ -5,6 +5,7 @@
 #include "ssLightFrame.h"
 
 #include <glm/glm.hpp>
+#include <cstddef>
 #include <vector>
 
 namespace ss
@@ -95,6 +96,14 @@ struct LightViewInfo
 /// - directional light: one orthographic view placed behind casters and receivers.
 std::vector<ShadowView> MakeLightViews(
   const LightFrame& light, const Box& receivers, const Box& casters, LightViewInfo& info);
+
+/// The plane PCSS searches for blockers on (a light-space depth of `view`):
+/// the nearest caster vertex in front of the view (z > 0), at least
+/// 1e-4 * `diagonal`; `diagonal` (the scene's size) when no vertex is in
+/// front. `xyz` holds `count` floats (x, y, z per vertex) relative to
+/// `offset`, which is added in double.
+double BlockerSearchDepth(
+  const ShadowView& view, const float* xyz, std::size_t count, const glm::dvec3& offset, double diagonal);
 }
 
 #endif

@@ -1,82 +1,51 @@
+// vtkSoftShadowPass orchestrates one frame (DESIGN.md "one data flow"):
+//
+//   frame state ─► caster set ─► effect plan ─► G-buffer ─► shadow maps (shared)
+//     ─► per light: its solver writes its visibility layer ─► shading
+//
+// Each stage lives in its own file (Documentation/architecture.md): the frame
+// state and lights in ssFrameState, the caster set in ssCasterSet, the plan in
+// Rendering/Core ssEffectPlanner with the registry's catalogue, the G-buffer in
+// ssGBuffer, the whole-view shadow maps in ssShadowMaps (views fitted by
+// ssShadowViews), the visibility layers in ssVisibilityLayers, the solvers
+// behind ssVisibilitySolver (one per method, listed in ssSolverRegistry), the
+// shading code in ssShadingSubstitution and the stats in ssPassStats.
 #include "vtkSoftShadowPass.h"
 
-#include "vtkSoftShadowLight.h"
+#include "ssCasterSet.h"
+#include "ssFrameState.h"
+#include "ssGBuffer.h"
+#include "ssGLLimits.h"
+#include "ssPVSMSolver.h"
+#include "ssPassStats.h"
+#include "ssShadingSubstitution.h"
+#include "ssShadowMaps.h"
+#include "ssShadowViews.h"
+#include "ssSolverRegistry.h"
+#include "ssTriangleSolver.h"
+#include "ssVisibilityLayers.h"
+#include "ssVisibilitySolver.h"
 
-#include "vtkActor.h"
-#include "vtkAssemblyNode.h"
-#include "vtkAssemblyPath.h"
-#include "vtkCamera.h"
-#include "vtkCellArray.h"
-#include "vtkCellArrayIterator.h"
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationIntegerKey.h"
-#include "vtkLight.h"
-#include "vtkLightCollection.h"
-#include "vtkMapper.h"
-#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
-#include "vtkOpenGLBufferObject.h"
 #include "vtkOpenGLError.h"
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLPolyDataMapper.h"
-#include "vtkOpenGLQuadHelper.h"
-#include "vtkOpenGLRenderUtilities.h"
 #include "vtkOpenGLRenderWindow.h"
-#include "vtkOpenGLRenderer.h"
-#include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
-#include "vtkOpenGLVertexArrayObject.h"
-#include "vtkPoints.h"
-#include "vtkPolyData.h"
 #include "vtkProp.h"
-#include "vtkPropCollection.h"
-#include "vtkProperty.h"
 #include "vtkRenderState.h"
+#include "vtkRenderer.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
-#include "vtkTextureUnitManager.h"
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
-#include "vtkMath.h"
-#include "vtkSmartPointer.h"
-
-#include <glm/gtc/type_ptr.hpp>
-
-#include "ssCasterClusters.h"
-#include "ssEffectPlanner.h"
-#include "ssLightFrame.h"
-#include "ssGEARS.h"
-#include "ssGearsGL.h"
-#include "ssGLLimits.h"
-#include "ssPVSM.h"
-#include "ssReference.h"
-#include "ssShadowView.h"
-
-#include "ssCasterFS.h"
-#include "ssCasterVS.h"
-#include "ssConservativeFS.h"
-#include "ssConservativeGS.h"
-#include "ssMinReduceFS.h"
-#include "ssPVSMFilterFS.h"
-#include "ssPVSMGridFS.h"
-#include "ssPVSMGridVS.h"
-#include "ssPVSMKernelFS.h"
-#include "ssPVSMResolveFS.h"
-#include "ssQuadLit.h"
-#include "ssShadowCommon.h"
-#include "ssVisibilityFS.h"
 
 #include <algorithm>
-#include <chrono>
-#include <cstdint>
-#include <cmath>
 #include <limits>
-#include <map>
 #include <sstream>
-#include <tuple>
 #include <vector>
 
 vtkStandardNewMacro(vtkSoftShadowPass);
@@ -85,689 +54,158 @@ vtkInformationKeyMacro(vtkSoftShadowPass, RECEIVES_SHADOWS, Integer);
 
 namespace
 {
-using Clock = std::chrono::steady_clock;
+using ss::Clock;
+using ss::ShadowLight;
 
+// Which code the mappers' shaders get: the G-buffer outputs while the
+// G-buffer is drawn, the visibility multiplication while shading.
 enum class Stage
 {
   Idle,
   GBuffer,
   Shade
 };
-
-// One light of the renderer, in the order VTK numbers lightColorN.
-struct ShadowLight
-{
-  vtkLight* Light = nullptr;
-  int ShaderIndex = -1; // N of lightColorN
-  int Layer = -1;       // layer in the visibility texture, -1: no shadows
-  ss::PlannerLight Planner;
-  ss::LightFrame Frame; // relative to the frame origin
-  std::vector<ss::ShadowView> Views;
-  ss::LightViewInfo ViewInfo;
-  ss::Method Method = ss::Method::None;
-  double SearchDepth = 0.0;
-  int FirstLayer = 0; // its first layer in the shadow-map array
-};
-
-// What the caster set was built from: rebuilt when any entry changes. The
-// transform enters by value: assembly paths hand out fresh matrices (new
-// MTimes) at every traversal, which rebuilt the caster set every frame.
-using CasterKey = std::tuple<void*, void*, vtkMTimeType, std::uint64_t, vtkMTimeType>;
-
-std::uint64_t MatrixHash(vtkMatrix4x4* m)
-{
-  // FNV-1a over the 16 doubles
-  std::uint64_t h = 1469598103934665603ull;
-  const auto* bytes = reinterpret_cast<const unsigned char*>(m->GetData());
-  for (std::size_t i = 0; i < 16 * sizeof(double); ++i)
-  {
-    h = (h ^ bytes[i]) * 1099511628211ull;
-  }
-  return h;
-}
-
-// A GL_TEXTURE_2D_ARRAY: the shadow maps (RG32F linear light-space depth
-// whose mip levels hold the (min, max) of the level below; `Ensure`) or the
-// screen-space visibility layers (R32F, one level; `EnsureScreen`). Not a 3-D
-// texture: those are limited to GL_MAX_3D_TEXTURE_SIZE (2048 on llvmpipe and
-// many GPUs), so a window wider or taller than that had no visibility at all;
-// array layers allow GL_MAX_TEXTURE_SIZE. vtkTextureObject cannot bind 2-D
-// array textures (VTK 9.2): a texture unit is taken from the window's manager
-// and bound by hand.
-struct TextureArray
-{
-  unsigned int Handle = 0;
-  int Size = 0; // width of a square (shadow-map) array
-  int Width = 0, Height = 0, Layers = 0, Levels = 0, Components = 0;
-
-  void Release()
-  {
-    if (this->Handle)
-    {
-      glDeleteTextures(1, &this->Handle);
-      this->Handle = 0;
-    }
-    this->Size = this->Width = this->Height = this->Layers = this->Levels = this->Components = 0;
-  }
-
-  long long Bytes() const
-  {
-    const long long level0 = static_cast<long long>(this->Width) * this->Height * this->Layers * this->Components * 4;
-    // all mip levels: about 4/3 of level 0
-    return this->Handle ? (this->Levels > 1 ? level0 * 4 / 3 : level0) : 0;
-  }
-
-  // size x size RG32F layers with every mip level (shadow maps)
-  void Ensure(int size, int layers)
-  {
-    int levels = 1;
-    while ((size >> (levels - 1)) > 1)
-    {
-      ++levels;
-    }
-    this->Allocate(size, size, layers, levels, 2);
-    this->Size = this->Handle ? size : 0;
-  }
-
-  // width x height R32F layers, one level (the visibility of each light);
-  // false when GL refused them (larger than the implementation allows)
-  bool EnsureScreen(int width, int height, int layers)
-  {
-    this->Allocate(width, height, layers, 1, 1);
-    return this->Handle != 0;
-  }
-
-  void Allocate(int width, int height, int layers, int levels, int comps)
-  {
-    if (this->Handle && this->Width == width && this->Height == height && this->Layers == layers &&
-      this->Levels == levels && this->Components == comps)
-    {
-      return;
-    }
-    this->Release();
-    for (int i = 0; i < 16 && glGetError() != GL_NO_ERROR; ++i)
-    {
-    }
-    glGenTextures(1, &this->Handle);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, this->Handle);
-    for (int l = 0; l < levels; ++l)
-    {
-      glTexImage3D(GL_TEXTURE_2D_ARRAY, l, comps == 2 ? GL_RG32F : GL_R32F, std::max(1, width >> l),
-        std::max(1, height >> l), layers, 0, comps == 2 ? GL_RG : GL_RED, GL_FLOAT, nullptr);
-    }
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, levels - 1);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-    if (glGetError() != GL_NO_ERROR)
-    {
-      glDeleteTextures(1, &this->Handle);
-      this->Handle = 0;
-      return;
-    }
-    this->Width = width;
-    this->Height = height;
-    this->Layers = layers;
-    this->Levels = levels;
-    this->Components = comps;
-  }
-
-  // Reads layer `layer` of level 0 (w x h x Components floats) through `fbo`.
-  bool Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int layer, float* out) const
-  {
-    if (!this->Handle || layer < 0 || layer >= this->Layers)
-    {
-      return false;
-    }
-    win->MakeCurrent();
-    vtkOpenGLState* ostate = win->GetState();
-    ostate->PushFramebufferBindings();
-    fbo->Bind();
-    this->Attach(fbo, 0, layer);
-    fbo->ActivateReadBuffer(0);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, this->Width, this->Height, this->Components == 2 ? GL_RG : GL_RED, GL_FLOAT, out);
-    TextureArray::Detach();
-    ostate->PopFramebufferBindings();
-    return glGetError() == GL_NO_ERROR;
-  }
-
-  int Bind(vtkOpenGLRenderWindow* win) const
-  {
-    const int unit = win->GetTextureUnitManager()->Allocate();
-    if (unit >= 0)
-    {
-      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
-      glBindTexture(GL_TEXTURE_2D_ARRAY, this->Handle);
-    }
-    return unit;
-  }
-
-  static void Unbind(vtkOpenGLRenderWindow* win, int unit)
-  {
-    if (unit >= 0)
-    {
-      win->GetState()->vtkglActiveTexture(GL_TEXTURE0 + unit);
-      glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-      win->GetTextureUnitManager()->Free(unit);
-    }
-  }
-
-  // Renders into (level, layer) through the bound FBO.
-  void Attach(vtkOpenGLFramebufferObject* fbo, int level, int layer) const
-  {
-    fbo->RemoveColorAttachments(1);
-    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, this->Handle, level, layer);
-    fbo->ActivateDrawBuffers(1);
-  }
-
-  static void Detach() { glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0); }
-};
-
-double Seconds(Clock::time_point a, Clock::time_point b)
-{
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-bool ReadLayer(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex,
-  int layer, int w, int h, int comps, std::vector<float>& out);
-
-// Attaches a screen-space texture (G-buffer) to `fbo`; vtkOpenGLFramebufferObject
-// does not re-attach the same texture, so the old attachment goes first.
-void AttachLayer(vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex, int layer)
-{
-  fbo->RemoveColorAttachments(1);
-  fbo->AddColorAttachment(0, tex, static_cast<unsigned int>(layer));
-}
-
-// A full-screen pass with its fragment shader, built once and made current.
-vtkShaderProgram* ReadyQuad(
-  std::unique_ptr<vtkOpenGLQuadHelper>& quad, vtkOpenGLRenderWindow* win, const char* fs)
-{
-  if (!quad)
-  {
-    quad.reset(new vtkOpenGLQuadHelper(
-      win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fs, ""));
-  }
-  else
-  {
-    win->GetShaderCache()->ReadyShaderProgram(quad->Program);
-  }
-  vtkShaderProgram* prog = quad->Program;
-  return (prog && prog->GetCompiled()) ? prog : nullptr;
-}
-
-// Levels 1.. of the pyramid of `array` over its [0,w) x [0,h) corner (a
-// virtual PVSM tile uses only part of its texture): mode 0, depth (min, max);
-// mode 1, PVSM's tile grid (min, min) -- see ssMinReduceFS.glsl.
-bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo,
-  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const TextureArray& array, int w, int h, int mode = 0)
-{
-  vtkOpenGLState* ostate = win->GetState();
-  vtkShaderProgram* prog = ReadyQuad(quad, win, ssMinReduceFS);
-  if (!prog)
-  {
-    return false;
-  }
-  const int unit = array.Bind(win);
-  prog->SetUniformi("src", unit);
-  prog->SetUniformi("mode", mode);
-  for (int level = 1; level < array.Levels; ++level)
-  {
-    // sample only the level below the one written
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, level - 1);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, level - 1);
-    auto up = [](int v, int l) { return std::max(1, (v + (1 << l) - 1) >> l); };
-    const int src[2] = { up(w, level - 1), up(h, level - 1) };
-    const int dst[2] = { up(w, level), up(h, level) };
-    prog->SetUniform2i("srcSize", src);
-    prog->SetUniform2i("dstSize", dst);
-    ostate->vtkglViewport(0, 0, dst[0], dst[1]);
-    ostate->vtkglScissor(0, 0, dst[0], dst[1]);
-    for (int layer = 0; layer < array.Layers; ++layer)
-    {
-      array.Attach(fbo, level, layer);
-      prog->SetUniformi("layer", layer);
-      quad->Render();
-    }
-  }
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, array.Levels - 1);
-  TextureArray::Unbind(win, unit);
-  return true;
-}
-
-// A screen-space float texture of `comps` (1, 2 or 4) components, (re)sized.
-void EnsureTexture2D(vtkOpenGLRenderWindow* win, vtkSmartPointer<vtkTextureObject>& t, int w, int h, int comps)
-{
-  if (!t)
-  {
-    t = vtkSmartPointer<vtkTextureObject>::New();
-    t->SetContext(win);
-    t->SetFormat(comps == 4 ? GL_RGBA : (comps == 2 ? GL_RG : GL_RED));
-    t->SetInternalFormat(comps == 4 ? GL_RGBA32F : (comps == 2 ? GL_RG32F : GL_R32F));
-    t->SetDataType(GL_FLOAT);
-    t->SetMinificationFilter(vtkTextureObject::Nearest);
-    t->SetMagnificationFilter(vtkTextureObject::Nearest);
-    t->SetWrapS(vtkTextureObject::ClampToEdge);
-    t->SetWrapT(vtkTextureObject::ClampToEdge);
-    t->Allocate2D(w, h, comps, VTK_FLOAT);
-  }
-  else if (static_cast<int>(t->GetWidth()) != w || static_cast<int>(t->GetHeight()) != h)
-  {
-    t->Resize(w, h);
-  }
-}
-
-// A fragment shader with the shared shadow code pasted where it says
-// //SS::Common (ssShadowCommon.glsl) and //SS::QuadLit (ssQuadLit.glsl).
-std::string WithCommon(const char* fs)
-{
-  std::string src(fs);
-  vtkShaderProgram::Substitute(src, "//SS::Common", ssShadowCommon);
-  vtkShaderProgram::Substitute(src, "//SS::QuadLit", ssQuadLit);
-  return src;
-}
-
-// The uniforms of ssShadowCommon.glsl that describe one light and its views.
-void SetLightUniforms(vtkShaderProgram* prog, const ShadowLight& l)
-{
-  const int nv = static_cast<int>(l.Views.size());
-  float U[6][3] = {}, Vv[6][3] = {}, N[6][3] = {}, E[6][4] = {};
-  for (int i = 0; i < nv && i < 6; ++i)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      U[i][c] = static_cast<float>(l.Views[i].u[c]);
-      Vv[i][c] = static_cast<float>(l.Views[i].v[c]);
-      N[i][c] = static_cast<float>(l.Views[i].n[c]);
-    }
-    E[i][0] = static_cast<float>(l.Views[i].extent.x0);
-    E[i][1] = static_cast<float>(l.Views[i].extent.y0);
-    E[i][2] = static_cast<float>(l.Views[i].extent.x1);
-    E[i][3] = static_cast<float>(l.Views[i].extent.y1);
-  }
-  prog->SetUniformi("firstLayer", l.FirstLayer);
-  prog->SetUniformi("numViews", nv);
-  prog->SetUniform3fv("viewU", nv, U);
-  prog->SetUniform3fv("viewV", nv, Vv);
-  prog->SetUniform3fv("viewN", nv, N);
-  prog->SetUniform4fv("viewExtent", nv, E);
-  const glm::vec3 c(l.Views.front().origin);
-  prog->SetUniform3f("lightCenter", glm::value_ptr(c));
-  const bool ortho = l.Frame.type == ss::LightType::Directional;
-  prog->SetUniformi("orthographic", ortho ? 1 : 0);
-  prog->SetUniformi("oneSided", l.Frame.type == ss::LightType::Rect ? 1 : 0);
-  float half[2] = { 0.f, 0.f };
-  if (l.Frame.type == ss::LightType::Rect)
-  {
-    half[0] = static_cast<float>(0.5 * l.Frame.width);
-    half[1] = static_cast<float>(0.5 * l.Frame.height);
-  }
-  else if (ortho)
-  {
-    half[0] = half[1] = static_cast<float>(std::tan(0.5 * l.Frame.angularDiameter));
-  }
-  prog->SetUniform2f("lightHalfSize", half);
-  const glm::vec3 lu(l.Frame.u), lv(l.Frame.v);
-  prog->SetUniform3f("lightU", glm::value_ptr(lu));
-  prog->SetUniform3f("lightV", glm::value_ptr(lv));
-  prog->SetUniformf("searchDepth", static_cast<float>(l.SearchDepth));
-}
-
-// Draws the caster set into the bound target as seen by `view`, over the
-// shadow-map window `extent` (the whole view, or one PVSM tile).
-// `ranges` (first triangle, count), when given, draws only those triangles.
-void DrawCasters(vtkShaderProgram* p, vtkOpenGLVertexArrayObject* vao, const ss::ShadowView& v,
-  const ss::Rect& extent, const glm::dvec3& casterOffset, std::size_t vertices,
-  const std::vector<std::pair<std::size_t, std::size_t>>* ranges = nullptr)
-{
-  p->SetUniform3f("casterOffset", glm::value_ptr(glm::vec3(casterOffset)));
-  p->SetUniform3f("viewOrigin", glm::value_ptr(glm::vec3(v.origin)));
-  p->SetUniform3f("axisU", glm::value_ptr(glm::vec3(v.u)));
-  p->SetUniform3f("axisV", glm::value_ptr(glm::vec3(v.v)));
-  p->SetUniform3f("axisN", glm::value_ptr(glm::vec3(v.n)));
-  const float e[4] = { static_cast<float>(extent.x0), static_cast<float>(extent.y0),
-    static_cast<float>(extent.x1), static_cast<float>(extent.y1) };
-  p->SetUniform4f("extent", e);
-  p->SetUniformi("orthographic", v.orthographic ? 1 : 0);
-  vao->Bind();
-  if (!ranges)
-  {
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices));
-  }
-  else if (!ranges->empty())
-  {
-    std::vector<GLint> first;
-    std::vector<GLsizei> count;
-    for (const auto& r : *ranges)
-    {
-      first.push_back(static_cast<GLint>(3 * r.first));
-      count.push_back(static_cast<GLsizei>(3 * r.second));
-    }
-    glMultiDrawArrays(GL_TRIANGLES, first.data(), count.data(), static_cast<GLsizei>(first.size()));
-  }
-  vao->Release();
-}
-
-bool Finite3(const double p[3])
-{
-  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-}
 }
 
 class vtkSoftShadowPass::vtkInternals
 {
 public:
-  // --- GPU resources (all released by ReleaseGraphicsResources)
-  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
-  vtkSmartPointer<vtkTextureObject> GPosition; // RGBA32F: position - origin, prop id
-  vtkSmartPointer<vtkTextureObject> GNormal;   // RGBA32F: world normal, receives
-  vtkSmartPointer<vtkTextureObject> GDepth;
-  // Shadow maps: a GL_TEXTURE_2D_ARRAY (one layer per view, RG32F linear
-  // depth) whose mip levels hold the (min, max) depth of the level below: the
-  // PCSS blocker search looks at a whole region without missing a blocker
-  // between samples, and the filter decides coarse quads exactly where it can.
-  TextureArray Shadow;
-  std::string ShadowMapSizeNote; // why the maps are smaller than asked (GL limit)
-  int WarnedShadowMapSize = 0;   // the request last warned about (warn once)
-  // PVSM: one virtual shadow-map tile at a time (a single layer, same layout).
-  TextureArray Tile;
-  std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
-  TextureArray Visibility; // R32F, one layer per shadow light
-  int VisibilityUnit = -1; // its texture unit while the shading pass runs
-  vtkSmartPointer<vtkOpenGLBufferObject> CasterVBO;
-  vtkSmartPointer<vtkOpenGLVertexArrayObject> CasterVAO;
-  vtkShaderProgram* CasterProgram = nullptr; // owned by the window's shader cache
-  unsigned long CasterUploads = 0;
-  // PVSM (§5.2): conservative low-res maps, kernel-shape buffer, SMTG, tiles
-  vtkShaderProgram* ConservativeProgram = nullptr;
-  vtkSmartPointer<vtkOpenGLVertexArrayObject> ConservativeVAO;
-  unsigned long ConservativeVAOUploads = 0;
-  vtkSmartPointer<vtkTextureObject> Kernel[3]; // RGBA32F, screen size
-  vtkSmartPointer<vtkTextureObject> Accum;     // RGBA32F (V·A within reach, A, back-projection, unused), screen size
-  TextureArray Grid; // RG32F SMTG and its pyramid (one layer, all levels)
-  std::vector<std::vector<float>> LastGridLevels; // the last view's SMTG pyramid as read back
-  vtkShaderProgram* GridProgram = nullptr;
-  vtkSmartPointer<vtkOpenGLVertexArrayObject> EmptyVAO;
-  std::unique_ptr<vtkOpenGLQuadHelper> KernelQuad, FilterQuad, ResolveQuad;
-  ss::PVSMStats LastPVSMStats;
-  int PVSMLights = 0;
-  long long HardAverageMaps = 0; // hard maps rendered by HARDAVG in the last frame
-  std::string PVSMSceneKey; // casters and lights of the last PVSM frame (static metric)
-
-  vtkShaderProgram* ReadyConservativeProgram(vtkOpenGLRenderWindow* win)
-  {
-    this->ConservativeProgram =
-      win->GetShaderCache()->ReadyShaderProgram(ssCasterVS, ssConservativeFS, ssConservativeGS);
-    if (!this->ConservativeProgram)
-    {
-      return nullptr;
-    }
-    if (!this->ConservativeVAO)
-    {
-      this->ConservativeVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
-      this->ConservativeVAOUploads = 0;
-    }
-    if (this->ConservativeVAOUploads != this->CasterUploads)
-    {
-      this->ConservativeVAO->Bind();
-      this->ConservativeVAO->RemoveAttributeArray("vertexRel");
-      const bool ok = this->ConservativeVAO->AddAttributeArray(this->ConservativeProgram, this->CasterVBO,
-        "vertexRel", 0, 3 * sizeof(float), VTK_FLOAT, 3, false);
-      this->ConservativeVAO->Release();
-      if (!ok)
-      {
-        return nullptr;
-      }
-      this->ConservativeVAOUploads = this->CasterUploads;
-    }
-    return this->ConservativeProgram;
-  }
-  std::unique_ptr<vtkOpenGLQuadHelper> VisibilityQuad;
+  // --- the frame and its shared pieces (GPU ones released by Release)
+  ss::FrameState Frame;
+  ss::CasterSet Casters;
+  ss::EffectPlan Plan;
+  ss::GBuffer GBuf;
+  ss::ShadowMaps Maps;
+  ss::VisibilityLayers Visibility;
+  ss::StageTimings Timings;
+  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO; // render target of the off-screen stages
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
 
-  // --- per-frame state
+  // --- one solver per registered method, in registry order
+  std::vector<std::unique_ptr<ss::VisibilitySolver>> Solvers;
+
+  // --- what the mappers' shaders carry, and whether the results are valid
   Stage CurrentStage = Stage::Idle;
   vtkTimeStamp StageTime;
   bool ShadowsThisFrame = false;
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
-  int Width = 0, Height = 0;
-  int ViewportOrigin[2] = { 0, 0 };
-  glm::dvec3 Origin{ 0.0 };
-  glm::dvec3 Eye{ 0.0 }; // the camera position, relative to Origin
-  std::map<vtkProp*, int> PropIds;
-  std::vector<ShadowLight> Lights;
-  ss::EffectPlan Plan;
-  ss::Box Receivers; // absolute bounds of the receiving props
-  std::map<std::string, double> Timings;
   std::string LastSignature;
   bool HaveResults = false;
-  float VCToWC[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
-  float VCToRelOffset[3] = { 0, 0, 0 };
-  float DCToVC[16] = { 0 };
 
-  // --- caster set (world triangles relative to CasterOrigin)
-  std::vector<CasterKey> CasterKeys;
-  std::vector<float> CasterTriangles; // 9 floats per triangle
-  std::vector<float> CasterOpacity;   // per triangle
-  // The triangles above in the order of their clusters (world bounds), so a
-  // PVSM tile draws only the clusters that reach it (vtkSoftShadowPass::PVSMTileCulling).
-  ss::TriangleClusters CasterClusters; // bounds relative to CasterOrigin
-  unsigned long ClusterVersion = 0;    // the CasterVersion they were built for
-
-  // Orders the caster set into clusters of at most 1024 triangles (a few
-  // thousand on a 5M-triangle set: the per-tile test stays well under a
-  // millisecond). Only PVSM frames with tile culling need it, so it runs on
-  // their first frame after the caster set changed, not on every rebuild.
-  // The bounds come from the float positions the GPU draws. No solver
-  // depends on the order (maps are min-blended, GEARS and the reference take
-  // unions), so nothing else is rebuilt; the vertex buffer is re-uploaded.
-  void ClusterCasters()
+  ss::VisibilitySolver* SolverFor(ss::Method m) const
   {
-    const std::size_t n = this->NumberOfTriangles();
-    std::vector<glm::dvec3> v(3 * n);
-    for (std::size_t i = 0; i < v.size(); ++i)
+    for (const auto& solver : this->Solvers)
     {
-      v[i] = glm::dvec3(this->CasterTriangles[3 * i], this->CasterTriangles[3 * i + 1],
-        this->CasterTriangles[3 * i + 2]);
+      if (solver->GetMethod() == m)
+      {
+        return solver.get();
+      }
     }
-    this->CasterClusters = ss::ClusterTriangles(v, 1024);
-    std::vector<float> tri(this->CasterTriangles.size()), opacity(n, 1.0f);
-    for (std::size_t t = 0; t < n; ++t)
-    {
-      const std::size_t from = this->CasterClusters.order[t];
-      std::copy_n(&this->CasterTriangles[9 * from], 9, &tri[9 * t]);
-      opacity[t] = from < this->CasterOpacity.size() ? this->CasterOpacity[from] : 1.0f;
-    }
-    this->CasterTriangles = std::move(tri);
-    this->CasterOpacity = std::move(opacity);
-    this->ClusterVersion = this->CasterVersion;
-    this->CasterUploaded = false;
+    return nullptr;
   }
-  // Ray-traced reference (CPU): its scene is rebuilt when the caster set changes.
-  std::unique_ptr<ss::ReferenceSolver> Reference;
-  unsigned long ReferenceVersion = 0;
-  ss::ReferenceStats LastReferenceStats;
-  // GEARS (CPU): its triangles are re-read when the caster set changes.
-  std::unique_ptr<ss::GearsSolver> Gears;
-  unsigned long GearsVersion = 0;
-  // GEARS (GL compute backend, ssGearsGL): the backend the last frame used,
-  // and why it was not the one asked for.
-  std::unique_ptr<ss::GearsGL> GearsGL;
-  std::string GearsBackendUsed = "cpu";
-  std::string GearsBackendNote;
-  std::string GearsWarned;
-  ss::GearsStats LastGearsStats; // summed over the GEARS lights of the frame
-  int GearsLights = 0;
-  void AccumulateGearsStats(const ss::GearsStats& st)
-  {
-    ss::GearsStats& a = LastGearsStats;
-    a.msProject += st.msProject;
-    a.msPrefixSum += st.msPrefixSum;
-    a.msRelate += st.msRelate;
-    a.msSort += st.msSort;
-    a.msRaster += st.msRaster;
-    a.msTotal += st.msTotal;
-    a.triangles = st.triangles;
-    a.samples += st.samples;
-    a.gridCells += st.gridCells;
-    a.nonEmptyCells += st.nonEmptyCells;
-    a.pairs += st.pairs;
-    a.trianglesPerCellMax = std::max(a.trianglesPerCellMax, st.trianglesPerCellMax);
-    a.samplesPerCellMax = std::max(a.samplesPerCellMax, st.samplesPerCellMax);
-    a.assignmentsTotal += st.assignmentsTotal;
-    a.assignmentsNecessary = st.assignmentsNecessary < 0 ? -1.0
-      : std::max(a.assignmentsNecessary, 0.0) + st.assignmentsNecessary;
-    a.fullGridTriangles += st.fullGridTriangles;
-    a.lutFallbacks += st.lutFallbacks;
-    ++GearsLights;
-    // averages over all non-empty cells of the frame's GEARS lights
-    a.trianglesPerCellAvg = (a.trianglesPerCellAvg * (a.nonEmptyCells - st.nonEmptyCells) +
-                              st.trianglesPerCellAvg * st.nonEmptyCells) / std::max<std::size_t>(a.nonEmptyCells, 1);
-    a.samplesPerCellAvg = a.nonEmptyCells ? static_cast<double>(a.samples) / a.nonEmptyCells : 0.0;
-  }
-  glm::dvec3 CasterOrigin{ 0.0 };
-  ss::Box CasterBox; // absolute
-  bool CasterUploaded = false;
-  bool TranslucentCasters = false;
-  std::size_t SkippedTriangles = 0;
-  unsigned long CasterVersion = 0;
 
-  std::size_t NumberOfTriangles() const { return this->CasterTriangles.size() / 9; }
+  ss::SolverFrame MakeSolverFrame(vtkRenderer* ren, vtkOpenGLRenderWindow* win, vtkObject* reporter)
+  {
+    ss::SolverFrame f;
+    f.Renderer = ren;
+    f.Window = win;
+    f.FBO = this->FBO;
+    f.State = &this->Frame;
+    f.GBuffer = &this->GBuf;
+    f.Casters = &this->Casters;
+    f.Maps = &this->Maps;
+    f.Visibility = &this->Visibility;
+    f.Timings = &this->Timings;
+    f.Reporter = reporter;
+    return f;
+  }
+
+  // The whole-view shadow maps of the frame, drawn by the solvers of the
+  // lights that use them into one shared array. False (with `error`) when the
+  // maps cannot be made; `error` may also hold a non-fatal error.
+  bool DrawShadowMaps(ss::SolverFrame& frame, const std::vector<std::vector<const ShadowLight*>>& lightsOf,
+    const std::vector<int>& asked, int fallbackSize, int views, const ss::GLLimits& limits, std::string& error)
+  {
+    const int S = this->Maps.ChooseSize(asked, fallbackSize, limits.maxTextureSize, frame.Reporter);
+    const auto t0 = Clock::now();
+    if (!this->Maps.Allocate(S, views, limits, error))
+    {
+      this->ShadowsThisFrame = false;
+      return false;
+    }
+    for (std::size_t i = 0; i < this->Solvers.size(); ++i)
+    {
+      if (!lightsOf[i].empty())
+      {
+        this->Solvers[i]->PrepareCasters(this->Casters);
+      }
+    }
+    if (!this->Casters.ReadyProgram(frame.Window, error))
+    {
+      return false;
+    }
+    this->Maps.BeginDrawing(frame.Window, this->FBO);
+    int layer = 0;
+    for (auto& l : this->Frame.Lights)
+    {
+      if (l.Layer < 0)
+      {
+        continue;
+      }
+      l.FirstLayer = layer;
+      layer += static_cast<int>(l.Views.size());
+      ss::VisibilitySolver* solver = this->SolverFor(l.Method);
+      if (solver->UsesShadowMaps())
+      {
+        solver->DrawShadowMaps(frame, l);
+      }
+    }
+    if (!this->Maps.EndDrawing(frame.Window, this->FBO))
+    {
+      error = "Could not build the min-depth reduction program.";
+    }
+    this->Timings.Finish();
+    this->Timings.Set("shadow_maps", ss::Milliseconds(t0, Clock::now()));
+    return true;
+  }
 
   int CountResources() const
   {
-    int n = 0;
-    auto tex = [&](vtkTextureObject* t) { n += (t && t->GetHandle() != 0) ? 1 : 0; };
-    tex(this->GPosition);
-    tex(this->GNormal);
-    tex(this->GDepth);
-    n += this->Shadow.Handle != 0 ? 1 : 0;
-    n += this->Tile.Handle != 0 ? 1 : 0;
-    n += this->Grid.Handle != 0 ? 1 : 0;
-    n += this->ReduceQuad ? 1 : 0;
-    n += this->Visibility.Handle != 0 ? 1 : 0;
-    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
+    int n = this->GBuf.CountGraphicsResources() + this->Maps.CountGraphicsResources() +
+      this->Visibility.CountGraphicsResources() + this->Casters.CountGraphicsResources();
+    for (const auto& solver : this->Solvers)
     {
-      tex(t);
+      n += solver->GetNumberOfGraphicsResources();
     }
-    n += (this->KernelQuad ? 1 : 0) + (this->FilterQuad ? 1 : 0) + (this->ResolveQuad ? 1 : 0);
     n += (this->FBO && this->FBO->GetFBOIndex() != 0) ? 1 : 0;
-    n += (this->CasterVBO && this->CasterVBO->GetHandle() != 0) ? 1 : 0;
-    n += this->VisibilityQuad ? 1 : 0;
     return n;
   }
 
   long long MemoryBytes() const
   {
-    long long b = 0;
-    auto tex = [&](vtkTextureObject* t, int bpp) {
-      if (t && t->GetHandle() != 0)
-      {
-        b += static_cast<long long>(t->GetWidth()) * t->GetHeight() * std::max(1u, t->GetDepth()) * bpp;
-      }
-    };
-    tex(this->GPosition, 16);
-    tex(this->GNormal, 16);
-    tex(this->GDepth, 4);
-    b += this->Shadow.Bytes() + this->Tile.Bytes() + this->Grid.Bytes();
-    b += this->Visibility.Bytes();
-    for (int i = 0; i < 3; ++i)
+    long long b = this->GBuf.Bytes() + this->Maps.Bytes() + this->Visibility.Bytes() + this->Casters.Bytes();
+    for (const auto& solver : this->Solvers)
     {
-      tex(this->Kernel[i], 16);
-    }
-    tex(this->Accum, 16);
-    if (this->CasterUploaded)
-    {
-      b += static_cast<long long>(this->CasterTriangles.size()) * 4;
+      b += solver->GetMemoryBytes();
     }
     return b;
   }
 
   void Release(vtkWindow* w)
   {
-    this->Shadow.Release();
-    this->Tile.Release();
-    this->Grid.Release();
-    this->LastGridLevels.clear();
-    if (this->ReduceQuad)
+    this->Maps.ReleaseGraphicsResources(w);
+    for (const auto& solver : this->Solvers)
     {
-      this->ReduceQuad->ReleaseGraphicsResources(w);
-      this->ReduceQuad.reset();
+      solver->ReleaseGraphicsResources(w);
     }
-    this->Visibility.Release();
-    for (auto* t : { this->GPosition.Get(), this->GNormal.Get(), this->GDepth.Get() })
-    {
-      if (t)
-      {
-        t->ReleaseGraphicsResources(w);
-      }
-    }
-    this->GPosition = nullptr;
-    this->GNormal = nullptr;
-    this->GDepth = nullptr;
+    this->Visibility.ReleaseGraphicsResources();
+    this->GBuf.ReleaseGraphicsResources(w);
     if (this->FBO)
     {
       this->FBO->ReleaseGraphicsResources(w);
       this->FBO = nullptr;
     }
-    if (this->CasterVAO)
-    {
-      this->CasterVAO->ReleaseGraphicsResources();
-      this->CasterVAO = nullptr;
-    }
-    if (this->CasterVBO)
-    {
-      this->CasterVBO->ReleaseGraphicsResources();
-      this->CasterVBO = nullptr;
-    }
-    if (this->VisibilityQuad)
-    {
-      this->VisibilityQuad->ReleaseGraphicsResources(w);
-      this->VisibilityQuad.reset();
-    }
-    for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
-    {
-      if (t)
-      {
-        t->ReleaseGraphicsResources(w);
-      }
-    }
-    for (auto& t : this->Kernel)
-    {
-      t = nullptr;
-    }
-    this->Accum = nullptr;
-    for (auto* q : { &this->KernelQuad, &this->FilterQuad, &this->ResolveQuad })
-    {
-      if (*q)
-      {
-        (*q)->ReleaseGraphicsResources(w);
-        q->reset();
-      }
-    }
-    for (auto* vao : { &this->ConservativeVAO, &this->EmptyVAO })
-    {
-      if (*vao)
-      {
-        (*vao)->ReleaseGraphicsResources();
-        *vao = nullptr;
-      }
-    }
-    if (this->GearsGL)
-    {
-      this->GearsGL->ReleaseGraphicsResources();
-      this->GearsGL.reset();
-    }
-    this->ConservativeProgram = nullptr;
-    this->GridProgram = nullptr;
-    this->PVSMSceneKey.clear();
-    this->CasterProgram = nullptr;
-    this->CasterUploaded = false;
+    this->Casters.ReleaseGraphicsResources();
     this->HaveResults = false;
     this->LastSignature.clear();
   }
@@ -777,6 +215,13 @@ public:
 vtkSoftShadowPass::vtkSoftShadowPass()
   : Internals(new vtkInternals)
 {
+  for (const auto& entry : ss::SolverRegistry())
+  {
+    if (entry.Factory)
+    {
+      this->Internals->Solvers.push_back(entry.Factory(entry.Method));
+    }
+  }
 }
 
 vtkSoftShadowPass::~vtkSoftShadowPass()
@@ -787,20 +232,51 @@ vtkSoftShadowPass::~vtkSoftShadowPass()
 vtkCxxSetObjectMacro(vtkSoftShadowPass, DelegatePass, vtkRenderPass);
 
 //------------------------------------------------------------------------------
+void vtkSoftShadowPass::SetMethod(int method)
+{
+  method = std::max(this->GetMethodMinValue(), std::min(method, this->GetMethodMaxValue()));
+  if (this->Method != method)
+  {
+    this->Method = method;
+    this->Modified();
+  }
+}
+
+int vtkSoftShadowPass::GetMethodMinValue()
+{
+  return AUTO;
+}
+
+int vtkSoftShadowPass::GetMethodMaxValue()
+{
+  return ss::MaxMethodNumber();
+}
+
 bool vtkSoftShadowPass::SetMethodByName(const char* name)
 {
-  ss::Method m;
-  if (!name || !ss::MethodFromName(name, m))
+  const ss::SolverEntry* entry = name ? ss::FindSolverEntry(std::string(name)) : nullptr;
+  if (!entry)
   {
     return false;
   }
-  this->SetMethod(static_cast<int>(m));
+  this->SetMethod(static_cast<int>(entry->Method));
   return true;
 }
 
 const char* vtkSoftShadowPass::GetMethodName(int method)
 {
-  return ss::MethodName(static_cast<ss::Method>(method));
+  const ss::SolverEntry* entry = ss::FindSolverEntry(static_cast<ss::Method>(method));
+  return entry ? entry->Name : "none";
+}
+
+std::string vtkSoftShadowPass::GetMethodNames()
+{
+  std::string names;
+  for (const auto& entry : ss::SolverRegistry())
+  {
+    names += (names.empty() ? "" : ", ") + std::string(entry.Name);
+  }
+  return names;
 }
 
 //------------------------------------------------------------------------------
@@ -855,136 +331,14 @@ bool vtkSoftShadowPass::GetReceivesShadows(vtkProp* prop)
 }
 
 //------------------------------------------------------------------------------
-// Caster set: the world-space triangles of every visible, shadow-casting actor.
-namespace
-{
-void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, float opacity, std::vector<glm::dvec3>& tris,
-  std::vector<float>& opacities, std::size_t& skipped)
-{
-  vtkPoints* pts = pd->GetPoints();
-  if (!pts || pts->GetNumberOfPoints() == 0)
-  {
-    return;
-  }
-  const vtkIdType np = pts->GetNumberOfPoints();
-  std::vector<glm::dvec3> world(static_cast<std::size_t>(np));
-  std::vector<char> finite(static_cast<std::size_t>(np));
-  for (vtkIdType i = 0; i < np; ++i)
-  {
-    double p[3];
-    pts->GetPoint(i, p);
-    double in[4] = { p[0], p[1], p[2], 1.0 }, out[4];
-    m->MultiplyPoint(in, out);
-    const double w = (out[3] != 0.0) ? out[3] : 1.0;
-    world[i] = glm::dvec3(out[0] / w, out[1] / w, out[2] / w);
-    finite[i] = std::isfinite(world[i].x) && std::isfinite(world[i].y) && std::isfinite(world[i].z);
-  }
-  auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
-    if (a < 0 || b < 0 || c < 0 || a >= np || b >= np || c >= np || !finite[a] || !finite[b] ||
-      !finite[c])
-    {
-      ++skipped;
-      return;
-    }
-    const glm::dvec3 e = glm::cross(world[b] - world[a], world[c] - world[a]);
-    if (!(glm::dot(e, e) > 0.0))
-    {
-      ++skipped; // zero-area triangles cast nothing
-      return;
-    }
-    tris.push_back(world[a]);
-    tris.push_back(world[b]);
-    tris.push_back(world[c]);
-    opacities.push_back(opacity);
-  };
-  auto polys = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
-  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    polys->GetCurrentCell(n, ids);
-    for (vtkIdType k = 1; k + 1 < n; ++k)
-    {
-      emit(ids[0], ids[k], ids[k + 1]);
-    }
-  }
-  auto strips = vtk::TakeSmartPointer(pd->GetStrips()->NewIterator());
-  for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    strips->GetCurrentCell(n, ids);
-    for (vtkIdType k = 0; k + 2 < n; ++k)
-    {
-      if (k % 2 == 0)
-      {
-        emit(ids[k], ids[k + 1], ids[k + 2]);
-      }
-      else
-      {
-        emit(ids[k + 1], ids[k], ids[k + 2]);
-      }
-    }
-  }
-}
-
-// Leaves of a prop (assemblies included) with their world matrices.
-template <typename F>
-void ForEachActor(vtkRenderer* ren, F&& f)
-{
-  vtkPropCollection* props = ren->GetViewProps();
-  vtkCollectionSimpleIterator pit;
-  props->InitTraversal(pit);
-  while (vtkProp* prop = props->GetNextProp(pit))
-  {
-    if (!prop->GetVisibility())
-    {
-      continue;
-    }
-    prop->InitPathTraversal();
-    while (vtkAssemblyPath* path = prop->GetNextPath())
-    {
-      vtkAssemblyNode* node = path->GetLastNode();
-      vtkActor* actor = vtkActor::SafeDownCast(node->GetViewProp());
-      if (!actor || !actor->GetVisibility() || !actor->GetMapper())
-      {
-        continue;
-      }
-      vtkMatrix4x4* m = node->GetMatrix() ? node->GetMatrix() : actor->GetMatrix();
-      f(actor, m);
-    }
-  }
-}
-
-template <typename F>
-void ForEachPolyData(vtkDataObject* data, F&& f)
-{
-  if (auto* pd = vtkPolyData::SafeDownCast(data))
-  {
-    f(pd);
-  }
-  else if (auto* cd = vtkCompositeDataSet::SafeDownCast(data))
-  {
-    auto it = vtk::TakeSmartPointer(cd->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-    {
-      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-      {
-        f(leaf);
-      }
-    }
-  }
-}
-}
-
-//------------------------------------------------------------------------------
 void vtkSoftShadowPass::Render(const vtkRenderState* s)
 {
   vtkOpenGLClearErrorMacro();
   this->NumberOfRenderedProps = 0;
   auto& in = *this->Internals;
   const auto tFrame = Clock::now();
-  in.Timings.clear();
+  in.Timings.Clear();
+  in.Timings.SetMeasure(this->MeasureTimings);
 
   vtkRenderer* ren = s->GetRenderer();
   auto* win = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
@@ -996,231 +350,38 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   win->MakeCurrent();
   in.Window = win;
   vtkOpenGLState* ostate = win->GetState();
-
   if (!ren->IsActiveCameraCreated())
   {
     ren->GetActiveCamera();
     ren->ResetCamera();
   }
 
-  // Viewport, scissor and clear as vtkCameraPass does, so the pass works both
-  // installed directly on a renderer and as the delegate of a camera pass.
-  int w, h, x0 = 0, y0 = 0;
-  if (auto* fbo = vtkOpenGLFramebufferObject::SafeDownCast(s->GetFrameBuffer()))
-  {
-    int size[2];
-    fbo->GetLastSize(size);
-    w = size[0];
-    h = size[1];
-  }
-  else
-  {
-    ren->GetTiledSizeAndOrigin(&w, &h, &x0, &y0);
-  }
+  // --- frame state: viewport, scissor and clear as vtkCameraPass does, so
+  // the pass works both installed on a renderer and as a camera pass's
+  // delegate; the origin all float positions are relative to
   vtkOpenGLState::ScopedglViewport vsaver(ostate);
   vtkOpenGLState::ScopedglScissor ssaver(ostate);
   vtkOpenGLState::ScopedglEnableDisable stsaver(ostate, GL_SCISSOR_TEST);
-  if (w <= 0 || h <= 0)
+  if (!ss::UpdateFrameState(in.Frame, s, this->AutomaticPositionsOrigin ? nullptr : this->PositionsOrigin))
   {
     return;
   }
-  in.Width = w;
-  in.Height = h;
-  in.ViewportOrigin[0] = x0;
-  in.ViewportOrigin[1] = y0;
-
-  // Lights first: their transformed positions and VTK's light numbering.
+  // the lights' transformed positions and VTK's light numbering
   this->ClearLights(ren);
   this->UpdateLightGeometry(ren);
   this->UpdateLights(ren);
 
-  // Frame origin: positions and all float math are relative to it.
-  vtkCamera* cam = ren->GetActiveCamera();
-  if (this->AutomaticPositionsOrigin)
-  {
-    const double* fp = cam->GetFocalPoint();
-    in.Origin = glm::dvec3(fp[0], fp[1], fp[2]);
-  }
-  else
-  {
-    in.Origin = glm::dvec3(this->PositionsOrigin[0], this->PositionsOrigin[1], this->PositionsOrigin[2]);
-  }
-  in.Eye = glm::dvec3(cam->GetPosition()[0], cam->GetPosition()[1], cam->GetPosition()[2]) - in.Origin;
-
   // --- caster set, rebuilt only when a prop, its data or its transform changed
   auto tStage = Clock::now();
-  std::vector<CasterKey> keys;
-  ss::Box receivers;
-  std::size_t receiverProps = 0;
-  ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
-    vtkMapper* mapper = actor->GetMapper();
-    if (GetReceivesShadows(actor))
-    {
-      double b[6];
-      actor->GetBounds(b);
-      if (vtkMath::AreBoundsInitialized(b) && Finite3(b) && Finite3(b + 3))
-      {
-        receivers.Add(glm::dvec3(b[0], b[2], b[4]));
-        receivers.Add(glm::dvec3(b[1], b[3], b[5]));
-        ++receiverProps;
-      }
-    }
-    if (!GetCastsShadows(actor))
-    {
-      return;
-    }
-    mapper->Update();
-    vtkDataObject* data = mapper->GetInputDataObject(0, 0);
-    keys.emplace_back(actor, data, data ? data->GetMTime() : 0, MatrixHash(m),
-      std::max(mapper->GetMTime(), actor->GetProperty()->GetMTime()));
-  });
-  if (keys != in.CasterKeys)
-  {
-    std::vector<glm::dvec3> tris;
-    std::vector<float> opacities;
-    std::size_t skipped = 0;
-    bool translucent = false;
-    ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
-      if (!GetCastsShadows(actor))
-      {
-        return;
-      }
-      const float opacity = static_cast<float>(actor->GetProperty()->GetOpacity());
-      translucent = translucent || opacity < 1.0f;
-      ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0),
-        [&](vtkPolyData* pd) { AppendPolyData(pd, m, opacity, tris, opacities, skipped); });
-    });
-    if (skipped > 0 && skipped != in.SkippedTriangles)
-    {
-      vtkWarningMacro("Caster set: skipped " << skipped
-                                             << " zero-area, degenerate or non-finite triangles.");
-    }
-    in.SkippedTriangles = skipped;
-    in.TranslucentCasters = translucent;
-    in.CasterBox = ss::Box{};
-    for (const auto& p : tris)
-    {
-      in.CasterBox.Add(p);
-    }
-    in.CasterOrigin = in.CasterBox.Empty() ? glm::dvec3(0.0) : in.CasterBox.Center();
-    in.CasterTriangles.resize(tris.size() * 3);
-    for (std::size_t i = 0; i < tris.size(); ++i)
-    {
-      const glm::dvec3 r = tris[i] - in.CasterOrigin;
-      in.CasterTriangles[3 * i + 0] = static_cast<float>(r.x);
-      in.CasterTriangles[3 * i + 1] = static_cast<float>(r.y);
-      in.CasterTriangles[3 * i + 2] = static_cast<float>(r.z);
-    }
-    in.CasterOpacity = std::move(opacities);
-    in.CasterKeys = keys;
-    in.CasterUploaded = false;
-    ++in.CasterVersion;
-  }
-  in.Timings["caster_set"] = Seconds(tStage, Clock::now());
+  in.Casters.Update(ren, this);
+  in.Timings.Set("caster_set", ss::Milliseconds(tStage, Clock::now()));
 
   // --- lights and the effect plan
-  in.Lights.clear();
-  {
-    vtkLightCollection* lc = ren->GetLights();
-    vtkCollectionSimpleIterator lit;
-    int shaderIndex = 0;
-    for (lc->InitTraversal(lit); vtkLight* light = lc->GetNextLight(lit);)
-    {
-      if (light->GetSwitch() <= 0)
-      {
-        continue;
-      }
-      ShadowLight sl;
-      sl.Light = light;
-      sl.ShaderIndex = shaderIndex++;
-      sl.Planner.headlight = light->LightTypeIsHeadlight() != 0;
-      sl.Planner.castsShadows = vtkSoftShadowLight::GetCastsShadows(light);
-      double pos[3], fp[3];
-      light->GetTransformedPosition(pos);
-      light->GetTransformedFocalPoint(fp);
-      try
-      {
-        const glm::dvec3 p(pos[0], pos[1], pos[2]);
-        const glm::dvec3 f(fp[0], fp[1], fp[2]);
-        if (light->GetPositional())
-        {
-          double size[2];
-          vtkSoftShadowLight::GetAreaSize(light, size);
-          if (size[0] > 0.0 || size[1] > 0.0)
-          {
-            double up[3] = { 0, 0, 0 };
-            vtkSoftShadowLight::GetAreaUp(light, up);
-            sl.Frame = ss::MakeRectLightFrame(
-              p - in.Origin, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
-          }
-          else
-          {
-            sl.Frame = ss::MakePointLightFrame(p - in.Origin);
-          }
-        }
-        else
-        {
-          const double angle = vtkSoftShadowLight::GetAngularDiameter(light);
-          sl.Frame = ss::MakeDirectionalLightFrame(f - p, angle * M_PI / 180.0);
-        }
-      }
-      catch (const std::exception& e)
-      {
-        sl.Planner.valid = false;
-        sl.Planner.invalidReason = e.what();
-      }
-      sl.Planner.frame = sl.Frame;
-      in.Lights.push_back(sl);
-    }
-  }
+  in.Frame.Lights = ss::CollectLights(ren, in.Frame.Origin);
+  const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
+  this->PlanFrame(in.HaveResults && signature == in.LastSignature);
 
-  ss::PlannerInput pin;
-  pin.requested = static_cast<ss::Method>(this->Method);
-  pin.casterTriangles = in.NumberOfTriangles();
-  pin.receiverProps = receiverProps;
-  pin.translucentCasters = in.TranslucentCasters;
-  for (const auto& l : in.Lights)
-  {
-    pin.lights.push_back(l.Planner);
-  }
-
-  // Nothing changed since the last frame: the visibility is still valid.
-  std::ostringstream sig;
-  {
-    double vm[16];
-    vtkMatrix4x4::DeepCopy(vm, cam->GetModelViewTransformMatrix());
-    sig.precision(17);
-    for (double v : vm)
-    {
-      sig << v << ',';
-    }
-    sig << cam->GetViewAngle() << ',' << cam->GetParallelProjection() << ','
-        << cam->GetParallelScale() << ',' << ren->GetTiledAspectRatio() << ',' << w << 'x' << h
-        << ',' << in.CasterVersion << ',' << this->GetMTime() << ',' << in.Origin.x << ','
-        << in.Origin.y << ',' << in.Origin.z;
-    for (const auto& l : in.Lights)
-    {
-      sig << ',' << l.Light << ':' << l.Light->GetMTime();
-    }
-    for (const auto& k : keys)
-    {
-      sig << ',' << std::get<0>(k) << ':' << std::get<3>(k) << ':' << std::get<4>(k);
-    }
-  }
-  pin.unchangedSinceLastFrame = in.HaveResults && sig.str() == in.LastSignature;
-  in.Plan = ss::MakeEffectPlan(pin);
-
-  int layers = 0;
-  for (std::size_t i = 0; i < in.Lights.size(); ++i)
-  {
-    in.Lights[i].Method = in.Plan.lights[i].method;
-    if (in.Lights[i].Method != ss::Method::None)
-    {
-      in.Lights[i].Layer = layers++;
-    }
-  }
-  in.ShadowsThisFrame = in.Plan.shadowWork && layers > 0;
-
+  // --- G-buffer and one solver per light, unless the last frame's V holds
   if (in.ShadowsThisFrame && !in.Plan.reuse)
   {
     // Our stages change blending, depth and clear state: give VTK's shading
@@ -1232,12 +393,11 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     vtkOpenGLState::ScopedglDepthMask depthMaskSaver(ostate);
     vtkOpenGLState::ScopedglClearColor clearSaver(ostate);
     this->RenderGBuffer(s);
-    in.Receivers = receivers;
     this->SolveVisibility(s);
     // a solve that could not allocate its textures turned shadows off: try
     // again next frame rather than reuse nothing
     in.HaveResults = in.ShadowsThisFrame;
-    in.LastSignature = in.ShadowsThisFrame ? sig.str() : std::string();
+    in.LastSignature = in.ShadowsThisFrame ? signature : std::string();
   }
   else if (!in.ShadowsThisFrame)
   {
@@ -1247,9 +407,176 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 
   // --- shading: VTK's own lighting, each light multiplied by its visibility
   tStage = Clock::now();
-  ostate->vtkglViewport(x0, y0, w, h);
+  this->Shade(s);
+  in.Timings.Finish();
+  in.Timings.Set("shading", ss::Milliseconds(tStage, Clock::now()));
+  in.Timings.Set("pass_total", ss::Milliseconds(tFrame, Clock::now()));
+  vtkOpenGLCheckErrorMacro("failed after vtkSoftShadowPass::Render");
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
+{
+  auto& in = *this->Internals;
+  ss::PlannerInput pin;
+  pin.requested = static_cast<ss::Method>(this->Method);
+  pin.casterTriangles = in.Casters.NumberOfTriangles();
+  pin.receiverProps = in.Casters.ReceiverProps;
+  pin.translucentCasters = in.Casters.Translucent;
+  pin.methods = ss::PlannerMethods();
+  for (const auto& l : in.Frame.Lights)
+  {
+    pin.lights.push_back(l.Planner);
+  }
+  pin.unchangedSinceLastFrame = unchangedSinceLastFrame;
+  in.Plan = ss::MakeEffectPlan(pin);
+
+  int layers = 0;
+  for (std::size_t i = 0; i < in.Frame.Lights.size(); ++i)
+  {
+    ShadowLight& l = in.Frame.Lights[i];
+    l.Method = in.Plan.lights[i].method;
+    // every planned method has its solver (the registry's factory)
+    if (l.Method != ss::Method::None && in.SolverFor(l.Method))
+    {
+      l.Layer = layers++;
+    }
+  }
+  in.ShadowsThisFrame = in.Plan.shadowWork && layers > 0;
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::RenderGBuffer(const vtkRenderState* s)
+{
+  auto& in = *this->Internals;
+  const auto t0 = Clock::now();
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
+  if (!in.FBO)
+  {
+    in.FBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+    in.FBO->SetContext(win);
+  }
+  in.GBuf.Begin(ren, win, in.FBO, in.Frame);
+  if (in.CurrentStage != Stage::GBuffer)
+  {
+    in.CurrentStage = Stage::GBuffer;
+    in.StageTime.Modified();
+  }
+  // the opaque props through their own mappers, with the G-buffer outputs
+  // injected (PostReplaceShaderValues)
+  this->PreRender(s);
+  for (int i = 0; i < s->GetPropArrayCount(); ++i)
+  {
+    vtkProp* prop = s->GetPropArray()[i];
+    if (prop->GetVisibility() && prop->HasOpaqueGeometry())
+    {
+      this->NumberOfRenderedProps += prop->RenderOpaqueGeometry(ren);
+    }
+  }
+  this->PostRender(s);
+  in.GBuf.End(win, in.FBO);
+  in.Timings.Finish();
+  in.Timings.Set("gbuffer", ss::Milliseconds(t0, Clock::now()));
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
+{
+  auto& in = *this->Internals;
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
+  ss::SolverFrame frame = in.MakeSolverFrame(ren, win, this);
+
+  // Each solver reads its options and learns its lights of the frame (maybe none).
+  std::vector<std::vector<const ShadowLight*>> lightsOf(in.Solvers.size());
+  for (std::size_t i = 0; i < in.Solvers.size(); ++i)
+  {
+    for (const auto& l : in.Frame.Lights)
+    {
+      if (l.Layer >= 0 && l.Method == in.Solvers[i]->GetMethod())
+      {
+        lightsOf[i].push_back(&l);
+      }
+    }
+    in.Solvers[i]->Configure(this);
+    in.Solvers[i]->BeginFrame(frame, lightsOf[i]);
+  }
+
+  // --- whole-view shadow maps, one shared array: views fitted to the
+  // receivers (relative coordinates), the size the lights agree on
+  const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
+  const ss::Box casters = ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin);
+  int totalViews = 0, numShadowLights = 0;
+  std::vector<int> asked;
+  for (auto& l : in.Frame.Lights)
+  {
+    if (l.Layer < 0)
+    {
+      continue;
+    }
+    ++numShadowLights;
+    ss::VisibilitySolver* solver = in.SolverFor(l.Method);
+    if (!solver->UsesShadowMaps())
+    {
+      l.Views.clear();
+      continue;
+    }
+    ss::FitShadowViews(l, receivers, casters, in.Casters, in.Frame.Origin);
+    totalViews += static_cast<int>(l.Views.size());
+    asked.push_back(solver->GetShadowMapSize());
+  }
+  const ss::GLLimits limits = ss::QueryGLLimits();
+  std::string error;
+  if (totalViews == 0)
+  {
+    in.Maps.ClearSizeNote(); // only solvers on the caster triangles: no maps this frame
+  }
+  else if (!in.DrawShadowMaps(frame, lightsOf, asked, this->ShadowMapSize, totalViews, limits, error))
+  {
+    vtkErrorMacro(<< error);
+    return;
+  }
+  else if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+  }
+
+  // --- the visibility layers, one per shadow light
+  const auto tStage = Clock::now();
+  if (!in.Visibility.Allocate(in.Frame.Width, in.Frame.Height, numShadowLights, limits, error))
+  {
+    vtkErrorMacro(<< error);
+    in.ShadowsThisFrame = false;
+    return;
+  }
+  in.Timings.Set("visibility", ss::Milliseconds(tStage, Clock::now()));
+
+  // --- one solver per light writes its layer
+  for (const auto& l : in.Frame.Lights)
+  {
+    if (l.Layer >= 0)
+    {
+      in.SolverFor(l.Method)->Compute(frame, l);
+    }
+  }
+  for (const auto& solver : in.Solvers)
+  {
+    solver->EndFrame(frame);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftShadowPass::Shade(const vtkRenderState* s)
+{
+  auto& in = *this->Internals;
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
+  vtkOpenGLState* ostate = win->GetState();
+  const int w = in.Frame.Width, h = in.Frame.Height;
+  ostate->vtkglViewport(in.Frame.ViewportOrigin[0], in.Frame.ViewportOrigin[1], w, h);
   ostate->vtkglEnable(GL_SCISSOR_TEST);
-  ostate->vtkglScissor(x0, y0, w, h);
+  ostate->vtkglScissor(in.Frame.ViewportOrigin[0], in.Frame.ViewportOrigin[1], w, h);
   if (ren->GetRenderWindow()->GetErase() && ren->GetErase())
   {
     ren->Clear();
@@ -1264,8 +591,8 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   }
   if (in.ShadowsThisFrame)
   {
-    in.VisibilityUnit = in.Visibility.Bind(win);
-    in.GPosition->Activate();
+    in.Visibility.BindForShading(win);
+    in.GBuf.Position->Activate();
   }
   this->PreRender(s);
   if (this->DelegatePass)
@@ -1280,1062 +607,20 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   this->PostRender(s);
   if (in.ShadowsThisFrame)
   {
-    in.GPosition->Deactivate();
-    TextureArray::Unbind(win, in.VisibilityUnit);
-    in.VisibilityUnit = -1;
-  }
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["shading"] = Seconds(tStage, Clock::now());
-  in.Timings["pass_total"] = Seconds(tFrame, Clock::now());
-  vtkOpenGLCheckErrorMacro("failed after vtkSoftShadowPass::Render");
-}
-
-//------------------------------------------------------------------------------
-void vtkSoftShadowPass::RenderGBuffer(const vtkRenderState* s)
-{
-  auto& in = *this->Internals;
-  const auto t0 = Clock::now();
-  vtkRenderer* ren = s->GetRenderer();
-  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
-  vtkOpenGLState* ostate = win->GetState();
-  const int w = in.Width, h = in.Height;
-
-  EnsureTexture2D(win, in.GPosition, w, h, 4);
-  EnsureTexture2D(win, in.GNormal, w, h, 4);
-  if (!in.GDepth)
-  {
-    in.GDepth = vtkSmartPointer<vtkTextureObject>::New();
-    in.GDepth->SetContext(win);
-    in.GDepth->AllocateDepth(w, h, vtkTextureObject::Float32);
-  }
-  else if (static_cast<int>(in.GDepth->GetWidth()) != w || static_cast<int>(in.GDepth->GetHeight()) != h)
-  {
-    in.GDepth->Resize(w, h);
-  }
-  if (!in.FBO)
-  {
-    in.FBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
-    in.FBO->SetContext(win);
-  }
-
-  // Camera matrices in double: VC -> world relative to the frame origin.
-  vtkCamera* cam = ren->GetActiveCamera();
-  vtkMatrix4x4* view = cam->GetModelViewTransformMatrix(); // WC -> VC, row-major
-  glm::dmat3 R;
-  glm::dvec3 t;
-  for (int r = 0; r < 3; ++r)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      R[c][r] = view->GetElement(r, c); // glm is column-major: R[col][row]
-    }
-    t[r] = view->GetElement(r, 3);
-  }
-  const glm::dmat3 Rt = glm::transpose(R);
-  const glm::dvec3 off = -(Rt * t) - in.Origin;
-  for (int c = 0; c < 3; ++c)
-  {
-    for (int r = 0; r < 3; ++r)
-    {
-      in.VCToWC[c * 3 + r] = static_cast<float>(Rt[c][r]);
-    }
-    in.VCToRelOffset[c] = static_cast<float>(off[c]);
-  }
-  vtkNew<vtkMatrix4x4> proj;
-  proj->DeepCopy(cam->GetProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1));
-  proj->Invert();
-  for (int c = 0; c < 4; ++c)
-  {
-    for (int r = 0; r < 4; ++r)
-    {
-      in.DCToVC[c * 4 + r] = static_cast<float>(proj->GetElement(r, c));
-    }
-  }
-
-  ostate->PushFramebufferBindings();
-  in.FBO->Bind();
-  in.FBO->AddColorAttachment(0, in.GPosition);
-  in.FBO->AddColorAttachment(1, in.GNormal);
-  in.FBO->AddDepthAttachment(in.GDepth);
-  in.FBO->ActivateDrawBuffers(2);
-  ostate->vtkglViewport(0, 0, w, h);
-  ostate->vtkglScissor(0, 0, w, h);
-  ostate->vtkglDisable(GL_BLEND);
-  ostate->vtkglEnable(GL_DEPTH_TEST);
-  ostate->vtkglDepthMask(GL_TRUE);
-  ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
-  ostate->vtkglClearDepth(1.0);
-  ostate->vtkglClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-
-  if (in.CurrentStage != Stage::GBuffer)
-  {
-    in.CurrentStage = Stage::GBuffer;
-    in.StageTime.Modified();
-  }
-  this->PreRender(s);
-  vtkRenderer* r = s->GetRenderer();
-  for (int i = 0; i < s->GetPropArrayCount(); ++i)
-  {
-    vtkProp* prop = s->GetPropArray()[i];
-    if (prop->GetVisibility() && prop->HasOpaqueGeometry())
-    {
-      this->NumberOfRenderedProps += prop->RenderOpaqueGeometry(r);
-    }
-  }
-  this->PostRender(s);
-  in.FBO->RemoveColorAttachments(2);
-  in.FBO->RemoveDepthAttachment();
-  ostate->PopFramebufferBindings();
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["gbuffer"] = Seconds(t0, Clock::now());
-}
-
-//------------------------------------------------------------------------------
-void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
-{
-  auto& in = *this->Internals;
-  const ss::Box& receiversAbs = in.Receivers;
-  vtkRenderer* ren = s->GetRenderer();
-  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
-  vtkOpenGLState* ostate = win->GetState();
-  // Power-of-two maps keep every texel of the min pyramid covered. PVSM's
-  // low-resolution maps have their own size when no other light needs a map.
-  bool anyMap = false, allPVSM = true;
-  for (const auto& l : in.Lights)
-  {
-    if (l.Layer >= 0 && !ss::IsTriangleSolver(l.Method))
-    {
-      anyMap = true;
-      allPVSM = allPVSM && l.Method == ss::Method::PVSM;
-    }
-  }
-  const int wantSize = (anyMap && allPVSM) ? this->PVSMLowResolution : this->ShadowMapSize;
-  // Capped by this context's GL_MAX_TEXTURE_SIZE (8192 on many GPUs, 16384
-  // on llvmpipe): a larger request renders at the limit, with a warning in
-  // the stats, instead of failing to allocate.
-  const ss::GLLimits limits = ss::QueryGLLimits();
-  int S = ss::FitPowerOfTwo(wantSize, limits.maxTextureSize);
-  in.ShadowMapSizeNote.clear();
-  if (S < wantSize)
-  {
-    in.ShadowMapSizeNote = "shadow map size " + std::to_string(wantSize) + " capped at this GL's limit of " +
-      std::to_string(S);
-    if (in.WarnedShadowMapSize != wantSize)
-    {
-      vtkWarningMacro(<< in.ShadowMapSizeNote << ".");
-      in.WarnedShadowMapSize = wantSize;
-    }
-  }
-
-  // Views of every light, fitted to the receivers (relative coordinates).
-  ss::Box receivers, casters;
-  if (!receiversAbs.Empty())
-  {
-    receivers.Add(receiversAbs.min - in.Origin);
-    receivers.Add(receiversAbs.max - in.Origin);
-  }
-  if (!in.CasterBox.Empty())
-  {
-    casters.Add(in.CasterBox.min - in.Origin);
-    casters.Add(in.CasterBox.max - in.Origin);
-  }
-  int totalViews = 0, numShadowLights = 0;
-  for (auto& l : in.Lights)
-  {
-    if (l.Layer < 0)
-    {
-      continue;
-    }
-    ++numShadowLights;
-    if (ss::IsTriangleSolver(l.Method))
-    {
-      l.Views.clear();
-      continue; // solved from the caster triangles below: no shadow map
-    }
-    l.Views = ss::MakeLightViews(l.Frame, receivers, casters, l.ViewInfo);
-    totalViews += static_cast<int>(l.Views.size());
-    // PCSS blocker-search plane: the nearest caster in front of the light.
-    const ss::ShadowView& v0 = l.Views.front();
-    double zMin = std::numeric_limits<double>::max();
-    const glm::dvec3 co = in.CasterOrigin - in.Origin;
-    for (std::size_t i = 0; i < in.CasterTriangles.size(); i += 3)
-    {
-      const glm::dvec3 p = co +
-        glm::dvec3(in.CasterTriangles[i], in.CasterTriangles[i + 1], in.CasterTriangles[i + 2]);
-      const double z = v0.ToLightSpace(p).z;
-      if (z > 0.0 && z < zMin)
-      {
-        zMin = z;
-      }
-    }
-    const double diag = std::max(casters.Diagonal(), receivers.Diagonal());
-    l.SearchDepth = (zMin == std::numeric_limits<double>::max()) ? diag : std::max(zMin, 1e-4 * diag);
-  }
-
-  // --- shadow maps: the caster set drawn by our own small program
-  auto tStage = Clock::now();
-  if (totalViews > limits.maxArrayTextureLayers)
-  {
-    vtkErrorMacro("The lights need " << totalViews << " shadow map views, more than this GL's "
-                                     << limits.maxArrayTextureLayers
-                                     << " array texture layers; no shadows this frame.");
-    in.ShadowsThisFrame = false;
-    return;
-  }
-  in.Shadow.Ensure(S, std::max(totalViews, 1));
-  if (!in.Shadow.Handle)
-  {
-    vtkErrorMacro("Could not allocate " << std::max(totalViews, 1) << " shadow map(s) of " << S << "x" << S
-                                        << "; no shadows this frame.");
-    in.ShadowsThisFrame = false;
-    return;
-  }
-  if (!in.CasterVBO)
-  {
-    in.CasterVBO = vtkSmartPointer<vtkOpenGLBufferObject>::New();
-    in.CasterVBO->SetType(vtkOpenGLBufferObject::ArrayBuffer);
-    in.CasterVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
-  }
-  in.CasterProgram = win->GetShaderCache()->ReadyShaderProgram(ssCasterVS, ssCasterFS, "");
-  if (!in.CasterProgram)
-  {
-    vtkErrorMacro("Could not build the caster shadow-map program.");
-    return;
-  }
-  const bool pvsmCulling = this->PVSMTileCulling &&
-    std::any_of(in.Lights.begin(), in.Lights.end(),
-      [](const auto& l) { return l.Layer >= 0 && l.Method == ss::Method::PVSM; });
-  if (pvsmCulling && in.ClusterVersion != in.CasterVersion)
-  {
-    in.ClusterCasters();
-  }
-  if (!in.CasterUploaded)
-  {
-    in.CasterVBO->Upload(in.CasterTriangles, vtkOpenGLBufferObject::ArrayBuffer);
-    in.CasterVAO->Bind();
-    in.CasterVAO->RemoveAttributeArray("vertexRel");
-    if (!in.CasterVAO->AddAttributeArray(
-          in.CasterProgram, in.CasterVBO, "vertexRel", 0, 3 * sizeof(float), VTK_FLOAT, 3, false))
-    {
-      vtkErrorMacro("Could not bind the caster vertex buffer.");
-    }
-    in.CasterVAO->Release();
-    in.CasterUploaded = true;
-    ++in.CasterUploads;
-  }
-
-  ostate->PushFramebufferBindings();
-  in.FBO->Bind();
-  in.FBO->RemoveDepthAttachment();
-  ostate->vtkglViewport(0, 0, S, S);
-  ostate->vtkglScissor(0, 0, S, S);
-  ostate->vtkglDisable(GL_DEPTH_TEST);
-  ostate->vtkglDisable(GL_CULL_FACE);
-  ostate->vtkglEnable(GL_BLEND);
-  ostate->vtkglBlendEquation(GL_MIN);
-  ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-  ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-  const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
-  int layer = 0;
-  for (auto& l : in.Lights)
-  {
-    if (l.Layer < 0)
-    {
-      continue;
-    }
-    l.FirstLayer = layer;
-    // PVSM §5.2 step 2: its low-resolution map is rasterised conservatively
-    vtkShaderProgram* p = in.CasterProgram;
-    vtkOpenGLVertexArrayObject* vao = in.CasterVAO;
-    win->GetShaderCache()->ReadyShaderProgram(p);
-    if (l.Method == ss::Method::PVSM && !l.Views.empty())
-    {
-      p = in.ReadyConservativeProgram(win);
-      vao = in.ConservativeVAO;
-      if (!p)
-      {
-        vtkErrorMacro("Could not build the conservative rasterisation program.");
-        p = in.CasterProgram;
-        vao = in.CasterVAO;
-        win->GetShaderCache()->ReadyShaderProgram(p);
-      }
-      else
-      {
-        const float vp[2] = { static_cast<float>(S), static_cast<float>(S) };
-        p->SetUniform2f("viewportSize", vp);
-      }
-    }
-    if (l.Method == ss::Method::HardAverage)
-    {
-      layer += static_cast<int>(l.Views.size()); // one map per light sample, later
-      continue;
-    }
-    for (const auto& v : l.Views)
-    {
-      in.Shadow.Attach(in.FBO, 0, layer);
-      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-      if (!in.CasterTriangles.empty())
-      {
-        DrawCasters(p, vao, v, v.extent, casterOffset, in.CasterTriangles.size() / 3);
-      }
-      ++layer;
-    }
-  }
-  ostate->vtkglBlendEquation(GL_FUNC_ADD);
-  ostate->vtkglDisable(GL_BLEND);
-  this->BuildMinPyramid(win);
-  TextureArray::Detach();
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["shadow_maps"] = Seconds(tStage, Clock::now());
-
-  // --- visibility: one full-screen pass per light into its layer
-  tStage = Clock::now();
-  if (std::max(in.Width, in.Height) > limits.maxTextureSize || numShadowLights > limits.maxArrayTextureLayers ||
-    !in.Visibility.EnsureScreen(in.Width, in.Height, numShadowLights))
-  {
-    vtkErrorMacro("Could not allocate the visibility of " << numShadowLights << " light(s) at " << in.Width
-                                                          << "x" << in.Height << " (this GL allows "
-                                                          << limits.maxTextureSize << " pixels a side and "
-                                                          << limits.maxArrayTextureLayers
-                                                          << " layers); no shadows this frame.");
-    in.ShadowsThisFrame = false;
-    ostate->PopFramebufferBindings();
-    return;
-  }
-  int shadowUnit = -1;
-  vtkShaderProgram* prog = this->ReadyVisibilityProgram(win, S, shadowUnit);
-  if (!prog)
-  {
-    ostate->PopFramebufferBindings();
-    return;
-  }
-  ostate->vtkglViewport(0, 0, in.Width, in.Height);
-  ostate->vtkglScissor(0, 0, in.Width, in.Height);
-  for (auto& l : in.Lights)
-  {
-    if (l.Layer < 0 || ss::IsTriangleSolver(l.Method) || l.Method == ss::Method::PVSM ||
-      l.Method == ss::Method::HardAverage)
-    {
-      continue;
-    }
-    SetLightUniforms(prog, l);
-    prog->SetUniformi("method", static_cast<int>(l.Method));
-    in.Visibility.Attach(in.FBO, 0, l.Layer);
-    in.FBO->ActivateDrawBuffers(1);
-    in.VisibilityQuad->Render();
-  }
-  TextureArray::Unbind(win, shadowUnit);
-  in.GNormal->Deactivate();
-  in.GPosition->Deactivate();
-  TextureArray::Detach();
-  in.FBO->RemoveColorAttachments(1);
-  ostate->PopFramebufferBindings();
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["visibility"] = Seconds(tStage, Clock::now());
-  this->SolvePVSM(s);
-  this->SolveHardAverage(win, receivers, casters, S);
-  this->SolveOnTriangles(win);
-}
-
-//------------------------------------------------------------------------------
-// The full-screen visibility program (hard, PCF, PCSS) readied with the
-// G-buffer and the shadow-map array bound and every uniform that does not
-// depend on the light; null (with an error) when it does not build.
-vtkShaderProgram* vtkSoftShadowPass::ReadyVisibilityProgram(
-  vtkOpenGLRenderWindow* win, int mapSize, int& shadowUnit)
-{
-  auto& in = *this->Internals;
-  static const std::string visibilityFS = WithCommon(ssVisibilityFS);
-  vtkShaderProgram* prog = ReadyQuad(in.VisibilityQuad, win, visibilityFS.c_str());
-  if (!prog)
-  {
-    vtkErrorMacro("Could not build the visibility program.");
-    return nullptr;
-  }
-  in.GPosition->Activate();
-  in.GNormal->Activate();
-  shadowUnit = in.Shadow.Bind(win);
-  prog->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
-  prog->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
-  prog->SetUniformi("shadowMaps", shadowUnit);
-  prog->SetUniformf("mapSize", static_cast<float>(mapSize));
-  prog->SetUniformi("numLevels", in.Shadow.Levels);
-  prog->SetUniformi("searchSamples", this->BlockerSearchSamples);
-  prog->SetUniformi("maxQuads", this->FilterMaxQuads);
-  prog->SetUniformf("pcfRadius", static_cast<float>(this->PCFRadius));
-  prog->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
-  prog->SetUniformf("slopeBias", static_cast<float>(this->SlopeBias));
-  return prog;
-}
-
-//------------------------------------------------------------------------------
-// The brute-force soft shadow PVSM §6 measures itself against: one hard shadow
-// map per sample of a regular k x k grid over the light (ss::LightSampleFrame),
-// each used at once by the hard test of the visibility shader and summed with
-// weight 1/k^2 into the light's visibility layer. Cost grows with k^2 maps of
-// ShadowMapSize^2; memory stays one map.
-void vtkSoftShadowPass::SolveHardAverage(
-  vtkOpenGLRenderWindow* win, const ss::Box& receivers, const ss::Box& casters, int S)
-{
-  auto& in = *this->Internals;
-  in.HardAverageMaps = 0;
-  bool any = false;
-  for (const auto& l : in.Lights)
-  {
-    any = any || (l.Layer >= 0 && l.Method == ss::Method::HardAverage);
-  }
-  if (!any)
-  {
-    return;
-  }
-  const auto tStage = Clock::now();
-  vtkOpenGLState* ostate = win->GetState();
-  const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
-  const std::size_t vertices = in.CasterTriangles.size() / 3;
-  long long maps = 0;
-  ostate->PushFramebufferBindings();
-  in.FBO->Bind();
-  in.FBO->RemoveDepthAttachment();
-  ostate->vtkglDisable(GL_DEPTH_TEST);
-  ostate->vtkglDisable(GL_CULL_FACE);
-  ostate->vtkglEnable(GL_BLEND);
-  for (const auto& l : in.Lights)
-  {
-    if (l.Layer < 0 || l.Method != ss::Method::HardAverage)
-    {
-      continue;
-    }
-    // a point light has one sample; every other light k x k
-    const int k = l.Frame.IsSoft() ? this->AverageSamples : 1;
-    const float weight = 1.0f / static_cast<float>(k * k);
-    ostate->vtkglViewport(0, 0, in.Width, in.Height);
-    ostate->vtkglScissor(0, 0, in.Width, in.Height);
-    in.Visibility.Attach(in.FBO, 0, l.Layer);
-    in.FBO->ActivateDrawBuffers(1);
-    ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
-    ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-    for (int j = 0; j < k; ++j)
-    {
-      for (int i = 0; i < k; ++i)
-      {
-        ShadowLight sl = l;
-        sl.Frame = ss::LightSampleFrame(l.Frame, i, j, k);
-        ss::LightViewInfo info;
-        sl.Views = ss::MakeLightViews(sl.Frame, receivers, casters, info);
-        if (sl.Views.size() > l.Views.size())
-        {
-          vtkErrorMacro("A light sample needs more shadow-map views than its light; sample skipped.");
-          continue;
-        }
-        // the sample's hard map (min-blended linear depth, as every map)
-        ostate->vtkglViewport(0, 0, S, S);
-        ostate->vtkglScissor(0, 0, S, S);
-        ostate->vtkglBlendEquation(GL_MIN);
-        ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-        ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-        win->GetShaderCache()->ReadyShaderProgram(in.CasterProgram);
-        for (std::size_t v = 0; v < sl.Views.size(); ++v)
-        {
-          in.Shadow.Attach(in.FBO, 0, l.FirstLayer + static_cast<int>(v));
-          ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-          if (vertices > 0)
-          {
-            DrawCasters(in.CasterProgram, in.CasterVAO, sl.Views[v], sl.Views[v].extent, casterOffset, vertices);
-          }
-          ++maps;
-        }
-        TextureArray::Detach();
-        // its hard test, added with weight 1/k^2
-        int shadowUnit = -1;
-        vtkShaderProgram* prog = this->ReadyVisibilityProgram(win, S, shadowUnit);
-        if (!prog)
-        {
-          ostate->PopFramebufferBindings();
-          return;
-        }
-        SetLightUniforms(prog, sl);
-        prog->SetUniformi("method", static_cast<int>(ss::Method::Hard));
-        ostate->vtkglViewport(0, 0, in.Width, in.Height);
-        ostate->vtkglScissor(0, 0, in.Width, in.Height);
-        in.Visibility.Attach(in.FBO, 0, l.Layer);
-        in.FBO->ActivateDrawBuffers(1);
-        ostate->vtkglBlendEquation(GL_FUNC_ADD);
-        ostate->vtkglBlendFunc(GL_CONSTANT_COLOR, GL_ONE);
-        glBlendColor(weight, weight, weight, weight);
-        in.VisibilityQuad->Render();
-        TextureArray::Unbind(win, shadowUnit);
-        in.GNormal->Deactivate();
-        in.GPosition->Deactivate();
-      }
-    }
-  }
-  glBlendColor(0.f, 0.f, 0.f, 0.f);
-  ostate->vtkglBlendEquation(GL_FUNC_ADD);
-  ostate->vtkglBlendFunc(GL_ONE, GL_ZERO);
-  ostate->vtkglDisable(GL_BLEND);
-  TextureArray::Detach();
-  in.FBO->RemoveColorAttachments(1);
-  ostate->PopFramebufferBindings();
-  if (this->MeasureTimings)
-  {
-    glFinish();
-  }
-  in.Timings["hard_average"] = Seconds(tStage, Clock::now());
-  in.HardAverageMaps = maps;
-}
-
-//------------------------------------------------------------------------------
-// PVSM (Shen, Guennebaud, Yang, Feng 2011), §5.2 steps 3-8 for every PVSM
-// light; steps 1 (G-buffer) and 2 (conservative low-resolution maps) ran
-// before. Per light: the kernel-shape buffer; per view: the SMTG, its pyramid
-// and kd-tree (Rendering/Core/ssPVSM), then each leaf tile rendered at its
-// predicted resolution and used at once by the pixels whose kernel reaches
-// it, merged by V·A / A; finally V into the light's visibility layer.
-void vtkSoftShadowPass::SolvePVSM(const vtkRenderState* s)
-{
-  auto& in = *this->Internals;
-  in.PVSMLights = 0;
-  bool any = false;
-  for (const auto& l : in.Lights)
-  {
-    any = any || (l.Layer >= 0 && l.Method == ss::Method::PVSM && !l.Views.empty());
-  }
-  if (!any)
-  {
-    in.LastPVSMStats = ss::PVSMStats{};
-    return;
-  }
-  vtkRenderer* ren = s->GetRenderer();
-  auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
-  vtkOpenGLState* ostate = win->GetState();
-  const int W = in.Width, H = in.Height;
-  auto finish = [&]() {
-    if (this->MeasureTimings)
-    {
-      glFinish();
-    }
-  };
-  ss::PVSMStats st;
-  st.msGBuffer = in.Timings["gbuffer"];
-  st.msLowResSM = in.Timings["shadow_maps"];
-  st.quality = this->PVSMQuality;
-
-  // §5.1: the static metric when only the camera moved since the last frame:
-  // the same caster set and the same lights (a light that follows the camera
-  // moves with it, so its transformed position is part of the key)
-  std::ostringstream key;
-  key.precision(9);
-  key << in.CasterVersion;
-  for (const auto& l : in.Lights)
-  {
-    key << ';' << l.Light << ':' << l.Light->GetMTime() << ':' << l.Layer;
-    if (!l.Light->LightTypeIsSceneLight())
-    {
-      double p[3], f[3];
-      l.Light->GetTransformedPosition(p);
-      l.Light->GetTransformedFocalPoint(f);
-      key << ':' << p[0] << ',' << p[1] << ',' << p[2] << ',' << f[0] << ',' << f[1] << ',' << f[2];
-    }
-  }
-  const bool changed = key.str() != in.PVSMSceneKey;
-  in.PVSMSceneKey = key.str();
-  const ss::PerceptualMetric metric = ss::ChooseMetric(this->PVSMMetric, changed);
-  st.metric = ss::PerceptualMetricName(metric);
-  double rc[4], rhoEnd = 0.0;
-  ss::PerceptualRhoCubic(metric, rc, rhoEnd);
-  const float rhoCoeffs[4] = { static_cast<float>(rc[0]), static_cast<float>(rc[1]), static_cast<float>(rc[2]),
-    static_cast<float>(rc[3]) };
-
-  // resources
-  for (auto& k : in.Kernel)
-  {
-    EnsureTexture2D(win, k, W, H, 4);
-  }
-  EnsureTexture2D(win, in.Accum, W, H, 4);
-  int G = 4;
-  while (G < this->PVSMGridSize)
-  {
-    G *= 2;
-  }
-  in.Grid.Ensure(G, 1);
-  const GLint maxTexture = ss::QueryGLLimits().maxTextureSize;
-  int tileMax = std::min(this->PVSMMaxTileResolution, static_cast<int>(maxTexture));
-  int T = 64;
-  while (T < tileMax)
-  {
-    T *= 2;
-  }
-  T = std::min(T, static_cast<int>(maxTexture));
-  tileMax = std::min(tileMax, T);
-  in.Tile.Ensure(T, 1);
-  if (!in.EmptyVAO)
-  {
-    in.EmptyVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
-  }
-  GLfloat pointRange[2] = { 1.0f, 1.0f };
-  glGetFloatv(GL_POINT_SIZE_RANGE, pointRange);
-
-  // the camera: clip space -> world relative to the frame origin
-  vtkCamera* cam = ren->GetActiveCamera();
-  vtkNew<vtkMatrix4x4> relToClip, shift;
-  shift->Identity();
-  for (int r = 0; r < 3; ++r)
-  {
-    shift->SetElement(r, 3, in.Origin[r]);
-  }
-  vtkMatrix4x4::Multiply4x4(
-    cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1), shift, relToClip);
-  vtkNew<vtkMatrix4x4> clipToRel;
-  vtkMatrix4x4::Invert(relToClip, clipToRel);
-  // SetUniformMatrix hands VTK's row-major storage to GL as column-major:
-  // transpose so that GLSL's clipToRel * v is the product above
-  clipToRel->Transpose();
-
-  static const std::string kernelFS = WithCommon(ssPVSMKernelFS);
-  static const std::string filterFS = WithCommon(ssPVSMFilterFS);
-  const glm::dvec3 casterOffset = in.CasterOrigin - in.Origin;
-  const float screen[2] = { static_cast<float>(W), static_cast<float>(H) };
-
-  ostate->PushFramebufferBindings();
-  in.FBO->Bind();
-  in.FBO->RemoveDepthAttachment();
-  ostate->vtkglDisable(GL_DEPTH_TEST);
-  ostate->vtkglDisable(GL_CULL_FACE);
-  ostate->vtkglDisable(GL_BLEND);
-  auto target = [&](vtkTextureObject* t, int w, int h) {
-    in.FBO->RemoveColorAttachments(3);
-    in.FBO->AddColorAttachment(0, t);
-    in.FBO->ActivateDrawBuffers(1);
-    ostate->vtkglViewport(0, 0, w, h);
-    ostate->vtkglScissor(0, 0, w, h);
-  };
-  auto commonUniforms = [&](vtkShaderProgram* p, const ShadowLight& l, int shadowUnit) {
-    p->SetUniformi("gPosition", in.GPosition->GetTextureUnit());
-    p->SetUniformi("gNormal", in.GNormal->GetTextureUnit());
-    p->SetUniformi("shadowMaps", shadowUnit);
-    p->SetUniformf("mapSize", static_cast<float>(in.Shadow.Size));
-    p->SetUniformi("numLevels", in.Shadow.Levels);
-    p->SetUniformi("searchSamples", this->BlockerSearchSamples);
-    p->SetUniformf("constantBias", static_cast<float>(this->ConstantBias));
-    SetLightUniforms(p, l);
-  };
-
-  for (auto& l : in.Lights)
-  {
-    if (l.Layer < 0 || l.Method != ss::Method::PVSM || l.Views.empty())
-    {
-      continue;
-    }
-    ++in.PVSMLights;
-    // --- step 3: kernel-shape buffer (blocker search, footprint, convolution, prediction)
-    auto t0 = Clock::now();
-    vtkShaderProgram* kp = ReadyQuad(in.KernelQuad, win, kernelFS.c_str());
-    if (!kp)
-    {
-      vtkErrorMacro("Could not build the PVSM kernel-shape program.");
-      break;
-    }
-    in.GPosition->Activate();
-    in.GNormal->Activate();
-    int shadowUnit = in.Shadow.Bind(win);
-    commonUniforms(kp, l, shadowUnit);
-    kp->SetUniformMatrix("clipToRel", clipToRel);
-    kp->SetUniform2f("screenSize", screen);
-    kp->SetUniform4f("rhoCoeffs", rhoCoeffs);
-    kp->SetUniformf("rhoEnd", static_cast<float>(rhoEnd));
-    kp->SetUniformf("quality", static_cast<float>(this->PVSMQuality));
-    in.FBO->RemoveColorAttachments(3);
-    for (int i = 0; i < 3; ++i)
-    {
-      in.FBO->AddColorAttachment(static_cast<unsigned int>(i), in.Kernel[i]);
-    }
-    in.FBO->ActivateDrawBuffers(3);
-    ostate->vtkglViewport(0, 0, W, H);
-    ostate->vtkglScissor(0, 0, W, H);
-    in.KernelQuad->Render();
-    TextureArray::Unbind(win, shadowUnit);
-    finish();
-    auto t1 = Clock::now();
-    st.msKernel += Seconds(t0, t1);
-
-    target(in.Accum, W, H);
-    ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
-    ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-    for (int vi = 0; vi < static_cast<int>(l.Views.size()); ++vi)
-    {
-      const ss::ShadowView& view = l.Views[vi];
-      // --- step 4: the SMTG, one point per pixel, min-blended
-      t0 = Clock::now();
-      in.Grid.Attach(in.FBO, 0, 0);
-      ostate->vtkglViewport(0, 0, G, G);
-      ostate->vtkglScissor(0, 0, G, G);
-      ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-      in.GridProgram = win->GetShaderCache()->ReadyShaderProgram(ssPVSMGridVS, ssPVSMGridFS, "");
-      if (!in.GridProgram)
-      {
-        vtkErrorMacro("Could not build the PVSM tile-grid program.");
-        break;
-      }
-      for (int i = 0; i < 3; ++i)
-      {
-        in.Kernel[i]->Activate();
-      }
-      vtkShaderProgram* gp = in.GridProgram;
-      gp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
-      gp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
-      gp->SetUniformi("kernel2", in.Kernel[2]->GetTextureUnit());
-      gp->SetUniformi("screenWidth", W);
-      gp->SetUniformi("view", vi);
-      const float ext[4] = { static_cast<float>(view.extent.x0), static_cast<float>(view.extent.y0),
-        static_cast<float>(view.extent.x1), static_cast<float>(view.extent.y1) };
-      gp->SetUniform4f("extent", ext);
-      gp->SetUniformf("gridSize", static_cast<float>(G));
-      gp->SetUniformf("maxPointSize", std::min(pointRange[1], static_cast<float>(2 * G + 1)));
-      ostate->vtkglEnable(GL_BLEND);
-      ostate->vtkglBlendEquation(GL_MIN);
-      ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-      glEnable(GL_PROGRAM_POINT_SIZE);
-      in.EmptyVAO->Bind();
-      glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(W) * H);
-      in.EmptyVAO->Release();
-      glDisable(GL_PROGRAM_POINT_SIZE);
-      ostate->vtkglBlendEquation(GL_FUNC_ADD);
-      ostate->vtkglDisable(GL_BLEND);
-      // --- step 5: the SMTG pyramid on the GPU (the paper's one change to
-      // [GW07]), then all its levels (4/3 G^2 texels) to the host for the
-      // kd-tree of step 6
-      BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Grid, G, G, 1);
-      in.LastGridLevels.assign(static_cast<std::size_t>(in.Grid.Levels), {});
-      glPixelStorei(GL_PACK_ALIGNMENT, 1);
-      for (int level = 0; level < in.Grid.Levels; ++level)
-      {
-        const int sz = std::max(1, G >> level);
-        in.Grid.Attach(in.FBO, level, 0);
-        in.FBO->ActivateReadBuffer(0);
-        in.LastGridLevels[level].resize(static_cast<std::size_t>(sz) * sz * 2);
-        glReadPixels(0, 0, sz, sz, GL_RG, GL_FLOAT, in.LastGridLevels[level].data());
-      }
-      TextureArray::Detach();
-      const ss::TileGridPyramid pyramid(in.LastGridLevels, G);
-      const double extent[4] = { view.extent.x0, view.extent.y0, view.extent.x1, view.extent.y1 };
-      const std::vector<ss::ShadowTile> tiles = ss::BuildShadowTiles(pyramid, extent, tileMax);
-      t1 = Clock::now();
-      st.msTiling += Seconds(t0, t1);
-
-      for (const ss::ShadowTile& tile : tiles)
-      {
-        // --- step 7: the tile's shadow map at its predicted resolution
-        t0 = Clock::now();
-        in.Tile.Attach(in.FBO, 0, 0);
-        ostate->vtkglViewport(0, 0, tile.resX, tile.resY);
-        ostate->vtkglScissor(0, 0, tile.resX, tile.resY);
-        ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
-        ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-        if (!in.CasterTriangles.empty())
-        {
-          win->GetShaderCache()->ReadyShaderProgram(in.CasterProgram);
-          ostate->vtkglEnable(GL_BLEND);
-          ostate->vtkglBlendEquation(GL_MIN);
-          ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-          const ss::Rect r{ tile.rect[0], tile.rect[1], tile.rect[2], tile.rect[3] };
-          if (this->PVSMTileCulling && in.ClusterVersion == in.CasterVersion)
-          {
-            // only the clusters whose light-space bounds reach the tile; the
-            // pad (1e-3 of the tile) covers the GPU's float projection
-            const auto ranges = ss::VisibleTriangleRanges(in.CasterClusters, view, casterOffset, r, 1e-3);
-            for (const auto& range : ranges)
-            {
-              st.tileTrianglesDrawn += static_cast<double>(range.second);
-            }
-            DrawCasters(in.CasterProgram, in.CasterVAO, view, r, casterOffset, 0, &ranges);
-          }
-          else
-          {
-            st.tileTrianglesDrawn += static_cast<double>(in.NumberOfTriangles());
-            DrawCasters(in.CasterProgram, in.CasterVAO, view, r, casterOffset, in.CasterTriangles.size() / 3);
-          }
-          ostate->vtkglBlendEquation(GL_FUNC_ADD);
-          ostate->vtkglDisable(GL_BLEND);
-        }
-        BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Tile, tile.resX, tile.resY);
-        TextureArray::Detach();
-        finish();
-        t1 = Clock::now();
-        st.msTileSM += Seconds(t0, t1);
-        st.texelsRendered += static_cast<double>(tile.resX) * tile.resY;
-        st.tileResolutions.emplace_back(tile.resX, tile.resY);
-        st.clampedTiles += tile.clamped ? 1 : 0;
-
-        // --- step 8: filtering of the pixels whose kernel reaches the tile
-        vtkShaderProgram* fp = ReadyQuad(in.FilterQuad, win, filterFS.c_str());
-        if (!fp)
-        {
-          vtkErrorMacro("Could not build the PVSM filter program.");
-          break;
-        }
-        target(in.Accum, W, H);
-        const int tileUnit = in.Tile.Bind(win);
-        commonUniforms(fp, l, -1);
-        fp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
-        fp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
-        fp->SetUniformi("kernel2", in.Kernel[2]->GetTextureUnit());
-        fp->SetUniformi("tileMap", tileUnit);
-        const float tr[4] = { static_cast<float>(tile.rect[0]), static_cast<float>(tile.rect[1]),
-          static_cast<float>(tile.rect[2]), static_cast<float>(tile.rect[3]) };
-        fp->SetUniform4f("tileRect", tr);
-        const float res[2] = { static_cast<float>(tile.resX), static_cast<float>(tile.resY) };
-        fp->SetUniform2f("tileRes", res);
-        int levels = 1;
-        while ((std::max(tile.resX, tile.resY) >> levels) > 0 && levels < in.Tile.Levels)
-        {
-          ++levels;
-        }
-        fp->SetUniformi("tileLevels", levels);
-        fp->SetUniformi("view", vi);
-        fp->SetUniformi("maxQuads", this->FilterMaxQuads);
-        fp->SetUniformf("nearFraction", static_cast<float>(ss::ReachParams{}.nearFraction));
-        ostate->vtkglEnable(GL_BLEND);
-        ostate->vtkglBlendEquation(GL_FUNC_ADD);
-        ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-        in.FilterQuad->Render();
-        ostate->vtkglDisable(GL_BLEND);
-        TextureArray::Unbind(win, tileUnit);
-        finish();
-        st.msFiltering += Seconds(t1, Clock::now());
-      }
-      st.tiles += tiles.size();
-      for (int i = 0; i < 3; ++i)
-      {
-        in.Kernel[i]->Deactivate();
-      }
-    }
-    // --- V = (V·A) / A into the light's visibility layer
-    t0 = Clock::now();
-    vtkShaderProgram* rp = ReadyQuad(in.ResolveQuad, win, ssPVSMResolveFS);
-    if (rp)
-    {
-      in.Kernel[0]->Activate();
-      in.Kernel[1]->Activate();
-      in.Accum->Activate();
-      rp->SetUniformi("kernel0", in.Kernel[0]->GetTextureUnit());
-      rp->SetUniformi("kernel1", in.Kernel[1]->GetTextureUnit());
-      rp->SetUniformi("accum", in.Accum->GetTextureUnit());
-      in.Visibility.Attach(in.FBO, 0, l.Layer);
-      in.FBO->ActivateDrawBuffers(1);
-      ostate->vtkglViewport(0, 0, W, H);
-      ostate->vtkglScissor(0, 0, W, H);
-      in.ResolveQuad->Render();
-      in.Accum->Deactivate();
-      in.Kernel[1]->Deactivate();
-      in.Kernel[0]->Deactivate();
-    }
-    else
-    {
-      vtkErrorMacro("Could not build the PVSM resolve program.");
-    }
-    in.GNormal->Deactivate();
-    in.GPosition->Deactivate();
-    finish();
-    st.msFiltering += Seconds(t0, Clock::now());
-  }
-  TextureArray::Detach();
-  in.FBO->RemoveColorAttachments(3);
-  ostate->PopFramebufferBindings();
-  st.shadowMemoryBytes = static_cast<double>(in.Shadow.Bytes() + in.Tile.Bytes()) +
-    static_cast<double>(G) * G * 8 + static_cast<double>(W) * H * (3 * 16 + 8);
-  st.msTotal = st.msGBuffer + st.msLowResSM + st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
-  in.LastPVSMStats = st;
-  in.Timings["pvsm"] = st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
-}
-
-//------------------------------------------------------------------------------
-// Solvers that work on the caster triangles rather than a shadow map: the
-// ground truth (k x k shadow rays per pixel, Embree) and GEARS (triangles
-// assigned to pixels by a grid, k x k bitmasks). Both read the G-buffer's
-// positions and normals and write the light's visibility layer, so shading
-// and readback are the same as for the shadow-map solvers.
-void vtkSoftShadowPass::SolveOnTriangles(vtkOpenGLRenderWindow* win)
-{
-  auto& in = *this->Internals;
-  bool anyRef = false, anyGears = false;
-  for (const auto& l : in.Lights)
-  {
-    anyRef = anyRef || (l.Layer >= 0 && l.Method == ss::Method::Reference);
-    anyGears = anyGears || (l.Layer >= 0 && l.Method == ss::Method::GEARS);
-  }
-  in.LastReferenceStats = ss::ReferenceStats{};
-  in.LastGearsStats = ss::GearsStats{};
-  in.GearsLights = 0;
-  in.GearsBackendUsed = "cpu";
-  in.GearsBackendNote.clear();
-  if (!anyRef && !anyGears)
-  {
-    return;
-  }
-  const auto t0 = Clock::now();
-  std::vector<glm::dvec3> verts;
-  auto worldTriangles = [&]() -> const std::vector<glm::dvec3>& {
-    if (verts.empty() && !in.CasterTriangles.empty())
-    {
-      verts.resize(in.CasterTriangles.size() / 3);
-      for (std::size_t i = 0; i < verts.size(); ++i)
-      {
-        verts[i] = in.CasterOrigin +
-          glm::dvec3(in.CasterTriangles[3 * i], in.CasterTriangles[3 * i + 1], in.CasterTriangles[3 * i + 2]);
-      }
-    }
-    return verts;
-  };
-  if (anyRef && (!in.Reference || in.ReferenceVersion != in.CasterVersion))
-  {
-    if (!in.Reference)
-    {
-      in.Reference.reset(new ss::ReferenceSolver);
-    }
-    in.Reference->SetTriangles(worldTriangles(), in.CasterOpacity);
-    in.ReferenceVersion = in.CasterVersion;
-  }
-  if (anyGears && (!in.Gears || in.GearsVersion != in.CasterVersion))
-  {
-    if (!in.Gears)
-    {
-      in.Gears.reset(new ss::GearsSolver);
-    }
-    in.Gears->SetTriangles(worldTriangles(), in.CasterOpacity);
-    in.GearsVersion = in.CasterVersion;
-  }
-  std::vector<float> pos4, nrm4;
-  ReadLayer(win, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, pos4);
-  ReadLayer(win, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm4);
-  const std::size_t n = static_cast<std::size_t>(in.Width) * in.Height;
-  std::vector<float> pos(3 * n), nrm(3 * n);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const bool fg = pos4[4 * i + 3] > 0.0f;
-    for (int c = 0; c < 3; ++c)
-    {
-      pos[3 * i + c] = fg ? pos4[4 * i + c] : nan;
-      nrm[3 * i + c] = nrm4[4 * i + c];
-    }
-  }
-  in.Timings["triangle_solver_input"] = Seconds(t0, Clock::now());
-  ss::ReferenceOptions ropt;
-  ropt.k = this->ReferenceSamples;
-  ropt.pattern = this->ReferencePattern == 1 ? ss::LightSamplePattern::Stratified
-                                             : ss::LightSamplePattern::Regular;
-  ss::GearsOptions gopt;
-  gopt.k = this->GearsSamples;
-  gopt.grid = this->GearsGrid;
-  gopt.raster = this->GearsRaster == 1 ? ss::GearsRaster::LUT : ss::GearsRaster::EdgePlane;
-  gopt.countNecessary = this->GearsCountNecessary;
-  double msRef = 0.0, msGears = 0.0;
-  for (const auto& l : in.Lights)
-  {
-    if (l.Layer < 0 || !ss::IsTriangleSolver(l.Method))
-    {
-      continue;
-    }
-    // The light frame is relative to the frame origin; the solvers want world.
-    ss::LightFrame world = l.Frame;
-    world.center += in.Origin;
-    const auto tl = Clock::now();
-    std::vector<float> V;
-    if (l.Method == ss::Method::Reference)
-    {
-      ss::ReferenceStats st;
-      V = in.Reference->Solve(world, in.Origin, pos.data(), nrm.data(), n, ropt, &st);
-      in.LastReferenceStats.rays += st.rays;
-      in.LastReferenceStats.milliseconds += st.milliseconds;
-      msRef += Seconds(tl, Clock::now());
-    }
-    else
-    {
-      ss::GearsStats st;
-      bool onGPU = false;
-      if (this->GearsBackend == GEARS_BACKEND_GL)
-      {
-        if (!in.GearsGL)
-        {
-          in.GearsGL.reset(new ss::GearsGL);
-        }
-        // raw GL programs: VTK's shader cache must rebind its own afterwards
-        win->GetShaderCache()->ReleaseCurrentShader();
-        std::string why;
-        onGPU = in.GearsGL->Solve(*in.Gears, world, in.Origin, pos.data(), nrm.data(), n, gopt, V, &st, nullptr, &why);
-        vtkOpenGLCheckErrorMacro("after the GEARS compute backend");
-        if (!onGPU)
-        {
-          in.GearsBackendNote = why;
-          if (in.GearsWarned != why)
-          {
-            vtkWarningMacro(<< why << "; GEARS runs on the CPU.");
-            in.GearsWarned = why;
-          }
-        }
-      }
-      if (!onGPU)
-      {
-        V = in.Gears->Solve(world, in.Origin, pos.data(), nrm.data(), n, gopt, &st);
-      }
-      in.GearsBackendUsed = onGPU ? "gl" : "cpu";
-      in.AccumulateGearsStats(st);
-      msGears += Seconds(tl, Clock::now());
-    }
-    for (auto& v : V)
-    {
-      v = std::isnan(v) ? -1.0f : v; // background marker, as the GPU solvers write
-    }
-    glBindTexture(GL_TEXTURE_2D_ARRAY, in.Visibility.Handle);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, l.Layer, in.Width, in.Height, 1, GL_RED, GL_FLOAT, V.data());
-    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-  }
-  in.LastReferenceStats.raysPerSecond = in.LastReferenceStats.milliseconds > 0
-    ? in.LastReferenceStats.rays / (in.LastReferenceStats.milliseconds * 1e-3)
-    : 0.0;
-  if (anyRef)
-  {
-    in.Timings["reference"] = msRef;
-  }
-  if (anyGears)
-  {
-    in.Timings["gears"] = msGears;
+    in.GBuf.Position->Deactivate();
+    in.Visibility.UnbindAfterShading(win);
   }
 }
 
 //------------------------------------------------------------------------------
-void vtkSoftShadowPass::BuildMinPyramid(vtkOpenGLRenderWindow* win)
-{
-  auto& in = *this->Internals;
-  if (!BuildDepthPyramid(win, in.FBO, in.ReduceQuad, in.Shadow, in.Shadow.Size, in.Shadow.Size))
-  {
-    vtkErrorMacro("Could not build the min-depth reduction program.");
-  }
-}
-
-//------------------------------------------------------------------------------
-bool vtkSoftShadowPass::PreReplaceShaderValues(std::string&, std::string&, std::string&,
-  vtkAbstractMapper*, vtkProp*)
+bool vtkSoftShadowPass::PreReplaceShaderValues(
+  std::string&, std::string&, std::string&, vtkAbstractMapper*, vtkProp*)
 {
   return true;
 }
 
-bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader,
-  std::string& geometryShader, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
+bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader, std::string& geometryShader,
+  std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
 {
   (void)vertexShader;
   (void)geometryShader;
@@ -2351,98 +636,22 @@ bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader,
     vtkErrorMacro("Unexpected fragment shader layout: no main().");
     return false;
   }
-
   if (in.CurrentStage == Stage::GBuffer)
   {
-    const bool haveVC = fragmentShader.find("vec4 vertexVC") != std::string::npos;
-    const bool haveN = fragmentShader.find("normalVCVSOutput") != std::string::npos;
-    std::string impl = "  {\n";
-    if (haveVC)
-    {
-      impl += "    vec3 ssVC = vertexVC.xyz;\n";
-    }
-    else
-    {
-      impl += "    vec4 ssNDC = vec4(2.0 * (gl_FragCoord.xy / ssViewportSize) - 1.0,"
-              " 2.0 * gl_FragCoord.z - 1.0, 1.0);\n"
-              "    vec4 ssVC4 = ssDCToVC * ssNDC;\n"
-              "    vec3 ssVC = ssVC4.xyz / ssVC4.w;\n";
-    }
-    impl += "    gl_FragData[0] = vec4(ssVCToWC * ssVC + ssVCToRelOffset, ssPropId);\n";
-    impl += haveN ? "    gl_FragData[1] = vec4(normalize(ssVCToWC * normalVCVSOutput), 1.0);\n"
-                  : "    gl_FragData[1] = vec4(0.0);\n";
-    impl += "  }\n";
-    fragmentShader.insert(endPos, impl);
-    fragmentShader.insert(mainPos,
-      "uniform mat3 ssVCToWC;\n"
-      "uniform vec3 ssVCToRelOffset;\n"
-      "uniform mat4 ssDCToVC;\n"
-      "uniform vec2 ssViewportSize;\n"
-      "uniform float ssPropId;\n");
+    ss::GBuffer::InjectOutputs(fragmentShader, mainPos, endPos);
     return true;
   }
-
   if (in.CurrentStage != Stage::Shade || !in.ShadeShadows)
   {
     return true;
   }
-  // Shading: multiply each light's terms by its visibility. The exact lines
-  // differ with the lighting complexity (vtkOpenGLPolyDataMapper): count the
-  // hits and fail loudly if VTK's lighting code changed under us.
-  int lightsInShader = 0;
-  while (fragmentShader.find("lightColor" + std::to_string(lightsInShader)) != std::string::npos)
-  {
-    ++lightsInShader;
-  }
-  const bool headlightOnly = fragmentShader.find("vec3 diffuse = df * diffuseColor * lightColor0;") !=
-    std::string::npos;
-  if (lightsInShader == 0 || headlightOnly)
-  {
-    return true; // unlit, or a headlight (which never casts shadows)
-  }
-  int hits = 0;
-  for (int i = 0; i < lightsInShader; ++i)
-  {
-    const std::string n = std::to_string(i);
-    const std::string vis = "ssVisibility(ssLightLayer" + n + ")";
-    const std::pair<std::string, std::string> subs[] = {
-      { "diffuse += (df * lightColor" + n + ");", "diffuse += (df * lightColor" + n + " * " + vis + ");" },
-      { "specular += (sf * lightColor" + n + ");", "specular += (sf * lightColor" + n + " * " + vis + ");" },
-      { "radiance = lightColor" + n + ";", "radiance = lightColor" + n + " * " + vis + ";" },
-      { "radiance = lightColor" + n + " * attenuation;",
-        "radiance = lightColor" + n + " * attenuation * " + vis + ";" },
-    };
-    for (const auto& sub : subs)
-    {
-      hits += vtkShaderProgram::Substitute(fragmentShader, sub.first, sub.second, false) ? 1 : 0;
-    }
-  }
-  if (hits < lightsInShader)
+  if (const int missing = ss::InjectVisibility(fragmentShader))
   {
     vtkErrorMacro("vtkSoftShadowPass: could not find the light terms of "
-      << lightsInShader - hits << " light(s) in the shader of " << (prop ? prop->GetClassName() : "?")
+      << missing << " light(s) in the shader of " << (prop ? prop->GetClassName() : "?")
       << "; shadows would be silently missing.");
     return false;
   }
-  std::string decl = "uniform sampler2D ssGPosition;\n"
-                     "uniform sampler2DArray ssVisTex;\n"
-                     "uniform vec2 ssViewportOrigin;\n"
-                     "uniform float ssPropId;\n"
-                     "uniform int ssUseVis;\n";
-  for (int i = 0; i < lightsInShader; ++i)
-  {
-    decl += "uniform int ssLightLayer" + std::to_string(i) + ";\n";
-  }
-  decl += "float ssVisibility(int layer)\n"
-          "{\n"
-          "  if (ssUseVis == 0 || layer < 0) { return 1.0; }\n"
-          "  ivec2 pix = ivec2(gl_FragCoord.xy - ssViewportOrigin);\n"
-          "  vec4 g = texelFetch(ssGPosition, pix, 0);\n"
-          "  // only the surface that is in the G-buffer (not translucent props)\n"
-          "  if (abs(g.w - ssPropId) > 0.5) { return 1.0; }\n"
-          "  return clamp(texelFetch(ssVisTex, ivec3(pix, layer), 0).r, 0.0, 1.0);\n"
-          "}\n";
-  fragmentShader.insert(fragmentShader.find("void main"), decl);
   return true;
 }
 
@@ -2454,62 +663,30 @@ bool vtkSoftShadowPass::SetShaderParameters(
   if (in.CurrentStage == Stage::GBuffer)
   {
     in.FBO->ActivateDrawBuffers(polyMapper ? 2 : 1);
-    if (!polyMapper)
+    if (polyMapper)
     {
-      return true;
+      in.GBuf.SetShaderParameters(program, prop, in.Frame.Width, in.Frame.Height);
     }
-    auto it = in.PropIds.find(prop);
-    if (it == in.PropIds.end())
-    {
-      it = in.PropIds.emplace(prop, static_cast<int>(in.PropIds.size()) + 1).first;
-    }
-    program->SetUniformMatrix3x3("ssVCToWC", in.VCToWC);
-    program->SetUniform3f("ssVCToRelOffset", in.VCToRelOffset);
-    program->SetUniformMatrix4x4("ssDCToVC", in.DCToVC);
-    const float vs[2] = { static_cast<float>(in.Width), static_cast<float>(in.Height) };
-    program->SetUniform2f("ssViewportSize", vs);
-    program->SetUniformf("ssPropId", static_cast<float>(it->second));
     return true;
   }
-  if (in.CurrentStage != Stage::Shade || !in.ShadeShadows || !polyMapper ||
-    !program->IsUniformUsed("ssUseVis"))
+  if (in.CurrentStage != Stage::Shade || !in.ShadeShadows || !polyMapper || !program->IsUniformUsed("ssUseVis"))
   {
     return true;
   }
-  const auto it = in.PropIds.find(prop);
-  const bool use = in.ShadowsThisFrame && it != in.PropIds.end() && GetReceivesShadows(prop);
-  program->SetUniformi("ssUseVis", use ? 1 : 0);
-  // Samplers always point at the bound textures: two sampler types left on
-  // unit 0 make every draw of that shader fail (GL_INVALID_OPERATION).
-  program->SetUniformi("ssGPosition", in.GPosition->GetTextureUnit());
-  program->SetUniformi("ssVisTex", in.VisibilityUnit);
-  if (use)
-  {
-    const float vo[2] = { static_cast<float>(in.ViewportOrigin[0]),
-      static_cast<float>(in.ViewportOrigin[1]) };
-    program->SetUniform2f("ssViewportOrigin", vo);
-    program->SetUniformf("ssPropId", static_cast<float>(it->second));
-  }
-  for (const auto& l : in.Lights)
-  {
-    const std::string name = "ssLightLayer" + std::to_string(l.ShaderIndex);
-    if (program->IsUniformUsed(name.c_str()))
-    {
-      program->SetUniformi(name.c_str(), use ? l.Layer : -1);
-    }
-  }
+  ss::ShadingUniforms u;
+  u.PropId = in.GBuf.FindPropId(prop);
+  u.Use = in.ShadowsThisFrame && u.PropId != 0 && GetReceivesShadows(prop);
+  u.PositionUnit = in.GBuf.Position->GetTextureUnit();
+  u.VisibilityUnit = in.Visibility.GetShadingUnit();
+  u.ViewportOrigin[0] = in.Frame.ViewportOrigin[0];
+  u.ViewportOrigin[1] = in.Frame.ViewportOrigin[1];
+  ss::SetVisibilityUniforms(program, u, in.Frame.Lights);
   return true;
 }
 
 vtkMTimeType vtkSoftShadowPass::GetShaderStageMTime()
 {
   return this->Internals->StageTime.GetMTime();
-}
-
-//------------------------------------------------------------------------------
-const char* vtkSoftShadowPass::GetLastGearsBackend()
-{
-  return this->Internals->GearsBackendUsed.c_str();
 }
 
 //------------------------------------------------------------------------------
@@ -2528,12 +705,13 @@ int vtkSoftShadowPass::GetNumberOfGraphicsResources()
 }
 
 //------------------------------------------------------------------------------
+// Results of the last frame
 int vtkSoftShadowPass::GetNumberOfShadowLights()
 {
   int n = 0;
   if (this->Internals->HaveResults)
   {
-    for (const auto& l : this->Internals->Lights)
+    for (const auto& l : this->Internals->Frame.Lights)
     {
       n += l.Layer >= 0 ? 1 : 0;
     }
@@ -2541,37 +719,16 @@ int vtkSoftShadowPass::GetNumberOfShadowLights()
   return n;
 }
 
-namespace
-{
-bool ReadLayer(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* tex,
-  int layer, int w, int h, int comps, std::vector<float>& out)
-{
-  win->MakeCurrent();
-  vtkOpenGLState* ostate = win->GetState();
-  ostate->PushFramebufferBindings();
-  fbo->Bind();
-  AttachLayer(fbo, tex, layer);
-  fbo->ActivateReadBuffer(0);
-  out.resize(static_cast<std::size_t>(w) * h * comps);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, w, h, comps == 4 ? GL_RGBA : GL_RED, GL_FLOAT, out.data());
-  fbo->RemoveColorAttachments(1);
-  ostate->PopFramebufferBindings();
-  return glGetError() == GL_NO_ERROR;
-}
-}
-
 bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
 {
   auto& in = *this->Internals;
-  if (!out || !in.HaveResults || !in.Window || shadowLight < 0 ||
-    shadowLight >= this->GetNumberOfShadowLights())
+  if (!out || !in.HaveResults || !in.Window || shadowLight < 0 || shadowLight >= this->GetNumberOfShadowLights())
   {
     return false;
   }
-  std::vector<float> v(static_cast<std::size_t>(in.Width) * in.Height);
-  if (in.Visibility.Width != in.Width || in.Visibility.Height != in.Height ||
-    !in.Visibility.Read(in.Window, in.FBO, shadowLight, v.data()))
+  std::vector<float> v;
+  if (in.Visibility.GetWidth() != in.Frame.Width || in.Visibility.GetHeight() != in.Frame.Height ||
+    !in.Visibility.Read(in.Window, in.FBO, shadowLight, v))
   {
     return false;
   }
@@ -2589,8 +746,7 @@ bool vtkSoftShadowPass::GetPositionsImage(vtkFloatArray* out)
 {
   auto& in = *this->Internals;
   std::vector<float> v;
-  if (!out || !in.HaveResults || !in.Window ||
-    !ReadLayer(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, v))
+  if (!out || !in.HaveResults || !in.Window || !in.GBuf.Read(in.Window, in.FBO, 0, in.Frame.Width, in.Frame.Height, v))
   {
     return false;
   }
@@ -2613,14 +769,14 @@ bool vtkSoftShadowPass::GetDiffuseCosineImage(int shadowLight, vtkFloatArray* ou
 {
   auto& in = *this->Internals;
   const ShadowLight* light = nullptr;
-  for (const auto& l : in.Lights)
+  for (const auto& l : in.Frame.Lights)
   {
     light = (l.Layer == shadowLight && shadowLight >= 0) ? &l : light;
   }
   std::vector<float> p, nrm;
   if (!out || !light || !in.HaveResults || !in.Window ||
-    !ReadLayer(in.Window, in.FBO, in.GPosition, 0, in.Width, in.Height, 4, p) ||
-    !ReadLayer(in.Window, in.FBO, in.GNormal, 0, in.Width, in.Height, 4, nrm) || p.size() != nrm.size())
+    !in.GBuf.Read(in.Window, in.FBO, 0, in.Frame.Width, in.Frame.Height, p) ||
+    !in.GBuf.Read(in.Window, in.FBO, 1, in.Frame.Width, in.Frame.Height, nrm) || p.size() != nrm.size())
   {
     return false;
   }
@@ -2630,7 +786,7 @@ bool vtkSoftShadowPass::GetDiffuseCosineImage(int shadowLight, vtkFloatArray* ou
   for (std::size_t i = 0; i < n; ++i)
   {
     const glm::dvec3 x(p[4 * i], p[4 * i + 1], p[4 * i + 2]), nv(nrm[4 * i], nrm[4 * i + 1], nrm[4 * i + 2]);
-    const double c = p[4 * i + 3] > 0.0f ? ss::DiffuseCosine(light->Frame, x, nv, in.Eye)
+    const double c = p[4 * i + 3] > 0.0f ? ss::DiffuseCosine(light->Frame, x, nv, in.Frame.Eye)
                                          : std::numeric_limits<double>::quiet_NaN();
     out->SetValue(static_cast<vtkIdType>(i), static_cast<float>(c));
   }
@@ -2639,58 +795,65 @@ bool vtkSoftShadowPass::GetDiffuseCosineImage(int shadowLight, vtkFloatArray* ou
 
 int vtkSoftShadowPass::GetLastPVSMTileGridLevels()
 {
-  return static_cast<int>(this->Internals->LastGridLevels.size());
+  auto* pvsm = dynamic_cast<ss::PVSMSolver*>(this->Internals->SolverFor(ss::Method::PVSM));
+  return pvsm ? static_cast<int>(pvsm->GetLastTileGridLevels().size()) : 0;
 }
 
 bool vtkSoftShadowPass::GetLastPVSMTileGridLevel(int level, vtkFloatArray* out)
 {
-  const auto& levels = this->Internals->LastGridLevels;
-  if (!out || level < 0 || level >= static_cast<int>(levels.size()))
+  auto* pvsm = dynamic_cast<ss::PVSMSolver*>(this->Internals->SolverFor(ss::Method::PVSM));
+  if (!pvsm || !out || level < 0 || level >= static_cast<int>(pvsm->GetLastTileGridLevels().size()))
   {
     return false;
   }
-  const std::vector<float>& l = levels[static_cast<std::size_t>(level)];
+  const std::vector<float>& l = pvsm->GetLastTileGridLevels()[static_cast<std::size_t>(level)];
   out->SetNumberOfComponents(2);
   out->SetNumberOfTuples(static_cast<vtkIdType>(l.size() / 2));
   std::copy(l.begin(), l.end(), out->GetPointer(0));
   return true;
 }
 
+const char* vtkSoftShadowPass::GetLastGearsBackend()
+{
+  auto* gears = dynamic_cast<ss::TriangleSolver*>(this->Internals->SolverFor(ss::Method::GEARS));
+  return gears ? gears->GetLastBackend().c_str() : "cpu";
+}
+
 bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFloatArray* out)
 {
   vtkInternals& in = *this->Internals;
   auto* ow = vtkOpenGLRenderWindow::SafeDownCast(win);
-  if (!ow || !out || !in.FBO || !in.Shadow.Handle || layer < 0 || layer >= in.Shadow.Layers)
+  const ss::TextureArray& maps = in.Maps.GetArray();
+  if (!ow || !out || !in.FBO || !maps.Handle || layer < 0 || layer >= maps.Layers)
   {
     return false;
   }
-  const int S = in.Shadow.Size;
   out->SetNumberOfComponents(2);
-  out->SetNumberOfTuples(static_cast<vtkIdType>(S) * S);
-  return in.Shadow.Read(ow, in.FBO, layer, out->GetPointer(0));
+  out->SetNumberOfTuples(static_cast<vtkIdType>(maps.Size) * maps.Size);
+  return in.Maps.Read(ow, in.FBO, layer, out->GetPointer(0));
 }
 
 int vtkSoftShadowPass::GetLastWidth()
 {
-  return this->Internals->Width;
+  return this->Internals->Frame.Width;
 }
 
 int vtkSoftShadowPass::GetLastHeight()
 {
-  return this->Internals->Height;
+  return this->Internals->Frame.Height;
 }
 
 void vtkSoftShadowPass::GetLastPositionsOrigin(double origin[3])
 {
   for (int i = 0; i < 3; ++i)
   {
-    origin[i] = this->Internals->Origin[i];
+    origin[i] = this->Internals->Frame.Origin[i];
   }
 }
 
 int vtkSoftShadowPass::GetLastNumberOfCasterTriangles()
 {
-  return static_cast<int>(this->Internals->NumberOfTriangles());
+  return static_cast<int>(this->Internals->Casters.NumberOfTriangles());
 }
 
 std::string vtkSoftShadowPass::GetPlanDescription()
@@ -2701,43 +864,32 @@ std::string vtkSoftShadowPass::GetPlanDescription()
 std::string vtkSoftShadowPass::GetStatsJSON()
 {
   auto& in = *this->Internals;
-  std::ostringstream o;
-  o.precision(17);
-  o << "{\"plan\": " << in.Plan.ToJSON() << ", \"timings_ms\": {";
-  bool first = true;
-  for (const auto& t : in.Timings)
+  ss::FrameStats st;
+  st.PlanJSON = in.Plan.ToJSON();
+  st.Timings = &in.Timings;
+  st.MemoryBytes = in.MemoryBytes();
+  st.CasterTriangles = in.Casters.NumberOfTriangles();
+  st.SkippedTriangles = in.Casters.Skipped;
+  for (const auto& solver : in.Solvers)
   {
-    o << (first ? "" : ", ") << '"' << t.first << "\": " << t.second;
-    first = false;
+    solver->Configure(this); // the settings the fragment reports are the current ones
+    const std::string fragment = solver->GetStatsJSON();
+    if (!fragment.empty())
+    {
+      st.Solvers.emplace_back(GetMethodName(static_cast<int>(solver->GetMethod())), fragment);
+    }
   }
-  o << "}, \"memory_bytes\": " << in.MemoryBytes() << ", \"caster_triangles\": "
-    << in.NumberOfTriangles() << ", \"skipped_triangles\": " << in.SkippedTriangles
-    << ", \"reference\": {\"samples_per_axis\": " << this->ReferenceSamples
-    << ", \"rays\": " << in.LastReferenceStats.rays << ", \"rays_per_second\": "
-    << in.LastReferenceStats.raysPerSecond << "}"
-    << ", \"gears\": {\"samples_per_axis\": " << this->GearsSamples << ", \"grid\": " << this->GearsGrid
-    << ", \"raster\": \"" << (this->GearsRaster ? "lut" : "edge") << "\", \"backend\": \"" << in.GearsBackendUsed << "\", \"backend_requested\": \""
-    << (this->GearsBackend == GEARS_BACKEND_GL ? "gl" : "cpu") << "\", \"backend_note\": \""
-    << ss::JSONEscape(in.GearsBackendNote) << "\""
-    << ", \"lights\": " << in.GearsLights
-    << ", \"stats\": " << ss::GearsStatsToJSON(in.LastGearsStats) << "}"
-    << ", \"pvsm\": {\"lights\": " << in.PVSMLights << ", \"low_resolution\": " << this->PVSMLowResolution
-    << ", \"grid\": " << this->PVSMGridSize << ", \"max_tile\": " << this->PVSMMaxTileResolution
-    << ", \"stats\": " << ss::PVSMStatsToJSON(in.LastPVSMStats) << "}"
-    << ", \"hardavg\": {\"samples_per_axis\": " << this->AverageSamples << ", \"maps\": " << in.HardAverageMaps << "}"
-    << ", \"shadow_map_size\": " << in.Shadow.Size << ", \"shadow_map_size_note\": \""
-    << ss::JSONEscape(in.ShadowMapSizeNote) << "\", \"lights\": [";
-  first = true;
-  for (const auto& l : in.Lights)
+  st.ShadowMapSize = in.Maps.GetArray().Size;
+  st.ShadowMapSizeNote = in.Maps.GetSizeNote();
+  for (const auto& l : in.Frame.Lights)
   {
-    o << (first ? "" : ", ") << "{\"shader_index\": " << l.ShaderIndex
-      << ", \"method\": \"" << ss::MethodName(l.Method) << "\", \"views\": " << l.Views.size()
-      << ", \"cube\": " << (l.ViewInfo.cube ? "true" : "false")
+    std::ostringstream o;
+    o << "{\"shader_index\": " << l.ShaderIndex << ", \"method\": \"" << GetMethodName(static_cast<int>(l.Method))
+      << "\", \"views\": " << l.Views.size() << ", \"cube\": " << (l.ViewInfo.cube ? "true" : "false")
       << ", \"clamped\": " << (l.ViewInfo.clamped ? "true" : "false") << "}";
-    first = false;
+    st.Lights.push_back(o.str());
   }
-  o << "]}";
-  return o.str();
+  return ss::StatsToJSON(st);
 }
 
 //------------------------------------------------------------------------------

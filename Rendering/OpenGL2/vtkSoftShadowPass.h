@@ -15,9 +15,10 @@
  *    the world normal, the prop id and whether the prop receives shadows.
  * 2. Caster set: the world-space triangles of every shadow-casting prop,
  *    rebuilt only when a prop, its data or its transform changed.
- * 3. Effect plan: per light, what to simulate (none, hard, pcf, pcss) and why.
- * 4. Per shadow-casting light, a solver writes a visibility texture
- *    V(x,y) in [0,1]: the fraction of the light visible from the surface.
+ * 3. Effect plan: per light, what to simulate (which method, or none) and why.
+ * 4. Per shadow-casting light, the method's solver writes a visibility
+ *    texture V(x,y) in [0,1]: the fraction of the light visible from the
+ *    surface. Solvers that use shadow maps share one array of whole-view maps.
  * 5. Shading: the delegate pass (by default the renderer's standard path, so
  *    translucency, depth peeling, volumes and overlays keep working) renders
  *    with VTK's own lighting; each light's diffuse and specular terms (Phong)
@@ -43,10 +44,6 @@ class vtkProp;
 class vtkRenderPass;
 class vtkRenderWindow;
 class vtkShaderProgram;
-namespace ss
-{
-struct Box;
-}
 
 class SOFTSHADOWSRENDERINGOPENGL2_EXPORT vtkSoftShadowPass : public vtkOpenGLRenderPass
 {
@@ -79,11 +76,16 @@ public:
   /**
    * The visibility solver used for every shadow-casting light.
    */
-  vtkSetClampMacro(Method, int, AUTO, HARDAVG);
+  virtual void SetMethod(int method);
   vtkGetMacro(Method, int);
+  /** SetMethod clamps to this range: every registered method (ssSolverRegistry). */
+  virtual int GetMethodMinValue();
+  virtual int GetMethodMaxValue();
   /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
+  /** Every method's name, comma-separated, in the registry's order. */
+  static std::string GetMethodNames();
   ///@}
 
   ///@{
@@ -346,14 +348,11 @@ private:
   vtkSoftShadowPass(const vtkSoftShadowPass&) = delete;
   void operator=(const vtkSoftShadowPass&) = delete;
 
+  // The stages of Render (vtkSoftShadowPass.cxx says which file owns what).
+  void PlanFrame(bool unchangedSinceLastFrame);
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
-  void BuildMinPyramid(vtkOpenGLRenderWindow* win);
-  void SolveOnTriangles(vtkOpenGLRenderWindow* win);
-  void SolvePVSM(const vtkRenderState* s);
-  vtkShaderProgram* ReadyVisibilityProgram(vtkOpenGLRenderWindow* win, int mapSize, int& shadowUnit);
-  void SolveHardAverage(
-    vtkOpenGLRenderWindow* win, const ss::Box& receivers, const ss::Box& casters, int mapSize);
+  void Shade(const vtkRenderState* s);
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

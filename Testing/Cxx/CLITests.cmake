@@ -41,6 +41,74 @@ ss_cli_error(unreadable_vtp "empty_vtp\\.json: objects\\[0\\]\\.mesh: could not 
 ss_cli_error(bad_off "bad_off\\.json: objects\\[0\\]\\.mesh: could not read" ${_ss_cli} render "${_gen}/bad_off.json")
 ss_cli_error(zero_scale "objects\\[0\\]\\.transform\\.scale: expected non-zero" ${_ss_cli} render "${_gen}/zero_scale.json")
 
+# Damaged mesh files (issue 18): each case of the issue's table gets one
+# error line naming the scene key, the file and what is wrong, exit code 2,
+# and no crash. The files are written at configure time.
+set(_bm "${_ss_out}/BadMeshes")
+execute_process(COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/make_bad_meshes.py" "${_bm}"
+  "${PROJECT_SOURCE_DIR}/Data/Meshes/torus.off" RESULT_VARIABLE _bm_rc)
+if (NOT _bm_rc EQUAL 0)
+  message(FATAL_ERROR "Testing/make_bad_meshes.py failed")
+endif ()
+set(_mesh "objects\\[0\\]\\.mesh: could not read [^ ]*")
+ss_cli_error(mesh.stl_random_bytes "${_mesh}random\\.stl: STL: binary STL header declares 3416378287 triangles .* but the file has 4096 bytes"
+  ${_ss_cli} render "${_bm}/random_stl.json")
+ss_cli_error(mesh.ply_header_no_data "${_mesh}nodata\\.ply: PLY: the header declares 3 vertices and 1 faces .* but only 0 bytes follow the header"
+  ${_ss_cli} render "${_bm}/nodata_ply.json")
+ss_cli_error(mesh.ply_cut_at_1mb "${_mesh}cut\\.ply: PLY: the header declares 40000 vertices and 79202 faces .* but only 999823 bytes follow"
+  ${_ss_cli} render "${_bm}/cut_ply.json")
+ss_cli_error(mesh.obj_index_zero "${_mesh}zero_index\\.obj: OBJ: line 4: 'f': vertex index 0 \\(OBJ indices start at 1\\)"
+  ${_ss_cli} render "${_bm}/zero_index_obj.json")
+ss_cli_error(mesh.obj_index_past_end "${_mesh}index_99\\.obj: OBJ: line 4: 'f': vertex index 99 out of range \\(1\\.\\.3 or -1\\.\\.-3\\)"
+  ${_ss_cli} render "${_bm}/index_99_obj.json")
+ss_cli_error(mesh.obj_relative_index "${_mesh}index_minus_99\\.obj: OBJ: line 4: 'f': vertex index -99 out of range"
+  ${_ss_cli} render "${_bm}/index_minus_99_obj.json")
+ss_cli_error(mesh.ply_huge_count "${_mesh}huge_count\\.ply: PLY: the header declares 999999999 vertices .* but only 26 bytes follow"
+  ${_ss_cli} render "${_bm}/huge_count_ply.json")
+ss_cli_error(mesh.ply_index_out_of_range "${_mesh}index_7\\.ply: PLY: line 13: face 0: vertex index 7 out of range \\[0, 2\\]"
+  ${_ss_cli} render "${_bm}/index_7_ply.json")
+ss_cli_error(mesh.off_cut "${_mesh}cut_82\\.off: OFF: the file ends after 82 of the 768 faces its header declares"
+  ${_ss_cli} render "${_bm}/cut_82_off.json")
+ss_cli_error(mesh.off_more_faces_than_held "${_mesh}more_faces\\.off: OFF: the file ends after 768 of the 1536 faces"
+  ${_ss_cli} render "${_bm}/more_faces_off.json")
+ss_cli_error(mesh.off_index_out_of_range "${_mesh}index_7\\.off: OFF: line 6: face 0: vertex index '7' out of range \\[0, 2\\]"
+  ${_ss_cli} render "${_bm}/index_7_off.json")
+ss_cli_error(mesh.off_huge_count "${_mesh}huge_count\\.off: OFF: the header declares 2000000000 vertices and 1 faces"
+  ${_ss_cli} render "${_bm}/huge_count_off.json")
+ss_cli_error(mesh.off_negative_count "${_mesh}negative_count\\.off: OFF: line 2: vertex count '-5' is not an integer"
+  ${_ss_cli} render "${_bm}/negative_count_off.json")
+ss_cli_error(mesh.stl_short "${_mesh}short\\.stl: STL: binary STL header declares 1000000 triangles .* but the file has 584 bytes"
+  ${_ss_cli} render "${_bm}/short_stl.json")
+# a degenerate OFF face: drop-and-warn (the picture is rendered, exit code 0)
+add_test(NAME cli.render.off_repeated_vertex
+  COMMAND sh -c "env -u DISPLAY \"$0\" render \"$1\" --size 64x48 --frames 1 2>&1 && echo EXIT0"
+    ${_ss_cli} "${_bm}/repeated_vertex_off.json")
+set_tests_properties(cli.render.off_repeated_vertex PROPERTIES LABELS "cli" TIMEOUT 120
+  PASS_REGULAR_EXPRESSION "objects\\[0\\]\\.mesh: [^ ]*repeated_vertex\\.off: OpenMesh kept 1 of the 2 faces.*EXIT0")
+ss_cli_error(compare.pfm_scale_zero "cannot read '[^']*scale0\\.pfm': PFM scale '0' is not a finite non-zero number"
+  ${_ss_cli} compare "${_bm}/scale0.pfm" "${_bm}/good.pfm")
+ss_cli_error(compare.pfm_huge_header "cannot read '[^']*huge\\.pfm': PFM size '2000000000' x '2000000000' is not two integers in \\[1, 65536\\]"
+  ${_ss_cli} compare "${_bm}/good.pfm" "${_bm}/huge.pfm")
+add_test(NAME cli.compare.good_pfm COMMAND ${_ss_cli} compare "${_bm}/good.pfm" "${_bm}/good.pfm")
+set_tests_properties(cli.compare.good_pfm PROPERTIES LABELS "cli" PASS_REGULAR_EXPRESSION "\"mae\": 0")
+# A full device: every writer fails with the path and the reason (issue 17).
+if (EXISTS /dev/full)
+  set(_full "cannot write '/dev/full': No space left on device")
+  set(_small "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json" --size 64x48 --frames 1)
+
+  ss_cli_error(write.stats_full "${_full}" env -u DISPLAY ${_ss_cli} render ${_small} --stats /dev/full)
+  # image paths on the full device: links to it (the format is by extension)
+  foreach (ext png pfm exr)
+    file(CREATE_LINK /dev/full "${_ss_out}/full.${ext}" SYMBOLIC)
+  endforeach ()
+  ss_cli_error(write.png_full "cannot write '[^']*full\\.png': No space left on device"
+    env -u DISPLAY ${_ss_cli} render ${_small} --output "${_ss_out}/full.png")
+  ss_cli_error(write.pfm_full "cannot write '[^']*full\\.pfm': No space left on device"
+    env -u DISPLAY ${_ss_cli} render ${_small} --method pcss --visibility "${_ss_out}/full.pfm")
+  ss_cli_error(write.exr_full "cannot write '[^']*full\\.exr': No space left on device"
+    env -u DISPLAY ${_ss_cli} render ${_small} --method pcss --positions "${_ss_out}/full.exr")
+endif ()
+
 set(_demo "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json")
 ss_cli_error(unknown_method "--method: unknown method 'fancy'" ${_ss_cli} render "${_demo}" --method fancy)
 ss_cli_error(later_method "--method vpcss: not implemented yet" ${_ss_cli} render "${_demo}" --method vpcss)
@@ -115,6 +183,49 @@ add_test(NAME cli.bench.pvsm_smoke_check
 set_tests_properties(cli.bench.pvsm_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_pvsm_smoke)
 set_tests_properties(cli.bench.pvsm_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_pvsm_smoke)
 
+# bake and prepare (the Filters module; no GPU, no display needed)
+set(_good "${_ss_data}/GoodScenes")
+file(WRITE "${_gen}/no_lights.json" "{\"objects\": [{\"primitive\": \"sphere\"}]}\n")
+ss_cli_error(bake_missing_object "bake: missing --object" ${_ss_cli} bake "${_good}/bake_plane.json" --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_missing_output "bake: missing --output" ${_ss_cli} bake "${_good}/bake_plane.json" --object 0)
+ss_cli_error(bake_object_range "--object 7: out of range \\(the scene has 2 object" ${_ss_cli} bake "${_good}/bake_plane.json" --object 7 --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_method "--method: expected gears or reference, got 'pcss'" ${_ss_cli} bake "${_good}/bake_plane.json" --object 0 --output "${_ss_out}/x.vtp" --method pcss)
+ss_cli_error(bake_samples "--samples: expected an integer in \\[1, 32\\]" ${_ss_cli} bake "${_good}/bake_plane.json" --object 0 --output "${_ss_out}/x.vtp" --samples 64)
+ss_cli_error(bake_missing_scene "nope\\.json: cannot open" ${_ss_cli} bake "${_bad}/nope.json" --object 0 --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_bad_scene "unknown_key\\.json: objects\\[0\\]\\.radious: unknown key" ${_ss_cli} bake "${_bad}/unknown_key.json" --object 0 --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_no_lights "no_lights\\.json: lights: the scene has no light" ${_ss_cli} bake "${_gen}/no_lights.json" --object 0 --output "${_ss_out}/x.vtp")
+ss_cli_error(bake_unwritable "cannot write '/nonexistent/dir/x\\.vtp'" ${_ss_cli} bake "${_good}/bake_plane.json" --object 1 --output /nonexistent/dir/x.vtp)
+ss_cli_error(prepare_missing_mesh "nope\\.off: mesh: mesh file not found" ${_ss_cli} prepare "${_bad}/nope.off" --output "${_ss_out}/x.vtp")
+ss_cli_error(prepare_not_a_mesh "empty\\.vtp: mesh: could not read" ${_ss_cli} prepare "${_gen}/empty.vtp" --output "${_ss_out}/x.vtp")
+ss_cli_error(prepare_missing_output "prepare: missing --output" ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply")
+ss_cli_error(prepare_tolerance "--tolerance: expected a fraction of the bounding-box diagonal in \\[0, 0.01\\], got '0.5'" ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply" --output "${_ss_out}/x.vtp" --tolerance 0.5)
+ss_cli_error(prepare_boxes "--boxes: expected plane, optimal or aligned, got 'round'" ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply" --output "${_ss_out}/x.vtp" --boxes round)
+ss_cli_error(bench_filters_no_mesh "bench --filters: missing --mesh" ${_ss_cli} bench --filters)
+
+# A broken mesh (a NaN vertex, a collapsed triangle): the report counts them.
+add_test(NAME cli.prepare.broken_mesh
+  COMMAND ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply" --output "${_ss_out}/cli_prepared.vtp"
+    --report "${_ss_out}/cli_prepared.json")
+set_tests_properties(cli.prepare.broken_mesh PROPERTIES LABELS "cli;filters" TIMEOUT 120
+  PASS_REGULAR_EXPRESSION "NonFinitePoints: 1\n.*CollapsedTriangles: 1\n.*OutputTriangles: 2\n")
+# Bake a transformed plane under a sphere with GEARS and the reference; the
+# check reads both files back (world coordinates, arrays, agreement).
+foreach (_m gears reference)
+  add_test(NAME cli.bake.${_m}
+    COMMAND env -u DISPLAY ${_ss_cli} bake "${_good}/bake_plane.json" --object 0 --samples 8 --method ${_m}
+      --output "${_ss_out}/cli_baked_${_m}.vtp")
+  set_tests_properties(cli.bake.${_m} PROPERTIES LABELS "cli;filters" TIMEOUT 300 FIXTURES_SETUP cli_bake)
+endforeach ()
+add_test(NAME cli.bake.check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bake.py"
+    "${_ss_out}/cli_baked_gears.vtp" "${_ss_out}/cli_baked_reference.vtp")
+set_tests_properties(cli.bake.check PROPERTIES LABELS "cli;filters" FIXTURES_REQUIRED cli_bake)
+# Benchmark smoke run (a small sphere, a 10k-point plane): the report is produced.
+add_test(NAME cli.bench.filters_smoke
+  COMMAND ${_ss_cli} bench --filters --smoke --out "${_ss_out}/bench_filters_smoke")
+set_tests_properties(cli.bench.filters_smoke PROPERTIES LABELS "cli;bench;filters" TIMEOUT 300
+  PASS_REGULAR_EXPRESSION "prepare [0-9.e+-]+ s per million triangles")
+
 # Other machines' paths on this one (issue 16): llvmpipe thread counts, a
 # smaller GL texture limit, a GL 3.2 context, a small SSBO limit, Embree's
 # AVX2 and SSE4.2 kernels. Each must give the same V or a stated fallback.
@@ -122,3 +233,10 @@ add_test(NAME cli.machine.paths
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_machine_paths.py" ${_ss_cli} "${_demo}"
     "${_ss_out}/machine_paths")
 set_tests_properties(cli.machine.paths PROPERTIES LABELS "cli" TIMEOUT 600)
+
+# Issue 17: an inline vertex beyond the float range is dropped with a warning
+# and the other casters still cast.
+add_test(NAME cli.render.float_overflow_vertex
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_float_overflow.py" ${_ss_cli}
+    "${_ss_data}/GoodScenes/float_overflow.json" "${_ss_out}/float_overflow")
+set_tests_properties(cli.render.float_overflow_vertex PROPERTIES LABELS "cli" TIMEOUT 120)

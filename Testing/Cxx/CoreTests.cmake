@@ -12,9 +12,17 @@ add_executable(TestSoftShadowsCore
   TestSSGEARS.cxx
   TestSSPVSM.cxx
   TestSSMetrics.cxx
-  TestSSCasterClusters.cxx)
+  TestSSCasterClusters.cxx
+  TestSSClusterBounds.cxx)
 find_package(TBB REQUIRED)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore TBB::tbb GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
 include(GoogleTest)
-gtest_discover_tests(TestSoftShadowsCore TEST_PREFIX "core." PROPERTIES LABELS "core" TIMEOUT 120)
+math(EXPR _ss_core_timeout "120 * ${SOFTSHADOWS_TIMEOUT_SCALE}")
+gtest_discover_tests(TestSoftShadowsCore TEST_PREFIX "core." PROPERTIES LABELS "core" TIMEOUT ${_ss_core_timeout})
+
+# Unit tests of IO/Core (the file-format guards; no VTK).
+add_executable(TestSoftShadowsIOCore TestSSMeshCheck.cxx)
+target_link_libraries(TestSoftShadowsIOCore PRIVATE SoftShadows::IOCore GTest::gtest_main)
+target_compile_options(TestSoftShadowsIOCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)
+gtest_discover_tests(TestSoftShadowsIOCore TEST_PREFIX "iocore." PROPERTIES LABELS "core" TIMEOUT 60)

@@ -2,6 +2,7 @@
 # the stability suite. Each test runs through headless.sh (a private Xvfb
 # when DISPLAY is unset).
 include(GoogleTest)
+math(EXPR _ss_render_timeout "300 * ${SOFTSHADOWS_TIMEOUT_SCALE}")
 function(ss_render_test name label)
   add_executable(${name} ${name}.cxx)
   target_link_libraries(${name} PRIVATE
@@ -17,7 +18,7 @@ function(ss_render_test name label)
   gtest_discover_tests(${name}
     TEST_PREFIX "${label}."
     DISCOVERY_MODE PRE_TEST
-    PROPERTIES LABELS "${label}" TIMEOUT 300)
+    PROPERTIES LABELS "${label}" TIMEOUT ${_ss_render_timeout})
 endfunction()
 ss_render_test(TestSoftShadowPass render)
 ss_render_test(TestGearsGL render)

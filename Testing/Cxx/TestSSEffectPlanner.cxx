@@ -1,5 +1,6 @@
-// Effect planner v1 (DESIGN.md "effect plan"): one test per rule, plus the
-// method names and the JSON/text the stats and PrintSelf show.
+// Effect planner v1 (DESIGN.md "effect plan"): one test per rule, the
+// catalogue of methods it plans with, and the JSON/text the stats and
+// PrintSelf show.
 #include "ssEffectPlanner.h"
 
 #include <gtest/gtest.h>
@@ -27,9 +28,25 @@ PlannerLight Point()
   return l;
 }
 
+// The methods as the solver registry (Rendering/OpenGL2/ssSolverRegistry.cxx)
+// lists them; TestSoftShadowPass checks that the registry gives the planner
+// this catalogue.
+std::vector<MethodInfo> Catalogue()
+{
+  return { { Method::Auto, "auto", PlannerRule::OnRequest, false },
+    { Method::None, "none", PlannerRule::OnRequest, false },
+    { Method::Hard, "hard", PlannerRule::HardLights, false }, { Method::PCF, "pcf", PlannerRule::OnRequest, false },
+    { Method::PCSS, "pcss", PlannerRule::SoftLights, false },
+    { Method::PVSM, "pvsm", PlannerRule::OnRequest, false },
+    { Method::HardAverage, "hardavg", PlannerRule::OnRequest, false },
+    { Method::Reference, "reference", PlannerRule::OnRequest, true },
+    { Method::GEARS, "gears", PlannerRule::OnRequest, true } };
+}
+
 PlannerInput Scene(std::vector<PlannerLight> lights)
 {
   PlannerInput in;
+  in.methods = Catalogue();
   in.casterTriangles = 100;
   in.receiverProps = 2;
   in.lights = std::move(lights);
@@ -37,33 +54,47 @@ PlannerInput Scene(std::vector<PlannerLight> lights)
 }
 }
 
-TEST(EffectPlanner, MethodNamesRoundTrip)
+TEST(EffectPlanner, NamesAndRulesComeFromTheCatalogue)
 {
-  for (Method m : { Method::Auto, Method::Hard, Method::PCF, Method::PCSS, Method::None })
+  // the plan names each light's method as the catalogue does
+  PlannerInput in = Scene({ Area(), Point() });
+  EffectPlan p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].name, "pcss");
+  EXPECT_EQ(p.lights[1].name, "hard");
+  in.requested = Method::Reference;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::Reference);
+  EXPECT_EQ(p.lights[0].name, "reference");
+  // auto uses whichever method is registered for the rule
+  for (auto& m : in.methods)
   {
-    Method back = Method::Auto;
-    ASSERT_TRUE(MethodFromName(MethodName(m), back)) << MethodName(m);
-    EXPECT_EQ(back, m);
+    m.rule = m.method == Method::PVSM ? PlannerRule::SoftLights
+                                      : (m.method == Method::PCSS ? PlannerRule::OnRequest : m.rule);
   }
-  EXPECT_STREQ(MethodName(Method::Auto), "auto");
-  EXPECT_STREQ(MethodName(Method::Hard), "hard");
-  EXPECT_STREQ(MethodName(Method::PCF), "pcf");
-  EXPECT_STREQ(MethodName(Method::PCSS), "pcss");
-  EXPECT_STREQ(MethodName(Method::None), "none");
-  // the numbers are vtkSoftShadowPass::MethodType's
-  EXPECT_EQ(static_cast<int>(Method::Auto), 0);
-  EXPECT_EQ(static_cast<int>(Method::Hard), 1);
-  EXPECT_EQ(static_cast<int>(Method::PCF), 2);
-  EXPECT_EQ(static_cast<int>(Method::PCSS), 3);
-  EXPECT_EQ(static_cast<int>(Method::None), 4);
-  Method m = Method::PCF;
-  EXPECT_TRUE(MethodFromName("reference", m));
-  EXPECT_EQ(m, Method::Reference);
-  m = Method::PCF;
-  EXPECT_FALSE(MethodFromName("fancy", m));
-  EXPECT_FALSE(MethodFromName("PCSS", m)); // names are lower case
-  EXPECT_FALSE(MethodFromName("", m));
-  EXPECT_EQ(m, Method::PCF); // untouched on failure
+  in.requested = Method::Auto;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::PVSM);
+  EXPECT_TRUE(Contains(p.lights[0].reason, "area light: soft shadows (PVSM)")) << p.lights[0].reason;
+  EXPECT_EQ(p.lights[1].method, Method::Hard);
+  // a rule nobody serves, and a request for a method that is not registered,
+  // plan no shadows and say why
+  PlannerInput bare = Scene({ Area(), Point() });
+  bare.methods = { { Method::None, "none", PlannerRule::OnRequest, false },
+    { Method::Hard, "hard", PlannerRule::HardLights, false } };
+  p = MakeEffectPlan(bare);
+  EXPECT_EQ(p.lights[0].method, Method::None);
+  EXPECT_EQ(p.lights[0].name, "none");
+  EXPECT_TRUE(Contains(p.lights[0].reason, "no method is registered")) << p.lights[0].reason;
+  EXPECT_EQ(p.lights[1].method, Method::Hard);
+  bare.requested = Method::GEARS;
+  p = MakeEffectPlan(bare);
+  EXPECT_EQ(p.lights[0].method, Method::None);
+  EXPECT_TRUE(Contains(p.lights[0].reason, "method 6 is not a registered method")) << p.lights[0].reason;
+  EXPECT_FALSE(p.shadowWork);
+  // FindMethod
+  ASSERT_NE(FindMethod(in.methods, Method::GEARS), nullptr);
+  EXPECT_EQ(FindMethod(in.methods, Method::GEARS)->name, "gears");
+  EXPECT_EQ(FindMethod(bare.methods, Method::GEARS), nullptr);
 }
 
 TEST(EffectPlanner, NothingToShadow)
@@ -143,7 +174,7 @@ TEST(EffectPlanner, AutoPicksBySoftness)
   EXPECT_TRUE(p.shadowWork);
   EXPECT_FALSE(p.reuse);
   EXPECT_EQ(p.lights[0].method, Method::PCSS);
-  EXPECT_TRUE(Contains(p.lights[0].reason, "area light: soft shadows")) << p.lights[0].reason;
+  EXPECT_TRUE(Contains(p.lights[0].reason, "area light: soft shadows (PCSS)")) << p.lights[0].reason;
   EXPECT_EQ(p.lights[1].method, Method::Hard);
   EXPECT_TRUE(Contains(p.lights[1].reason, "point/zero-size light: hard shadows")) << p.lights[1].reason;
   EXPECT_EQ(p.lights[2].method, Method::Hard); // one zero side: not soft
@@ -164,7 +195,7 @@ TEST(EffectPlanner, RequestedMethodForEveryShadowCastingLight)
     EXPECT_EQ(p.lights[0].method, requested);
     EXPECT_EQ(p.lights[1].method, requested); // even a point light gets what was asked for
     EXPECT_EQ(p.lights[2].method, Method::None);
-    EXPECT_TRUE(Contains(p.lights[0].reason, MethodName(requested))) << p.lights[0].reason;
+    EXPECT_TRUE(Contains(p.lights[0].reason, FindMethod(in.methods, requested)->name)) << p.lights[0].reason;
   }
   // PCSS on a point light degenerates to a hard shadow, and the reason says so
   PlannerInput in = Scene({ Area(), Point() });
@@ -182,6 +213,10 @@ TEST(EffectPlanner, TranslucentCastersAndReuse)
   EXPECT_TRUE(Contains(p.reason, "translucent casters are treated as opaque")) << p.reason;
   EXPECT_TRUE(Contains(p.reason, "v1")) << p.reason;
   EXPECT_FALSE(p.reuse);
+  // solvers that weigh casters by opacity need no such note
+  in.requested = Method::Reference;
+  EXPECT_FALSE(Contains(MakeEffectPlan(in).reason, "translucent")) << MakeEffectPlan(in).reason;
+  in.requested = Method::Auto;
   in.translucentCasters = false;
   EXPECT_FALSE(Contains(MakeEffectPlan(in).reason, "translucent"));
 

@@ -41,3 +41,20 @@ TEST(ShadowView, PerspectiveExtentContainsTheBox)
   EXPECT_TRUE(info.cube);
   EXPECT_EQ(views.size(), 6u);
 }
+
+TEST(ShadowView, BlockerSearchDepthIsTheNearestCasterInFront)
+{
+  ShadowView v;
+  v.origin = { 0, 0, 5 };
+  v.n = { 0, 0, -1 };
+  // vertices relative to an offset of (0, 0, 1): world z = 1 + z
+  const float xyz[] = { 0, 0, 2, 1, 0, 2, 0, 1, 2,     // z = 3: depth 2
+    0, 0, 0.5f, 1, 0, 0.5f, 0, 1, 0.5f,                // z = 1.5: depth 3.5
+    0, 0, 6, 1, 0, 6, 0, 1, 6 };                       // z = 7: behind the light
+  EXPECT_DOUBLE_EQ(BlockerSearchDepth(v, xyz, 27, { 0, 0, 1 }, 10.0), 2.0);
+  // nothing in front: the scene's size; a caster at the light: 1e-4 of it
+  EXPECT_DOUBLE_EQ(BlockerSearchDepth(v, xyz + 18, 9, { 0, 0, 1 }, 10.0), 10.0);
+  const float atLight[] = { 0, 0, 3.99999f, 1, 0, 4, 0, 1, 4 };
+  EXPECT_DOUBLE_EQ(BlockerSearchDepth(v, atLight, 9, { 0, 0, 1 }, 10.0), 1e-3);
+  EXPECT_DOUBLE_EQ(BlockerSearchDepth(v, xyz, 0, { 0, 0, 1 }, 10.0), 10.0);
+}

@@ -25,6 +25,7 @@
 #include <functional>
 #include <map>
 #include <cstdlib>
+#include <sstream>
 
 #ifndef SS_BASELINE_DIR
 #error "SS_BASELINE_DIR must be defined"
@@ -605,6 +606,77 @@ TEST(SoftShadowPass, ToggleAndRelease)
     s.pass->ReleaseGraphicsResources(s.window);
     EXPECT_EQ(s.pass->GetNumberOfGraphicsResources(), 0);
   }
+}
+
+// The method table (ssSolverRegistry) through the pass's API: every name
+// round-trips, SetMethod clamps to the registered range, and every method's
+// solver shadows the sphere's contact point, holds GPU objects while it
+// renders and frees all of them on release, with the pass toggled off and on
+// (a solver added to the table is checked here without a new test).
+TEST(SoftShadowPass, EveryRegisteredMethodShadowsAndReleases)
+{
+  std::vector<std::string> names;
+  std::istringstream list(vtkSoftShadowPass::GetMethodNames());
+  for (std::string n; std::getline(list, n, ',');)
+  {
+    names.push_back(n.substr(n.find_first_not_of(' ')));
+  }
+  ASSERT_GE(names.size(), 9u) << vtkSoftShadowPass::GetMethodNames();
+  Scene s(160, 120);
+  s.renderer->AddActor(Ground());
+  s.renderer->AddActor(Sphere(0, 0, 0.7, 0.6));
+  s.renderer->AddLight(RectLight(0.5, -0.5, 5, 0, 0, 0, 1.0, 1.0));
+  s.Camera(0, -7, 5);
+  s.pass->SetReferenceSamples(4);
+  s.pass->SetGearsSamples(4);
+  s.pass->SetAverageSamples(2);
+  s.pass->SetShadowMapSize(512);
+  for (const std::string& name : names)
+  {
+    for (int backend : { vtkSoftShadowPass::GEARS_BACKEND_CPU, vtkSoftShadowPass::GEARS_BACKEND_GL })
+    {
+      if (backend == vtkSoftShadowPass::GEARS_BACKEND_GL && name != "gears")
+      {
+        continue;
+      }
+      SCOPED_TRACE(name + (backend ? " (gl)" : ""));
+      ASSERT_TRUE(s.pass->SetMethodByName(name.c_str()));
+      EXPECT_EQ(vtkSoftShadowPass::GetMethodName(s.pass->GetMethod()), name);
+      s.pass->SetGearsBackend(backend);
+      s.renderer->SetPass(s.pass);
+      const Frame f = s.Render();
+      const bool shadows = name != "none";
+      EXPECT_EQ(s.pass->GetNumberOfShadowLights(), shadows ? 1 : 0);
+      EXPECT_EQ(s.pass->GetNumberOfGraphicsResources() > 0, shadows);
+      if (shadows)
+      {
+        // the ground right under the sphere is in its umbra, most of it is lit
+        const Stats st = Classify(f);
+        EXPECT_GT(st.umbra, 10);
+        EXPECT_GT(st.lit, 2000);
+        EXPECT_EQ(st.nonFinite, 0);
+        // the solvers on the caster triangles get no shadow maps (the pass was
+        // released before this method ran: nothing is left from the others)
+        vtkNew<vtkFloatArray> map;
+        const bool onTriangles = name == "reference" || name == "gears";
+        EXPECT_EQ(s.pass->GetShadowMapLayer(s.window, 0, map), !onTriangles);
+        EXPECT_NE(s.pass->GetStatsJSON().find("\"method\": \"" + (name == "auto" ? std::string("pcss") : name) + "\""),
+          std::string::npos)
+          << s.pass->GetStatsJSON();
+      }
+      s.renderer->SetPass(nullptr);
+      s.window->Render();
+      s.pass->ReleaseGraphicsResources(s.window);
+      EXPECT_EQ(s.pass->GetNumberOfGraphicsResources(), 0);
+    }
+  }
+  s.pass->SetMethod(1000);
+  EXPECT_EQ(s.pass->GetMethod(), s.pass->GetMethodMaxValue());
+  EXPECT_EQ(s.pass->GetMethodMaxValue(), static_cast<int>(vtkSoftShadowPass::HARDAVG));
+  s.pass->SetMethod(-3);
+  EXPECT_EQ(s.pass->GetMethod(), static_cast<int>(vtkSoftShadowPass::AUTO));
+  EXPECT_FALSE(s.pass->SetMethodByName("fancy"));
+  EXPECT_FALSE(s.pass->SetMethodByName(nullptr));
 }
 
 // No casters, or no lights: no shadow work, and the plan says why.

@@ -1,0 +1,387 @@
+#include "ssCasterSet.h"
+
+#include "vtkSoftShadowPass.h"
+
+#include "ssCasterFS.h"
+#include "ssCasterVS.h"
+
+#include "vtkActor.h"
+#include "vtkAssemblyNode.h"
+#include "vtkAssemblyPath.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkMapper.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkOpenGLBufferObject.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLVertexArrayObject.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPropCollection.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkShaderProgram.h"
+#include "vtk_glew.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ss
+{
+namespace
+{
+std::uint64_t MatrixHash(vtkMatrix4x4* m)
+{
+  // FNV-1a over the 16 doubles
+  std::uint64_t h = 1469598103934665603ull;
+  const auto* bytes = reinterpret_cast<const unsigned char*>(m->GetData());
+  for (std::size_t i = 0; i < 16 * sizeof(double); ++i)
+  {
+    h = (h ^ bytes[i]) * 1099511628211ull;
+  }
+  return h;
+}
+
+bool Finite3(const double p[3])
+{
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, float opacity, std::vector<glm::dvec3>& tris,
+  std::vector<float>& opacities, std::size_t& skipped)
+{
+  vtkPoints* pts = pd->GetPoints();
+  if (!pts || pts->GetNumberOfPoints() == 0)
+  {
+    return;
+  }
+  const vtkIdType np = pts->GetNumberOfPoints();
+  std::vector<glm::dvec3> world(static_cast<std::size_t>(np));
+  std::vector<char> finite(static_cast<std::size_t>(np));
+  for (vtkIdType i = 0; i < np; ++i)
+  {
+    double p[3];
+    pts->GetPoint(i, p);
+    double in[4] = { p[0], p[1], p[2], 1.0 }, out[4];
+    m->MultiplyPoint(in, out);
+    const double w = (out[3] != 0.0) ? out[3] : 1.0;
+    world[i] = glm::dvec3(out[0] / w, out[1] / w, out[2] / w);
+    finite[i] = std::isfinite(world[i].x) && std::isfinite(world[i].y) && std::isfinite(world[i].z);
+  }
+  auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
+    if (a < 0 || b < 0 || c < 0 || a >= np || b >= np || c >= np || !finite[a] || !finite[b] || !finite[c])
+    {
+      ++skipped;
+      return;
+    }
+    const glm::dvec3 e = glm::cross(world[b] - world[a], world[c] - world[a]);
+    if (!(glm::dot(e, e) > 0.0))
+    {
+      ++skipped; // zero-area triangles cast nothing
+      return;
+    }
+    tris.push_back(world[a]);
+    tris.push_back(world[b]);
+    tris.push_back(world[c]);
+    opacities.push_back(opacity);
+  };
+  auto polys = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
+  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    polys->GetCurrentCell(n, ids);
+    for (vtkIdType k = 1; k + 1 < n; ++k)
+    {
+      emit(ids[0], ids[k], ids[k + 1]);
+    }
+  }
+  auto strips = vtk::TakeSmartPointer(pd->GetStrips()->NewIterator());
+  for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    strips->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k + 2 < n; ++k)
+    {
+      if (k % 2 == 0)
+      {
+        emit(ids[k], ids[k + 1], ids[k + 2]);
+      }
+      else
+      {
+        emit(ids[k + 1], ids[k], ids[k + 2]);
+      }
+    }
+  }
+}
+
+// Leaves of a prop (assemblies included) with their world matrices.
+template <typename F>
+void ForEachActor(vtkRenderer* ren, F&& f)
+{
+  vtkPropCollection* props = ren->GetViewProps();
+  vtkCollectionSimpleIterator pit;
+  props->InitTraversal(pit);
+  while (vtkProp* prop = props->GetNextProp(pit))
+  {
+    if (!prop->GetVisibility())
+    {
+      continue;
+    }
+    prop->InitPathTraversal();
+    while (vtkAssemblyPath* path = prop->GetNextPath())
+    {
+      vtkAssemblyNode* node = path->GetLastNode();
+      vtkActor* actor = vtkActor::SafeDownCast(node->GetViewProp());
+      if (!actor || !actor->GetVisibility() || !actor->GetMapper())
+      {
+        continue;
+      }
+      vtkMatrix4x4* m = node->GetMatrix() ? node->GetMatrix() : actor->GetMatrix();
+      f(actor, m);
+    }
+  }
+}
+
+template <typename F>
+void ForEachPolyData(vtkDataObject* data, F&& f)
+{
+  if (auto* pd = vtkPolyData::SafeDownCast(data))
+  {
+    f(pd);
+  }
+  else if (auto* cd = vtkCompositeDataSet::SafeDownCast(data))
+  {
+    auto it = vtk::TakeSmartPointer(cd->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
+      {
+        f(leaf);
+      }
+    }
+  }
+}
+}
+
+CasterSet::CasterSet() = default;
+CasterSet::~CasterSet() = default;
+
+void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
+{
+  std::vector<CasterKey> keys;
+  this->Receivers = Box{};
+  this->ReceiverProps = 0;
+  ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
+    vtkMapper* mapper = actor->GetMapper();
+    if (vtkSoftShadowPass::GetReceivesShadows(actor))
+    {
+      double b[6];
+      actor->GetBounds(b);
+      if (vtkMath::AreBoundsInitialized(b) && Finite3(b) && Finite3(b + 3))
+      {
+        this->Receivers.Add(glm::dvec3(b[0], b[2], b[4]));
+        this->Receivers.Add(glm::dvec3(b[1], b[3], b[5]));
+        ++this->ReceiverProps;
+      }
+    }
+    if (!vtkSoftShadowPass::GetCastsShadows(actor))
+    {
+      return;
+    }
+    mapper->Update();
+    vtkDataObject* data = mapper->GetInputDataObject(0, 0);
+    keys.emplace_back(actor, data, data ? data->GetMTime() : 0, MatrixHash(m),
+      std::max(mapper->GetMTime(), actor->GetProperty()->GetMTime()));
+  });
+  if (keys == this->Keys)
+  {
+    return;
+  }
+  std::vector<glm::dvec3> tris;
+  std::vector<float> opacities;
+  std::size_t skipped = 0;
+  bool translucent = false;
+  ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
+    if (!vtkSoftShadowPass::GetCastsShadows(actor))
+    {
+      return;
+    }
+    const float opacity = static_cast<float>(actor->GetProperty()->GetOpacity());
+    translucent = translucent || opacity < 1.0f;
+    ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0),
+      [&](vtkPolyData* pd) { AppendPolyData(pd, m, opacity, tris, opacities, skipped); });
+  });
+  if (skipped > 0 && skipped != this->Skipped)
+  {
+    vtkWarningWithObjectMacro(reporter, "Caster set: skipped " << skipped << " zero-area, degenerate or non-finite triangles.");
+  }
+  this->Skipped = skipped;
+  this->Translucent = translucent;
+  this->Bounds = Box{};
+  for (const auto& p : tris)
+  {
+    this->Bounds.Add(p);
+  }
+  this->Origin = this->Bounds.Empty() ? glm::dvec3(0.0) : this->Bounds.Center();
+  this->Triangles.resize(tris.size() * 3);
+  for (std::size_t i = 0; i < tris.size(); ++i)
+  {
+    const glm::dvec3 r = tris[i] - this->Origin;
+    this->Triangles[3 * i + 0] = static_cast<float>(r.x);
+    this->Triangles[3 * i + 1] = static_cast<float>(r.y);
+    this->Triangles[3 * i + 2] = static_cast<float>(r.z);
+  }
+  this->Opacity = std::move(opacities);
+  this->Keys = keys;
+  this->Uploaded = false;
+  ++this->Version;
+}
+
+std::vector<glm::dvec3> CasterSet::WorldVertices() const
+{
+  std::vector<glm::dvec3> verts(this->Triangles.size() / 3);
+  for (std::size_t i = 0; i < verts.size(); ++i)
+  {
+    verts[i] =
+      this->Origin + glm::dvec3(this->Triangles[3 * i], this->Triangles[3 * i + 1], this->Triangles[3 * i + 2]);
+  }
+  return verts;
+}
+
+void CasterSet::EnsureClusters()
+{
+  if (this->HasClusters())
+  {
+    return;
+  }
+  const std::size_t n = this->NumberOfTriangles();
+  std::vector<glm::dvec3> v(3 * n);
+  for (std::size_t i = 0; i < v.size(); ++i)
+  {
+    v[i] = glm::dvec3(this->Triangles[3 * i], this->Triangles[3 * i + 1], this->Triangles[3 * i + 2]);
+  }
+  this->Clusters = ClusterTriangles(v, 1024);
+  std::vector<float> tri(this->Triangles.size()), opacity(n, 1.0f);
+  for (std::size_t t = 0; t < n; ++t)
+  {
+    const std::size_t from = this->Clusters.order[t];
+    std::copy_n(&this->Triangles[9 * from], 9, &tri[9 * t]);
+    opacity[t] = from < this->Opacity.size() ? this->Opacity[from] : 1.0f;
+  }
+  this->Triangles = std::move(tri);
+  this->Opacity = std::move(opacity);
+  this->ClusterVersion = this->Version;
+  this->Uploaded = false;
+}
+
+vtkShaderProgram* CasterSet::ReadyProgram(vtkOpenGLRenderWindow* win, std::string& error)
+{
+  if (!this->VBO)
+  {
+    this->VBO = vtkSmartPointer<vtkOpenGLBufferObject>::New();
+    this->VBO->SetType(vtkOpenGLBufferObject::ArrayBuffer);
+    this->VAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
+  }
+  this->Program = win->GetShaderCache()->ReadyShaderProgram(ssCasterVS, ssCasterFS, "");
+  if (!this->Program)
+  {
+    error = "Could not build the caster shadow-map program.";
+    return nullptr;
+  }
+  if (!this->Uploaded)
+  {
+    this->VBO->Upload(this->Triangles, vtkOpenGLBufferObject::ArrayBuffer);
+    this->VAO->Bind();
+    this->VAO->RemoveAttributeArray("vertexRel");
+    if (!this->VAO->AddAttributeArray(this->Program, this->VBO, "vertexRel", 0, 3 * sizeof(float), VTK_FLOAT, 3, false))
+    {
+      error = "Could not bind the caster vertex buffer.";
+    }
+    this->VAO->Release();
+    this->Uploaded = true;
+    ++this->Uploads;
+  }
+  return this->Program;
+}
+
+vtkOpenGLBufferObject* CasterSet::GetVertexBuffer() const
+{
+  return this->VBO;
+}
+
+vtkOpenGLVertexArrayObject* CasterSet::GetVertexArray() const
+{
+  return this->VAO;
+}
+
+vtkShaderProgram* CasterSet::UseProgram(vtkOpenGLRenderWindow* win)
+{
+  win->GetShaderCache()->ReadyShaderProgram(this->Program);
+  return this->Program;
+}
+
+void CasterSet::Draw(vtkShaderProgram* p, vtkOpenGLVertexArrayObject* vao, const ShadowView& v, const Rect& extent,
+  const glm::dvec3& offset, const TriangleRanges* ranges) const
+{
+  p->SetUniform3f("casterOffset", glm::value_ptr(glm::vec3(offset)));
+  p->SetUniform3f("viewOrigin", glm::value_ptr(glm::vec3(v.origin)));
+  p->SetUniform3f("axisU", glm::value_ptr(glm::vec3(v.u)));
+  p->SetUniform3f("axisV", glm::value_ptr(glm::vec3(v.v)));
+  p->SetUniform3f("axisN", glm::value_ptr(glm::vec3(v.n)));
+  const float e[4] = { static_cast<float>(extent.x0), static_cast<float>(extent.y0), static_cast<float>(extent.x1),
+    static_cast<float>(extent.y1) };
+  p->SetUniform4f("extent", e);
+  p->SetUniformi("orthographic", v.orthographic ? 1 : 0);
+  vao->Bind();
+  if (!ranges)
+  {
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(this->Triangles.size() / 3));
+  }
+  else if (!ranges->empty())
+  {
+    std::vector<GLint> first;
+    std::vector<GLsizei> count;
+    for (const auto& r : *ranges)
+    {
+      first.push_back(static_cast<GLint>(3 * r.first));
+      count.push_back(static_cast<GLsizei>(3 * r.second));
+    }
+    glMultiDrawArrays(GL_TRIANGLES, first.data(), count.data(), static_cast<GLsizei>(first.size()));
+  }
+  vao->Release();
+}
+
+long long CasterSet::Bytes() const
+{
+  return this->Uploaded ? static_cast<long long>(this->Triangles.size()) * 4 : 0;
+}
+
+int CasterSet::CountGraphicsResources() const
+{
+  return (this->VBO && this->VBO->GetHandle() != 0) ? 1 : 0;
+}
+
+void CasterSet::ReleaseGraphicsResources()
+{
+  if (this->VAO)
+  {
+    this->VAO->ReleaseGraphicsResources();
+    this->VAO = nullptr;
+  }
+  if (this->VBO)
+  {
+    this->VBO->ReleaseGraphicsResources();
+    this->VBO = nullptr;
+  }
+  this->Program = nullptr;
+  this->Uploaded = false;
+}
+}

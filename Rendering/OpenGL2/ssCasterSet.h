@@ -1,0 +1,119 @@
+// The caster set (DESIGN.md "one data flow"): the world-space triangles of
+// every visible shadow-casting actor, rebuilt only when an actor, its data,
+// its transform or its property changed; their clusters for culling; their
+// GPU copy and the small program that draws them into a light's view.
+#ifndef ssCasterSet_h
+#define ssCasterSet_h
+
+#include "ssCasterClusters.h"
+#include "ssShadowView.h"
+
+#include "vtkSmartPointer.h"
+#include "vtkType.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+class vtkObject;
+class vtkOpenGLBufferObject;
+class vtkOpenGLRenderWindow;
+class vtkOpenGLVertexArrayObject;
+class vtkRenderer;
+class vtkShaderProgram;
+
+namespace ss
+{
+/// What the caster set was built from: rebuilt when any entry changes
+/// (actor, data object, its MTime, a hash of the world matrix, the larger of
+/// the mapper's and property's MTime). The transform enters by value:
+/// assembly paths hand out fresh matrices (new MTimes) at every traversal,
+/// which rebuilt the caster set every frame.
+using CasterKey = std::tuple<void*, void*, vtkMTimeType, std::uint64_t, vtkMTimeType>;
+
+/// Triangle ranges (first triangle, count) to draw.
+using TriangleRanges = std::vector<std::pair<std::size_t, std::size_t>>;
+
+class CasterSet
+{
+public:
+  CasterSet();
+  ~CasterSet();
+  CasterSet(const CasterSet&) = delete;
+  CasterSet& operator=(const CasterSet&) = delete;
+
+  /// Walks the visible actors of `ren` (assemblies included): the bounds of
+  /// the receivers every frame, the triangles of the casters when a key
+  /// changed. Zero-area, degenerate and non-finite triangles are skipped
+  /// (`reporter` warns once per new count).
+  void Update(vtkRenderer* ren, vtkObject* reporter);
+
+  // --- receivers (read every frame)
+  Box Receivers;                 ///< absolute bounds of the receiving actors
+  std::size_t ReceiverProps = 0; ///< how many there are
+
+  // --- the triangles (rebuilt when Keys change)
+  std::vector<CasterKey> Keys;
+  std::vector<float> Triangles; ///< 9 floats per triangle, relative to Origin
+  std::vector<float> Opacity;   ///< per triangle
+  glm::dvec3 Origin{ 0.0 };     ///< world; the centre of Bounds
+  Box Bounds;                   ///< absolute
+  bool Translucent = false;     ///< some caster has opacity < 1
+  std::size_t Skipped = 0;      ///< triangles left out by the last rebuild
+  unsigned long Version = 0;    ///< counts rebuilds (EnsureClusters re-orders without a new version)
+
+  std::size_t NumberOfTriangles() const { return this->Triangles.size() / 9; }
+  /// The triangles' vertices in world coordinates (double), 3 per triangle.
+  std::vector<glm::dvec3> WorldVertices() const;
+
+  // --- clusters (tile culling, vtkSoftShadowPass::PVSMTileCulling)
+  /// Orders the triangles into clusters of at most 1024 (a few thousand on a
+  /// 5M-triangle set: the per-tile test stays well under a millisecond) when
+  /// the set changed since the last call. Only frames that cull need them, so
+  /// this runs on their first frame after a change, not on every rebuild. The
+  /// bounds come from the float positions the GPU draws. No solver depends on
+  /// the order (maps are min-blended, GEARS and the reference take unions),
+  /// so nothing else is rebuilt; the vertex buffer is re-uploaded.
+  void EnsureClusters();
+  /// Whether Clusters describe the current triangles.
+  bool HasClusters() const { return this->ClusterVersion == this->Version; }
+  TriangleClusters Clusters; ///< bounds relative to Origin
+
+  // --- GPU copy
+  /// Uploads the triangles when they changed since the last upload and binds
+  /// them to the caster program (ssCasterVS/FS); that program, or null with
+  /// `error` set.
+  vtkShaderProgram* ReadyProgram(vtkOpenGLRenderWindow* win, std::string& error);
+  /// The caster program of the last ReadyProgram (made current again).
+  vtkShaderProgram* UseProgram(vtkOpenGLRenderWindow* win);
+  vtkOpenGLBufferObject* GetVertexBuffer() const;
+  vtkOpenGLVertexArrayObject* GetVertexArray() const;
+  /// Counts uploads: a program of its own that reads the vertex buffer
+  /// re-binds it when this changed.
+  unsigned long GetUploads() const { return this->Uploads; }
+
+  /// Draws the triangles with `p` (whose vertex array is `vao`) as seen by
+  /// `view` over its window `extent` (the whole view, or one PVSM tile).
+  /// `offset` is Origin minus the frame origin. `ranges`, when given, draws
+  /// only those triangles.
+  void Draw(vtkShaderProgram* p, vtkOpenGLVertexArrayObject* vao, const ShadowView& view, const Rect& extent,
+    const glm::dvec3& offset, const TriangleRanges* ranges = nullptr) const;
+
+  long long Bytes() const;
+  int CountGraphicsResources() const;
+  void ReleaseGraphicsResources();
+
+private:
+  unsigned long ClusterVersion = 0;
+  vtkSmartPointer<vtkOpenGLBufferObject> VBO;
+  vtkSmartPointer<vtkOpenGLVertexArrayObject> VAO;
+  vtkShaderProgram* Program = nullptr; ///< owned by the window's shader cache
+  bool Uploaded = false;
+  unsigned long Uploads = 0;
+};
+}
+
+#endif

@@ -1,0 +1,135 @@
+#include "ssFrameState.h"
+
+#include "ssCasterSet.h"
+
+#include "vtkSoftShadowLight.h"
+
+#include "vtkCamera.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMatrix4x4.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkRenderState.h"
+#include "vtkRenderer.h"
+
+#include <cmath>
+#include <exception>
+#include <sstream>
+
+namespace ss
+{
+std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origin)
+{
+  std::vector<ShadowLight> lights;
+  vtkLightCollection* lc = ren->GetLights();
+  vtkCollectionSimpleIterator lit;
+  int shaderIndex = 0;
+  for (lc->InitTraversal(lit); vtkLight* light = lc->GetNextLight(lit);)
+  {
+    if (light->GetSwitch() <= 0)
+    {
+      continue;
+    }
+    ShadowLight sl;
+    sl.Light = light;
+    sl.ShaderIndex = shaderIndex++;
+    sl.Planner.headlight = light->LightTypeIsHeadlight() != 0;
+    sl.Planner.castsShadows = vtkSoftShadowLight::GetCastsShadows(light);
+    double pos[3], fp[3];
+    light->GetTransformedPosition(pos);
+    light->GetTransformedFocalPoint(fp);
+    try
+    {
+      const glm::dvec3 p(pos[0], pos[1], pos[2]);
+      const glm::dvec3 f(fp[0], fp[1], fp[2]);
+      if (light->GetPositional())
+      {
+        double size[2];
+        vtkSoftShadowLight::GetAreaSize(light, size);
+        if (size[0] > 0.0 || size[1] > 0.0)
+        {
+          double up[3] = { 0, 0, 0 };
+          vtkSoftShadowLight::GetAreaUp(light, up);
+          sl.Frame = MakeRectLightFrame(p - origin, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
+        }
+        else
+        {
+          sl.Frame = MakePointLightFrame(p - origin);
+        }
+      }
+      else
+      {
+        const double angle = vtkSoftShadowLight::GetAngularDiameter(light);
+        sl.Frame = MakeDirectionalLightFrame(f - p, angle * M_PI / 180.0);
+      }
+    }
+    catch (const std::exception& e)
+    {
+      sl.Planner.valid = false;
+      sl.Planner.invalidReason = e.what();
+    }
+    sl.Planner.frame = sl.Frame;
+    lights.push_back(sl);
+  }
+  return lights;
+}
+
+bool UpdateFrameState(FrameState& frame, const vtkRenderState* s, const double* fixedOrigin)
+{
+  vtkRenderer* ren = s->GetRenderer();
+  int w, h, x0 = 0, y0 = 0;
+  if (auto* fbo = vtkOpenGLFramebufferObject::SafeDownCast(s->GetFrameBuffer()))
+  {
+    int size[2];
+    fbo->GetLastSize(size);
+    w = size[0];
+    h = size[1];
+  }
+  else
+  {
+    ren->GetTiledSizeAndOrigin(&w, &h, &x0, &y0);
+  }
+  if (w <= 0 || h <= 0)
+  {
+    return false;
+  }
+  frame.Width = w;
+  frame.Height = h;
+  frame.ViewportOrigin[0] = x0;
+  frame.ViewportOrigin[1] = y0;
+  frame.FrameSize[0] = w;
+  frame.FrameSize[1] = h;
+  frame.TileOrigin[0] = frame.TileOrigin[1] = 0;
+  vtkCamera* cam = ren->GetActiveCamera();
+  const double* o = fixedOrigin ? fixedOrigin : cam->GetFocalPoint();
+  frame.Origin = glm::dvec3(o[0], o[1], o[2]);
+  frame.Eye = glm::dvec3(cam->GetPosition()[0], cam->GetPosition()[1], cam->GetPosition()[2]) - frame.Origin;
+  return true;
+}
+
+std::string FrameSignature(vtkRenderer* ren, const FrameState& frame, const CasterSet& casters,
+  unsigned long long settingsTime)
+{
+  vtkCamera* cam = ren->GetActiveCamera();
+  std::ostringstream sig;
+  double vm[16];
+  vtkMatrix4x4::DeepCopy(vm, cam->GetModelViewTransformMatrix());
+  sig.precision(17);
+  for (double v : vm)
+  {
+    sig << v << ',';
+  }
+  sig << cam->GetViewAngle() << ',' << cam->GetParallelProjection() << ',' << cam->GetParallelScale() << ','
+      << ren->GetTiledAspectRatio() << ',' << frame.Width << 'x' << frame.Height << ',' << casters.Version << ','
+      << settingsTime << ',' << frame.Origin.x << ',' << frame.Origin.y << ',' << frame.Origin.z;
+  for (const auto& l : frame.Lights)
+  {
+    sig << ',' << l.Light << ':' << l.Light->GetMTime();
+  }
+  for (const auto& k : casters.Keys)
+  {
+    sig << ',' << std::get<0>(k) << ':' << std::get<3>(k) << ':' << std::get<4>(k);
+  }
+  return sig.str();
+}
+}

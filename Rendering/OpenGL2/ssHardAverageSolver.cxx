@@ -1,0 +1,135 @@
+#include "ssHardAverageSolver.h"
+
+#include "vtkSoftShadowPass.h"
+
+#include "ssCasterSet.h"
+#include "ssFrameState.h"
+#include "ssPassStats.h"
+#include "ssShadowMaps.h"
+#include "ssShadowViews.h"
+#include "ssVisibilityLayers.h"
+
+#include "vtkObject.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkSetGet.h"
+#include "vtk_glew.h"
+
+#include <sstream>
+
+namespace ss
+{
+HardAverageSolver::HardAverageSolver(Method method)
+  : VisibilitySolver(method)
+{
+}
+
+void HardAverageSolver::Configure(vtkSoftShadowPass* pass)
+{
+  this->AverageSamples = pass->GetAverageSamples();
+  this->HardTest.Configure(pass);
+}
+
+void HardAverageSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLight*>&)
+{
+  this->Maps = 0;
+}
+
+void HardAverageSolver::Compute(SolverFrame& frame, const ShadowLight& l)
+{
+  const auto tStage = Clock::now();
+  vtkOpenGLRenderWindow* win = frame.Window;
+  vtkOpenGLFramebufferObject* fbo = frame.FBO;
+  vtkOpenGLState* ostate = win->GetState();
+  const CasterSet& casterSet = *frame.Casters;
+  const ShadowMaps& maps = *frame.Maps;
+  const int W = frame.State->Width, H = frame.State->Height, S = maps.GetArray().Size;
+  const Box receivers = RelativeBox(casterSet.Receivers, frame.State->Origin);
+  const Box casters = RelativeBox(casterSet.Bounds, frame.State->Origin);
+  const glm::dvec3 casterOffset = casterSet.Origin - frame.State->Origin;
+  ostate->PushFramebufferBindings();
+  fbo->Bind();
+  fbo->RemoveDepthAttachment();
+  ostate->vtkglDisable(GL_DEPTH_TEST);
+  ostate->vtkglDisable(GL_CULL_FACE);
+  ostate->vtkglEnable(GL_BLEND);
+  auto done = [&]() {
+    glBlendColor(0.f, 0.f, 0.f, 0.f);
+    ostate->vtkglBlendEquation(GL_FUNC_ADD);
+    ostate->vtkglBlendFunc(GL_ONE, GL_ZERO);
+    ostate->vtkglDisable(GL_BLEND);
+    TextureArray::Detach();
+    fbo->RemoveColorAttachments(1);
+    ostate->PopFramebufferBindings();
+    frame.Timings->Finish();
+    frame.Timings->Add("hard_average", Milliseconds(tStage, Clock::now()));
+  };
+  // a point light has one sample; every other light k x k
+  const int k = l.Frame.IsSoft() ? this->AverageSamples : 1;
+  const float weight = 1.0f / static_cast<float>(k * k);
+  ostate->vtkglViewport(0, 0, W, H);
+  ostate->vtkglScissor(0, 0, W, H);
+  frame.Visibility->Attach(fbo, l.Layer);
+  ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
+  ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+  for (int j = 0; j < k; ++j)
+  {
+    for (int i = 0; i < k; ++i)
+    {
+      ShadowLight sl = l;
+      sl.Frame = LightSampleFrame(l.Frame, i, j, k);
+      LightViewInfo info;
+      sl.Views = MakeLightViews(sl.Frame, receivers, casters, info);
+      if (sl.Views.size() > l.Views.size())
+      {
+        vtkErrorWithObjectMacro(
+          frame.Reporter, "A light sample needs more shadow-map views than its light; sample skipped.");
+        continue;
+      }
+      // the sample's hard map (min-blended linear depth, as every map)
+      ostate->vtkglViewport(0, 0, S, S);
+      ostate->vtkglScissor(0, 0, S, S);
+      ostate->vtkglBlendEquation(GL_MIN);
+      ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+      ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
+      vtkShaderProgram* casterProgram = frame.Casters->UseProgram(win);
+      for (std::size_t v = 0; v < sl.Views.size(); ++v)
+      {
+        maps.Attach(fbo, l.FirstLayer + static_cast<int>(v));
+        ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+        if (!casterSet.Triangles.empty())
+        {
+          casterSet.Draw(casterProgram, casterSet.GetVertexArray(), sl.Views[v], sl.Views[v].extent, casterOffset);
+        }
+        ++this->Maps;
+      }
+      TextureArray::Detach();
+      // its hard test, added with weight 1/k^2
+      int shadowUnit = -1;
+      vtkShaderProgram* prog = this->HardTest.ReadyProgram(frame, shadowUnit);
+      if (!prog)
+      {
+        done();
+        return;
+      }
+      ostate->vtkglViewport(0, 0, W, H);
+      ostate->vtkglScissor(0, 0, W, H);
+      frame.Visibility->Attach(fbo, l.Layer);
+      ostate->vtkglBlendEquation(GL_FUNC_ADD);
+      ostate->vtkglBlendFunc(GL_CONSTANT_COLOR, GL_ONE);
+      glBlendColor(weight, weight, weight, weight);
+      this->HardTest.DrawVisibility(prog, sl, Method::Hard);
+      ShadowMapSolver::ReleaseProgram(frame, shadowUnit);
+    }
+  }
+  done();
+}
+
+std::string HardAverageSolver::GetStatsJSON() const
+{
+  std::ostringstream o;
+  o << "{\"samples_per_axis\": " << this->AverageSamples << ", \"maps\": " << this->Maps << "}";
+  return o.str();
+}
+}

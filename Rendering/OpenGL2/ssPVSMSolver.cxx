@@ -1,0 +1,563 @@
+#include "ssPVSMSolver.h"
+
+#include "vtkSoftShadowPass.h"
+
+#include "ssCasterSet.h"
+#include "ssFrameState.h"
+#include "ssFullScreenQuad.h"
+#include "ssGBuffer.h"
+#include "ssGLLimits.h"
+#include "ssPassStats.h"
+#include "ssShadowMaps.h"
+#include "ssShadowViews.h"
+#include "ssVisibilityLayers.h"
+
+#include "ssCasterVS.h"
+#include "ssConservativeFS.h"
+#include "ssConservativeGS.h"
+#include "ssPVSMFilterFS.h"
+#include "ssPVSMGridFS.h"
+#include "ssPVSMGridVS.h"
+#include "ssPVSMKernelFS.h"
+#include "ssPVSMResolveFS.h"
+
+#include "vtkCamera.h"
+#include "vtkLight.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkObject.h"
+#include "vtkOpenGLBufferObject.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLQuadHelper.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
+#include "vtkOpenGLVertexArrayObject.h"
+#include "vtkRenderer.h"
+#include "vtkSetGet.h"
+#include "vtkShaderProgram.h"
+#include "vtkTextureObject.h"
+#include "vtk_glew.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace ss
+{
+PVSMSolver::PVSMSolver(Method method)
+  : VisibilitySolver(method)
+{
+}
+
+PVSMSolver::~PVSMSolver() = default;
+
+void PVSMSolver::Configure(vtkSoftShadowPass* pass)
+{
+  this->Opt.LowResolution = pass->GetPVSMLowResolution();
+  this->Opt.GridSize = pass->GetPVSMGridSize();
+  this->Opt.MaxTileResolution = pass->GetPVSMMaxTileResolution();
+  this->Opt.Quality = pass->GetPVSMQuality();
+  this->Opt.Metric = pass->GetPVSMMetric();
+  this->Opt.TileCulling = pass->GetPVSMTileCulling();
+  this->Opt.BlockerSearchSamples = pass->GetBlockerSearchSamples();
+  this->Opt.FilterMaxQuads = pass->GetFilterMaxQuads();
+  this->Opt.ConstantBias = pass->GetConstantBias();
+}
+
+void PVSMSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights)
+{
+  this->Lights = 0;
+  this->Active = !lights.empty();
+  if (!this->Active)
+  {
+    this->LastStats = PVSMStats{};
+    return;
+  }
+  this->Stats = PVSMStats{};
+  this->Stats.quality = this->Opt.Quality;
+  // §5.1: the static metric when only the camera moved since the last frame:
+  // the same caster set and the same lights (a light that follows the camera
+  // moves with it, so its transformed position is part of the key)
+  std::ostringstream key;
+  key.precision(9);
+  key << frame.Casters->Version;
+  for (const auto& l : frame.State->Lights)
+  {
+    key << ';' << l.Light << ':' << l.Light->GetMTime() << ':' << l.Layer;
+    if (!l.Light->LightTypeIsSceneLight())
+    {
+      double p[3], f[3];
+      l.Light->GetTransformedPosition(p);
+      l.Light->GetTransformedFocalPoint(f);
+      key << ':' << p[0] << ',' << p[1] << ',' << p[2] << ',' << f[0] << ',' << f[1] << ',' << f[2];
+    }
+  }
+  const bool changed = key.str() != this->SceneKey;
+  this->SceneKey = key.str();
+  const PerceptualMetric metric = ChooseMetric(this->Opt.Metric, changed);
+  this->Stats.metric = PerceptualMetricName(metric);
+  double rc[4];
+  PerceptualRhoCubic(metric, rc, this->RhoEnd);
+  for (int i = 0; i < 4; ++i)
+  {
+    this->RhoCoeffs[i] = static_cast<float>(rc[i]);
+  }
+}
+
+void PVSMSolver::PrepareCasters(CasterSet& casters)
+{
+  if (this->Opt.TileCulling)
+  {
+    casters.EnsureClusters();
+  }
+}
+
+vtkShaderProgram* PVSMSolver::ReadyConservativeProgram(SolverFrame& frame)
+{
+  this->ConservativeProgram =
+    frame.Window->GetShaderCache()->ReadyShaderProgram(ssCasterVS, ssConservativeFS, ssConservativeGS);
+  if (!this->ConservativeProgram)
+  {
+    return nullptr;
+  }
+  if (!this->ConservativeVAO)
+  {
+    this->ConservativeVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
+    this->ConservativeVAOUploads = 0;
+  }
+  const CasterSet& casters = *frame.Casters;
+  if (this->ConservativeVAOUploads != casters.GetUploads())
+  {
+    this->ConservativeVAO->Bind();
+    this->ConservativeVAO->RemoveAttributeArray("vertexRel");
+    const bool ok = this->ConservativeVAO->AddAttributeArray(this->ConservativeProgram, casters.GetVertexBuffer(),
+      "vertexRel", 0, 3 * sizeof(float), VTK_FLOAT, 3, false);
+    this->ConservativeVAO->Release();
+    if (!ok)
+    {
+      return nullptr;
+    }
+    this->ConservativeVAOUploads = casters.GetUploads();
+  }
+  return this->ConservativeProgram;
+}
+
+// §5.2 step 2: the low-resolution map of each view is rasterised
+// conservatively, so that the blocker search of step 3 misses no thin caster.
+void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
+{
+  if (light.Views.empty())
+  {
+    return;
+  }
+  vtkShaderProgram* p = this->ReadyConservativeProgram(frame);
+  vtkOpenGLVertexArrayObject* vao = this->ConservativeVAO;
+  if (!p)
+  {
+    vtkErrorWithObjectMacro(frame.Reporter, "Could not build the conservative rasterisation program.");
+    p = frame.Casters->UseProgram(frame.Window);
+    vao = frame.Casters->GetVertexArray();
+  }
+  else
+  {
+    const float S = static_cast<float>(frame.Maps->GetArray().Size);
+    const float vp[2] = { S, S };
+    p->SetUniform2f("viewportSize", vp);
+  }
+  frame.Maps->DrawViews(frame, light, p, vao);
+}
+
+void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
+{
+  if (l.Views.empty())
+  {
+    return;
+  }
+  vtkOpenGLRenderWindow* win = frame.Window;
+  vtkRenderer* ren = frame.Renderer;
+  vtkOpenGLFramebufferObject* fbo = frame.FBO;
+  vtkOpenGLState* ostate = win->GetState();
+  GBuffer& gbuf = *frame.GBuffer;
+  const CasterSet& casters = *frame.Casters;
+  const TextureArray& maps = frame.Maps->GetArray();
+  PVSMStats& st = this->Stats;
+  const int W = frame.State->Width, H = frame.State->Height;
+  auto finish = [&]() { frame.Timings->Finish(); };
+
+  // resources
+  for (auto& k : this->Kernel)
+  {
+    EnsureTexture2D(win, k, W, H, 4);
+  }
+  EnsureTexture2D(win, this->Accum, W, H, 4);
+  int G = 4;
+  while (G < this->Opt.GridSize)
+  {
+    G *= 2;
+  }
+  this->GridSide = G;
+  this->Grid.Ensure(G, 1);
+  const GLint maxTexture = QueryGLLimits().maxTextureSize;
+  int tileMax = std::min(this->Opt.MaxTileResolution, static_cast<int>(maxTexture));
+  int T = 64;
+  while (T < tileMax)
+  {
+    T *= 2;
+  }
+  T = std::min(T, static_cast<int>(maxTexture));
+  tileMax = std::min(tileMax, T);
+  this->Tile.Ensure(T, 1);
+  if (!this->EmptyVAO)
+  {
+    this->EmptyVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
+  }
+  GLfloat pointRange[2] = { 1.0f, 1.0f };
+  glGetFloatv(GL_POINT_SIZE_RANGE, pointRange);
+
+  // the camera: clip space -> world relative to the frame origin
+  vtkCamera* cam = ren->GetActiveCamera();
+  vtkNew<vtkMatrix4x4> relToClip, shift;
+  shift->Identity();
+  for (int r = 0; r < 3; ++r)
+  {
+    shift->SetElement(r, 3, frame.State->Origin[r]);
+  }
+  vtkMatrix4x4::Multiply4x4(
+    cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1), shift, relToClip);
+  vtkNew<vtkMatrix4x4> clipToRel;
+  vtkMatrix4x4::Invert(relToClip, clipToRel);
+  // SetUniformMatrix hands VTK's row-major storage to GL as column-major:
+  // transpose so that GLSL's clipToRel * v is the product above
+  clipToRel->Transpose();
+
+  static const std::string kernelFS = WithCommon(ssPVSMKernelFS);
+  static const std::string filterFS = WithCommon(ssPVSMFilterFS);
+  const glm::dvec3 casterOffset = casters.Origin - frame.State->Origin;
+  const float screen[2] = { static_cast<float>(W), static_cast<float>(H) };
+
+  ostate->PushFramebufferBindings();
+  fbo->Bind();
+  fbo->RemoveDepthAttachment();
+  ostate->vtkglDisable(GL_DEPTH_TEST);
+  ostate->vtkglDisable(GL_CULL_FACE);
+  ostate->vtkglDisable(GL_BLEND);
+  auto target = [&](vtkTextureObject* t, int w, int h) {
+    fbo->RemoveColorAttachments(3);
+    fbo->AddColorAttachment(0, t);
+    fbo->ActivateDrawBuffers(1);
+    ostate->vtkglViewport(0, 0, w, h);
+    ostate->vtkglScissor(0, 0, w, h);
+  };
+  auto commonUniforms = [&](vtkShaderProgram* p, int shadowUnit) {
+    p->SetUniformi("gPosition", gbuf.Position->GetTextureUnit());
+    p->SetUniformi("gNormal", gbuf.Normal->GetTextureUnit());
+    p->SetUniformi("shadowMaps", shadowUnit);
+    p->SetUniformf("mapSize", static_cast<float>(maps.Size));
+    p->SetUniformi("numLevels", maps.Levels);
+    p->SetUniformi("searchSamples", this->Opt.BlockerSearchSamples);
+    p->SetUniformf("constantBias", static_cast<float>(this->Opt.ConstantBias));
+    SetLightUniforms(p, l);
+  };
+  auto done = [&]() {
+    TextureArray::Detach();
+    fbo->RemoveColorAttachments(3);
+    ostate->PopFramebufferBindings();
+  };
+
+  ++this->Lights;
+  // --- step 3: kernel-shape buffer (blocker search, footprint, convolution, prediction)
+  auto t0 = Clock::now();
+  vtkShaderProgram* kp = ReadyQuad(this->KernelQuad, win, kernelFS.c_str());
+  if (!kp)
+  {
+    vtkErrorWithObjectMacro(frame.Reporter, "Could not build the PVSM kernel-shape program.");
+    done();
+    return;
+  }
+  gbuf.Position->Activate();
+  gbuf.Normal->Activate();
+  int shadowUnit = maps.Bind(win);
+  commonUniforms(kp, shadowUnit);
+  kp->SetUniformMatrix("clipToRel", clipToRel);
+  kp->SetUniform2f("screenSize", screen);
+  kp->SetUniform4f("rhoCoeffs", this->RhoCoeffs);
+  kp->SetUniformf("rhoEnd", static_cast<float>(this->RhoEnd));
+  kp->SetUniformf("quality", static_cast<float>(this->Opt.Quality));
+  fbo->RemoveColorAttachments(3);
+  for (int i = 0; i < 3; ++i)
+  {
+    fbo->AddColorAttachment(static_cast<unsigned int>(i), this->Kernel[i]);
+  }
+  fbo->ActivateDrawBuffers(3);
+  ostate->vtkglViewport(0, 0, W, H);
+  ostate->vtkglScissor(0, 0, W, H);
+  this->KernelQuad->Render();
+  TextureArray::Unbind(win, shadowUnit);
+  finish();
+  auto t1 = Clock::now();
+  st.msKernel += Milliseconds(t0, t1);
+
+  target(this->Accum, W, H);
+  ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
+  ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+  for (int vi = 0; vi < static_cast<int>(l.Views.size()); ++vi)
+  {
+    const ShadowView& view = l.Views[vi];
+    // --- step 4: the SMTG, one point per pixel, min-blended
+    t0 = Clock::now();
+    this->Grid.Attach(fbo, 0, 0);
+    ostate->vtkglViewport(0, 0, G, G);
+    ostate->vtkglScissor(0, 0, G, G);
+    ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
+    ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+    this->GridProgram = win->GetShaderCache()->ReadyShaderProgram(ssPVSMGridVS, ssPVSMGridFS, "");
+    if (!this->GridProgram)
+    {
+      vtkErrorWithObjectMacro(frame.Reporter, "Could not build the PVSM tile-grid program.");
+      break;
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      this->Kernel[i]->Activate();
+    }
+    vtkShaderProgram* gp = this->GridProgram;
+    gp->SetUniformi("kernel0", this->Kernel[0]->GetTextureUnit());
+    gp->SetUniformi("kernel1", this->Kernel[1]->GetTextureUnit());
+    gp->SetUniformi("kernel2", this->Kernel[2]->GetTextureUnit());
+    gp->SetUniformi("screenWidth", W);
+    gp->SetUniformi("view", vi);
+    const float ext[4] = { static_cast<float>(view.extent.x0), static_cast<float>(view.extent.y0),
+      static_cast<float>(view.extent.x1), static_cast<float>(view.extent.y1) };
+    gp->SetUniform4f("extent", ext);
+    gp->SetUniformf("gridSize", static_cast<float>(G));
+    gp->SetUniformf("maxPointSize", std::min(pointRange[1], static_cast<float>(2 * G + 1)));
+    ostate->vtkglEnable(GL_BLEND);
+    ostate->vtkglBlendEquation(GL_MIN);
+    ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    this->EmptyVAO->Bind();
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(W) * H);
+    this->EmptyVAO->Release();
+    glDisable(GL_PROGRAM_POINT_SIZE);
+    ostate->vtkglBlendEquation(GL_FUNC_ADD);
+    ostate->vtkglDisable(GL_BLEND);
+    // --- step 5: the SMTG pyramid on the GPU (the paper's one change to
+    // [GW07]), then all its levels (4/3 G^2 texels) to the host for the
+    // kd-tree of step 6
+    BuildDepthPyramid(win, fbo, this->ReduceQuad, this->Grid, G, G, 1);
+    this->LastGridLevels.assign(static_cast<std::size_t>(this->Grid.Levels), {});
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    for (int level = 0; level < this->Grid.Levels; ++level)
+    {
+      const int sz = std::max(1, G >> level);
+      this->Grid.Attach(fbo, level, 0);
+      fbo->ActivateReadBuffer(0);
+      this->LastGridLevels[level].resize(static_cast<std::size_t>(sz) * sz * 2);
+      glReadPixels(0, 0, sz, sz, GL_RG, GL_FLOAT, this->LastGridLevels[level].data());
+    }
+    TextureArray::Detach();
+    const TileGridPyramid pyramid(this->LastGridLevels, G);
+    const double extent[4] = { view.extent.x0, view.extent.y0, view.extent.x1, view.extent.y1 };
+    const std::vector<ShadowTile> tiles = BuildShadowTiles(pyramid, extent, tileMax);
+    t1 = Clock::now();
+    st.msTiling += Milliseconds(t0, t1);
+
+    for (const ShadowTile& tile : tiles)
+    {
+      // --- step 7: the tile's shadow map at its predicted resolution
+      t0 = Clock::now();
+      this->Tile.Attach(fbo, 0, 0);
+      ostate->vtkglViewport(0, 0, tile.resX, tile.resY);
+      ostate->vtkglScissor(0, 0, tile.resX, tile.resY);
+      ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
+      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+      if (!casters.Triangles.empty())
+      {
+        vtkShaderProgram* casterProgram = frame.Casters->UseProgram(win);
+        ostate->vtkglEnable(GL_BLEND);
+        ostate->vtkglBlendEquation(GL_MIN);
+        ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+        const Rect r{ tile.rect[0], tile.rect[1], tile.rect[2], tile.rect[3] };
+        if (this->Opt.TileCulling && casters.HasClusters())
+        {
+          // only the clusters whose light-space bounds reach the tile; the
+          // pad (1e-3 of the tile) covers the GPU's float projection
+          const auto ranges = VisibleTriangleRanges(casters.Clusters, view, casterOffset, r, 1e-3);
+          for (const auto& range : ranges)
+          {
+            st.tileTrianglesDrawn += static_cast<double>(range.second);
+          }
+          casters.Draw(casterProgram, casters.GetVertexArray(), view, r, casterOffset, &ranges);
+        }
+        else
+        {
+          st.tileTrianglesDrawn += static_cast<double>(casters.NumberOfTriangles());
+          casters.Draw(casterProgram, casters.GetVertexArray(), view, r, casterOffset);
+        }
+        ostate->vtkglBlendEquation(GL_FUNC_ADD);
+        ostate->vtkglDisable(GL_BLEND);
+      }
+      BuildDepthPyramid(win, fbo, this->ReduceQuad, this->Tile, tile.resX, tile.resY);
+      TextureArray::Detach();
+      finish();
+      t1 = Clock::now();
+      st.msTileSM += Milliseconds(t0, t1);
+      st.texelsRendered += static_cast<double>(tile.resX) * tile.resY;
+      st.tileResolutions.emplace_back(tile.resX, tile.resY);
+      st.clampedTiles += tile.clamped ? 1 : 0;
+
+      // --- step 8: filtering of the pixels whose kernel reaches the tile
+      vtkShaderProgram* fp = ReadyQuad(this->FilterQuad, win, filterFS.c_str());
+      if (!fp)
+      {
+        vtkErrorWithObjectMacro(frame.Reporter, "Could not build the PVSM filter program.");
+        break;
+      }
+      target(this->Accum, W, H);
+      const int tileUnit = this->Tile.Bind(win);
+      commonUniforms(fp, -1);
+      fp->SetUniformi("kernel0", this->Kernel[0]->GetTextureUnit());
+      fp->SetUniformi("kernel1", this->Kernel[1]->GetTextureUnit());
+      fp->SetUniformi("kernel2", this->Kernel[2]->GetTextureUnit());
+      fp->SetUniformi("tileMap", tileUnit);
+      const float tr[4] = { static_cast<float>(tile.rect[0]), static_cast<float>(tile.rect[1]),
+        static_cast<float>(tile.rect[2]), static_cast<float>(tile.rect[3]) };
+      fp->SetUniform4f("tileRect", tr);
+      const float res[2] = { static_cast<float>(tile.resX), static_cast<float>(tile.resY) };
+      fp->SetUniform2f("tileRes", res);
+      int levels = 1;
+      while ((std::max(tile.resX, tile.resY) >> levels) > 0 && levels < this->Tile.Levels)
+      {
+        ++levels;
+      }
+      fp->SetUniformi("tileLevels", levels);
+      fp->SetUniformi("view", vi);
+      fp->SetUniformi("maxQuads", this->Opt.FilterMaxQuads);
+      fp->SetUniformf("nearFraction", static_cast<float>(ReachParams{}.nearFraction));
+      ostate->vtkglEnable(GL_BLEND);
+      ostate->vtkglBlendEquation(GL_FUNC_ADD);
+      ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+      this->FilterQuad->Render();
+      ostate->vtkglDisable(GL_BLEND);
+      TextureArray::Unbind(win, tileUnit);
+      finish();
+      st.msFiltering += Milliseconds(t1, Clock::now());
+    }
+    st.tiles += tiles.size();
+    for (int i = 0; i < 3; ++i)
+    {
+      this->Kernel[i]->Deactivate();
+    }
+  }
+  // --- V = (V·A) / A into the light's visibility layer
+  t0 = Clock::now();
+  vtkShaderProgram* rp = ReadyQuad(this->ResolveQuad, win, ssPVSMResolveFS);
+  if (rp)
+  {
+    this->Kernel[0]->Activate();
+    this->Kernel[1]->Activate();
+    this->Accum->Activate();
+    rp->SetUniformi("kernel0", this->Kernel[0]->GetTextureUnit());
+    rp->SetUniformi("kernel1", this->Kernel[1]->GetTextureUnit());
+    rp->SetUniformi("accum", this->Accum->GetTextureUnit());
+    frame.Visibility->Attach(fbo, l.Layer);
+    ostate->vtkglViewport(0, 0, W, H);
+    ostate->vtkglScissor(0, 0, W, H);
+    this->ResolveQuad->Render();
+    this->Accum->Deactivate();
+    this->Kernel[1]->Deactivate();
+    this->Kernel[0]->Deactivate();
+  }
+  else
+  {
+    vtkErrorWithObjectMacro(frame.Reporter, "Could not build the PVSM resolve program.");
+  }
+  gbuf.Normal->Deactivate();
+  gbuf.Position->Deactivate();
+  finish();
+  st.msFiltering += Milliseconds(t0, Clock::now());
+  done();
+}
+
+void PVSMSolver::EndFrame(SolverFrame& frame)
+{
+  if (!this->Active)
+  {
+    return;
+  }
+  PVSMStats& st = this->Stats;
+  const double W = frame.State->Width, H = frame.State->Height, G = this->GridSide;
+  st.msGBuffer = frame.Timings->Get("gbuffer");
+  st.msLowResSM = frame.Timings->Get("shadow_maps");
+  st.shadowMemoryBytes = static_cast<double>(frame.Maps->Bytes() + this->Tile.Bytes()) + G * G * 8 + W * H * (3 * 16 + 8);
+  st.msTotal = st.msGBuffer + st.msLowResSM + st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
+  this->LastStats = st;
+  frame.Timings->Set("pvsm", st.msKernel + st.msTiling + st.msTileSM + st.msFiltering);
+}
+
+std::string PVSMSolver::GetStatsJSON() const
+{
+  std::ostringstream o;
+  o.precision(17);
+  o << "{\"lights\": " << this->Lights << ", \"low_resolution\": " << this->Opt.LowResolution
+    << ", \"grid\": " << this->Opt.GridSize << ", \"max_tile\": " << this->Opt.MaxTileResolution
+    << ", \"stats\": " << PVSMStatsToJSON(this->LastStats) << "}";
+  return o.str();
+}
+
+long long PVSMSolver::GetMemoryBytes() const
+{
+  long long b = this->Tile.Bytes() + this->Grid.Bytes();
+  for (int i = 0; i < 3; ++i)
+  {
+    b += TextureBytes(this->Kernel[i], 16);
+  }
+  return b + TextureBytes(this->Accum, 16);
+}
+
+int PVSMSolver::GetNumberOfGraphicsResources() const
+{
+  int n = (this->Tile.Handle != 0 ? 1 : 0) + (this->Grid.Handle != 0 ? 1 : 0);
+  for (vtkTextureObject* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
+  {
+    n += (t && t->GetHandle() != 0) ? 1 : 0;
+  }
+  n += (this->KernelQuad ? 1 : 0) + (this->FilterQuad ? 1 : 0) + (this->ResolveQuad ? 1 : 0) +
+    (this->ReduceQuad ? 1 : 0);
+  return n;
+}
+
+void PVSMSolver::ReleaseGraphicsResources(vtkWindow* w)
+{
+  this->Tile.Release();
+  this->Grid.Release();
+  this->LastGridLevels.clear();
+  for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
+  {
+    if (t)
+    {
+      t->ReleaseGraphicsResources(w);
+    }
+  }
+  for (auto& t : this->Kernel)
+  {
+    t = nullptr;
+  }
+  this->Accum = nullptr;
+  for (auto* q : { &this->KernelQuad, &this->FilterQuad, &this->ResolveQuad, &this->ReduceQuad })
+  {
+    ReleaseQuad(*q, w);
+  }
+  for (auto* vao : { &this->ConservativeVAO, &this->EmptyVAO })
+  {
+    if (*vao)
+    {
+      (*vao)->ReleaseGraphicsResources();
+      *vao = nullptr;
+    }
+  }
+  this->ConservativeProgram = nullptr;
+  this->GridProgram = nullptr;
+  this->SceneKey.clear();
+}
+}

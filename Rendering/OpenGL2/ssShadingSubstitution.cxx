@@ -1,0 +1,89 @@
+#include "ssShadingSubstitution.h"
+
+#include "ssFrameState.h"
+
+#include "vtkShaderProgram.h"
+
+#include <utility>
+
+namespace ss
+{
+int InjectVisibility(std::string& fragmentShader)
+{
+  int lightsInShader = 0;
+  while (fragmentShader.find("lightColor" + std::to_string(lightsInShader)) != std::string::npos)
+  {
+    ++lightsInShader;
+  }
+  const bool headlightOnly =
+    fragmentShader.find("vec3 diffuse = df * diffuseColor * lightColor0;") != std::string::npos;
+  if (lightsInShader == 0 || headlightOnly)
+  {
+    return 0; // unlit, or a headlight (which never casts shadows)
+  }
+  int hits = 0;
+  for (int i = 0; i < lightsInShader; ++i)
+  {
+    const std::string n = std::to_string(i);
+    const std::string vis = "ssVisibility(ssLightLayer" + n + ")";
+    const std::pair<std::string, std::string> subs[] = {
+      { "diffuse += (df * lightColor" + n + ");", "diffuse += (df * lightColor" + n + " * " + vis + ");" },
+      { "specular += (sf * lightColor" + n + ");", "specular += (sf * lightColor" + n + " * " + vis + ");" },
+      { "radiance = lightColor" + n + ";", "radiance = lightColor" + n + " * " + vis + ";" },
+      { "radiance = lightColor" + n + " * attenuation;",
+        "radiance = lightColor" + n + " * attenuation * " + vis + ";" },
+    };
+    for (const auto& sub : subs)
+    {
+      hits += vtkShaderProgram::Substitute(fragmentShader, sub.first, sub.second, false) ? 1 : 0;
+    }
+  }
+  if (hits < lightsInShader)
+  {
+    return lightsInShader - hits;
+  }
+  std::string decl = "uniform sampler2D ssGPosition;\n"
+                     "uniform sampler2DArray ssVisTex;\n"
+                     "uniform vec2 ssViewportOrigin;\n"
+                     "uniform float ssPropId;\n"
+                     "uniform int ssUseVis;\n";
+  for (int i = 0; i < lightsInShader; ++i)
+  {
+    decl += "uniform int ssLightLayer" + std::to_string(i) + ";\n";
+  }
+  decl += "float ssVisibility(int layer)\n"
+          "{\n"
+          "  if (ssUseVis == 0 || layer < 0) { return 1.0; }\n"
+          "  ivec2 pix = ivec2(gl_FragCoord.xy - ssViewportOrigin);\n"
+          "  vec4 g = texelFetch(ssGPosition, pix, 0);\n"
+          "  // only the surface that is in the G-buffer (not translucent props)\n"
+          "  if (abs(g.w - ssPropId) > 0.5) { return 1.0; }\n"
+          "  return clamp(texelFetch(ssVisTex, ivec3(pix, layer), 0).r, 0.0, 1.0);\n"
+          "}\n";
+  fragmentShader.insert(fragmentShader.find("void main"), decl);
+  return 0;
+}
+
+void SetVisibilityUniforms(vtkShaderProgram* program, const ShadingUniforms& u, const std::vector<ShadowLight>& lights)
+{
+  program->SetUniformi("ssUseVis", u.Use ? 1 : 0);
+  // Samplers always point at the bound textures: two sampler types left on
+  // unit 0 make every draw of that shader fail (GL_INVALID_OPERATION).
+  program->SetUniformi("ssGPosition", u.PositionUnit);
+  program->SetUniformi("ssVisTex", u.VisibilityUnit);
+  if (u.Use)
+  {
+    const float vo[2] = { static_cast<float>(u.ViewportOrigin[0]), static_cast<float>(u.ViewportOrigin[1]) };
+    program->SetUniform2f("ssViewportOrigin", vo);
+    program->SetUniformf("ssPropId", static_cast<float>(u.PropId));
+  }
+  for (const auto& l : lights)
+  {
+    const std::string name = "ssLightLayer" + std::to_string(l.ShaderIndex);
+    if (program->IsUniformUsed(name.c_str()))
+    {
+      program->SetUniformi(name.c_str(), u.Use ? l.Layer : -1);
+    }
+  }
+}
+}

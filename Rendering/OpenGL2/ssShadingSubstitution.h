@@ -1,0 +1,42 @@
+// The shading stage (DESIGN.md "one data flow", last step): VTK's own
+// lighting, each light's contribution multiplied by that light's visibility.
+// The code goes into every polydata mapper's fragment shader through
+// vtkOpenGLRenderPass::PostReplaceShaderValues; the lines to multiply differ
+// with the lighting complexity (vtkOpenGLPolyDataMapper): headlight only
+// `vec3 diffuse = df * diffuseColor * lightColor0;` (never shadowed),
+// otherwise `diffuse += (df * lightColorN);` and its specular twin, and for
+// PBR `radiance = lightColorN[ * attenuation];` (which VTK's own shadow pass
+// misses). Every substitution is counted: a light whose terms are not found
+// fails loudly instead of silently losing its shadows.
+#ifndef ssShadingSubstitution_h
+#define ssShadingSubstitution_h
+
+#include <string>
+#include <vector>
+
+class vtkShaderProgram;
+
+namespace ss
+{
+struct ShadowLight;
+
+/// Multiplies each light's terms in `fragmentShader` by
+/// ssVisibility(ssLightLayerN) and declares that function and its uniforms.
+/// Unlit and headlight-only shaders are left alone. Returns how many lights'
+/// terms were not found (0 when all were, or when there was nothing to do);
+/// the shader is then not usable.
+int InjectVisibility(std::string& fragmentShader);
+
+/// The uniforms of one draw with that code.
+struct ShadingUniforms
+{
+  bool Use = false;        ///< the prop is in the G-buffer and receives shadows
+  int PositionUnit = -1;   ///< the G-buffer position texture (prop ids)
+  int VisibilityUnit = -1; ///< the visibility layers
+  int ViewportOrigin[2] = { 0, 0 };
+  int PropId = 0;
+};
+void SetVisibilityUniforms(vtkShaderProgram* program, const ShadingUniforms& u, const std::vector<ShadowLight>& lights);
+}
+
+#endif

@@ -1,0 +1,122 @@
+#include "ssShadowMaps.h"
+
+#include "ssCasterSet.h"
+#include "ssFrameState.h"
+#include "ssFullScreenQuad.h"
+#include "ssVisibilitySolver.h"
+
+#include "vtkObject.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLQuadHelper.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkSetGet.h"
+#include "vtk_glew.h"
+
+#include <algorithm>
+
+namespace ss
+{
+ShadowMaps::ShadowMaps() = default;
+ShadowMaps::~ShadowMaps() = default;
+
+int ShadowMaps::ChooseSize(const std::vector<int>& asked, int fallback, int maxTextureSize, vtkObject* reporter)
+{
+  const bool agree =
+    !asked.empty() && std::all_of(asked.begin(), asked.end(), [&](int s) { return s == asked.front(); });
+  const int want = agree ? asked.front() : fallback;
+  const int size = FitPowerOfTwo(want, maxTextureSize);
+  this->SizeNote.clear();
+  if (size < want)
+  {
+    this->SizeNote =
+      "shadow map size " + std::to_string(want) + " capped at this GL's limit of " + std::to_string(size);
+    if (this->WarnedSize != want)
+    {
+      vtkWarningWithObjectMacro(reporter, << this->SizeNote << ".");
+      this->WarnedSize = want;
+    }
+  }
+  return size;
+}
+
+bool ShadowMaps::Allocate(int size, int views, const GLLimits& limits, std::string& error)
+{
+  if (views > limits.maxArrayTextureLayers)
+  {
+    error = "The lights need " + std::to_string(views) + " shadow map views, more than this GL's " +
+      std::to_string(limits.maxArrayTextureLayers) + " array texture layers; no shadows this frame.";
+    return false;
+  }
+  this->Array.Ensure(size, std::max(views, 1));
+  if (!this->Array.Handle)
+  {
+    error = "Could not allocate " + std::to_string(std::max(views, 1)) + " shadow map(s) of " +
+      std::to_string(size) + "x" + std::to_string(size) + "; no shadows this frame.";
+    return false;
+  }
+  return true;
+}
+
+void ShadowMaps::BeginDrawing(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo) const
+{
+  vtkOpenGLState* ostate = win->GetState();
+  const int S = this->Array.Size;
+  ostate->PushFramebufferBindings();
+  fbo->Bind();
+  fbo->RemoveDepthAttachment();
+  ostate->vtkglViewport(0, 0, S, S);
+  ostate->vtkglScissor(0, 0, S, S);
+  ostate->vtkglDisable(GL_DEPTH_TEST);
+  ostate->vtkglDisable(GL_CULL_FACE);
+  ostate->vtkglEnable(GL_BLEND);
+  ostate->vtkglBlendEquation(GL_MIN);
+  ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
+  ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
+}
+
+void ShadowMaps::DrawViews(const SolverFrame& frame, const ShadowLight& light, vtkShaderProgram* program,
+  vtkOpenGLVertexArrayObject* vao) const
+{
+  const CasterSet& casters = *frame.Casters;
+  const glm::dvec3 offset = casters.Origin - frame.State->Origin;
+  int layer = light.FirstLayer;
+  for (const auto& v : light.Views)
+  {
+    this->Array.Attach(frame.FBO, 0, layer);
+    frame.Window->GetState()->vtkglClear(GL_COLOR_BUFFER_BIT);
+    if (!casters.Triangles.empty())
+    {
+      casters.Draw(program, vao, v, v.extent, offset);
+    }
+    ++layer;
+  }
+}
+
+bool ShadowMaps::EndDrawing(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo)
+{
+  vtkOpenGLState* ostate = win->GetState();
+  ostate->vtkglBlendEquation(GL_FUNC_ADD);
+  ostate->vtkglDisable(GL_BLEND);
+  const bool ok = BuildDepthPyramid(win, fbo, this->ReduceQuad, this->Array, this->Array.Size, this->Array.Size);
+  TextureArray::Detach();
+  ostate->PopFramebufferBindings();
+  return ok;
+}
+
+bool ShadowMaps::Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int layer, float* out) const
+{
+  return fbo && this->Array.Read(win, fbo, layer, out);
+}
+
+int ShadowMaps::CountGraphicsResources() const
+{
+  return (this->Array.Handle != 0 ? 1 : 0) + (this->ReduceQuad ? 1 : 0);
+}
+
+void ShadowMaps::ReleaseGraphicsResources(vtkWindow* w)
+{
+  this->Array.Release();
+  ReleaseQuad(this->ReduceQuad, w);
+}
+}

@@ -1,0 +1,79 @@
+#include "ssShadowViews.h"
+
+#include "ssCasterSet.h"
+#include "ssFrameState.h"
+
+#include "vtkShaderProgram.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ss
+{
+void FitShadowViews(ShadowLight& l, const Box& receivers, const Box& casters, const CasterSet& set,
+  const glm::dvec3& origin)
+{
+  l.Views = MakeLightViews(l.Frame, receivers, casters, l.ViewInfo);
+  const double diag = std::max(casters.Diagonal(), receivers.Diagonal());
+  l.SearchDepth =
+    BlockerSearchDepth(l.Views.front(), set.Triangles.data(), set.Triangles.size(), set.Origin - origin, diag);
+}
+
+Box RelativeBox(const Box& absolute, const glm::dvec3& origin)
+{
+  Box b;
+  if (!absolute.Empty())
+  {
+    b.Add(absolute.min - origin);
+    b.Add(absolute.max - origin);
+  }
+  return b;
+}
+
+void SetLightUniforms(vtkShaderProgram* prog, const ShadowLight& l)
+{
+  const int nv = static_cast<int>(l.Views.size());
+  float U[6][3] = {}, Vv[6][3] = {}, N[6][3] = {}, E[6][4] = {};
+  for (int i = 0; i < nv && i < 6; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      U[i][c] = static_cast<float>(l.Views[i].u[c]);
+      Vv[i][c] = static_cast<float>(l.Views[i].v[c]);
+      N[i][c] = static_cast<float>(l.Views[i].n[c]);
+    }
+    E[i][0] = static_cast<float>(l.Views[i].extent.x0);
+    E[i][1] = static_cast<float>(l.Views[i].extent.y0);
+    E[i][2] = static_cast<float>(l.Views[i].extent.x1);
+    E[i][3] = static_cast<float>(l.Views[i].extent.y1);
+  }
+  prog->SetUniformi("firstLayer", l.FirstLayer);
+  prog->SetUniformi("numViews", nv);
+  prog->SetUniform3fv("viewU", nv, U);
+  prog->SetUniform3fv("viewV", nv, Vv);
+  prog->SetUniform3fv("viewN", nv, N);
+  prog->SetUniform4fv("viewExtent", nv, E);
+  const glm::vec3 c(l.Views.front().origin);
+  prog->SetUniform3f("lightCenter", glm::value_ptr(c));
+  const bool ortho = l.Frame.type == LightType::Directional;
+  prog->SetUniformi("orthographic", ortho ? 1 : 0);
+  prog->SetUniformi("oneSided", l.Frame.type == LightType::Rect ? 1 : 0);
+  float half[2] = { 0.f, 0.f };
+  if (l.Frame.type == LightType::Rect)
+  {
+    half[0] = static_cast<float>(0.5 * l.Frame.width);
+    half[1] = static_cast<float>(0.5 * l.Frame.height);
+  }
+  else if (ortho)
+  {
+    half[0] = half[1] = static_cast<float>(std::tan(0.5 * l.Frame.angularDiameter));
+  }
+  prog->SetUniform2f("lightHalfSize", half);
+  const glm::vec3 lu(l.Frame.u), lv(l.Frame.v);
+  prog->SetUniform3f("lightU", glm::value_ptr(lu));
+  prog->SetUniform3f("lightV", glm::value_ptr(lv));
+  prog->SetUniformf("searchDepth", static_cast<float>(l.SearchDepth));
+}
+}

@@ -1,0 +1,28 @@
+// Shadow-view fitting: a light's whole-view shadow-map views fitted to the
+// receivers (Rendering/Core ssShadowView), its PCSS blocker-search plane, and
+// the uniforms of ssShadowCommon.glsl that describe the light and its views.
+#ifndef ssShadowViews_h
+#define ssShadowViews_h
+
+#include "ssShadowView.h"
+
+class vtkShaderProgram;
+
+namespace ss
+{
+class CasterSet;
+struct ShadowLight;
+
+/// Sets light.Views, light.ViewInfo and light.SearchDepth. `receivers` and
+/// `casters` are the bounds relative to `origin` (the frame origin).
+void FitShadowViews(ShadowLight& light, const Box& receivers, const Box& casters, const CasterSet& set,
+  const glm::dvec3& origin);
+
+/// Receivers' and casters' bounds relative to the frame origin (empty stays empty).
+Box RelativeBox(const Box& absolute, const glm::dvec3& origin);
+
+/// The uniforms of ssShadowCommon.glsl that describe `light` and its views.
+void SetLightUniforms(vtkShaderProgram* prog, const ShadowLight& light);
+}
+
+#endif

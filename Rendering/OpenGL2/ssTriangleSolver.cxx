@@ -1,0 +1,210 @@
+#include "ssTriangleSolver.h"
+
+#include "vtkSoftShadowPass.h"
+
+#include "ssCasterSet.h"
+#include "ssFrameState.h"
+#include "ssGBuffer.h"
+#include "ssGearsGL.h"
+#include "ssPassStats.h"
+#include "ssVisibilityLayers.h"
+
+#include "vtkObject.h"
+#include "vtkOpenGLError.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkSetGet.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace ss
+{
+TriangleSolver::TriangleSolver(Method method)
+  : VisibilitySolver(method)
+{
+}
+
+TriangleSolver::~TriangleSolver() = default;
+
+void TriangleSolver::Configure(vtkSoftShadowPass* pass)
+{
+  this->Opt.Reference.k = pass->GetReferenceSamples();
+  this->Opt.Reference.pattern =
+    pass->GetReferencePattern() == 1 ? LightSamplePattern::Stratified : LightSamplePattern::Regular;
+  this->Opt.Gears.k = pass->GetGearsSamples();
+  this->Opt.Gears.grid = pass->GetGearsGrid();
+  this->Opt.Gears.raster = pass->GetGearsRaster() == 1 ? GearsRaster::LUT : GearsRaster::EdgePlane;
+  this->Opt.Gears.countNecessary = pass->GetGearsCountNecessary();
+  this->Opt.GearsOnGL = pass->GetGearsBackend() == vtkSoftShadowPass::GEARS_BACKEND_GL;
+}
+
+void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLight*>& lights)
+{
+  this->Active = !lights.empty();
+  this->SolveMs = 0.0;
+  this->HaveTriangles = false;
+  this->LastReferenceStats = ReferenceStats{};
+  this->LastGearsStats = GearsStats{};
+  this->GearsLights = 0;
+  this->BackendUsed = "cpu";
+  this->BackendNote.clear();
+}
+
+void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
+{
+  // --- the input: the caster set (again when it changed) and the G-buffer
+  const auto t0 = Clock::now();
+  const bool reference = this->GetMethod() == Method::Reference;
+  const CasterSet& casters = *frame.Casters;
+  if (!this->HaveTriangles)
+  {
+    if (reference && (!this->Reference || this->Version != casters.Version))
+    {
+      if (!this->Reference)
+      {
+        this->Reference.reset(new ReferenceSolver);
+      }
+      this->Reference->SetTriangles(casters.WorldVertices(), casters.Opacity);
+      this->Version = casters.Version;
+    }
+    if (!reference && (!this->Gears || this->Version != casters.Version))
+    {
+      if (!this->Gears)
+      {
+        this->Gears.reset(new GearsSolver);
+      }
+      this->Gears->SetTriangles(casters.WorldVertices(), casters.Opacity);
+      this->Version = casters.Version;
+    }
+    this->HaveTriangles = true;
+  }
+  const std::vector<float>* positions = nullptr;
+  const std::vector<float>* normals = nullptr;
+  const int W = frame.State->Width, H = frame.State->Height;
+  frame.GBuffer->ReadForCPU(frame.Window, frame.FBO, W, H, positions, normals);
+  const float* pos = positions->data();
+  const float* nrm = normals->data();
+  const std::size_t n = static_cast<std::size_t>(W) * H;
+  frame.Timings->Add("triangle_solver_input", ss::Milliseconds(t0, Clock::now()));
+
+  // --- the light; its frame is relative to the frame origin, the solvers want world
+  const glm::dvec3& origin = frame.State->Origin;
+  LightFrame world = l.Frame;
+  world.center += origin;
+  const auto tl = Clock::now();
+  std::vector<float> V;
+  if (reference)
+  {
+    ReferenceStats st;
+    V = this->Reference->Solve(world, origin, pos, nrm, n, this->Opt.Reference, &st);
+    this->LastReferenceStats.rays += st.rays;
+    this->LastReferenceStats.milliseconds += st.milliseconds;
+  }
+  else
+  {
+    GearsStats st;
+    bool onGPU = false;
+    if (this->Opt.GearsOnGL)
+    {
+      if (!this->GL)
+      {
+        this->GL.reset(new GearsGL);
+      }
+      // raw GL programs: VTK's shader cache must rebind its own afterwards
+      frame.Window->GetShaderCache()->ReleaseCurrentShader();
+      std::string why;
+      onGPU = this->GL->Solve(*this->Gears, world, origin, pos, nrm, n, this->Opt.Gears, V, &st, nullptr, &why);
+#ifdef VTK_REPORT_OPENGL_ERRORS
+#define ssReporterError(x) vtkErrorWithObjectMacro(frame.Reporter, x)
+      vtkOpenGLCheckErrorMacroImpl(ssReporterError, "after the GEARS compute backend");
+#undef ssReporterError
+#endif
+      if (!onGPU)
+      {
+        this->BackendNote = why;
+        if (this->Warned != why)
+        {
+          vtkWarningWithObjectMacro(frame.Reporter, << why << "; GEARS runs on the CPU.");
+          this->Warned = why;
+        }
+      }
+    }
+    if (!onGPU)
+    {
+      V = this->Gears->Solve(world, origin, pos, nrm, n, this->Opt.Gears, &st);
+    }
+    this->BackendUsed = onGPU ? "gl" : "cpu";
+    this->Accumulate(st);
+  }
+  this->SolveMs += ss::Milliseconds(tl, Clock::now());
+  frame.Visibility->Upload(l.Layer, V);
+}
+
+void TriangleSolver::EndFrame(SolverFrame& frame)
+{
+  this->LastReferenceStats.raysPerSecond = this->LastReferenceStats.milliseconds > 0
+    ? this->LastReferenceStats.rays / (this->LastReferenceStats.milliseconds * 1e-3)
+    : 0.0;
+  if (this->Active)
+  {
+    frame.Timings->Set(this->GetMethod() == Method::Reference ? "reference" : "gears", this->SolveMs);
+  }
+}
+
+void TriangleSolver::Accumulate(const GearsStats& st)
+{
+  GearsStats& a = this->LastGearsStats;
+  a.msProject += st.msProject;
+  a.msPrefixSum += st.msPrefixSum;
+  a.msRelate += st.msRelate;
+  a.msSort += st.msSort;
+  a.msRaster += st.msRaster;
+  a.msTotal += st.msTotal;
+  a.triangles = st.triangles;
+  a.samples += st.samples;
+  a.gridCells += st.gridCells;
+  a.nonEmptyCells += st.nonEmptyCells;
+  a.pairs += st.pairs;
+  a.trianglesPerCellMax = std::max(a.trianglesPerCellMax, st.trianglesPerCellMax);
+  a.samplesPerCellMax = std::max(a.samplesPerCellMax, st.samplesPerCellMax);
+  a.assignmentsTotal += st.assignmentsTotal;
+  a.assignmentsNecessary =
+    st.assignmentsNecessary < 0 ? -1.0 : std::max(a.assignmentsNecessary, 0.0) + st.assignmentsNecessary;
+  a.fullGridTriangles += st.fullGridTriangles;
+  a.lutFallbacks += st.lutFallbacks;
+  ++this->GearsLights;
+  // averages over all non-empty cells of the frame's GEARS lights
+  a.trianglesPerCellAvg = (a.trianglesPerCellAvg * (a.nonEmptyCells - st.nonEmptyCells) +
+                            st.trianglesPerCellAvg * st.nonEmptyCells) /
+    std::max<std::size_t>(a.nonEmptyCells, 1);
+  a.samplesPerCellAvg = a.nonEmptyCells ? static_cast<double>(a.samples) / a.nonEmptyCells : 0.0;
+}
+
+std::string TriangleSolver::GetStatsJSON() const
+{
+  std::ostringstream o;
+  o.precision(17);
+  if (this->GetMethod() == Method::Reference)
+  {
+    o << "{\"samples_per_axis\": " << this->Opt.Reference.k << ", \"rays\": " << this->LastReferenceStats.rays
+      << ", \"rays_per_second\": " << this->LastReferenceStats.raysPerSecond << "}";
+    return o.str();
+  }
+  o << "{\"samples_per_axis\": " << this->Opt.Gears.k << ", \"grid\": " << this->Opt.Gears.grid
+    << ", \"raster\": \"" << (this->Opt.Gears.raster == GearsRaster::LUT ? "lut" : "edge")
+    << "\", \"backend\": \"" << this->BackendUsed << "\", \"backend_requested\": \""
+    << (this->Opt.GearsOnGL ? "gl" : "cpu") << "\", \"backend_note\": \"" << JSONEscape(this->BackendNote) << "\""
+    << ", \"lights\": " << this->GearsLights << ", \"stats\": " << GearsStatsToJSON(this->LastGearsStats) << "}";
+  return o.str();
+}
+
+void TriangleSolver::ReleaseGraphicsResources(vtkWindow*)
+{
+  if (this->GL)
+  {
+    this->GL->ReleaseGraphicsResources();
+    this->GL.reset();
+  }
+}
+}

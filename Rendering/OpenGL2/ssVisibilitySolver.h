@@ -1,0 +1,125 @@
+// The one interface every visibility solver implements (DESIGN.md "one data
+// flow": per light, solver -> visibility layer -> shading).
+//
+// vtkSoftShadowPass owns the frame: the G-buffer, the caster set, the shared
+// whole-view shadow maps and the visibility layers. It keeps one solver per
+// registered method (ssSolverRegistry) and, for every frame it solves, calls
+// each solver in this order:
+//
+//   Configure(pass)                     its typed options, from the pass's properties
+//   BeginFrame(frame, lights)           its lights of this frame (maybe none): reset its stats
+//   per light: GetShadowMapSize()       if UsesShadowMaps(): the size it asks the shared maps for
+//   PrepareCasters(casters)             before the caster set is uploaded
+//   per light: DrawShadowMaps(frame, light)   into its layers of the shared maps
+//   per light: Compute(frame, light)    writes the light's visibility layer
+//   EndFrame(frame)                     totals for its stats
+//
+// and at any time GetStatsJSON, GetMemoryBytes, GetNumberOfGraphicsResources
+// and ReleaseGraphicsResources. Filament splits shadows the same way: a
+// manager owns the atlas and the per-frame policy (here the pass and
+// ssShadowMaps), each ShadowMap one light's work (here a solver's calls for
+// that light).
+#ifndef ssVisibilitySolver_h
+#define ssVisibilitySolver_h
+
+#include "ssEffectPlanner.h"
+
+#include <string>
+#include <vector>
+
+class vtkObject;
+class vtkOpenGLFramebufferObject;
+class vtkOpenGLRenderWindow;
+class vtkRenderer;
+class vtkSoftShadowPass;
+class vtkWindow;
+
+namespace ss
+{
+class CasterSet;
+class GBuffer;
+class ShadowMaps;
+class StageTimings;
+class VisibilityLayers;
+struct FrameState;
+struct ShadowLight;
+
+/// The frame as a solver sees it. The pass owns every piece; a solver reads
+/// them and writes only its own lights' visibility layers (and, for solvers
+/// that use them, its lights' layers of the shared shadow maps).
+struct SolverFrame
+{
+  vtkRenderer* Renderer = nullptr;
+  vtkOpenGLRenderWindow* Window = nullptr; ///< its context is current
+  /// The pass's render target for off-screen stages: attach, draw, detach;
+  /// push and pop the window's framebuffer bindings around its use.
+  vtkOpenGLFramebufferObject* FBO = nullptr;
+  const FrameState* State = nullptr; ///< viewport, origin, camera position, lights
+  ss::GBuffer* GBuffer = nullptr;
+  ss::CasterSet* Casters = nullptr;
+  ss::ShadowMaps* Maps = nullptr;
+  ss::VisibilityLayers* Visibility = nullptr;
+  StageTimings* Timings = nullptr; ///< add the solver's stages here (timings_ms)
+  vtkObject* Reporter = nullptr;   ///< errors and warnings go out as the pass's
+};
+
+class VisibilitySolver
+{
+public:
+  explicit VisibilitySolver(Method method)
+    : SolverMethod(method)
+  {
+  }
+  virtual ~VisibilitySolver() = default;
+  VisibilitySolver(const VisibilitySolver&) = delete;
+  VisibilitySolver& operator=(const VisibilitySolver&) = delete;
+
+  /// The method this instance solves (a family solver serves several).
+  Method GetMethod() const { return this->SolverMethod; }
+
+  /// Reads the solver's typed options from the pass's properties; called
+  /// before every frame and before the stats are written.
+  virtual void Configure(vtkSoftShadowPass* pass) = 0;
+
+  /// A frame starts: `lights` are this solver's lights (none when the plan
+  /// gave it none; the stats then say so).
+  virtual void BeginFrame(SolverFrame&, const std::vector<const ShadowLight*>&) {}
+
+  /// Whether the solver's lights get whole-view shadow maps in the shared
+  /// array (views fitted to the receivers, layers reserved, drawn by
+  /// DrawShadowMaps, their min/max pyramid built). False for solvers that
+  /// work on the caster triangles.
+  virtual bool UsesShadowMaps() const { return true; }
+  /// The map size (texels a side) the solver asks the shared array for; the
+  /// array takes it when every light agrees, else the pass's ShadowMapSize.
+  virtual int GetShadowMapSize() const { return 0; }
+  /// Before the caster set is uploaded for the frame (e.g. order it into clusters).
+  virtual void PrepareCasters(CasterSet&) {}
+  /// Draws `light`'s views into its layers of frame.Maps (viewport, blending
+  /// and clear colour set by ShadowMaps::BeginDrawing). The default draws the
+  /// caster set with the caster program into every view.
+  virtual void DrawShadowMaps(SolverFrame& frame, const ShadowLight& light);
+
+  /// Writes `light`'s visibility layer (frame.Visibility, layer light.Layer):
+  /// V in [0, 1] on the G-buffer's foreground, -1 on the background. Errors
+  /// are reported through frame.Reporter.
+  virtual void Compute(SolverFrame& frame, const ShadowLight& light) = 0;
+
+  /// After the last light of the frame.
+  virtual void EndFrame(SolverFrame&) {}
+
+  /// The solver's entry in the stats (a JSON object under the method's
+  /// name), or empty for none.
+  virtual std::string GetStatsJSON() const { return std::string(); }
+  /// GPU memory the solver holds beyond the shared pieces.
+  virtual long long GetMemoryBytes() const { return 0; }
+  /// Live GPU objects the solver holds (0 after ReleaseGraphicsResources).
+  virtual int GetNumberOfGraphicsResources() const { return 0; }
+  virtual void ReleaseGraphicsResources(vtkWindow*) {}
+
+private:
+  Method SolverMethod;
+};
+}
+
+#endif
