@@ -313,6 +313,14 @@ std::vector<std::int8_t> GearsSolver::ClosedRuleFlags(const LightFrame& light, c
 {
   LightFrame L = light;
   L.center -= P->D.center;
+  if (L.type == LightType::Directional)
+  {
+    // a directional light has no position: its frame's centre goes to the
+    // caster centre, so depths and the culling margin (ft.margin) stay at the
+    // scene's scale wherever the scene lies (else everything is kept far from
+    // the world origin)
+    L.center = glm::dvec3(0.0);
+  }
   std::vector<std::int8_t> flags;
   gears::ClosedRuleFlags(P->D, L, options, flags);
   flags.resize(P->D.real);
@@ -396,6 +404,14 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   // Everything below works relative to the caster centre, in double.
   LightFrame L = light;
   L.center -= D.center;
+  if (L.type == LightType::Directional)
+  {
+    // a directional light has no position: its frame's centre goes to the
+    // caster centre, so depths and the culling margin (ft.margin) stay at the
+    // scene's scale wherever the scene lies (else everything is kept far from
+    // the world origin)
+    L.center = glm::dvec3(0.0);
+  }
   const glm::dvec3 rel = origin - D.center;
   const double T = (L.type == LightType::Directional) ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
 

@@ -442,6 +442,14 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   const double eps = 1e-5 * D.extent;
   LightFrame L = light;
   L.center -= D.center;
+  if (L.type == LightType::Directional)
+  {
+    // a directional light has no position: its frame's centre goes to the
+    // caster centre, so depths and the culling margin (ft.margin) stay at the
+    // scene's scale wherever the scene lies (else everything is kept far from
+    // the world origin)
+    L.center = glm::dvec3(0.0);
+  }
   const glm::dvec3 rel = origin - D.center;
   const double T = (L.type == LightType::Directional) ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
   const int type = L.type == LightType::Rect ? 0 : (L.type == LightType::Directional ? 1 : 2);
