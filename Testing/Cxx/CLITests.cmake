@@ -175,6 +175,13 @@ add_test(NAME cli.bench.smoke_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bench.py" "${_ss_out}/bench_smoke")
 set_tests_properties(cli.bench.smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_smoke)
 set_tests_properties(cli.bench.smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_smoke)
+add_test(NAME cli.bench.gears_smoke
+  COMMAND env -u DISPLAY ${_ss_cli} bench --gears --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
+    --sizes 160x120 --samples 8 --frames 1 --out "${_ss_out}/bench_gears_smoke")
+add_test(NAME cli.bench.gears_smoke_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_gears_bench.py" "${_ss_out}/bench_gears_smoke")
+set_tests_properties(cli.bench.gears_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_gears_smoke)
+set_tests_properties(cli.bench.gears_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_gears_smoke)
 add_test(NAME cli.bench.pvsm_smoke
   COMMAND env -u DISPLAY ${_ss_cli} bench --pvsm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
     --size 160x120 --frames 1 --reference-samples 4 --out "${_ss_out}/bench_pvsm_smoke")

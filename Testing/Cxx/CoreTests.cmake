@@ -10,6 +10,7 @@ add_executable(TestSoftShadowsCore
   TestSSReference.cxx
   TestSSReferenceISA.cxx
   TestSSGEARS.cxx
+  TestSSGEARSCulling.cxx
   TestSSPVSM.cxx
   TestSSMetrics.cxx
   TestSSCasterClusters.cxx
