@@ -874,6 +874,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   std::atomic<std::size_t> lutFallbacks{ 0 };
   double assignmentsTotal = 0, assignmentsNecessary = 0;
   std::size_t sumTrisPerCell = 0;
+  bool stopped = false; // opt.progress asked to stop
 
   for (int f = 0; f < numFaces; ++f)
   {
@@ -1216,8 +1217,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     const double slackX = 1e-7 * (W / k) + 1e-12 * I.Extent, slackY = 1e-7 * (H / k) + 1e-12 * I.Extent;
     const double xlo = -hx - slackX, xhi = hx + slackX, ylo = -hy - slackY, yhi = hy + slackY;
     tbb::enumerable_thread_specific<double> necessary(0.0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cellsWithSamples.size(), 1),
-      [&](const tbb::blocked_range<std::size_t>& r) {
+    const auto rasterCells = [&](const tbb::blocked_range<std::size_t>& r) {
         double& nec = necessary.local();
         std::vector<float> trans;
         std::vector<double> tv;          // the cell's triangles in the light frame, 9 per triangle
@@ -1391,7 +1391,15 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
             }
           }
         }
-      });
+      };
+    // in chunks of cells, so that the caller hears of progress and can stop
+    const std::size_t numCells = cellsWithSamples.size(), chunk = std::max<std::size_t>(64, numCells / 32);
+    for (std::size_t b = 0; b < numCells && !stopped; b += chunk)
+    {
+      const std::size_t e = std::min(numCells, b + chunk);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(b, e, 1), rasterCells);
+      stopped = opt.progress && !opt.progress((f + static_cast<double>(e) / numCells) / numFaces);
+    }
     if (opt.countNecessary)
     {
       for (double v : necessary)
@@ -1412,6 +1420,10 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
         assignOut->pixelCell[pix[q]] = static_cast<std::int32_t>(pixCell[q]);
       }
       assignOut->faces.push_back(std::move(fa));
+    }
+    if (stopped)
+    {
+      break;
     }
   }
   st.trianglesPerCellAvg = st.nonEmptyCells ? static_cast<double>(sumTrisPerCell) / st.nonEmptyCells : 0.0;

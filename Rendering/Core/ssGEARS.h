@@ -2,6 +2,7 @@
 #define ssGEARS_h
 
 #include "ssLightFrame.h"
+#include "ssSolveProgress.h"
 
 #include <array>
 #include <cstddef>
@@ -28,6 +29,7 @@ struct GearsOptions
   bool countNecessary = false;   ///< Table 9 "necessary" assignments (no early exit, slower)
   GearsRaster raster = GearsRaster::EdgePlane;
   int lutResolution = 512;       ///< LUT: angles x distances
+  SolveProgress progress;        ///< optional: called between chunks of step 4's cells; false stops
 };
 
 /// The paper's tables for one Solve: stage times (Table 2), grid load

@@ -271,7 +271,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
     }
   };
 
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+  auto solvePixels = [&](const tbb::blocked_range<std::size_t>& r) {
     long long localRays = 0;
     for (std::size_t pix = r.begin(); pix != r.end(); ++pix)
     {
@@ -394,7 +394,18 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
       V[pix] = static_cast<float>(visible / ns);
     }
     rayCount += localRays;
-  });
+  };
+  // in chunks, so that the caller hears of progress and can stop the solve
+  const std::size_t chunk = std::max<std::size_t>(4096, n / 64);
+  for (std::size_t b = 0; b < n; b += chunk)
+  {
+    const std::size_t e = std::min(n, b + chunk);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(b, e, 64), solvePixels);
+    if (opt.progress && !opt.progress(static_cast<double>(e) / n))
+    {
+      break;
+    }
+  }
   if (stats)
   {
     stats->rays = static_cast<double>(rayCount.load());
