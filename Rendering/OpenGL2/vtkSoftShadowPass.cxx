@@ -13,6 +13,7 @@
 #include "vtkSoftShadowPass.h"
 
 #include "ssCasterSet.h"
+#include "ssFrameBudget.h"
 #include "ssFrameState.h"
 #include "ssGBuffer.h"
 #include "ssGLLimits.h"
@@ -26,6 +27,7 @@
 #include "ssVisibilityLayers.h"
 #include "ssVisibilitySolver.h"
 
+#include "vtkCommand.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationIntegerKey.h"
@@ -91,6 +93,11 @@ public:
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
   std::string LastSignature;
   bool HaveResults = false;
+  // --- interactive frames: the methods the kept visibility was solved with,
+  // what each method's shadow work cost; progress and abort of this frame
+  std::vector<ss::Method> LastMethods;
+  ss::MethodCosts Costs;
+  bool Aborted = false;
 
   ss::VisibilitySolver* SolverFor(ss::Method m) const
   {
@@ -208,6 +215,7 @@ public:
     this->Casters.ReleaseGraphicsResources();
     this->HaveResults = false;
     this->LastSignature.clear();
+    this->LastMethods.clear();
   }
 };
 
@@ -379,11 +387,14 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   // --- lights and the effect plan
   in.Frame.Lights = ss::CollectLights(ren, in.Frame.Origin);
   const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
-  this->PlanFrame(in.HaveResults && signature == in.LastSignature);
+  this->PlanFrame(in.HaveResults && signature == in.LastSignature,
+    this->AdaptToFrameBudget ? ss::FrameBudgetMs(win, this->InteractiveUpdateRate) : 0.0);
+  in.Aborted = false;
 
   // --- G-buffer and one solver per light, unless the last frame's V holds
   if (in.ShadowsThisFrame && !in.Plan.reuse)
   {
+    const auto tWork = Clock::now();
     // Our stages change blending, depth and clear state: give VTK's shading
     // (opaque, translucent, depth peeling) the state it had.
     vtkOpenGLState::ScopedglEnableDisable blendSaver(ostate, GL_BLEND);
@@ -394,10 +405,21 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     vtkOpenGLState::ScopedglClearColor clearSaver(ostate);
     this->RenderGBuffer(s);
     this->SolveVisibility(s);
-    // a solve that could not allocate its textures turned shadows off: try
-    // again next frame rather than reuse nothing
+    if (in.ShadowsThisFrame && this->AdaptToFrameBudget)
+    {
+      glFinish(); // the shadow work's true cost, for the frames to plan
+      in.Costs.Record(in.Frame.Lights, ss::Milliseconds(tWork, Clock::now()),
+        static_cast<double>(in.Frame.Width) * in.Frame.Height);
+    }
+    // a solve that could not allocate its textures (or was aborted) turned
+    // shadows off: try again next frame rather than reuse nothing
     in.HaveResults = in.ShadowsThisFrame;
     in.LastSignature = in.ShadowsThisFrame ? signature : std::string();
+    in.LastMethods.clear();
+    for (const auto& l : in.Plan.lights)
+    {
+      in.LastMethods.push_back(l.method);
+    }
   }
   else if (!in.ShadowsThisFrame)
   {
@@ -415,7 +437,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 }
 
 //------------------------------------------------------------------------------
-void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
+void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudgetMs)
 {
   auto& in = *this->Internals;
   ss::PlannerInput pin;
@@ -424,11 +446,14 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
   pin.receiverProps = in.Casters.ReceiverProps;
   pin.translucentCasters = in.Casters.Translucent;
   pin.methods = ss::PlannerMethods();
+  in.Costs.Estimate(pin.methods, static_cast<double>(in.Frame.Width) * in.Frame.Height);
+  pin.frameBudgetMs = frameBudgetMs;
   for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
   }
   pin.unchangedSinceLastFrame = unchangedSinceLastFrame;
+  pin.lastMethods = in.LastMethods;
   in.Plan = ss::MakeEffectPlan(pin);
 
   int layers = 0;
@@ -552,17 +577,39 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   }
   in.Timings.Set("visibility", ss::Milliseconds(tStage, Clock::now()));
 
-  // --- one solver per light writes its layer
+  // --- one solver per light writes its layer; progress over all lights,
+  // and a render abort (vtkRenderWindow) stops between lights and chunks
+  int solved = 0;
+  auto progress = [&](double fractionOfLight) {
+    double p = std::min(1.0, (solved + fractionOfLight) / numShadowLights);
+    this->InvokeEvent(vtkCommand::ProgressEvent, &p);
+    in.Aborted = in.Aborted || win->CheckAbortStatus() != 0;
+    return !in.Aborted;
+  };
   for (const auto& l : in.Frame.Lights)
   {
-    if (l.Layer >= 0)
+    if (l.Layer >= 0 && progress(0.0))
     {
+      frame.Progress = progress;
       in.SolverFor(l.Method)->Compute(frame, l);
+      ++solved;
     }
   }
   for (const auto& solver : in.Solvers)
   {
     solver->EndFrame(frame);
+  }
+  if (!in.Aborted)
+  {
+    double done = 1.0;
+    this->InvokeEvent(vtkCommand::ProgressEvent, &done);
+  }
+  else
+  {
+    in.ShadowsThisFrame = false;
+    in.Plan.aborted = true;
+    in.Plan.reason += "; render aborted (vtkRenderWindow AbortRender) with " + std::to_string(solved) + " of " +
+      std::to_string(numShadowLights) + " shadow lights solved: no shadows this frame";
   }
 }
 
@@ -833,6 +880,11 @@ bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFl
   return in.Maps.Read(ow, in.FBO, layer, out->GetPointer(0));
 }
 
+bool vtkSoftShadowPass::GetLastFrameAborted()
+{
+  return this->Internals->Aborted;
+}
+
 int vtkSoftShadowPass::GetLastWidth()
 {
   return this->Internals->Frame.Width;
@@ -859,6 +911,16 @@ int vtkSoftShadowPass::GetLastNumberOfCasterTriangles()
 std::string vtkSoftShadowPass::GetPlanDescription()
 {
   return this->Internals->Plan.ToText();
+}
+
+std::string vtkSoftShadowPass::GetPlanSummary()
+{
+  const double ms = this->Internals->Timings.Get("pass_total");
+  std::ostringstream o;
+  o << std::fixed;
+  o.precision(ms < 10.0 ? 1 : 0);
+  o << this->Internals->Plan.Summary() << ", " << ms << " ms";
+  return o.str();
 }
 
 std::string vtkSoftShadowPass::GetStatsJSON()
@@ -916,6 +978,8 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PVSMTileCulling: " << this->PVSMTileCulling << "\n";
   os << indent << "AverageSamples: " << this->AverageSamples << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
+  os << indent << "AdaptToFrameBudget: " << this->AdaptToFrameBudget << "\n";
+  os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";
 }
