@@ -52,7 +52,7 @@ def ground_brightness(png, region):
 
 view = CreateView("SoftShadowView")
 view.Method = "pcss"
-view.LightSize = 1.0
+view.LightSize = 0.1  # the default: a tenth of the data diagonal (about 1.1 here)
 scene(view)
 Render(view)
 shot = os.path.join(tempdir, "ParaViewSoftShadowView.png")
