@@ -30,6 +30,7 @@ Show(iso, view)
 floor = Plane(Origin=[-25, -25, -14], Point1=[25, -25, -14], Point2=[-25, 25, -14])
 floor_display = Show(floor, view)
 floor_display.CastShadows = 0        # the floor receives shadows but casts none
+Render(view)                         # the first render resets the camera: place it after
 
 view.CameraPosition = [30, -55, 45]
 view.CameraFocalPoint = [0, 0, -4]
