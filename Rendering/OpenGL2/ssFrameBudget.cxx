@@ -2,7 +2,11 @@
 
 #include "ssFrameState.h"
 
+#include "vtkCommand.h"
 #include "vtkRenderWindow.h"
+
+#include <algorithm>
+#include <sstream>
 
 namespace ss
 {
@@ -42,5 +46,43 @@ void MethodCosts::Estimate(std::vector<MethodInfo>& methods, double pixels) cons
     const auto it = this->Costs.find(info.method);
     info.estimatedMs = it == this->Costs.end() ? -1.0 : it->second.msPerLight * pixels / it->second.pixels;
   }
+}
+
+FrameProgress::FrameProgress(vtkObject* reporter, vtkRenderWindow* win, int lights)
+  : Reporter(reporter)
+  , Window(win)
+  , Lights(std::max(lights, 1))
+{
+}
+
+bool FrameProgress::Report(double fractionOfLight)
+{
+  double p = std::min(1.0, (this->Solved + fractionOfLight) / this->Lights);
+  this->Reporter->InvokeEvent(vtkCommand::ProgressEvent, &p);
+  this->Aborted = this->Aborted || (this->Window && this->Window->CheckAbortStatus() != 0);
+  return !this->Aborted;
+}
+
+bool FrameProgress::Finish(EffectPlan& plan)
+{
+  if (!this->Aborted)
+  {
+    double done = 1.0;
+    this->Reporter->InvokeEvent(vtkCommand::ProgressEvent, &done);
+    return false;
+  }
+  plan.aborted = true;
+  plan.reason += "; render aborted (vtkRenderWindow AbortRender) with " + std::to_string(this->Solved) + " of " +
+    std::to_string(this->Lights) + " shadow lights solved: no shadows this frame";
+  return true;
+}
+
+std::string PlanSummary(const EffectPlan& plan, double ms)
+{
+  std::ostringstream o;
+  o << std::fixed;
+  o.precision(ms < 10.0 ? 1 : 0);
+  o << plan.Summary() << ", " << ms << " ms";
+  return o.str();
 }
 }

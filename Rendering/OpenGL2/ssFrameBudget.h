@@ -8,8 +8,10 @@
 #include "ssEffectPlanner.h"
 
 #include <map>
+#include <string>
 #include <vector>
 
+class vtkObject;
 class vtkRenderWindow;
 
 namespace ss
@@ -44,6 +46,30 @@ private:
   };
   std::map<Method, Sample> Costs;
 };
+
+/// Progress and abort of one frame's solves: Report invokes
+/// vtkCommand::ProgressEvent on `reporter` (call data: a double* in [0, 1]
+/// over all `lights`) and polls the window's CheckAbortStatus; false once the
+/// render is aborted.
+class FrameProgress
+{
+public:
+  FrameProgress(vtkObject* reporter, vtkRenderWindow* win, int lights);
+  bool Report(double fractionOfLight);
+  void LightDone() { ++this->Solved; }
+  /// Progress 1, or (aborted) the plan says so; returns whether aborted.
+  bool Finish(EffectPlan& plan);
+
+private:
+  vtkObject* Reporter;
+  vtkRenderWindow* Window;
+  int Lights;
+  int Solved = 0;
+  bool Aborted = false;
+};
+
+/// One line for an annotation: the plan's summary and the frame's time.
+std::string PlanSummary(const EffectPlan& plan, double ms);
 }
 
 #endif

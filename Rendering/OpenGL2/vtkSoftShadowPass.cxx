@@ -27,10 +27,11 @@
 #include "ssVisibilityLayers.h"
 #include "ssVisibilitySolver.h"
 
-#include "vtkCommand.h"
+#include "vtkCamera.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationIntegerKey.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLError.h"
 #include "vtkOpenGLFramebufferObject.h"
@@ -98,6 +99,9 @@ public:
   std::vector<ss::Method> LastMethods;
   ss::MethodCosts Costs;
   bool Aborted = false;
+  // the camera's pixel size, for the planner's rule on directional lights:
+  // radians per pixel (perspective) or world units per pixel (parallel)
+  double PixelAngle = 0.0, ParallelPixel = 0.0;
 
   ss::VisibilitySolver* SolverFor(ss::Method m) const
   {
@@ -386,6 +390,9 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 
   // --- lights and the effect plan
   in.Frame.Lights = ss::CollectLights(ren, in.Frame.Origin);
+  vtkCamera* cam = ren->GetActiveCamera();
+  in.PixelAngle = cam->GetParallelProjection() ? 0.0 : vtkMath::RadiansFromDegrees(cam->GetViewAngle()) / in.Frame.Height;
+  in.ParallelPixel = cam->GetParallelProjection() ? 2.0 * cam->GetParallelScale() / in.Frame.Height : 0.0;
   const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
   this->PlanFrame(in.HaveResults && signature == in.LastSignature,
     this->AdaptToFrameBudget ? ss::FrameBudgetMs(win, this->InteractiveUpdateRate) : 0.0);
@@ -448,12 +455,24 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudg
   pin.methods = ss::PlannerMethods();
   in.Costs.Estimate(pin.methods, static_cast<double>(in.Frame.Width) * in.Frame.Height);
   pin.frameBudgetMs = frameBudgetMs;
+  pin.shadowMapSize = this->ShadowMapSize;
+  const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
+    pin.lights.back().receiverTexels =
+      ss::ReceiverTexelsAtPixelSize(l.Frame, receivers, in.Frame.Eye, in.PixelAngle, in.ParallelPixel);
   }
   pin.unchangedSinceLastFrame = unchangedSinceLastFrame;
   pin.lastMethods = in.LastMethods;
+  // progressive solvers still refining: a still view is solved again
+  for (const auto& solver : in.Solvers)
+  {
+    if (solver->IsRefining())
+    {
+      pin.refining += (pin.refining.empty() ? "" : ", ") + std::string(GetMethodName(static_cast<int>(solver->GetMethod())));
+    }
+  }
   in.Plan = ss::MakeEffectPlan(pin);
 
   int layers = 0;
@@ -579,38 +598,22 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 
   // --- one solver per light writes its layer; progress over all lights,
   // and a render abort (vtkRenderWindow) stops between lights and chunks
-  int solved = 0;
-  auto progress = [&](double fractionOfLight) {
-    double p = std::min(1.0, (solved + fractionOfLight) / numShadowLights);
-    this->InvokeEvent(vtkCommand::ProgressEvent, &p);
-    in.Aborted = in.Aborted || win->CheckAbortStatus() != 0;
-    return !in.Aborted;
-  };
+  ss::FrameProgress progress(this, win, numShadowLights);
   for (const auto& l : in.Frame.Lights)
   {
-    if (l.Layer >= 0 && progress(0.0))
+    if (l.Layer >= 0 && progress.Report(0.0))
     {
-      frame.Progress = progress;
+      frame.Progress = [&progress](double f) { return progress.Report(f); };
       in.SolverFor(l.Method)->Compute(frame, l);
-      ++solved;
+      progress.LightDone();
     }
   }
   for (const auto& solver : in.Solvers)
   {
     solver->EndFrame(frame);
   }
-  if (!in.Aborted)
-  {
-    double done = 1.0;
-    this->InvokeEvent(vtkCommand::ProgressEvent, &done);
-  }
-  else
-  {
-    in.ShadowsThisFrame = false;
-    in.Plan.aborted = true;
-    in.Plan.reason += "; render aborted (vtkRenderWindow AbortRender) with " + std::to_string(solved) + " of " +
-      std::to_string(numShadowLights) + " shadow lights solved: no shadows this frame";
-  }
+  in.Aborted = progress.Finish(in.Plan);
+  in.ShadowsThisFrame = in.ShadowsThisFrame && !in.Aborted;
 }
 
 //------------------------------------------------------------------------------
@@ -860,6 +863,12 @@ bool vtkSoftShadowPass::GetLastPVSMTileGridLevel(int level, vtkFloatArray* out)
   return true;
 }
 
+bool vtkSoftShadowPass::GetASMRefining()
+{
+  const ss::VisibilitySolver* solver = this->Internals->SolverFor(ss::Method::ASM);
+  return solver && solver->IsRefining();
+}
+
 const char* vtkSoftShadowPass::GetLastGearsBackend()
 {
   auto* gears = dynamic_cast<ss::TriangleSolver*>(this->Internals->SolverFor(ss::Method::GEARS));
@@ -915,12 +924,7 @@ std::string vtkSoftShadowPass::GetPlanDescription()
 
 std::string vtkSoftShadowPass::GetPlanSummary()
 {
-  const double ms = this->Internals->Timings.Get("pass_total");
-  std::ostringstream o;
-  o << std::fixed;
-  o.precision(ms < 10.0 ? 1 : 0);
-  o << this->Internals->Plan.Summary() << ", " << ms << " ms";
-  return o.str();
+  return ss::PlanSummary(this->Internals->Plan, this->Internals->Timings.Get("pass_total"));
 }
 
 std::string vtkSoftShadowPass::GetStatsJSON()
@@ -977,6 +981,14 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PVSMMetric: " << this->PVSMMetric << "\n";
   os << indent << "PVSMTileCulling: " << this->PVSMTileCulling << "\n";
   os << indent << "AverageSamples: " << this->AverageSamples << "\n";
+  os << indent << "ASMMemoryBudget: " << this->ASMMemoryBudget << " MB\n";
+  os << indent << "ASMPageSize: " << this->ASMPageSize << "\n";
+  os << indent << "ASMCells: " << this->ASMCells << "\n";
+  os << indent << "ASMMaxDepth: " << this->ASMMaxDepth << "\n";
+  os << indent << "ASMTimeBudget: " << this->ASMTimeBudget << " ms\n";
+  os << indent << "ASMAnalysisStride: " << this->ASMAnalysisStride << "\n";
+  os << indent << "ASMQuality: " << this->ASMQuality << "\n";
+  os << indent << "ASMIDTest: " << this->ASMIDTest << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "AdaptToFrameBudget: " << this->AdaptToFrameBudget << "\n";
   os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
