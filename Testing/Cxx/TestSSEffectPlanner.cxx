@@ -448,6 +448,10 @@ TEST(EffectPlanner, AdaptiveHardShadows)
 TEST(EffectPlanner, StillViewRefinesWhileASolverIsRefining)
 {
   PlannerInput in = Scene({ Point() });
+  for (const auto& l : MakeEffectPlan(in).lights) // the last frame's methods: reuse needs the same
+  {
+    in.lastMethods.push_back(l.method);
+  }
   in.unchangedSinceLastFrame = true;
   in.refining = "asm";
   EffectPlan p = MakeEffectPlan(in);
