@@ -477,6 +477,8 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   }
   CellCounters counters;
   std::size_t sumTrisPerCell = 0;
+  bool stopped = false; // opt.progress asked to stop
+
   for (int f = 0; f < numFaces; ++f)
   {
     auto t0 = Clock::now();
@@ -529,9 +531,11 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     job.isa = isa;
     job.V = V.data();
     job.masks = masksOut ? masksOut->data() : nullptr;
+    job.face = f;
+    job.numFaces = numFaces;
     CellCounters cc;
     GearsAssignment::Face fa;
-    SolveCells(job, cc, assignOut ? &fa : nullptr, assignOut ? assignOut->pixelGroup.data() : nullptr);
+    stopped = !SolveCells(job, cc, assignOut ? &fa : nullptr, assignOut ? assignOut->pixelGroup.data() : nullptr);
     counters.Add(cc);
     st.trianglesPerCellMax = std::max(st.trianglesPerCellMax, cc.cellTrianglesMax);
     sumTrisPerCell += static_cast<std::size_t>(cc.cellTriangles);
@@ -545,6 +549,10 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
         assignOut->pixelCell[g.pix[q]] = static_cast<std::int32_t>(g.pixCell[q]);
       }
       assignOut->faces.push_back(std::move(fa));
+    }
+    if (stopped)
+    {
+      break;
     }
   }
   st.pairs = sumTrisPerCell;

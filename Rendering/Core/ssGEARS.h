@@ -2,6 +2,7 @@
 #define ssGEARS_h
 
 #include "ssLightFrame.h"
+#include "ssSolveProgress.h"
 
 #include <array>
 #include <cstddef>
@@ -47,6 +48,7 @@ struct GearsOptions
   int groupSize = 8;             ///< split a cell's samples into groups of at most this many
   int groupMinTriangles = 48;    ///< ... when its culled list has at least this many triangles
   GearsSimd simd = GearsSimd::Auto;
+  SolveProgress progress;        ///< optional: called between chunks of step 4's cells; false stops
 };
 
 /// The paper's tables for one Solve: stage times (Table 2), grid load

@@ -135,7 +135,7 @@ void SplitSamples(const std::vector<glm::dvec3>& S, std::uint32_t* order, std::u
 }
 }
 
-void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Face* assign, std::int32_t* pixelGroup)
+bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Face* assign, std::int32_t* pixelGroup)
 {
   const SolverData& D = *job.D;
   const FaceGrid& g = *job.g;
@@ -225,7 +225,7 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         }
   };
   tbb::enumerable_thread_specific<CellScratch> scratch;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+  const auto solveCells = [&](const tbb::blocked_range<std::size_t>& r) {
     CellScratch& w = scratch.local();
     CellCounters& cc = w.counters;
     for (std::size_t ci = r.begin(); ci != r.end(); ++ci)
@@ -458,7 +458,17 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         gbegin = gend;
       }
     }
-  });
+  };
+  // in chunks of cells, so that the caller hears of progress and can stop
+  const GearsOptions& opt = *job.opt;
+  const std::size_t numCells = cells.size(), chunk = std::max<std::size_t>(64, numCells / 32);
+  bool go = true;
+  for (std::size_t b = 0; b < numCells && go; b += chunk)
+  {
+    const std::size_t e = std::min(numCells, b + chunk);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(b, e, 1), solveCells);
+    go = !opt.progress || opt.progress((job.face + static_cast<double>(e) / numCells) / job.numFaces);
+  }
   for (const CellScratch& w : scratch)
   {
     counters.Add(w.counters);
@@ -494,6 +504,7 @@ void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     }
     assign->cellBegin[NC] = static_cast<std::uint32_t>(assign->triangles.size());
   }
+  return go;
 }
 }
 }

@@ -402,8 +402,10 @@ struct CellJob
   Isa isa;
   float* V;
   GearsMask* masks;
+  int face = 0, numFaces = 1; ///< for the progress fraction (opt->progress)
 };
-void SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Face* assign, std::int32_t* pixelGroup);
+/// Returns false when opt->progress asked to stop (cells not reached keep V).
+bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Face* assign, std::int32_t* pixelGroup);
 
 constexpr std::size_t kPad = 16; ///< floats past the end of a kernel's arrays
 

@@ -322,7 +322,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
     }
   }
 
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+  auto solvePixels = [&](const tbb::blocked_range<std::size_t>& r) {
     long long localRays = 0;
     for (std::size_t q = r.begin(); q != r.end(); ++q)
     {
@@ -467,7 +467,18 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
       V[pix] = static_cast<float>(visible / ns);
     }
     rayCount += localRays;
-  });
+  };
+  // in chunks, so that the caller hears of progress and can stop the solve
+  const std::size_t numOrdered = order.size(), chunk = std::max<std::size_t>(4096, numOrdered / 64);
+  for (std::size_t b = 0; b < numOrdered; b += chunk)
+  {
+    const std::size_t e = std::min(numOrdered, b + chunk);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(b, e, 64), solvePixels);
+    if (opt.progress && !opt.progress(static_cast<double>(e) / numOrdered))
+    {
+      break;
+    }
+  }
   if (stats)
   {
     stats->rays = static_cast<double>(rayCount.load());

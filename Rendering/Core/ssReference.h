@@ -2,6 +2,7 @@
 #define ssReference_h
 
 #include "ssLightFrame.h"
+#include "ssSolveProgress.h"
 
 #include <cstddef>
 #include <memory>
@@ -21,6 +22,7 @@ struct ReferenceOptions
   int k = 32; ///< k x k light samples (1..64)
   LightSamplePattern pattern = LightSamplePattern::Regular;
   unsigned seed = 1;
+  SolveProgress progress; ///< optional: called between chunks of pixels; false stops
 };
 
 struct ReferenceStats

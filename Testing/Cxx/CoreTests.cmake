@@ -15,6 +15,7 @@ add_executable(TestSoftShadowsCore
   TestSSMetrics.cxx
   TestSSCasterClusters.cxx
   TestSSClusterBounds.cxx
+  TestSSSolveProgress.cxx
   TestSSASM.cxx)
 find_package(TBB REQUIRED)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore TBB::tbb GTest::gtest_main)
