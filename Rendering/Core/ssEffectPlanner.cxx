@@ -114,7 +114,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
   {
     frameReason = "no lights";
   }
-  else if (in.casterTriangles == 0)
+  else if (in.casterTriangles == 0 && in.casterVolumes == 0)
   {
     frameReason = "no shadow casters";
   }
@@ -168,6 +168,15 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       }
     }
     // --- method auto: the rules, one branch each (PlannerRule)
+    else if (!l.translucentInView.empty() && ForRule(in.methods, PlannerRule::TranslucentCasters))
+    {
+      const MethodInfo* info = ForRule(in.methods, PlannerRule::TranslucentCasters);
+      p = { info->method,
+        std::string(l.frame.IsSoft() ? "area light" : "light without extent") + " with translucent casters in its view (" +
+          l.translucentInView + "): transmittance-weighted " + (l.frame.IsSoft() ? "soft" : "hard") + " shadows (" +
+          Upper(info->name) + ")",
+        info->name };
+    }
     else if (!l.frame.IsSoft())
     {
       const MethodInfo* info = ForRule(in.methods, PlannerRule::HardLights);
@@ -197,19 +206,27 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
     }
     plan.shadowWork = plan.shadowWork || p.method != Method::None;
   }
-  plan.reason = plan.shadowWork ? std::to_string(in.casterTriangles) + " caster triangles"
+  plan.reason = plan.shadowWork ? std::to_string(in.casterTriangles) + " caster triangles" +
+      (in.casterVolumes ? ", " + std::to_string(in.casterVolumes) + " caster volume(s)" : std::string())
                                 : "no light casts shadows";
-  if (plan.shadowWork && in.translucentCasters)
+  if (plan.shadowWork && (in.translucentCasters || in.casterVolumes > 0))
   {
-    bool opaqueOnly = false;
+    std::string opaqueOnly;
     for (const auto& l : plan.lights)
     {
       const MethodInfo* info = FindMethod(in.methods, l.method);
-      opaqueOnly = opaqueOnly || (l.method != Method::None && !(info && info->translucentCasters));
+      if (l.method != Method::None && !(info && info->translucentCasters) &&
+        opaqueOnly.find(l.name) == std::string::npos)
+      {
+        opaqueOnly += (opaqueOnly.empty() ? "" : ", ") + l.name;
+      }
     }
-    if (opaqueOnly)
+    if (!opaqueOnly.empty())
     {
-      plan.reason += "; translucent casters are treated as opaque by shadow-map methods (planner v1)";
+      plan.reason += in.translucentCasters ? "; translucent casters are treated as opaque" : "";
+      plan.reason += in.casterVolumes ? std::string(in.translucentCasters ? " and" : ";") + " volumes cast no shadows"
+                                      : "";
+      plan.reason += " by " + opaqueOnly;
     }
   }
   if (plan.shadowWork && in.unchangedSinceLastFrame)

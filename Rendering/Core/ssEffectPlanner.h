@@ -22,7 +22,9 @@ enum class Method
   Reference = 5, ///< ray-traced ground truth (Embree, CPU)
   GEARS = 6,     ///< exact soft shadows from per-pixel triangle lists (GEARS)
   PVSM = 7,      ///< predicted virtual soft shadow maps (adaptive tiles, anisotropic filtering)
-  HardAverage = 8 ///< brute force: the average of k x k hard shadow maps, one per light sample
+  HardAverage = 8, ///< brute force: the average of k x k hard shadow maps, one per light sample
+  VPCSS = 9,      ///< volumetric PCSS: soft shadows of translucent casters and volumes over an AVSM
+  AVSM = 10       ///< adaptive volumetric shadow maps: hard shadows of translucent casters and volumes
 };
 
 /// When the planner uses a method on its own (method auto). Each rule is one
@@ -31,7 +33,8 @@ enum class PlannerRule
 {
   OnRequest,  ///< only when asked for by name
   HardLights, ///< auto: lights without extent (point, zero-size rect, directional without angular size)
-  SoftLights  ///< auto: lights with extent (rect, directional with angular size)
+  SoftLights, ///< auto: lights with extent (rect, directional with angular size)
+  TranslucentCasters ///< auto: lights with a translucent caster in their view (before the two above)
 };
 
 /// What the planner knows of a registered method.
@@ -52,12 +55,16 @@ struct PlannerLight
   bool headlight = false;
   bool valid = true;
   std::string invalidReason;
+  /// What translucent casters may shadow a receiver of this light (e.g.
+  /// "opacity < 1", "an RGBA texture", "a volume", joined); empty: none.
+  std::string translucentInView;
 };
 
 struct PlannerInput
 {
   Method requested = Method::Auto;
   std::size_t casterTriangles = 0;
+  std::size_t casterVolumes = 0; ///< volumes that cast shadows
   std::size_t receiverProps = 0;
   bool translucentCasters = false;
   bool unchangedSinceLastFrame = false;

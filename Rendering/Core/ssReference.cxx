@@ -132,6 +132,7 @@ struct ReferenceSolver::Impl
   std::size_t Triangles = 0, Skipped = 0;
   std::vector<float> Opacity;
   bool Translucent = false;
+  std::vector<VolumeGrid> Volumes;
 
   ~Impl()
   {
@@ -220,6 +221,18 @@ void ReferenceSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::
   rtcCommitScene(P->Scene);
 }
 
+void ReferenceSolver::SetVolumes(const std::vector<VolumeGrid>& volumes)
+{
+  P->Volumes.clear();
+  for (const auto& v : volumes)
+  {
+    if (!v.Empty())
+    {
+      P->Volumes.push_back(v);
+    }
+  }
+}
+
 std::size_t ReferenceSolver::NumberOfTriangles() const
 {
   return P->Triangles;
@@ -303,6 +316,8 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
         alignas(64) int valid[16]; // rtcOccluded16 wants the mask 64-byte aligned
         float transmittance[16];
         int below[16];
+        glm::dvec3 rayDir[16];
+        double rayLen[16];
         for (int q = 0; q < 16; ++q)
         {
           const int s = s0 + q;
@@ -356,6 +371,8 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
             continue;
           }
           valid[q] = -1;
+          rayDir[q] = dir;
+          rayLen[q] = isDir ? 1e9 : tfar; // a direction: every volume is clipped out of a long ray
           rays.org_x[q] = static_cast<float>(start.x);
           rays.org_y[q] = static_cast<float>(start.y);
           rays.org_z[q] = static_cast<float>(start.z);
@@ -387,7 +404,18 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
           // occluded rays get tfar = -inf
           if (rays.tfar[q] >= 0.0f)
           {
-            visible += P->Translucent ? transmittance[q] : 1.0;
+            double t = P->Translucent ? transmittance[q] : 1.0;
+            if (!P->Volumes.empty())
+            {
+              const glm::dvec3 a = start + P->Center, b = a + rayDir[q] * rayLen[q];
+              double tau = 0.0;
+              for (const auto& vol : P->Volumes)
+              {
+                tau += vol.OpticalDepth(a, b);
+              }
+              t *= std::exp(-tau);
+            }
+            visible += t;
           }
         }
       }
