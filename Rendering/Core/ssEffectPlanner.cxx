@@ -1,5 +1,7 @@
 #include "ssEffectPlanner.h"
 
+#include "ssClusterBounds.h"
+
 #include <cctype>
 #include <sstream>
 
@@ -235,5 +237,18 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
     plan.reason += "; nothing changed since the last frame: visibility reused";
   }
   return plan;
+}
+
+bool CastersMayShadow(const LightFrame& light, const Box& casters, const Box& receivers)
+{
+  if (casters.Empty() || receivers.Empty())
+  {
+    return false;
+  }
+  ClusterBounds b;
+  b.aabb = casters;
+  b.obb.center = casters.Center();
+  b.obb.half = 0.5 * (casters.max - casters.min);
+  return ClusterMayShadowBox(b, light, receivers);
 }
 }

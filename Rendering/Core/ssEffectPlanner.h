@@ -2,6 +2,7 @@
 #define ssEffectPlanner_h
 
 #include "ssLightFrame.h"
+#include "ssShadowView.h"
 
 #include <cstddef>
 #include <string>
@@ -93,6 +94,12 @@ struct EffectPlan
 };
 
 EffectPlan MakeEffectPlan(const PlannerInput& in);
+/// Whether casters inside the box `casters` can shadow a point of
+/// `receivers` lit by `light` (all in the same coordinates): false when a
+/// separating axis parts the box from the hull of the light and the
+/// receivers (ClusterMayShadowBox), i.e. when no such caster is "in the
+/// light's view" of what it lights. Empty boxes cast nothing.
+bool CastersMayShadow(const LightFrame& light, const Box& casters, const Box& receivers);
 /// The entry of `m` in `methods`, or null.
 const MethodInfo* FindMethod(const std::vector<MethodInfo>& methods, Method m);
 /// s as the inside of a JSON string (quotes, backslashes, newlines escaped; other control characters dropped).

@@ -344,3 +344,24 @@ TEST(EffectPlanner, TranslucentCastersInViewGetVPCSS)
   v.casterVolumes = 0;
   EXPECT_FALSE(MakeEffectPlan(v).shadowWork);
 }
+
+// Which translucent casters are "in a light's view": those that can shadow
+// a receiver it lights (a separating axis between their box and the hull of
+// the light and the receivers proves they cannot).
+TEST(EffectPlanner, CastersMayShadowReceivers)
+{
+  const LightFrame light = MakeRectLightFrame({ 0, 0, 5 }, { 0, 0, -1 }, { 0, 1, 0 }, { 1, 1 });
+  Box receivers;
+  receivers.Add({ -2, -2, 0 });
+  receivers.Add({ 2, 2, 0.1 });
+  Box over; // between the light and the ground
+  over.Add({ -0.5, -0.5, 1 });
+  over.Add({ 0.5, 0.5, 2 });
+  EXPECT_TRUE(CastersMayShadow(light, over, receivers));
+  Box aside = over; // far to the side: no segment from the ground to the light meets it
+  aside.min.x += 20;
+  aside.max.x += 20;
+  EXPECT_FALSE(CastersMayShadow(light, aside, receivers));
+  EXPECT_FALSE(CastersMayShadow(light, Box{}, receivers));
+  EXPECT_FALSE(CastersMayShadow(light, over, Box{}));
+}
