@@ -86,7 +86,9 @@ std::string Usage()
     "         gears_samples (1..32), gears_grid, gears_raster (edge|lut), gears_backend (cpu|gl),\n"
     "         gears_necessary (0|1: count Table 9's necessary assignments),\n"
     "         pvsm_quality (scale on rho), pvsm_metric (auto|dynamic|static), pvsm_grid,\n"
-    "         pvsm_max_tile, pvsm_low_resolution, average_samples (hardavg: k per side, 1..32)\n";
+    "         pvsm_max_tile, pvsm_low_resolution, average_samples (hardavg: k per side, 1..32),\n"
+    "         avsm_nodes (4..16), avsm_size, avsm_memory (MB), colored_shadows (0|1),\n"
+    "         volume_steps, vpcss_filter_quads (vpcss and avsm: translucent casters, volumes)\n";
 }
 }
 
@@ -277,13 +279,38 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
   {
     pass->SetAverageSamples(ParseInt(v, what, 1, 32));
   }
+  else if (k == "avsm_nodes")
+  {
+    pass->SetAVSMNodes(ParseInt(v, what, 4, 16));
+  }
+  else if (k == "avsm_size")
+  {
+    pass->SetAVSMSize(ParseInt(v, what, 64, 8192));
+  }
+  else if (k == "avsm_memory")
+  {
+    pass->SetAVSMMemory(ParseInt(v, what, 16, 65536));
+  }
+  else if (k == "colored_shadows")
+  {
+    pass->SetColoredShadows(ParseInt(v, what, 0, 1) != 0);
+  }
+  else if (k == "volume_steps")
+  {
+    pass->SetVolumeSteps(ParseInt(v, what, 8, 4096));
+  }
+  else if (k == "vpcss_filter_quads")
+  {
+    pass->SetVPCSSFilterQuads(ParseInt(v, what, 2, 64));
+  }
   else
   {
     throw UsageError("--option: unknown key '" + k +
       "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
       "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, gears_backend, "
       "gears_necessary, pvsm_quality, pvsm_metric, pvsm_grid, pvsm_max_tile, pvsm_low_resolution, "
-      "pvsm_tile_culling, average_samples)");
+      "pvsm_tile_culling, average_samples, avsm_nodes, avsm_size, avsm_memory, colored_shadows, volume_steps, "
+      "vpcss_filter_quads)");
   }
 }
 
@@ -385,7 +412,7 @@ int Render(const std::vector<std::string>& args)
   vtkNew<vtkSoftShadowPass> pass;
   if (!vtkMethod && !pass->SetMethodByName(method.c_str()))
   {
-    static const std::vector<std::string> later = { "vpcss", "asm" };
+    static const std::vector<std::string> later = { "asm" };
     const std::string available = vtkSoftShadowPass::GetMethodNames() + ", vtk";
     if (std::find(later.begin(), later.end(), method) != later.end())
     {

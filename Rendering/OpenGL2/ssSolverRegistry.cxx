@@ -1,9 +1,11 @@
 #include "ssSolverRegistry.h"
 
+#include "ssAVSMSolver.h"
 #include "ssHardAverageSolver.h"
 #include "ssPVSMSolver.h"
 #include "ssShadowMapSolver.h"
 #include "ssTriangleSolver.h"
+#include "ssVPCSSSolver.h"
 
 namespace ss
 {
@@ -33,6 +35,8 @@ const std::vector<SolverEntry>& SolverRegistry()
     { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,   false },
     { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
     { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
+    { "vpcss",     Method::VPCSS,       Make<VPCSSSolver>,       PlannerRule::TranslucentCasters, true },
+    { "avsm",      Method::AVSM,        Make<AVSMSolver>,        PlannerRule::OnRequest,   true },
     { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,   false },
   };
   return table;

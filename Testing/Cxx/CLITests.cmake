@@ -111,7 +111,7 @@ endif ()
 
 set(_demo "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json")
 ss_cli_error(unknown_method "--method: unknown method 'fancy'" ${_ss_cli} render "${_demo}" --method fancy)
-ss_cli_error(later_method "--method vpcss: not implemented yet" ${_ss_cli} render "${_demo}" --method vpcss)
+ss_cli_error(later_method "--method asm: not implemented yet" ${_ss_cli} render "${_demo}" --method asm)
 ss_cli_error(gears_samples "--option gears_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method gears --option gears_samples=64)
 ss_cli_error(gears_raster "--option gears_raster: expected edge or lut" ${_ss_cli} render "${_demo}" --method gears --option gears_raster=fast)
 ss_cli_error(gears_backend "--option gears_backend: expected cpu or gl" ${_ss_cli} render "${_demo}" --method gears --option gears_backend=cuda)
