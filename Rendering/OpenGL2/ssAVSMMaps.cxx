@@ -218,7 +218,9 @@ struct AVSMMaps::Impl
       this->AttrVBO->SetType(vtkOpenGLBufferObject::ArrayBuffer);
       this->VAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
     }
-    if (this->AttrUploads != casters.GetUploads() || this->VAOProgram != this->CasterProgram)
+    // no triangles (only volumes cast): nothing to bind, nothing is drawn
+    if (casters.NumberOfTriangles() > 0 &&
+      (this->AttrUploads != casters.GetUploads() || this->VAOProgram != this->CasterProgram))
     {
       const std::size_t nt = casters.NumberOfTriangles();
       std::vector<float> attr(nt * 3 * 7, 0.0f);
@@ -480,8 +482,8 @@ bool AVSMMaps::Impl::BuildView(
   ostate->PushFramebufferBindings();
   ostate->vtkglBindFramebuffer(GL_FRAMEBUFFER, this->FBO);
   glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, this->Opaque.Handle, 0, 0);
-  const GLenum drawBuffer = GL_COLOR_ATTACHMENT0;
-  glDrawBuffers(1, &drawBuffer);
+  GLenum drawBuffer = GL_COLOR_ATTACHMENT0; // through the state cache (its checks compare GL_DRAW_BUFFER)
+  ostate->vtkglDrawBuffers(1, &drawBuffer);
   ostate->vtkglViewport(0, 0, this->S, this->S);
   ostate->vtkglScissor(0, 0, this->S, this->S);
   ostate->vtkglDisable(GL_DEPTH_TEST);
@@ -515,8 +517,8 @@ bool AVSMMaps::Impl::BuildView(
   glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
   glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_WIDTH, this->S);
   glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_HEIGHT, this->S);
-  const GLenum none = GL_NONE;
-  glDrawBuffers(1, &none);
+  GLenum none = GL_NONE;
+  ostate->vtkglDrawBuffers(1, &none);
   this->Zero(BCounts);
   this->BindBuffers();
   const int opaqueUnit = this->Opaque.Bind(win);
