@@ -318,8 +318,15 @@ int TranslucentSolver::SetFragmentUniforms(vtkShaderProgram* p, const ShadowLigh
     static_cast<float>(this->Maps.GetNodes()), this->Maps.GetChannels() == 3 ? 1.0f : 0.0f,
     static_cast<float>(this->Maps.GetLayersPerView()) };
   p->SetUniform4f(name("ssFragAVSM").c_str(), avsm);
-  const float filter[4] = { this->Hard ? 1.0f : 0.0f, static_cast<float>(this->Opt.FilterQuads),
-    static_cast<float>(this->Opt.BlockerSearchSamples), static_cast<float>(this->Opt.SlopeBias) };
+  // Translucent receivers run the filter per fragment and per depth peel: a
+  // coarser VPCSS filter (at most kFragmentQuads quads a side, from coarser
+  // pyramid levels, and kFragmentSearch blocker samples) bounds that cost;
+  // the G-buffer pixels keep the full filter (Documentation/vpcss.md).
+  constexpr int kFragmentQuads = 2, kFragmentSearch = 4;
+  const float filter[4] = { this->Hard ? 1.0f : 0.0f,
+    static_cast<float>(std::min(this->Opt.FilterQuads, kFragmentQuads)),
+    static_cast<float>(std::min(this->Opt.BlockerSearchSamples, kFragmentSearch)),
+    static_cast<float>(this->Opt.SlopeBias) };
   p->SetUniform4f(name("ssFragFilter").c_str(), filter);
   return this->ShadingUnit;
 }
