@@ -72,6 +72,8 @@ std::string Usage()
          "        [--samples 16,32] [--out DIR]\n"
          "  softshadows bench --pvsm --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
          "        [--reference-samples K]   (PVSM vs fixed PCSS vs 8x8 hard maps; cameras, lights)\n"
+         "  softshadows bench --vpcss --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
+         "        [--reference-samples K]   (VPCSS vs hard AVSM vs PCSS vs the reference's transmittance)\n"
          "  softshadows bench --filters --mesh M [--points N] [--runs R] [--samples K] [--out DIR]\n"
          "        (caster preparation per million triangles, baking an N-point surface; --smoke: tiny)\n"
          "  softshadows bake SCENE.json --object I --output baked.vtp [--samples K]\n"

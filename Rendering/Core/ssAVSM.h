@@ -3,7 +3,7 @@
 // texel, the light's transmittance along the texel's ray as a piecewise
 // linear function of light-space depth with at most N nodes.
 //
-// This is the CPU build of the function the GPU builds (glsl/ssAVSMCommon.glsl
+// This is the CPU build of the function the GPU builds (glsl/ssAVSMNodes.glsl
 // mirrors every step in the same order and in float), used by the unit tests
 // and as the specification of the GPU code:
 // - a node is (depth, transmittance); between two nodes the function is

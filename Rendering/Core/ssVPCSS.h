@@ -1,7 +1,7 @@
 // VPCSS: volumetric percentage-closer soft shadows (Klein, Tappert,
 // Nischwitz, Obermeier), the blocker depth of translucent blockers for the
 // PCSS penumbra estimate, on the transmittance functions of an AVSM
-// (ssAVSM.h). The full-screen filter (glsl/ssVPCSSFS.glsl, ssAVSMCommon.glsl)
+// (ssAVSM.h). The full-screen filter (glsl/ssAVSMVisibilityFS.glsl, ssAVSMLookup.glsl)
 // computes the same formulas per pixel; they are unit-tested here.
 //
 // Two errors of the paper are fixed here (Documentation/vpcss.md):

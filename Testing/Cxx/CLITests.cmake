@@ -175,6 +175,13 @@ add_test(NAME cli.bench.smoke_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bench.py" "${_ss_out}/bench_smoke")
 set_tests_properties(cli.bench.smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_smoke)
 set_tests_properties(cli.bench.smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_smoke)
+add_test(NAME cli.bench.vpcss_smoke
+  COMMAND env -u DISPLAY ${_ss_cli} bench --vpcss --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/translucent.json"
+    --size 160x120 --frames 1 --reference-samples 4 --out "${_ss_out}/bench_vpcss_smoke")
+add_test(NAME cli.bench.vpcss_smoke_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_vpcss_bench.py" "${_ss_out}/bench_vpcss_smoke")
+set_tests_properties(cli.bench.vpcss_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_vpcss_smoke)
+set_tests_properties(cli.bench.vpcss_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_vpcss_smoke)
 add_test(NAME cli.bench.pvsm_smoke
   COMMAND env -u DISPLAY ${_ss_cli} bench --pvsm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
     --size 160x120 --frames 1 --reference-samples 4 --out "${_ss_out}/bench_pvsm_smoke")
