@@ -27,31 +27,14 @@ vec3 avsmFactor(float d, float a, float b, vec3 tau)
   return vec3(1.0) + (tau - vec3(1.0)) * s;
 }
 
-vec3 nodesEval(float z)
+// The function at z; `front`: the value just in front of z (a drop at z
+// not yet taken).
+vec3 nodesEval(float z, bool front)
 {
   int i = -1;
   for (int k = 0; k < nn; ++k)
   {
-    i = (nd[k] <= z) ? k : i;
-  }
-  if (i < 0)
-  {
-    return vec3(1.0);
-  }
-  if (i == nn - 1)
-  {
-    return nt[i];
-  }
-  float s = (z - nd[i]) / (nd[i + 1] - nd[i]);
-  return nt[i] + (nt[i + 1] - nt[i]) * s;
-}
-
-vec3 nodesEvalFront(float z)
-{
-  int i = -1;
-  for (int k = 0; k < nn; ++k)
-  {
-    i = (nd[k] < z) ? k : i;
+    i = (front ? nd[k] < z : nd[k] <= z) ? k : i;
   }
   if (i < 0)
   {
@@ -146,8 +129,8 @@ void nodesInsert(float a, float b, vec3 tau)
   }
   bool thin = !(b > a);
   b = thin ? a : b;
-  vec3 front = nodesEvalFront(a);
-  vec3 atB = thin ? front * tau : nodesEval(b) * tau;
+  vec3 front = nodesEval(a, true);
+  vec3 atB = thin ? front * tau : nodesEval(b, false) * tau;
   int m = 0;
   bool haveA = false, haveB = false;
   for (int i = 0; i < nn; ++i)
