@@ -45,6 +45,10 @@ int BenchPVSM(const std::vector<std::string>& args);
 ///   [--reference-samples K]: VPCSS against hard AVSM, PCSS and the reference's
 ///   transmittance: time, error, AVSM memory (ssBenchVPCSS.cxx).
 int BenchVPCSS(const std::vector<std::string>& args);
+/// softshadows bench --asm [--smoke] --scenes a.json,... [--out DIR] [--frames N] [--size WxH]:
+///   ASM at 8 and 16 MB against one 2048² map over a scripted walkthrough
+///   (ssBenchASM.cxx).
+int BenchASM(const std::vector<std::string>& args);
 }
 
 #endif

@@ -1,6 +1,7 @@
 #include "ssSolverRegistry.h"
 
 #include "ssAVSMSolver.h"
+#include "ssASMSolver.h"
 #include "ssHardAverageSolver.h"
 #include "ssPVSMSolver.h"
 #include "ssShadowMapSolver.h"
@@ -33,6 +34,7 @@ const std::vector<SolverEntry>& SolverRegistry()
     { "pcss",      Method::PCSS,        Make<ShadowMapSolver>,   PlannerRule::SoftLights,  false },
     { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,   false },
     { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,   false },
+    { "asm",       Method::ASM,         Make<ASMSolver>,         PlannerRule::AdaptiveHardLights, false },
     { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
     { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
     { "vpcss",     Method::VPCSS,       Make<VPCSSSolver>,       PlannerRule::TranslucentCasters, true },

@@ -123,6 +123,10 @@ public:
   virtual void BeginShading(vtkOpenGLRenderWindow*) {}
   virtual void EndShading(vtkOpenGLRenderWindow*) {}
   virtual int SetFragmentUniforms(vtkShaderProgram*, const ShadowLight&, int /*slot*/) const { return -1; }
+  /// Progressive solvers (ASM): whether the last frame left work for the
+  /// next one at the same view. The planner then solves a still view again
+  /// instead of reusing its visibility.
+  virtual bool IsRefining() const { return false; }
 
   /// The solver's entry in the stats (a JSON object under the method's
   /// name), or empty for none.

@@ -27,9 +27,11 @@
 #include "ssVisibilityLayers.h"
 #include "ssVisibilitySolver.h"
 
+#include "vtkCamera.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationIntegerKey.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLError.h"
 #include "vtkOpenGLFramebufferObject.h"
@@ -92,6 +94,9 @@ public:
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
   std::string LastSignature;
   bool HaveResults = false;
+  // the camera's pixel size, for the planner's rule on directional lights:
+  // radians per pixel (perspective) or world units per pixel (parallel)
+  double PixelAngle = 0.0, ParallelPixel = 0.0;
 
   ss::VisibilitySolver* SolverFor(ss::Method m) const
   {
@@ -379,6 +384,9 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 
   // --- lights and the effect plan
   in.Frame.Lights = ss::CollectLights(ren, in.Frame.Origin);
+  vtkCamera* cam = ren->GetActiveCamera();
+  in.PixelAngle = cam->GetParallelProjection() ? 0.0 : vtkMath::RadiansFromDegrees(cam->GetViewAngle()) / in.Frame.Height;
+  in.ParallelPixel = cam->GetParallelProjection() ? 2.0 * cam->GetParallelScale() / in.Frame.Height : 0.0;
   const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
   this->PlanFrame(in.HaveResults && signature == in.LastSignature);
 
@@ -426,12 +434,24 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
   pin.translucentCasters = in.Casters.Translucent;
   pin.casterVolumes = in.Casters.Volumes.size();
   pin.methods = ss::PlannerMethods();
+  pin.shadowMapSize = this->ShadowMapSize;
+  const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
     pin.lights.back().translucentInView = in.Casters.TranslucentInView(l.Frame, in.Frame.Origin);
+    pin.lights.back().receiverTexels =
+      ss::ReceiverTexelsAtPixelSize(l.Frame, receivers, in.Frame.Eye, in.PixelAngle, in.ParallelPixel);
   }
   pin.unchangedSinceLastFrame = unchangedSinceLastFrame;
+  // progressive solvers still refining: a still view is solved again
+  for (const auto& solver : in.Solvers)
+  {
+    if (solver->IsRefining())
+    {
+      pin.refining += (pin.refining.empty() ? "" : ", ") + std::string(GetMethodName(static_cast<int>(solver->GetMethod())));
+    }
+  }
   in.Plan = ss::MakeEffectPlan(pin);
 
   int layers = 0;
@@ -857,6 +877,12 @@ bool vtkSoftShadowPass::GetLastPVSMTileGridLevel(int level, vtkFloatArray* out)
   return true;
 }
 
+bool vtkSoftShadowPass::GetASMRefining()
+{
+  const ss::VisibilitySolver* solver = this->Internals->SolverFor(ss::Method::ASM);
+  return solver && solver->IsRefining();
+}
+
 const char* vtkSoftShadowPass::GetLastGearsBackend()
 {
   auto* gears = dynamic_cast<ss::TriangleSolver*>(this->Internals->SolverFor(ss::Method::GEARS));
@@ -962,6 +988,14 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AVSMNodes: " << this->AVSMNodes << ", AVSMSize: " << this->AVSMSize
      << ", AVSMMemory: " << this->AVSMMemory << " MB, ColoredShadows: " << this->ColoredShadows
      << ", VolumeSteps: " << this->VolumeSteps << ", VPCSSFilterQuads: " << this->VPCSSFilterQuads << "\n";
+  os << indent << "ASMMemoryBudget: " << this->ASMMemoryBudget << " MB\n";
+  os << indent << "ASMPageSize: " << this->ASMPageSize << "\n";
+  os << indent << "ASMCells: " << this->ASMCells << "\n";
+  os << indent << "ASMMaxDepth: " << this->ASMMaxDepth << "\n";
+  os << indent << "ASMTimeBudget: " << this->ASMTimeBudget << " ms\n";
+  os << indent << "ASMAnalysisStride: " << this->ASMAnalysisStride << "\n";
+  os << indent << "ASMQuality: " << this->ASMQuality << "\n";
+  os << indent << "ASMIDTest: " << this->ASMIDTest << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";

@@ -111,7 +111,6 @@ endif ()
 
 set(_demo "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json")
 ss_cli_error(unknown_method "--method: unknown method 'fancy'" ${_ss_cli} render "${_demo}" --method fancy)
-ss_cli_error(later_method "--method asm: not implemented yet" ${_ss_cli} render "${_demo}" --method asm)
 ss_cli_error(gears_samples "--option gears_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method gears --option gears_samples=64)
 ss_cli_error(gears_raster "--option gears_raster: expected edge or lut" ${_ss_cli} render "${_demo}" --method gears --option gears_raster=fast)
 ss_cli_error(gears_backend "--option gears_backend: expected cpu or gl" ${_ss_cli} render "${_demo}" --method gears --option gears_backend=cuda)
@@ -247,3 +246,21 @@ add_test(NAME cli.render.float_overflow_vertex
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_float_overflow.py" ${_ss_cli}
     "${_ss_data}/GoodScenes/float_overflow.json" "${_ss_out}/float_overflow")
 set_tests_properties(cli.render.float_overflow_vertex PROPERTIES LABELS "cli" TIMEOUT 120)
+add_test(NAME cli.bench.asm_smoke
+  COMMAND env -u DISPLAY ${_ss_cli} bench --asm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json"
+    --size 160x120 --out "${_ss_out}/bench_asm_smoke")
+add_test(NAME cli.bench.asm_smoke_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_asm_bench.py" "${_ss_out}/bench_asm_smoke" 4)
+set_tests_properties(cli.bench.asm_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_asm_smoke)
+set_tests_properties(cli.bench.asm_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_asm_smoke)
+# ASM is progressive: more --frames refine the same still view further
+foreach(_n 1 16)
+  add_test(NAME cli.render.asm_frames_${_n}
+    COMMAND env -u DISPLAY ${_ss_cli} render "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json" --method asm
+      --size 320x240 --frames ${_n} --option asm_time_budget_ms=5 --stats "${_ss_out}/asm_frames_${_n}.json")
+  set_tests_properties(cli.render.asm_frames_${_n} PROPERTIES LABELS "cli" TIMEOUT 300 FIXTURES_SETUP asm_frames)
+endforeach()
+add_test(NAME cli.render.asm_frames_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_asm_frames.py"
+    "${_ss_out}/asm_frames_1.json" "${_ss_out}/asm_frames_16.json")
+set_tests_properties(cli.render.asm_frames_check PROPERTIES LABELS "cli" FIXTURES_REQUIRED asm_frames)

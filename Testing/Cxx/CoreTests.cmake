@@ -16,7 +16,8 @@ add_executable(TestSoftShadowsCore
   TestSSClusterBounds.cxx
   TestSSAVSM.cxx
   TestSSVPCSS.cxx
-  TestSSVolumeGrid.cxx)
+  TestSSVolumeGrid.cxx
+  TestSSASM.cxx)
 find_package(TBB REQUIRED)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore TBB::tbb GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)

@@ -4,7 +4,7 @@
 include(GoogleTest)
 math(EXPR _ss_render_timeout "300 * ${SOFTSHADOWS_TIMEOUT_SCALE}")
 function(ss_render_test name label)
-  add_executable(${name} ${name}.cxx)
+  add_executable(${name} ${name}.cxx ssRenderTestUtilities.cxx)
   target_link_libraries(${name} PRIVATE
     SoftShadows::RenderingOpenGL2 SoftShadows::RenderingCore
     VTK::TestingRendering VTK::FiltersSources VTK::RenderingOpenGL2 VTK::InteractionStyle
@@ -26,3 +26,4 @@ ss_render_test(TestStability stability)
 ss_render_test(TestVPCSS render)
 target_link_libraries(TestVPCSS PRIVATE VTK::RenderingVolumeOpenGL2)
 vtk_module_autoinit(TARGETS TestVPCSS MODULES VTK::RenderingVolumeOpenGL2)
+ss_render_test(TestASMPass render)
