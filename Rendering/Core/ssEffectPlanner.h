@@ -52,6 +52,9 @@ struct MethodInfo
   /// Its solver weighs casters by their opacity; otherwise translucent
   /// casters shadow as if opaque (and the plan says so).
   bool translucentCasters = false;
+  /// What one light's shadow work with this method is expected to take this
+  /// frame (milliseconds, measured on earlier frames); negative: unknown.
+  double estimatedMs = -1.0;
 };
 
 struct PlannerLight
@@ -78,6 +81,13 @@ struct PlannerInput
   std::size_t receiverProps = 0;
   bool translucentCasters = false;
   bool unchangedSinceLastFrame = false;
+  /// The methods the last frame's visibility was computed with, per light:
+  /// it is reused only when this frame plans the same ones (an interactive
+  /// frame's stand-in is never kept for the still frame after it).
+  std::vector<Method> lastMethods;
+  /// Milliseconds the shadow work of an interactive frame may take (VTK's
+  /// DesiredUpdateRate); 0: a still frame, every light gets its method.
+  double frameBudgetMs = 0.0;
   /// Methods of progressive solvers still refining a still view (their last
   /// frame is not final): comma-separated names, empty when none is.
   std::string refining;
@@ -94,6 +104,10 @@ struct LightPlan
   Method method = Method::None;
   std::string reason;
   std::string name; ///< the method's name
+  /// On an interactive frame that did not fit the budget: the method the
+  /// still frame uses (`method` stands in for it); else Method::None.
+  Method stillMethod = Method::None;
+  std::string stillName; ///< its name
 };
 
 /// What to simulate this frame, and why (DESIGN.md "effect plan").
@@ -101,12 +115,30 @@ struct EffectPlan
 {
   bool shadowWork = false;
   bool reuse = false;
+  /// An interactive frame (frameBudgetMs > 0), and whether it had to stand
+  /// a faster method in for at least one light to fit the budget.
+  bool interactive = false;
+  bool degraded = false;
+  double frameBudgetMs = 0.0;
+  double estimatedMs = -1.0; ///< the planned shadow work, when every method's cost is known
+  /// The render was aborted (vtkRenderWindow::GetAbortRender) before every
+  /// light was solved: this frame shows no shadows (set by the pass).
+  bool aborted = false;
   std::vector<LightPlan> lights;
   std::string reason;
   std::string ToJSON() const;
   std::string ToText() const;
+  /// One line: the methods used, e.g. "pcss (interactive: stands in for
+  /// gears)", "gears, hard (reused)", "none: no shadow casters".
+  std::string Summary() const;
 };
 
+/// The plan: per light, the requested method (or, for auto, the rule's);
+/// on an interactive frame whose estimated shadow work exceeds the budget,
+/// lights step down the chain requested -> the SoftLights rule's method ->
+/// the HardLights rule's method, the largest saving first, until it fits (or
+/// nothing is cheaper); then reuse when nothing changed and the methods are
+/// the same.
 EffectPlan MakeEffectPlan(const PlannerInput& in);
 /// Whether casters inside the box `casters` can shadow a point of
 /// `receivers` lit by `light` (all in the same coordinates): false when a

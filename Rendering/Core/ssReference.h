@@ -3,6 +3,7 @@
 
 #include "ssLightFrame.h"
 #include "ssVolumeGrid.h"
+#include "ssSolveProgress.h"
 
 #include <cstddef>
 #include <memory>
@@ -22,6 +23,7 @@ struct ReferenceOptions
   int k = 32; ///< k x k light samples (1..64)
   LightSamplePattern pattern = LightSamplePattern::Regular;
   unsigned seed = 1;
+  SolveProgress progress; ///< optional: called between chunks of pixels; false stops
 };
 
 struct ReferenceStats

@@ -24,6 +24,7 @@
 
 #include "ssEffectPlanner.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,11 @@ struct SolverFrame
   ss::VisibilityLayers* Visibility = nullptr;
   StageTimings* Timings = nullptr; ///< add the solver's stages here (timings_ms)
   vtkObject* Reporter = nullptr;   ///< errors and warnings go out as the pass's
+  /// A long Compute calls it between chunks of its work with the fraction of
+  /// the light done; false: the render was aborted (vtkRenderWindow's
+  /// AbortRender), stop (the pass shows no shadows this frame). Also a
+  /// ss::SolveProgress for the Core solvers. Set for every Compute.
+  std::function<bool(double)> Progress;
 };
 
 class VisibilitySolver

@@ -13,6 +13,7 @@
 #include "vtkSoftShadowPass.h"
 
 #include "ssCasterSet.h"
+#include "ssFrameBudget.h"
 #include "ssFrameState.h"
 #include "ssGBuffer.h"
 #include "ssGLLimits.h"
@@ -94,6 +95,11 @@ public:
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
   std::string LastSignature;
   bool HaveResults = false;
+  // --- interactive frames: the methods the kept visibility was solved with,
+  // what each method's shadow work cost; progress and abort of this frame
+  std::vector<ss::Method> LastMethods;
+  ss::MethodCosts Costs;
+  bool Aborted = false;
   // the camera's pixel size, for the planner's rule on directional lights:
   // radians per pixel (perspective) or world units per pixel (parallel)
   double PixelAngle = 0.0, ParallelPixel = 0.0;
@@ -214,6 +220,7 @@ public:
     this->Casters.ReleaseGraphicsResources();
     this->HaveResults = false;
     this->LastSignature.clear();
+    this->LastMethods.clear();
   }
 };
 
@@ -388,11 +395,14 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   in.PixelAngle = cam->GetParallelProjection() ? 0.0 : vtkMath::RadiansFromDegrees(cam->GetViewAngle()) / in.Frame.Height;
   in.ParallelPixel = cam->GetParallelProjection() ? 2.0 * cam->GetParallelScale() / in.Frame.Height : 0.0;
   const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
-  this->PlanFrame(in.HaveResults && signature == in.LastSignature);
+  this->PlanFrame(in.HaveResults && signature == in.LastSignature,
+    this->AdaptToFrameBudget ? ss::FrameBudgetMs(win, this->InteractiveUpdateRate) : 0.0);
+  in.Aborted = false;
 
   // --- G-buffer and one solver per light, unless the last frame's V holds
   if (in.ShadowsThisFrame && !in.Plan.reuse)
   {
+    const auto tWork = Clock::now();
     // Our stages change blending, depth and clear state: give VTK's shading
     // (opaque, translucent, depth peeling) the state it had.
     vtkOpenGLState::ScopedglEnableDisable blendSaver(ostate, GL_BLEND);
@@ -403,10 +413,21 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     vtkOpenGLState::ScopedglClearColor clearSaver(ostate);
     this->RenderGBuffer(s);
     this->SolveVisibility(s);
-    // a solve that could not allocate its textures turned shadows off: try
-    // again next frame rather than reuse nothing
+    if (in.ShadowsThisFrame && this->AdaptToFrameBudget)
+    {
+      glFinish(); // the shadow work's true cost, for the frames to plan
+      in.Costs.Record(in.Frame.Lights, ss::Milliseconds(tWork, Clock::now()),
+        static_cast<double>(in.Frame.Width) * in.Frame.Height);
+    }
+    // a solve that could not allocate its textures (or was aborted) turned
+    // shadows off: try again next frame rather than reuse nothing
     in.HaveResults = in.ShadowsThisFrame;
     in.LastSignature = in.ShadowsThisFrame ? signature : std::string();
+    in.LastMethods.clear();
+    for (const auto& l : in.Plan.lights)
+    {
+      in.LastMethods.push_back(l.method);
+    }
   }
   else if (!in.ShadowsThisFrame)
   {
@@ -424,7 +445,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 }
 
 //------------------------------------------------------------------------------
-void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
+void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudgetMs)
 {
   auto& in = *this->Internals;
   ss::PlannerInput pin;
@@ -434,6 +455,8 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
   pin.translucentCasters = in.Casters.Translucent;
   pin.casterVolumes = in.Casters.Volumes.size();
   pin.methods = ss::PlannerMethods();
+  in.Costs.Estimate(pin.methods, static_cast<double>(in.Frame.Width) * in.Frame.Height);
+  pin.frameBudgetMs = frameBudgetMs;
   pin.shadowMapSize = this->ShadowMapSize;
   const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   for (const auto& l : in.Frame.Lights)
@@ -444,6 +467,7 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
       ss::ReceiverTexelsAtPixelSize(l.Frame, receivers, in.Frame.Eye, in.PixelAngle, in.ParallelPixel);
   }
   pin.unchangedSinceLastFrame = unchangedSinceLastFrame;
+  pin.lastMethods = in.LastMethods;
   // progressive solvers still refining: a still view is solved again
   for (const auto& solver : in.Solvers)
   {
@@ -586,18 +610,24 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   }
   in.Timings.Set("visibility", ss::Milliseconds(tStage, Clock::now()));
 
-  // --- one solver per light writes its layer
+  // --- one solver per light writes its layer; progress over all lights,
+  // and a render abort (vtkRenderWindow) stops between lights and chunks
+  ss::FrameProgress progress(this, win, numShadowLights);
   for (const auto& l : in.Frame.Lights)
   {
-    if (l.Layer >= 0)
+    if (l.Layer >= 0 && progress.Report(0.0))
     {
+      frame.Progress = [&progress](double f) { return progress.Report(f); };
       in.SolverFor(l.Method)->Compute(frame, l);
+      progress.LightDone();
     }
   }
   for (const auto& solver : in.Solvers)
   {
     solver->EndFrame(frame);
   }
+  in.Aborted = progress.Finish(in.Plan);
+  in.ShadowsThisFrame = in.ShadowsThisFrame && !in.Aborted;
 }
 
 //------------------------------------------------------------------------------
@@ -903,6 +933,11 @@ bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFl
   return in.Maps.Read(ow, in.FBO, layer, out->GetPointer(0));
 }
 
+bool vtkSoftShadowPass::GetLastFrameAborted()
+{
+  return this->Internals->Aborted;
+}
+
 int vtkSoftShadowPass::GetLastWidth()
 {
   return this->Internals->Frame.Width;
@@ -929,6 +964,11 @@ int vtkSoftShadowPass::GetLastNumberOfCasterTriangles()
 std::string vtkSoftShadowPass::GetPlanDescription()
 {
   return this->Internals->Plan.ToText();
+}
+
+std::string vtkSoftShadowPass::GetPlanSummary()
+{
+  return ss::PlanSummary(this->Internals->Plan, this->Internals->Timings.Get("pass_total"));
 }
 
 std::string vtkSoftShadowPass::GetStatsJSON()
@@ -997,6 +1037,8 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ASMQuality: " << this->ASMQuality << "\n";
   os << indent << "ASMIDTest: " << this->ASMIDTest << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
+  os << indent << "AdaptToFrameBudget: " << this->AdaptToFrameBudget << "\n";
+  os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";
 }

@@ -321,6 +321,38 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Interactive frames. With AdaptToFrameBudget on (default), a frame
+   * rendered while the render window's DesiredUpdateRate is at least
+   * InteractiveUpdateRate (default 0.1 frames per second) is interactive:
+   * VTK's interactor sets 15 while the user drags and 0.0001 after,
+   * ParaView's interactive render 5 and its still render 0.002. Its shadow
+   * work has 1000 / DesiredUpdateRate milliseconds: where the costs measured
+   * on earlier frames do not fit, the effect planner stands faster methods in
+   * (requested -> the method auto uses for area lights -> hard shadows) and
+   * says so in the plan; the next still frame uses the requested method
+   * again. Measuring costs one glFinish per solved frame.
+   */
+  vtkSetMacro(AdaptToFrameBudget, bool);
+  vtkGetMacro(AdaptToFrameBudget, bool);
+  vtkBooleanMacro(AdaptToFrameBudget, bool);
+  vtkSetClampMacro(InteractiveUpdateRate, double, 1e-6, 1e6);
+  vtkGetMacro(InteractiveUpdateRate, double);
+  ///@}
+
+  /**
+   * Progress and abort. While it solves, the pass invokes
+   * vtkCommand::ProgressEvent on itself (call data: a double* in [0, 1], over
+   * all shadow lights of the frame), between lights and between chunks of
+   * the long solvers' work (reference and gears on the CPU: chunks of pixels
+   * or cells; pvsm: tiles). At the same points it asks the render window
+   * vtkRenderWindow::CheckAbortStatus (which fires AbortCheckEvent); once the
+   * window's AbortRender is set, it stops: that frame has no shadows, the
+   * plan says "aborted", and the next render solves again.
+   */
+  bool GetLastFrameAborted();
+
+  ///@{
   /** Per-prop flags (stored in vtkProp::GetPropertyKeys); both default to true. */
   static void SetCastsShadows(vtkProp* prop, bool casts);
   static bool GetCastsShadows(vtkProp* prop);
@@ -383,6 +415,11 @@ public:
   std::string GetStatsJSON();
   /** The plan as readable lines (also in PrintSelf). */
   std::string GetPlanDescription();
+  /**
+   * One line for an annotation: the methods of the last frame and its time,
+   * e.g. "pcss (interactive: stands in for gears), 38 ms".
+   */
+  std::string GetPlanSummary();
   ///@}
 
   /** Live GPU objects owned by the pass (textures, buffers, programs); 0 after release. */
@@ -442,13 +479,15 @@ protected:
   double PositionsOrigin[3] = { 0, 0, 0 };
   bool AutomaticPositionsOrigin = true;
   bool MeasureTimings = false;
+  bool AdaptToFrameBudget = true;
+  double InteractiveUpdateRate = 0.1;
 
 private:
   vtkSoftShadowPass(const vtkSoftShadowPass&) = delete;
   void operator=(const vtkSoftShadowPass&) = delete;
 
   // The stages of Render (vtkSoftShadowPass.cxx says which file owns what).
-  void PlanFrame(bool unchangedSinceLastFrame);
+  void PlanFrame(bool unchangedSinceLastFrame, double frameBudgetMs);
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
   void Shade(const vtkRenderState* s);

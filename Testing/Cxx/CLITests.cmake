@@ -128,7 +128,10 @@ ss_cli_error(zero_frames "--frames: expected an integer in \\[1, " ${_ss_cli} re
 ss_cli_error(option_bad_value "--option shadow_map_size: expected an integer" ${_ss_cli} render "${_demo}" --option shadow_map_size=big)
 ss_cli_error(missing_value "--output: missing value" ${_ss_cli} render "${_demo}" --output)
 add_test(NAME cli.help COMMAND ${_ss_cli} --help)
-set_tests_properties(cli.help PROPERTIES LABELS "cli" PASS_REGULAR_EXPRESSION "usage:.*softshadows render SCENE\\.json")
+# every --option key, from the one table ApplyOption uses (issue 24: --help had
+# omitted pvsm_tile_culling)
+set_tests_properties(cli.help PROPERTIES LABELS "cli" PASS_REGULAR_EXPRESSION
+  "usage:.*softshadows render SCENE\\.json.*pvsm_tile_culling \\(0\\|1\\).*average_samples.*frame_budget")
 
 add_executable(ssCheckOutputs ssCheckOutputs.cxx)
 target_link_libraries(ssCheckOutputs PRIVATE SoftShadowsScene nlohmann_json::nlohmann_json)
@@ -181,6 +184,13 @@ add_test(NAME cli.bench.vpcss_smoke_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_vpcss_bench.py" "${_ss_out}/bench_vpcss_smoke")
 set_tests_properties(cli.bench.vpcss_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_vpcss_smoke)
 set_tests_properties(cli.bench.vpcss_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_vpcss_smoke)
+add_test(NAME cli.bench.gears_smoke
+  COMMAND env -u DISPLAY ${_ss_cli} bench --gears --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
+    --sizes 160x120 --samples 8 --frames 1 --out "${_ss_out}/bench_gears_smoke")
+add_test(NAME cli.bench.gears_smoke_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_gears_bench.py" "${_ss_out}/bench_gears_smoke")
+set_tests_properties(cli.bench.gears_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_gears_smoke)
+set_tests_properties(cli.bench.gears_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_gears_smoke)
 add_test(NAME cli.bench.pvsm_smoke
   COMMAND env -u DISPLAY ${_ss_cli} bench --pvsm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
     --size 160x120 --frames 1 --reference-samples 4 --out "${_ss_out}/bench_pvsm_smoke")

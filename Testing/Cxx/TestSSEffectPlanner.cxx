@@ -222,10 +222,18 @@ TEST(EffectPlanner, TranslucentCastersAndReuse)
   EXPECT_FALSE(Contains(MakeEffectPlan(in).reason, "translucent"));
 
   in.unchangedSinceLastFrame = true;
+  in.lastMethods = { Method::PCSS };
   p = MakeEffectPlan(in);
   EXPECT_TRUE(p.shadowWork);
   EXPECT_TRUE(p.reuse);
+  EXPECT_EQ(p.Summary(), "pcss (reused)");
   EXPECT_EQ(p.lights[0].method, Method::PCSS); // the plan itself still says what V holds
+  // V computed with another method is not reused (an interactive frame's
+  // stand-in must not become the still frame's picture)
+  in.lastMethods = { Method::Hard };
+  EXPECT_FALSE(MakeEffectPlan(in).reuse);
+  in.lastMethods = {};
+  EXPECT_FALSE(MakeEffectPlan(in).reuse);
   // reuse needs shadow work: a headlight-only scene has nothing to reuse
   PlannerLight head = Area();
   head.headlight = true;
@@ -234,6 +242,7 @@ TEST(EffectPlanner, TranslucentCastersAndReuse)
   p = MakeEffectPlan(h);
   EXPECT_FALSE(p.shadowWork);
   EXPECT_FALSE(p.reuse);
+  EXPECT_EQ(p.Summary(), "none: no light casts shadows");
 }
 
 TEST(EffectPlanner, JSONAndText)
@@ -364,6 +373,111 @@ TEST(EffectPlanner, CastersMayShadowReceivers)
   EXPECT_FALSE(CastersMayShadow(light, aside, receivers));
   EXPECT_FALSE(CastersMayShadow(light, Box{}, receivers));
   EXPECT_FALSE(CastersMayShadow(light, over, Box{}));
+namespace
+{
+void SetCost(PlannerInput& in, Method m, double ms)
+{
+  for (auto& info : in.methods)
+  {
+    if (info.method == m)
+    {
+      info.estimatedMs = ms;
+    }
+  }
+}
+}
+
+TEST(EffectPlanner, InteractiveFramesFitTheBudget)
+{
+  // gears requested for an area and a point light; gears measured at 1200
+  // ms a light, pcss at 30, hard at 10; budget 200 ms (ParaView's
+  // interactive DesiredUpdateRate of 5 frames per second)
+  PlannerInput in = Scene({ Area(), Point() });
+  in.requested = Method::GEARS;
+  SetCost(in, Method::GEARS, 1200.0);
+  SetCost(in, Method::PCSS, 30.0);
+  SetCost(in, Method::Hard, 10.0);
+  // a still frame: every light gets gears, whatever it costs
+  EffectPlan p = MakeEffectPlan(in);
+  EXPECT_FALSE(p.interactive);
+  EXPECT_FALSE(p.degraded);
+  EXPECT_EQ(p.lights[0].method, Method::GEARS);
+  EXPECT_EQ(p.lights[1].method, Method::GEARS);
+  // interactive: the area light steps down to the soft rule's method, the
+  // point light (no softness to keep) straight to the hard rule's
+  in.frameBudgetMs = 200.0;
+  p = MakeEffectPlan(in);
+  EXPECT_TRUE(p.interactive);
+  EXPECT_TRUE(p.degraded);
+  EXPECT_EQ(p.lights[0].method, Method::PCSS);
+  EXPECT_EQ(p.lights[0].stillMethod, Method::GEARS);
+  EXPECT_EQ(p.lights[1].method, Method::Hard);
+  EXPECT_DOUBLE_EQ(p.estimatedMs, 40.0);
+  EXPECT_TRUE(Contains(p.lights[0].reason, "interactive frame (budget 200 ms): gears takes ~1200 ms, pcss stands in"))
+    << p.lights[0].reason;
+  EXPECT_TRUE(Contains(p.lights[0].reason, "the still frame uses gears")) << p.lights[0].reason;
+  EXPECT_TRUE(Contains(p.reason, "faster methods stand in")) << p.reason;
+  EXPECT_EQ(p.Summary(), "pcss, hard (interactive: stands in for gears)");
+  const std::string j = p.ToJSON();
+  EXPECT_TRUE(Contains(j, "\"interactive\": true, \"degraded\": true")) << j;
+  EXPECT_TRUE(Contains(j, "\"frame_budget_ms\": 200")) << j;
+  EXPECT_TRUE(Contains(j, "\"still_method\": \"gears\"")) << j;
+  // only as far down as needed, the largest saving first: the point light's
+  // step to hard (saves 1190 ms, loses no softness) before the area light's
+  in.frameBudgetMs = 1250.0;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::GEARS);
+  EXPECT_EQ(p.lights[1].method, Method::Hard) << p.lights[1].reason;
+  in.frameBudgetMs = 1210.0; // gears + hard = 1210 fits exactly
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::GEARS);
+  in.frameBudgetMs = 1209.0;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::PCSS);
+  // a budget that fits as requested changes nothing, and says so
+  in.frameBudgetMs = 5000.0;
+  p = MakeEffectPlan(in);
+  EXPECT_TRUE(p.interactive);
+  EXPECT_FALSE(p.degraded);
+  EXPECT_EQ(p.lights[0].method, Method::GEARS);
+  EXPECT_EQ(p.lights[1].method, Method::GEARS);
+  EXPECT_TRUE(Contains(p.reason, "fits")) << p.reason;
+  // nothing fits: the cheapest chain end is used (hard shadows, not none)
+  in.frameBudgetMs = 1.0;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::Hard);
+  EXPECT_EQ(p.lights[1].method, Method::Hard);
+  // a stand-in dearer than the method asked for is skipped, not taken
+  PlannerInput d = Scene({ Area() });
+  d.requested = Method::Reference;
+  SetCost(d, Method::Reference, 80.0);
+  SetCost(d, Method::PCSS, 180.0);
+  SetCost(d, Method::Hard, 20.0);
+  d.frameBudgetMs = 50.0;
+  p = MakeEffectPlan(d);
+  EXPECT_EQ(p.lights[0].method, Method::Hard) << p.lights[0].reason;
+  d.frameBudgetMs = 10.0; // even hard shadows do not fit: they are the fastest there is
+  p = MakeEffectPlan(d);
+  EXPECT_EQ(p.lights[0].method, Method::Hard);
+  EXPECT_TRUE(Contains(p.reason, "still over")) << p.reason;
+  // an unmeasured method runs (and is measured): the planner cannot know its cost
+  PlannerInput u = Scene({ Area() });
+  u.requested = Method::Reference;
+  u.frameBudgetMs = 200.0;
+  p = MakeEffectPlan(u);
+  EXPECT_EQ(p.lights[0].method, Method::Reference);
+  EXPECT_LT(p.estimatedMs, 0.0);
+  EXPECT_TRUE(Contains(p.reason, "unknown")) << p.reason;
+  // the chain comes from the registry's rules, not from names
+  for (auto& m : in.methods)
+  {
+    m.rule = m.method == Method::PVSM ? PlannerRule::SoftLights
+                                      : (m.method == Method::PCSS ? PlannerRule::OnRequest : m.rule);
+  }
+  SetCost(in, Method::PVSM, 50.0);
+  in.frameBudgetMs = 200.0;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::PVSM);
 }
 
 // ASM's rule (issue 21): point and spot lights get the adaptive method when
@@ -401,6 +515,10 @@ TEST(EffectPlanner, AdaptiveHardShadows)
 TEST(EffectPlanner, StillViewRefinesWhileASolverIsRefining)
 {
   PlannerInput in = Scene({ Point() });
+  for (const auto& l : MakeEffectPlan(in).lights) // the last frame's methods: reuse needs the same
+  {
+    in.lastMethods.push_back(l.method);
+  }
   in.unchangedSinceLastFrame = true;
   in.refining = "asm";
   EffectPlan p = MakeEffectPlan(in);
