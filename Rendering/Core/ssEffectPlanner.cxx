@@ -1,5 +1,7 @@
 #include "ssEffectPlanner.h"
 
+#include "ssClusterBounds.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -291,7 +293,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
   {
     frameReason = "no lights";
   }
-  else if (in.casterTriangles == 0)
+  else if (in.casterTriangles == 0 && in.casterVolumes == 0)
   {
     frameReason = "no shadow casters";
   }
@@ -349,6 +351,15 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       }
     }
     // --- method auto: the rules, one branch each (PlannerRule)
+    else if (!l.translucentInView.empty() && ForRule(in.methods, PlannerRule::TranslucentCasters))
+    {
+      const MethodInfo* info = ForRule(in.methods, PlannerRule::TranslucentCasters);
+      p = { info->method,
+        std::string(l.frame.IsSoft() ? "area light" : "light without extent") + " with translucent casters in its view (" +
+          l.translucentInView + "): transmittance-weighted " + (l.frame.IsSoft() ? "soft" : "hard") + " shadows (" +
+          Upper(info->name) + ")",
+        info->name };
+    }
     else if (!l.frame.IsSoft())
     {
       const MethodInfo* uniform = ForRule(in.methods, PlannerRule::HardLights);
@@ -396,19 +407,27 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
     }
     plan.shadowWork = plan.shadowWork || p.method != Method::None;
   }
-  plan.reason = plan.shadowWork ? std::to_string(in.casterTriangles) + " caster triangles"
+  plan.reason = plan.shadowWork ? std::to_string(in.casterTriangles) + " caster triangles" +
+      (in.casterVolumes ? ", " + std::to_string(in.casterVolumes) + " caster volume(s)" : std::string())
                                 : "no light casts shadows";
-  if (plan.shadowWork && in.translucentCasters)
+  if (plan.shadowWork && (in.translucentCasters || in.casterVolumes > 0))
   {
-    bool opaqueOnly = false;
+    std::string opaqueOnly;
     for (const auto& l : plan.lights)
     {
       const MethodInfo* info = FindMethod(in.methods, l.method);
-      opaqueOnly = opaqueOnly || (l.method != Method::None && !(info && info->translucentCasters));
+      if (l.method != Method::None && !(info && info->translucentCasters) &&
+        opaqueOnly.find(l.name) == std::string::npos)
+      {
+        opaqueOnly += (opaqueOnly.empty() ? "" : ", ") + l.name;
+      }
     }
-    if (opaqueOnly)
+    if (!opaqueOnly.empty())
     {
-      plan.reason += "; translucent casters are treated as opaque by shadow-map methods (planner v1)";
+      plan.reason += in.translucentCasters ? "; translucent casters are treated as opaque" : "";
+      plan.reason += in.casterVolumes ? std::string(in.translucentCasters ? " and" : ";") + " volumes cast no shadows"
+                                      : "";
+      plan.reason += " by " + opaqueOnly;
     }
   }
   if (plan.shadowWork && in.frameBudgetMs > 0.0)
@@ -431,6 +450,19 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
     plan.reason += "; nothing changed since the last frame: visibility reused";
   }
   return plan;
+}
+
+bool CastersMayShadow(const LightFrame& light, const Box& casters, const Box& receivers)
+{
+  if (casters.Empty() || receivers.Empty())
+  {
+    return false;
+  }
+  ClusterBounds b;
+  b.aabb = casters;
+  b.obb.center = casters.Center();
+  b.obb.half = 0.5 * (casters.max - casters.min);
+  return ClusterMayShadowBox(b, light, receivers);
 }
 
 bool NeedsAdaptiveMap(double receiverTexels, int shadowMapSize)

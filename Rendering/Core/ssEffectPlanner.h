@@ -24,7 +24,9 @@ enum class Method
   GEARS = 6,     ///< exact soft shadows from per-pixel triangle lists (GEARS)
   PVSM = 7,      ///< predicted virtual soft shadow maps (adaptive tiles, anisotropic filtering)
   HardAverage = 8, ///< brute force: the average of k x k hard shadow maps, one per light sample
-  ASM = 10          ///< adaptive shadow maps: hard shadows refined where the view needs them, in a memory budget
+  VPCSS = 9,      ///< volumetric PCSS: soft shadows of translucent casters and volumes over an AVSM
+  ASM = 10,         ///< adaptive shadow maps: hard shadows refined where the view needs them, in a memory budget
+  AVSM = 11       ///< adaptive volumetric shadow maps: hard shadows of translucent casters and volumes
 };
 
 /// When the planner uses a method on its own (method auto). Each rule is one
@@ -34,6 +36,7 @@ enum class PlannerRule
   OnRequest,  ///< only when asked for by name
   HardLights, ///< auto: lights without extent (point, zero-size rect, directional without angular size)
   SoftLights, ///< auto: lights with extent (rect, directional with angular size)
+  TranslucentCasters, ///< auto: lights with a translucent caster in their view (before the others)
   /// auto: point and spot lights, and directional lights without angular size
   /// whose receivers need far more texels than one map holds at the view's
   /// pixel size (NeedsAdaptiveMap). Without a method for it, HardLights serves them.
@@ -61,6 +64,9 @@ struct PlannerLight
   bool headlight = false;
   bool valid = true;
   std::string invalidReason;
+  /// What translucent casters may shadow a receiver of this light (e.g.
+  /// "opacity < 1", "an RGBA texture", "a volume", joined); empty: none.
+  std::string translucentInView;
   /// Directional lights: the texels a side that one map over the receivers
   /// needs for a texel per pixel where the view is finest
   /// (ReceiverTexelsAtPixelSize); 0 when unknown.
@@ -71,6 +77,7 @@ struct PlannerInput
 {
   Method requested = Method::Auto;
   std::size_t casterTriangles = 0;
+  std::size_t casterVolumes = 0; ///< volumes that cast shadows
   std::size_t receiverProps = 0;
   bool translucentCasters = false;
   bool unchangedSinceLastFrame = false;
@@ -133,6 +140,12 @@ struct EffectPlan
 /// nothing is cheaper); then reuse when nothing changed and the methods are
 /// the same.
 EffectPlan MakeEffectPlan(const PlannerInput& in);
+/// Whether casters inside the box `casters` can shadow a point of
+/// `receivers` lit by `light` (all in the same coordinates): false when a
+/// separating axis parts the box from the hull of the light and the
+/// receivers (ClusterMayShadowBox), i.e. when no such caster is "in the
+/// light's view" of what it lights. Empty boxes cast nothing.
+bool CastersMayShadow(const LightFrame& light, const Box& casters, const Box& receivers);
 
 /// How much finer than one map a directional light's receivers need: one
 /// map of `shadowMapSize` over them falls short when they span more than

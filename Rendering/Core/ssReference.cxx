@@ -133,6 +133,7 @@ struct ReferenceSolver::Impl
   std::size_t Triangles = 0, Skipped = 0;
   std::vector<float> Opacity;
   bool Translucent = false;
+  std::vector<VolumeGrid> Volumes;
 
   ~Impl()
   {
@@ -219,6 +220,18 @@ void ReferenceSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::
     rtcReleaseGeometry(geom);
   }
   rtcCommitScene(P->Scene);
+}
+
+void ReferenceSolver::SetVolumes(const std::vector<VolumeGrid>& volumes)
+{
+  P->Volumes.clear();
+  for (const auto& v : volumes)
+  {
+    if (!v.Empty())
+    {
+      P->Volumes.push_back(v);
+    }
+  }
 }
 
 std::size_t ReferenceSolver::NumberOfTriangles() const
@@ -352,6 +365,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
         RTCRay16 rays;
         alignas(64) int valid[16]; // rtcOccluded16 wants the mask 64-byte aligned
         float transmittance[16];
+        float laneLen[16]; // volumes: each lane's segment length
         for (int q2 = 0; q2 < 16; ++q2)
         {
           const int s = s0 + q2;
@@ -430,6 +444,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
           rays.mask[q2] = ok ? 0xFFFFFFFFu : 0u;
           rays.id[q2] = static_cast<unsigned>(q2);
           rays.flags[q2] = 0;
+          laneLen[q2] = directional ? 1e9f : tfar; // a direction: every volume is clipped out of a long ray
         }
         if (P->Translucent)
         {
@@ -460,7 +475,19 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
           // occluded rays get tfar = -inf
           if (rays.tfar[q2] >= 0.0f)
           {
-            visible += P->Translucent ? transmittance[q2] : 1.0;
+            double t = P->Translucent ? transmittance[q2] : 1.0;
+            if (!P->Volumes.empty())
+            {
+              const glm::dvec3 dir(rays.dir_x[q2], rays.dir_y[q2], rays.dir_z[q2]);
+              const glm::dvec3 a = start + P->Center, b = a + dir * static_cast<double>(laneLen[q2]);
+              double tau = 0.0;
+              for (const auto& vol : P->Volumes)
+              {
+                tau += vol.OpticalDepth(a, b);
+              }
+              t *= std::exp(-tau);
+            }
+            visible += t;
           }
         }
       }

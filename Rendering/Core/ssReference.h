@@ -2,6 +2,7 @@
 #define ssReference_h
 
 #include "ssLightFrame.h"
+#include "ssVolumeGrid.h"
 #include "ssSolveProgress.h"
 
 #include <cstddef>
@@ -70,6 +71,11 @@ public:
   void SetTriangles(const std::vector<glm::dvec3>& vertices, const std::vector<float>& opacity);
   std::size_t NumberOfTriangles() const;
   std::size_t SkippedTriangles() const;
+
+  /// Volumes that attenuate the rays (world coordinates): a ray that no
+  /// opaque triangle blocks passes exp(-optical depth) of each (exact for a
+  /// uniform grid, else the midpoint rule at a quarter of a cell).
+  void SetVolumes(const std::vector<VolumeGrid>& volumes);
 
   /// V for n pixels. positions: 3 floats per pixel, world position minus
   /// `origin` (NaN: background, gives NaN); normals: 3 floats per pixel or

@@ -121,6 +121,7 @@ std::string FrameSignature(vtkRenderer* ren, const FrameState& frame, const Cast
   }
   sig << cam->GetViewAngle() << ',' << cam->GetParallelProjection() << ',' << cam->GetParallelScale() << ','
       << ren->GetTiledAspectRatio() << ',' << frame.Width << 'x' << frame.Height << ',' << casters.Version << ','
+      << casters.VolumeVersion << ','
       << settingsTime << ',' << frame.Origin.x << ',' << frame.Origin.y << ',' << frame.Origin.z;
   for (const auto& l : frame.Lights)
   {

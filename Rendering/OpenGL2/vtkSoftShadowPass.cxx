@@ -23,6 +23,7 @@
 #include "ssShadowMaps.h"
 #include "ssShadowViews.h"
 #include "ssSolverRegistry.h"
+#include "ssTranslucentReceivers.h"
 #include "ssTriangleSolver.h"
 #include "ssVisibilityLayers.h"
 #include "ssVisibilitySolver.h"
@@ -452,6 +453,7 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudg
   pin.casterTriangles = in.Casters.NumberOfTriangles();
   pin.receiverProps = in.Casters.ReceiverProps;
   pin.translucentCasters = in.Casters.Translucent;
+  pin.casterVolumes = in.Casters.Volumes.size();
   pin.methods = ss::PlannerMethods();
   in.Costs.Estimate(pin.methods, static_cast<double>(in.Frame.Width) * in.Frame.Height);
   pin.frameBudgetMs = frameBudgetMs;
@@ -460,6 +462,7 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudg
   for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
+    pin.lights.back().translucentInView = in.Casters.TranslucentInView(l.Frame, in.Frame.Origin);
     pin.lights.back().receiverTexels =
       ss::ReceiverTexelsAtPixelSize(l.Frame, receivers, in.Frame.Eye, in.PixelAngle, in.ParallelPixel);
   }
@@ -594,6 +597,17 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.ShadowsThisFrame = false;
     return;
   }
+  int colorLayers = 0; // RGB visibility of the lights whose solver writes colour
+  for (auto& l : in.Frame.Lights)
+  {
+    l.ColorLayer = (l.Layer >= 0 && in.SolverFor(l.Method)->WritesColor()) ? colorLayers++ : -1;
+  }
+  if (!in.Visibility.AllocateColor(colorLayers, limits, error))
+  {
+    vtkErrorMacro(<< error);
+    in.ShadowsThisFrame = false;
+    return;
+  }
   in.Timings.Set("visibility", ss::Milliseconds(tStage, Clock::now()));
 
   // --- one solver per light writes its layer; progress over all lights,
@@ -643,6 +657,10 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
   {
     in.Visibility.BindForShading(win);
     in.GBuf.Position->Activate();
+    for (const auto& solver : in.Solvers)
+    {
+      solver->BeginShading(win);
+    }
   }
   this->PreRender(s);
   if (this->DelegatePass)
@@ -657,6 +675,10 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
   this->PostRender(s);
   if (in.ShadowsThisFrame)
   {
+    for (const auto& solver : in.Solvers)
+    {
+      solver->EndShading(win);
+    }
     in.GBuf.Position->Deactivate();
     in.Visibility.UnbindAfterShading(win);
   }
@@ -724,13 +746,16 @@ bool vtkSoftShadowPass::SetShaderParameters(
     return true;
   }
   ss::ShadingUniforms u;
-  u.PropId = in.GBuf.FindPropId(prop);
-  u.Use = in.ShadowsThisFrame && u.PropId != 0 && GetReceivesShadows(prop);
+  u.PropId = in.GBuf.FindPropId(prop); // 0: not in the G-buffer (translucent): V per fragment
+  u.Use = in.ShadowsThisFrame && GetReceivesShadows(prop);
   u.PositionUnit = in.GBuf.Position->GetTextureUnit();
   u.VisibilityUnit = in.Visibility.GetShadingUnit();
+  u.ColorUnit = in.Visibility.GetColorShadingUnit();
   u.ViewportOrigin[0] = in.Frame.ViewportOrigin[0];
   u.ViewportOrigin[1] = in.Frame.ViewportOrigin[1];
   ss::SetVisibilityUniforms(program, u, in.Frame.Lights);
+  ss::SetTranslucentReceiverUniforms(program, in.GBuf, in.Frame.Lights,
+    [&in](ss::Method m) -> const ss::VisibilitySolver* { return in.SolverFor(m); }, u.VisibilityUnit);
   return true;
 }
 
@@ -789,6 +814,25 @@ bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
   {
     out->SetValue(static_cast<vtkIdType>(i), v[i] < 0.0f ? nan : v[i]);
   }
+  return true;
+}
+
+bool vtkSoftShadowPass::GetColorVisibilityImage(int shadowLight, vtkFloatArray* out)
+{
+  auto& in = *this->Internals;
+  const ShadowLight* light = nullptr;
+  for (const auto& l : in.Frame.Lights)
+  {
+    light = (l.Layer == shadowLight && l.ColorLayer >= 0) ? &l : light;
+  }
+  std::vector<float> rgb;
+  if (!out || !light || !in.HaveResults || !in.Window || !in.Visibility.ReadColor(in.Window, in.FBO, light->ColorLayer, rgb))
+  {
+    return false;
+  }
+  out->SetNumberOfComponents(3);
+  out->SetNumberOfTuples(static_cast<vtkIdType>(rgb.size() / 3));
+  std::copy(rgb.begin(), rgb.end(), out->GetPointer(0));
   return true;
 }
 
@@ -981,6 +1025,9 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PVSMMetric: " << this->PVSMMetric << "\n";
   os << indent << "PVSMTileCulling: " << this->PVSMTileCulling << "\n";
   os << indent << "AverageSamples: " << this->AverageSamples << "\n";
+  os << indent << "AVSMNodes: " << this->AVSMNodes << ", AVSMSize: " << this->AVSMSize
+     << ", AVSMMemory: " << this->AVSMMemory << " MB, ColoredShadows: " << this->ColoredShadows
+     << ", VolumeSteps: " << this->VolumeSteps << ", VPCSSFilterQuads: " << this->VPCSSFilterQuads << "\n";
   os << indent << "ASMMemoryBudget: " << this->ASMMemoryBudget << " MB\n";
   os << indent << "ASMPageSize: " << this->ASMPageSize << "\n";
   os << indent << "ASMCells: " << this->ASMCells << "\n";

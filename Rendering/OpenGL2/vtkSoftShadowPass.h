@@ -25,8 +25,13 @@
  *    or radiance (PBR) are multiplied by that light's V.
  *
  * Props opt out with SetCastsShadows / SetReceivesShadows. Lights are
- * configured with vtkSoftShadowLight. Translucent props receive no shadows
- * (their fragments are not in the G-buffer); they still cast shadows.
+ * configured with vtkSoftShadowLight. Translucent props cast shadows; with
+ * the shadow-map methods as if opaque, with VPCSS and AVSM (and the
+ * reference) by their transmittance; volumes (vtkVolume of image data, their
+ * scalar opacity) cast shadows with VPCSS, AVSM and the reference. Translucent
+ * props are not in the G-buffer: they receive the shadows of lights solved
+ * by VPCSS or AVSM (their fragments compute V), with depth peeling on or
+ * off, and none from the other methods.
  */
 #ifndef vtkSoftShadowPass_h
 #define vtkSoftShadowPass_h
@@ -63,7 +68,9 @@ public:
     GEARS = 6,     ///< exact soft shadows: triangles assigned to pixels by a grid, k x k bitmasks
     PVSM = 7,      ///< predicted virtual soft shadow maps: adaptive tiles, anisotropic coverage filter
     HARDAVG = 8,   ///< brute force: average of AverageSamples^2 hard shadow maps, one per light sample
-    ASM = 10       ///< adaptive shadow maps: hard shadows refined where the view needs them, in a memory budget
+    VPCSS = 9,     ///< volumetric PCSS: soft shadows of translucent casters and volumes over an AVSM
+    ASM = 10,      ///< adaptive shadow maps: hard shadows refined where the view needs them, in a memory budget
+    AVSM = 11      ///< adaptive volumetric shadow map: hard shadows of translucent casters and volumes
   };
 
   /** GEARS backends (SetGearsBackend). */
@@ -82,7 +89,7 @@ public:
   /** SetMethod clamps to this range: every registered method (ssSolverRegistry). */
   virtual int GetMethodMinValue();
   virtual int GetMethodMaxValue();
-  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg, asm. Returns false for unknown names. */
+  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg, vpcss, asm, avsm. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
   /** Every method's name, comma-separated, in the registry's order. */
@@ -181,6 +188,35 @@ public:
    */
   vtkSetClampMacro(AverageSamples, int, 1, 32);
   vtkGetMacro(AverageSamples, int);
+  ///@}
+
+  ///@{
+  /**
+   * VPCSS and AVSM (translucent casters and volumes). AVSMNodes: nodes of
+   * each texel's transmittance function (4..16, rounded up to a multiple of
+   * 4; default 8). AVSMSize: texels a side of the adaptive volumetric shadow
+   * map (a power of two, default 512). AVSMMemory: megabytes for the maps,
+   * their per-texel buffers and the fragment lists (default 256); the map is
+   * made smaller to fit, and the fragment lists are resolved in bands of
+   * rows that fit (stats: vpcss.avsm). ColoredShadows: RGB transmittance
+   * from each caster's colour and opacity (default off: one channel).
+   * VolumeSteps: the most march steps of a texel's ray through the volumes
+   * (default 256). VPCSSFilterQuads: texel quads per axis of VPCSS's filter
+   * at most (coarser pyramid levels for larger kernels; default 8).
+   */
+  vtkSetClampMacro(AVSMNodes, int, 4, 16);
+  vtkGetMacro(AVSMNodes, int);
+  vtkSetClampMacro(AVSMSize, int, 64, 8192);
+  vtkGetMacro(AVSMSize, int);
+  vtkSetClampMacro(AVSMMemory, int, 16, 65536);
+  vtkGetMacro(AVSMMemory, int);
+  vtkSetMacro(ColoredShadows, bool);
+  vtkGetMacro(ColoredShadows, bool);
+  vtkBooleanMacro(ColoredShadows, bool);
+  vtkSetClampMacro(VolumeSteps, int, 8, 4096);
+  vtkGetMacro(VolumeSteps, int);
+  vtkSetClampMacro(VPCSSFilterQuads, int, 2, 64);
+  vtkGetMacro(VPCSSFilterQuads, int);
   ///@}
 
   ///@{
@@ -337,6 +373,13 @@ public:
    */
   int GetNumberOfShadowLights();
   bool GetVisibilityImage(int shadowLight, vtkFloatArray* out);
+  /**
+   * RGB visibility of a shadow light whose solver wrote colour (VPCSS or
+   * AVSM with ColoredShadows on): 3 components per pixel, background NaN;
+   * false for lights without it. V (GetVisibilityImage) is then the mean of
+   * the three.
+   */
+  bool GetColorVisibilityImage(int shadowLight, vtkFloatArray* out);
   bool GetPositionsImage(vtkFloatArray* out);
   /**
    * The factor VTK's diffuse lighting multiplies the given shadow light's V
@@ -414,6 +457,12 @@ protected:
   bool PVSMTileCulling = true;
   int PVSMMetric = 0;
   int AverageSamples = 8;
+  int AVSMNodes = 8;
+  int AVSMSize = 512;
+  int AVSMMemory = 256;
+  bool ColoredShadows = false;
+  int VolumeSteps = 256;
+  int VPCSSFilterQuads = 8;
   double ASMMemoryBudget = 16.0;
   int ASMPageSize = 128;
   int ASMCells = 4;

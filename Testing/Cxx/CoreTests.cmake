@@ -15,6 +15,9 @@ add_executable(TestSoftShadowsCore
   TestSSMetrics.cxx
   TestSSCasterClusters.cxx
   TestSSClusterBounds.cxx
+  TestSSAVSM.cxx
+  TestSSVPCSS.cxx
+  TestSSVolumeGrid.cxx
   TestSSSolveProgress.cxx
   TestSSASM.cxx)
 find_package(TBB REQUIRED)

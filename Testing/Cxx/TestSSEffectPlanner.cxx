@@ -40,7 +40,9 @@ std::vector<MethodInfo> Catalogue()
     { Method::PVSM, "pvsm", PlannerRule::OnRequest, false },
     { Method::HardAverage, "hardavg", PlannerRule::OnRequest, false },
     { Method::Reference, "reference", PlannerRule::OnRequest, true },
-    { Method::GEARS, "gears", PlannerRule::OnRequest, true } };
+    { Method::GEARS, "gears", PlannerRule::OnRequest, true },
+    { Method::VPCSS, "vpcss", PlannerRule::TranslucentCasters, true },
+    { Method::AVSM, "avsm", PlannerRule::OnRequest, true } };
 }
 
 PlannerInput Scene(std::vector<PlannerLight> lights)
@@ -210,8 +212,7 @@ TEST(EffectPlanner, TranslucentCastersAndReuse)
   PlannerInput in = Scene({ Area() });
   in.translucentCasters = true;
   EffectPlan p = MakeEffectPlan(in);
-  EXPECT_TRUE(Contains(p.reason, "translucent casters are treated as opaque")) << p.reason;
-  EXPECT_TRUE(Contains(p.reason, "v1")) << p.reason;
+  EXPECT_TRUE(Contains(p.reason, "translucent casters are treated as opaque by pcss")) << p.reason;
   EXPECT_FALSE(p.reuse);
   // solvers that weigh casters by opacity need no such note
   in.requested = Method::Reference;
@@ -306,6 +307,72 @@ TEST(EffectPlanner, JSONAndText)
   EXPECT_EQ(MakeEffectPlan(Scene({})).ToJSON().find("\"lights\": []") != std::string::npos, true);
 }
 
+// The translucent rule (VPCSS): a light with a translucent caster in its
+// view (opacity < 1, an RGBA texture or a volume, as the pass finds it) gets
+// the method registered for TranslucentCasters, soft or not, and the reason
+// names what is translucent; other lights keep their rules. Volumes alone
+// are casters.
+TEST(EffectPlanner, TranslucentCastersInViewGetVPCSS)
+{
+  PlannerLight glass = Area();
+  glass.translucentInView = "opacity < 1";
+  PlannerLight smoke = Point();
+  smoke.translucentInView = "a volume";
+  PlannerInput in = Scene({ glass, smoke, Area(), Point() });
+  in.translucentCasters = true;
+  in.casterVolumes = 1;
+  EffectPlan p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
+  EXPECT_TRUE(Contains(p.lights[0].reason, "translucent casters in its view (opacity < 1)")) << p.lights[0].reason;
+  EXPECT_TRUE(Contains(p.lights[0].reason, "soft shadows (VPCSS)")) << p.lights[0].reason;
+  EXPECT_EQ(p.lights[1].method, Method::VPCSS);
+  EXPECT_TRUE(Contains(p.lights[1].reason, "(a volume)")) << p.lights[1].reason;
+  EXPECT_TRUE(Contains(p.lights[1].reason, "hard shadows")) << p.lights[1].reason;
+  EXPECT_EQ(p.lights[2].method, Method::PCSS); // nothing translucent can shadow its receivers
+  EXPECT_EQ(p.lights[3].method, Method::Hard);
+  EXPECT_TRUE(Contains(p.reason, "1 caster volume(s)")) << p.reason;
+  // the lights on opaque-only methods are named in the frame's note
+  EXPECT_TRUE(Contains(p.reason, "treated as opaque and volumes cast no shadows by pcss, hard")) << p.reason;
+  // an explicit request wins over the rule
+  in.requested = Method::PCSS;
+  EXPECT_EQ(MakeEffectPlan(in).lights[0].method, Method::PCSS);
+  // without a method for the rule, the soft and hard rules apply
+  in.requested = Method::Auto;
+  for (auto& m : in.methods)
+  {
+    m.rule = m.method == Method::VPCSS ? PlannerRule::OnRequest : m.rule;
+  }
+  EXPECT_EQ(MakeEffectPlan(in).lights[0].method, Method::PCSS);
+  // a volume is a caster: no triangles, still shadow work
+  PlannerInput v = Scene({ smoke });
+  v.casterTriangles = 0;
+  v.casterVolumes = 1;
+  p = MakeEffectPlan(v);
+  EXPECT_TRUE(p.shadowWork);
+  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
+  v.casterVolumes = 0;
+  EXPECT_FALSE(MakeEffectPlan(v).shadowWork);
+}
+
+// Which translucent casters are "in a light's view": those that can shadow
+// a receiver it lights (a separating axis between their box and the hull of
+// the light and the receivers proves they cannot).
+TEST(EffectPlanner, CastersMayShadowReceivers)
+{
+  const LightFrame light = MakeRectLightFrame({ 0, 0, 5 }, { 0, 0, -1 }, { 0, 1, 0 }, { 1, 1 });
+  Box receivers;
+  receivers.Add({ -2, -2, 0 });
+  receivers.Add({ 2, 2, 0.1 });
+  Box over; // between the light and the ground
+  over.Add({ -0.5, -0.5, 1 });
+  over.Add({ 0.5, 0.5, 2 });
+  EXPECT_TRUE(CastersMayShadow(light, over, receivers));
+  Box aside = over; // far to the side: no segment from the ground to the light meets it
+  aside.min.x += 20;
+  aside.max.x += 20;
+  EXPECT_FALSE(CastersMayShadow(light, aside, receivers));
+  EXPECT_FALSE(CastersMayShadow(light, Box{}, receivers));
+  EXPECT_FALSE(CastersMayShadow(light, over, Box{}));
 namespace
 {
 void SetCost(PlannerInput& in, Method m, double ms)
