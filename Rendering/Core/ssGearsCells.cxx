@@ -460,7 +460,6 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     }
   };
   // in chunks of cells, so that the caller hears of progress and can stop
-  const GearsOptions& opt = *job.opt;
   const std::size_t numCells = cells.size(), chunk = std::max<std::size_t>(64, numCells / 32);
   bool go = true;
   for (std::size_t b = 0; b < numCells && go; b += chunk)
