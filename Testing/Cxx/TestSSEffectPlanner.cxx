@@ -373,6 +373,8 @@ TEST(EffectPlanner, CastersMayShadowReceivers)
   EXPECT_FALSE(CastersMayShadow(light, aside, receivers));
   EXPECT_FALSE(CastersMayShadow(light, Box{}, receivers));
   EXPECT_FALSE(CastersMayShadow(light, over, Box{}));
+}
+
 namespace
 {
 void SetCost(PlannerInput& in, Method m, double ms)
