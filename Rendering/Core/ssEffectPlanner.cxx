@@ -348,6 +348,18 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
         {
           p.reason += " (area light: ASM gives the hard shadow of its centre)";
         }
+        // VPCSS over casters that are all opaque: every transmittance is 0 or
+        // 1 and eqs. 6-8 are PCSS's (vpcss.md), so the light gets PCSS, which
+        // is exact for that case and cheaper (the AVSM build has nothing to
+        // compress); the reason says so.
+        const MethodInfo* pcss = FindMethod(in.methods, Method::PCSS);
+        if (in.requested == Method::VPCSS && l.translucentInView.empty() && pcss)
+        {
+          p = Planned(Method::PCSS,
+            "requested " + info->name + "; no translucent caster in this light's view, where VPCSS is PCSS: " +
+              pcss->name,
+            pcss->name);
+        }
       }
     }
     // --- method auto: the rules, one branch each (PlannerRule)

@@ -336,6 +336,15 @@ TEST(EffectPlanner, TranslucentCastersInViewGetVPCSS)
   // an explicit request wins over the rule
   in.requested = Method::PCSS;
   EXPECT_EQ(MakeEffectPlan(in).lights[0].method, Method::PCSS);
+  // vpcss requested: lights with a translucent caster in view get it; a light
+  // whose casters are all opaque gets PCSS (VPCSS is PCSS there), and says why
+  in.requested = Method::VPCSS;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
+  EXPECT_EQ(p.lights[1].method, Method::VPCSS);
+  EXPECT_EQ(p.lights[2].method, Method::PCSS);
+  EXPECT_TRUE(Contains(p.lights[2].reason, "no translucent caster in this light's view")) << p.lights[2].reason;
+  EXPECT_EQ(p.lights[2].name, "pcss");
   // without a method for the rule, the soft and hard rules apply
   in.requested = Method::Auto;
   for (auto& m : in.methods)
