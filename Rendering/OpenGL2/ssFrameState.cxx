@@ -11,7 +11,10 @@
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkRenderState.h"
 #include "vtkRenderer.h"
+#include "vtkWindow.h"
 
+#include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <exception>
 #include <sstream>
@@ -72,6 +75,40 @@ std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origi
     lights.push_back(sl);
   }
   return lights;
+}
+
+std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const Box& scene)
+{
+  std::ostringstream out;
+  auto sep = [&out]() -> std::ostream& { return out << (out.tellp() > 0 ? "; " : ""); };
+  bool far = false;
+  for (auto& l : lights)
+  {
+    LightFrame d;
+    if (l.Planner.valid && !scene.Empty() && FarLightAsDirectional(l.Frame, scene.Center(), scene.Diagonal(), d))
+    {
+      sep() << "light " << l.ShaderIndex << " is " << glm::length(l.Frame.center - scene.Center()) / scene.Diagonal()
+            << " scene sizes away";
+      l.Frame = d;
+      l.Planner.frame = d;
+      far = true;
+    }
+    double rgb[3];
+    l.Light->GetDiffuseColor(rgb);
+    if (l.Light->GetIntensity() * std::max({ rgb[0], rgb[1], rgb[2], 1e-30 }) > FLT_MAX)
+    {
+      // VTK's shaders get colour x intensity as a float: inf, then NaN
+      sep() << "light " << l.ShaderIndex << " has intensity " << l.Light->GetIntensity()
+            << ", beyond the float range VTK's shading computes in (black picture)";
+    }
+  }
+  if (far)
+  {
+    out << " (a light beyond " << kFarLightRatio
+        << " scene sizes is shadowed as a directional light: float light-space depths cannot separate the "
+           "scene's surfaces from there)";
+  }
+  return out.str();
 }
 
 bool UpdateFrameState(FrameState& frame, const vtkRenderState* s, const double* fixedOrigin)

@@ -64,6 +64,14 @@ struct FrameState
 /// them. A light whose geometry is invalid is kept, with the reason.
 std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origin);
 
+/// Lights the pass cannot shadow or VTK cannot shade as given (issue 17).
+/// A rect or point light farther than kFarLightRatio sizes of `scene` (the
+/// casters' and receivers' bounds, relative coordinates) gets the
+/// directional frame it is for the scene (ss::FarLightAsDirectional); a light
+/// whose colour x intensity exceeds the float range is reported (VTK's
+/// shading of it is black). Returns the warning text, empty when none.
+std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const Box& scene);
+
 /// Sets the viewport (the render state's framebuffer, else the renderer's
 /// tiled viewport, as vtkCameraPass does), the origin (the camera's focal
 /// point, or `fixedOrigin` when not null) and the camera position. False

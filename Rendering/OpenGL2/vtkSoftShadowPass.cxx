@@ -90,6 +90,7 @@ public:
   bool ShadowsThisFrame = false;
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
   std::string LastSignature;
+  std::string LastFarLightWarning; // warned once until the far lights change
   bool HaveResults = false;
 
   ss::VisibilitySolver* SolverFor(ss::Method m) const
@@ -378,6 +379,18 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 
   // --- lights and the effect plan
   in.Frame.Lights = ss::CollectLights(ren, in.Frame.Origin);
+  {
+    // Lights float light space or VTK's float shading cannot handle: far
+    // lights become directional for the shadows; each warned once (issue 17).
+    ss::Box scene = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
+    scene.Add(ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin));
+    const std::string warning = ss::CheckFarAndOverflowingLights(in.Frame.Lights, scene);
+    if (!warning.empty() && warning != in.LastFarLightWarning)
+    {
+      vtkWarningMacro(<< warning);
+    }
+    in.LastFarLightWarning = warning;
+  }
   const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
   this->PlanFrame(in.HaveResults && signature == in.LastSignature);
 

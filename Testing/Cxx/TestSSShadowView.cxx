@@ -58,3 +58,44 @@ TEST(ShadowView, BlockerSearchDepthIsTheNearestCasterInFront)
   EXPECT_DOUBLE_EQ(BlockerSearchDepth(v, atLight, 9, { 0, 0, 1 }, 10.0), 1e-3);
   EXPECT_DOUBLE_EQ(BlockerSearchDepth(v, xyz, 0, { 0, 0, 1 }, 10.0), 10.0);
 }
+
+TEST(ShadowView, ClampedRectLightGetsSideViewsCoveringItsFront)
+{
+  // a rect light just above a wide receiver: beyond 76 degrees off-axis the
+  // main view is clamped; four side views hold every direction in front of
+  // the light's plane, none behind it
+  Box receivers;
+  receivers.Add(glm::dvec3(-6, -6, 0));
+  receivers.Add(glm::dvec3(6, 6, 0));
+  const LightFrame l = MakeRectLightFrame({ 0, 0, 0.5 }, { 0, 0, -1 }, { 0, 1, 0 }, { 0.1, 0.1 });
+  LightViewInfo info;
+  const auto views = MakeLightViews(l, receivers, receivers, info);
+  EXPECT_TRUE(info.clamped);
+  ASSERT_EQ(views.size(), 5u);
+  auto held = [&](const glm::dvec3& d) {
+    for (const auto& v : views)
+    {
+      const glm::dvec3 p(glm::dot(d, v.u), glm::dot(d, v.v), glm::dot(d, v.n));
+      if (p.z > 0 && p.x / p.z >= v.extent.x0 && p.x / p.z <= v.extent.x1 && p.y / p.z >= v.extent.y0 &&
+        p.y / p.z <= v.extent.y1)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  for (double x = -6; x <= 6; x += 0.25)
+  {
+    for (double y = -6; y <= 6; y += 0.25)
+    {
+      EXPECT_TRUE(held(glm::dvec3(x, y, 0) - l.center)) << x << ", " << y;
+    }
+  }
+  EXPECT_FALSE(held(glm::dvec3(3, 0, 1.0) - l.center)); // behind the light's plane
+  // receivers within the widest angle: one view, as before
+  Box near;
+  near.Add(glm::dvec3(-1, -1, 0));
+  near.Add(glm::dvec3(1, 1, 0));
+  EXPECT_EQ(MakeLightViews(l, near, near, info).size(), 1u);
+  EXPECT_FALSE(info.clamped);
+}
