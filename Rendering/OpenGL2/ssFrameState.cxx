@@ -134,9 +134,30 @@ bool UpdateFrameState(FrameState& frame, const vtkRenderState* s, const double* 
   frame.Height = h;
   frame.ViewportOrigin[0] = x0;
   frame.ViewportOrigin[1] = y0;
+  // A tiled render (vtkWindowToImageFilter::SetScale, ParaView screenshots
+  // larger than the view) draws the frame TileScale times larger, one tile
+  // of the window's size at a time, through the window's tile viewport (in
+  // units of the whole frame). The renderer's part of the whole frame is
+  // TileScale times its viewport; this tile's place in it follows.
   frame.FrameSize[0] = w;
   frame.FrameSize[1] = h;
   frame.TileOrigin[0] = frame.TileOrigin[1] = 0;
+  if (vtkWindow* win = ren->GetVTKWindow())
+  {
+    int scale[2];
+    double tile[4];
+    win->GetTileScale(scale);
+    win->GetTileViewport(tile);
+    const double* vp = ren->GetViewport();
+    const int* size = win->GetSize();
+    for (int i = 0; i < 2; ++i)
+    {
+      const double part = (vp[i + 2] - vp[i]) * size[i] * scale[i];
+      frame.FrameSize[i] = std::max(static_cast<int>(std::lround(part)), i == 0 ? w : h);
+      frame.TileOrigin[i] =
+        std::max(0, static_cast<int>(std::lround((std::max(tile[i], vp[i]) - vp[i]) * size[i] * scale[i])));
+    }
+  }
   vtkCamera* cam = ren->GetActiveCamera();
   const double* o = fixedOrigin ? fixedOrigin : cam->GetFocalPoint();
   frame.Origin = glm::dvec3(o[0], o[1], o[2]);
@@ -156,8 +177,18 @@ std::string FrameSignature(vtkRenderer* ren, const FrameState& frame, const Cast
   {
     sig << v << ',';
   }
+  // the projection as drawn (tiled renders shift it per tile; window centre)
+  vtkMatrix4x4::DeepCopy(vm, cam->GetProjectionTransformMatrix(ren));
+  for (double v : vm)
+  {
+    sig << v << ',';
+  }
   sig << cam->GetViewAngle() << ',' << cam->GetParallelProjection() << ',' << cam->GetParallelScale() << ','
       << ren->GetTiledAspectRatio() << ',' << frame.Width << 'x' << frame.Height << ',' << casters.Version << ','
+      // the tile: a tiled render's tiles share the camera but not the pixels
+      // (issue 17: each tile reused the first tile's visibility)
+      << frame.FrameSize[0] << 'x' << frame.FrameSize[1] << '+' << frame.TileOrigin[0] << '+' << frame.TileOrigin[1]
+      << ',' << frame.ViewportOrigin[0] << '+' << frame.ViewportOrigin[1] << ','
       << settingsTime << ',' << frame.Origin.x << ',' << frame.Origin.y << ',' << frame.Origin.z;
   for (const auto& l : frame.Lights)
   {

@@ -48,8 +48,11 @@ struct FrameState
   /// The whole frame and this viewport's place in it. A tiled render
   /// (vtkWindowToImageFilter::SetScale, ParaView screenshots larger than the
   /// view) renders the frame in parts; shadows must be those of the whole
-  /// frame (DESIGN.md, issue 17). Today every render is its own frame:
-  /// FrameSize is the viewport's size and TileOrigin (0, 0).
+  /// frame (DESIGN.md, issue 17). FrameSize is the renderer's part of the
+  /// whole (tiled) frame in pixels, TileOrigin this tile's lower-left corner
+  /// in it; both enter the reuse signature, so no tile reuses another's V.
+  /// Light-space data (views, maps, search depth) depends on neither: the
+  /// views are fitted to the receivers' bounds, not to the screen.
   int FrameSize[2] = { 0, 0 };
   int TileOrigin[2] = { 0, 0 };
   /// Origin of the positions buffer and of all float computations (world).
