@@ -208,24 +208,6 @@ std::vector<ShadowView> MakeLightViews(
   info.clamped = clamped;
   v.extent = r;
   views.push_back(v);
-  if (clamped && light.type == LightType::Rect)
-  {
-    // Receivers beyond the widest angle the light's view covers: four side
-    // views, half cube faces along +-u and +-v of the light in front of its
-    // plane, hold them (the view above is selected first where both hold a
-    // point). Before, those receivers were left unshadowed: a light inside a
-    // closed sphere lit 1,623 ground pixels GEARS has dark (issue 17).
-    for (const glm::dvec3& side : { light.u, -light.u, light.v, -light.v })
-    {
-      ShadowView s;
-      s.origin = light.center;
-      s.n = side;
-      s.v = light.n; // y: height above the light's plane
-      s.u = glm::normalize(glm::cross(s.v, s.n));
-      s.extent = Rect{ -1.02, 0.0, 1.02, 1.02 };
-      views.push_back(s);
-    }
-  }
   return views;
 }
 

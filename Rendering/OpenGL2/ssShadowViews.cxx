@@ -17,14 +17,8 @@ void FitShadowViews(ShadowLight& l, const Box& receivers, const Box& casters, co
 {
   l.Views = MakeLightViews(l.Frame, receivers, casters, l.ViewInfo);
   const double diag = std::max(casters.Diagonal(), receivers.Diagonal());
-  // the nearest caster over every view (side views of a clamped rect light
-  // measure depth along their own axes)
-  l.SearchDepth = diag;
-  for (const ShadowView& v : l.Views)
-  {
-    l.SearchDepth = std::min(l.SearchDepth,
-      BlockerSearchDepth(v, set.Triangles.data(), set.Triangles.size(), set.Origin - origin, diag));
-  }
+  l.SearchDepth =
+    BlockerSearchDepth(l.Views.front(), set.Triangles.data(), set.Triangles.size(), set.Origin - origin, diag);
 }
 
 Box RelativeBox(const Box& absolute, const glm::dvec3& origin)
