@@ -72,6 +72,8 @@ std::string Usage()
          "        [--samples 16,32] [--out DIR]\n"
          "  softshadows bench --pvsm --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
          "        [--reference-samples K]   (PVSM vs fixed PCSS vs 8x8 hard maps; cameras, lights)\n"
+         "  softshadows bench --asm --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
+         "        (ASM at 8 and 16 MB vs one 2048^2 map over a walkthrough; error vs the exact hard shadow)\n"
          "  softshadows bench --filters --mesh M [--points N] [--runs R] [--samples K] [--out DIR]\n"
          "        (caster preparation per million triangles, baking an N-point surface; --smoke: tiny)\n"
          "  softshadows bake SCENE.json --object I --output baked.vtp [--samples K]\n"
@@ -86,7 +88,9 @@ std::string Usage()
     "         gears_samples (1..32), gears_grid, gears_raster (edge|lut), gears_backend (cpu|gl),\n"
     "         gears_necessary (0|1: count Table 9's necessary assignments),\n"
     "         pvsm_quality (scale on rho), pvsm_metric (auto|dynamic|static), pvsm_grid,\n"
-    "         pvsm_max_tile, pvsm_low_resolution, average_samples (hardavg: k per side, 1..32)\n";
+    "         pvsm_max_tile, pvsm_low_resolution, average_samples (hardavg: k per side, 1..32),\n"
+    "         asm_memory_mb, asm_page_size, asm_cells (2|4|8), asm_max_depth, asm_time_budget_ms,\n"
+    "         asm_stride, asm_quality, asm_id_test (0|1)\n";
 }
 }
 
@@ -277,13 +281,52 @@ void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
   {
     pass->SetAverageSamples(ParseInt(v, what, 1, 32));
   }
+  else if (k == "asm_memory_mb" || k == "asm_time_budget_ms" || k == "asm_quality")
+  {
+    const bool mem = k == "asm_memory_mb", quality = k == "asm_quality";
+    const double lo = mem ? 0.0625 : (quality ? 0.125 : 0.0), hi = mem ? 4096.0 : (quality ? 16.0 : 1.0e5);
+    const double x = ParseDouble(v, what);
+    if (!(x >= lo && x <= hi))
+    {
+      throw UsageError(what + ": expected a value in " +
+        (mem ? "[0.0625, 4096] (megabytes)" : (quality ? "[0.125, 16]" : "[0, 100000] (milliseconds)")) + ", got '" +
+        v + "'");
+    }
+    mem ? pass->SetASMMemoryBudget(x) : (quality ? pass->SetASMQuality(x) : pass->SetASMTimeBudget(x));
+  }
+  else if (k == "asm_page_size")
+  {
+    pass->SetASMPageSize(ParseInt(v, what, 16, 4096));
+  }
+  else if (k == "asm_cells")
+  {
+    const int c = ParseInt(v, what, 2, 8);
+    if (c != 2 && c != 4 && c != 8)
+    {
+      throw UsageError(what + ": expected 2, 4 or 8, got '" + v + "'");
+    }
+    pass->SetASMCells(c);
+  }
+  else if (k == "asm_max_depth")
+  {
+    pass->SetASMMaxDepth(ParseInt(v, what, 0, 20));
+  }
+  else if (k == "asm_stride")
+  {
+    pass->SetASMAnalysisStride(ParseInt(v, what, 1, 64));
+  }
+  else if (k == "asm_id_test")
+  {
+    pass->SetASMIDTest(ParseInt(v, what, 0, 1) != 0);
+  }
   else
   {
     throw UsageError("--option: unknown key '" + k +
       "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
       "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, gears_backend, "
       "gears_necessary, pvsm_quality, pvsm_metric, pvsm_grid, pvsm_max_tile, pvsm_low_resolution, "
-      "pvsm_tile_culling, average_samples)");
+      "pvsm_tile_culling, average_samples, asm_memory_mb, asm_page_size, asm_cells, asm_max_depth, "
+      "asm_time_budget_ms, asm_stride, asm_quality, asm_id_test)");
   }
 }
 
@@ -385,7 +428,7 @@ int Render(const std::vector<std::string>& args)
   vtkNew<vtkSoftShadowPass> pass;
   if (!vtkMethod && !pass->SetMethodByName(method.c_str()))
   {
-    static const std::vector<std::string> later = { "vpcss", "asm" };
+    static const std::vector<std::string> later = { "vpcss" };
     const std::string available = vtkSoftShadowPass::GetMethodNames() + ", vtk";
     if (std::find(later.begin(), later.end(), method) != later.end())
     {

@@ -55,6 +55,12 @@ int Bench(const std::vector<std::string>& args)
     std::copy_if(args.begin(), args.end(), std::back_inserter(rest), [](const std::string& a) { return a != "--pvsm"; });
     return BenchPVSM(rest);
   }
+  if (std::find(args.begin(), args.end(), "--asm") != args.end())
+  {
+    std::vector<std::string> rest;
+    std::copy_if(args.begin(), args.end(), std::back_inserter(rest), [](const std::string& a) { return a != "--asm"; });
+    return BenchASM(rest);
+  }
   const BenchArgs ba = ParseBenchArgs(args, "bench", 32);
   const bool smoke = ba.smoke;
   const std::vector<std::string>& scenes = ba.scenes;

@@ -2,7 +2,7 @@
 // a report, frame timing, the reference runs every report starts from, the
 // display and output set-up, and the flags. One file per report:
 // ssBenchAccuracy.cxx (accuracy vs time), ssBenchGears.cxx (GEARS against
-// Embree), ssBenchPVSM.cxx (PVSM §6).
+// Embree), ssBenchPVSM.cxx (PVSM §6), ssBenchASM.cxx (ASM walkthrough).
 #ifndef ssBenchCommon_h
 #define ssBenchCommon_h
 

@@ -29,6 +29,19 @@ namespace ssapp
 {
 namespace
 {
+// An off-screen 900 x `height` chart view, white, with a titled chart and its legend.
+void SetUpChart(vtkContextView* view, vtkChartXY* chart, const std::string& title, int height)
+{
+  view->GetRenderWindow()->SetOffScreenRendering(1);
+  view->GetRenderWindow()->SetMultiSamples(0);
+  view->GetRenderWindow()->SetSize(900, height);
+  view->GetRenderer()->SetBackground(1, 1, 1);
+  view->GetScene()->AddItem(chart);
+  chart->SetTitle(title);
+  chart->GetTitleProperties()->SetFontSize(16);
+  chart->SetShowLegend(true);
+}
+
 // A two-column table (time, error) of the given points: one plotted series.
 vtkSmartPointer<vtkTable> Series(const std::string& name, const std::vector<const PlotPoint*>& pts)
 {
@@ -51,15 +64,8 @@ bool PlotErrorVsTime(const std::string& path, const std::string& title,
   const std::vector<PlotPoint>& points, std::string& message)
 {
   vtkNew<vtkContextView> view;
-  view->GetRenderWindow()->SetOffScreenRendering(1);
-  view->GetRenderWindow()->SetMultiSamples(0);
-  view->GetRenderWindow()->SetSize(900, 600);
-  view->GetRenderer()->SetBackground(1, 1, 1);
   vtkNew<vtkChartXY> chart;
-  view->GetScene()->AddItem(chart);
-  chart->SetTitle(title);
-  chart->GetTitleProperties()->SetFontSize(16);
-  chart->SetShowLegend(true);
+  SetUpChart(view, chart, title, 600);
   chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("time per frame (ms, log scale)");
   chart->GetAxis(vtkAxis::BOTTOM)->SetLogScale(true);
   chart->GetAxis(vtkAxis::LEFT)->SetTitle("mean absolute visibility error vs reference");
@@ -108,14 +114,66 @@ bool PlotErrorVsTime(const std::string& path, const std::string& title,
     line->GetPen()->SetLineType(vtkPen::DASH_LINE);
   }
   view->GetRenderWindow()->Render();
+  return WriteWindowPNG(view->GetRenderWindow(), path, message);
+}
+
+bool PlotLines(const std::string& path, const std::string& title, const std::string& xTitle,
+  const std::string& leftTitle, const std::string& rightTitle, const std::vector<PlotSeries>& series,
+  std::string& message)
+{
+  vtkNew<vtkContextView> view;
+  vtkNew<vtkChartXY> chart;
+  SetUpChart(view, chart, title, 560);
+  chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::CENTER);
+  chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetTitle(xTitle);
+  chart->GetAxis(vtkAxis::LEFT)->SetTitle(leftTitle);
+  chart->GetAxis(vtkAxis::RIGHT)->SetTitle(rightTitle);
+  for (const auto& s : series)
+  {
+    auto table = vtkSmartPointer<vtkTable>::New();
+    vtkNew<vtkFloatArray> x, y;
+    x->SetName("x");
+    y->SetName(s.name.c_str());
+    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
+    {
+      x->InsertNextValue(static_cast<float>(s.x[i]));
+      y->InsertNextValue(static_cast<float>(s.y[i]));
+    }
+    table->AddColumn(x);
+    table->AddColumn(y);
+    vtkPlot* line = chart->AddPlot(vtkChart::LINE);
+    line->SetInputData(table, 0, 1);
+    line->SetColor(s.rgb[0], s.rgb[1], s.rgb[2], 255);
+    line->SetWidth(s.dashed ? 1.5 : 2.5);
+    if (s.dashed)
+    {
+      line->GetPen()->SetLineType(vtkPen::DASH_LINE);
+    }
+    if (s.rightAxis)
+    {
+      chart->SetPlotCorner(line, 1);
+    }
+  }
+  view->GetRenderWindow()->Render();
+  return WriteWindowPNG(view->GetRenderWindow(), path, message);
+}
+
+bool WriteWindowPNG(vtkRenderWindow* win, const std::string& path, std::string& message)
+{
   vtkNew<vtkWindowToImageFilter> w2i;
-  w2i->SetInput(view->GetRenderWindow());
+  w2i->SetInput(win);
   w2i->SetInputBufferTypeToRGB();
   w2i->ReadFrontBufferOff();
   w2i->Update();
   int dims[3];
   w2i->GetOutput()->GetDimensions(dims);
   auto* rgb = vtkUnsignedCharArray::SafeDownCast(w2i->GetOutput()->GetPointData()->GetScalars());
+  if (!rgb)
+  {
+    message = "no picture in the window";
+    return false;
+  }
   return WriteRGB8Image(path, rgb->GetPointer(0), dims[0], dims[1], 3, message);
 }
 }

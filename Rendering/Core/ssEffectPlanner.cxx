@@ -1,6 +1,8 @@
 #include "ssEffectPlanner.h"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <sstream>
 
 namespace ss
@@ -165,15 +167,37 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
         {
           p.reason += " (point/zero-size light: every sample is the same, one hard map)";
         }
+        if (in.requested == Method::ASM && l.frame.IsSoft())
+        {
+          p.reason += " (area light: ASM gives the hard shadow of its centre)";
+        }
       }
     }
     // --- method auto: the rules, one branch each (PlannerRule)
     else if (!l.frame.IsSoft())
     {
-      const MethodInfo* info = ForRule(in.methods, PlannerRule::HardLights);
-      const std::string why = l.frame.type == LightType::Directional
-        ? "directional light without angular size: hard shadows"
-        : "point/zero-size light: hard shadows";
+      const MethodInfo* uniform = ForRule(in.methods, PlannerRule::HardLights);
+      const MethodInfo* adaptive = ForRule(in.methods, PlannerRule::AdaptiveHardLights);
+      const bool directional = l.frame.type == LightType::Directional;
+      std::string why = directional ? "directional light without angular size: hard shadows"
+                                    : "point/zero-size light: hard shadows";
+      const MethodInfo* info = uniform;
+      if (adaptive && !directional)
+      {
+        // point and spot lights: the receivers around them need resolution
+        // where the view is close, which no single map gives (ASM §1)
+        info = adaptive;
+        why += ", refined where the view needs it (" + Upper(adaptive->name) + ")";
+      }
+      else if (adaptive && NeedsAdaptiveMap(l.receiverTexels, in.shadowMapSize))
+      {
+        std::ostringstream o;
+        o << why << "; the receivers span " << static_cast<long long>(l.receiverTexels)
+          << " texels at the view's pixel size, more than " << kAdaptiveFactor << " x a map of "
+          << in.shadowMapSize << " (" << Upper(adaptive->name) << ")";
+        why = o.str();
+        info = adaptive;
+      }
       if (info)
       {
         p = { info->method, why, info->name };
@@ -212,11 +236,47 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       plan.reason += "; translucent casters are treated as opaque by shadow-map methods (planner v1)";
     }
   }
-  if (plan.shadowWork && in.unchangedSinceLastFrame)
+  if (plan.shadowWork && in.unchangedSinceLastFrame && !in.refining.empty())
+  {
+    // a progressive solver's last frame is not final: a still view re-rendered refines
+    plan.reason += "; the view is unchanged but " + in.refining + " is still refining: solved again";
+  }
+  else if (plan.shadowWork && in.unchangedSinceLastFrame)
   {
     plan.reuse = true;
     plan.reason += "; nothing changed since the last frame: visibility reused";
   }
   return plan;
+}
+
+bool NeedsAdaptiveMap(double receiverTexels, int shadowMapSize)
+{
+  return receiverTexels > kAdaptiveFactor * std::max(1, shadowMapSize);
+}
+
+double ReceiverTexelsAtPixelSize(
+  const LightFrame& light, const Box& receivers, const glm::dvec3& eye, double pixelAngle, double parallelPixel)
+{
+  if (light.type != LightType::Directional || receivers.Empty())
+  {
+    return 0.0;
+  }
+  // the receivers' extent across the light (an orthographic view along it)
+  ShadowView v;
+  v.orthographic = true;
+  v.n = light.n;
+  v.v = FallbackUp(light.n);
+  v.u = glm::normalize(glm::cross(v.v, v.n));
+  const Rect r = FitOrthographicExtent(v, receivers, 0.0, 0.0);
+  const double extent = std::max(r.x1 - r.x0, r.y1 - r.y0);
+  // a pixel's size at the receivers' nearest point
+  double pixel = parallelPixel;
+  if (pixelAngle > 0.0)
+  {
+    const glm::dvec3 nearest = glm::clamp(eye, receivers.min, receivers.max);
+    const double d = std::max(glm::length(nearest - eye), 1e-6 * receivers.Diagonal());
+    pixel = d * pixelAngle;
+  }
+  return pixel > 0.0 ? extent / pixel : 0.0;
 }
 }

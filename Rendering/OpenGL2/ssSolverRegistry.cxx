@@ -1,5 +1,6 @@
 #include "ssSolverRegistry.h"
 
+#include "ssASMSolver.h"
 #include "ssHardAverageSolver.h"
 #include "ssPVSMSolver.h"
 #include "ssShadowMapSolver.h"
@@ -31,6 +32,7 @@ const std::vector<SolverEntry>& SolverRegistry()
     { "pcss",      Method::PCSS,        Make<ShadowMapSolver>,   PlannerRule::SoftLights,  false },
     { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,   false },
     { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,   false },
+    { "asm",       Method::ASM,         Make<ASMSolver>,         PlannerRule::AdaptiveHardLights, false },
     { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
     { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
     { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,   false },

@@ -108,6 +108,11 @@ public:
   /// After the last light of the frame.
   virtual void EndFrame(SolverFrame&) {}
 
+  /// Progressive solvers (ASM): whether the last frame left work for the
+  /// next one at the same view. The planner then solves a still view again
+  /// instead of reusing its visibility.
+  virtual bool IsRefining() const { return false; }
+
   /// The solver's entry in the stats (a JSON object under the method's
   /// name), or empty for none.
   virtual std::string GetStatsJSON() const { return std::string(); }

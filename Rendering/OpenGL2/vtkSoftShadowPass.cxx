@@ -26,9 +26,11 @@
 #include "ssVisibilityLayers.h"
 #include "ssVisibilitySolver.h"
 
+#include "vtkCamera.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationIntegerKey.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLError.h"
 #include "vtkOpenGLFramebufferObject.h"
@@ -92,6 +94,9 @@ public:
   std::string LastSignature;
   std::string LastFarLightWarning; // warned once until the far lights change
   bool HaveResults = false;
+  // the camera's pixel size, for the planner's rule on directional lights:
+  // radians per pixel (perspective) or world units per pixel (parallel)
+  double PixelAngle = 0.0, ParallelPixel = 0.0;
 
   ss::VisibilitySolver* SolverFor(ss::Method m) const
   {
@@ -391,6 +396,9 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     }
     in.LastFarLightWarning = warning;
   }
+  vtkCamera* cam = ren->GetActiveCamera();
+  in.PixelAngle = cam->GetParallelProjection() ? 0.0 : vtkMath::RadiansFromDegrees(cam->GetViewAngle()) / in.Frame.FrameSize[1];
+  in.ParallelPixel = cam->GetParallelProjection() ? 2.0 * cam->GetParallelScale() / in.Frame.FrameSize[1] : 0.0;
   const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
   this->PlanFrame(in.HaveResults && signature == in.LastSignature);
 
@@ -437,11 +445,23 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
   pin.receiverProps = in.Casters.ReceiverProps;
   pin.translucentCasters = in.Casters.Translucent;
   pin.methods = ss::PlannerMethods();
+  pin.shadowMapSize = this->ShadowMapSize;
+  const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
+    pin.lights.back().receiverTexels =
+      ss::ReceiverTexelsAtPixelSize(l.Frame, receivers, in.Frame.Eye, in.PixelAngle, in.ParallelPixel);
   }
   pin.unchangedSinceLastFrame = unchangedSinceLastFrame;
+  // progressive solvers still refining: a still view is solved again
+  for (const auto& solver : in.Solvers)
+  {
+    if (solver->IsRefining())
+    {
+      pin.refining += (pin.refining.empty() ? "" : ", ") + std::string(GetMethodName(static_cast<int>(solver->GetMethod())));
+    }
+  }
   in.Plan = ss::MakeEffectPlan(pin);
 
   int layers = 0;
@@ -826,6 +846,12 @@ bool vtkSoftShadowPass::GetLastPVSMTileGridLevel(int level, vtkFloatArray* out)
   return true;
 }
 
+bool vtkSoftShadowPass::GetASMRefining()
+{
+  const ss::VisibilitySolver* solver = this->Internals->SolverFor(ss::Method::ASM);
+  return solver && solver->IsRefining();
+}
+
 const char* vtkSoftShadowPass::GetLastGearsBackend()
 {
   auto* gears = dynamic_cast<ss::TriangleSolver*>(this->Internals->SolverFor(ss::Method::GEARS));
@@ -928,6 +954,14 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PVSMMetric: " << this->PVSMMetric << "\n";
   os << indent << "PVSMTileCulling: " << this->PVSMTileCulling << "\n";
   os << indent << "AverageSamples: " << this->AverageSamples << "\n";
+  os << indent << "ASMMemoryBudget: " << this->ASMMemoryBudget << " MB\n";
+  os << indent << "ASMPageSize: " << this->ASMPageSize << "\n";
+  os << indent << "ASMCells: " << this->ASMCells << "\n";
+  os << indent << "ASMMaxDepth: " << this->ASMMaxDepth << "\n";
+  os << indent << "ASMTimeBudget: " << this->ASMTimeBudget << " ms\n";
+  os << indent << "ASMAnalysisStride: " << this->ASMAnalysisStride << "\n";
+  os << indent << "ASMQuality: " << this->ASMQuality << "\n";
+  os << indent << "ASMIDTest: " << this->ASMIDTest << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";

@@ -62,7 +62,8 @@ public:
     REFERENCE = 5, ///< ray-traced ground truth: k x k light samples per pixel (Embree, CPU)
     GEARS = 6,     ///< exact soft shadows: triangles assigned to pixels by a grid, k x k bitmasks
     PVSM = 7,      ///< predicted virtual soft shadow maps: adaptive tiles, anisotropic coverage filter
-    HARDAVG = 8    ///< brute force: average of AverageSamples^2 hard shadow maps, one per light sample
+    HARDAVG = 8,   ///< brute force: average of AverageSamples^2 hard shadow maps, one per light sample
+    ASM = 10       ///< adaptive shadow maps: hard shadows refined where the view needs them, in a memory budget
   };
 
   /** GEARS backends (SetGearsBackend). */
@@ -81,7 +82,7 @@ public:
   /** SetMethod clamps to this range: every registered method (ssSolverRegistry). */
   virtual int GetMethodMinValue();
   virtual int GetMethodMaxValue();
-  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg. Returns false for unknown names. */
+  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg, asm. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
   /** Every method's name, comma-separated, in the registry's order. */
@@ -180,6 +181,47 @@ public:
    */
   vtkSetClampMacro(AverageSamples, int, 1, 32);
   vtkGetMacro(AverageSamples, int);
+  ///@}
+
+  ///@{
+  /**
+   * ASM (Fernando et al. 2001, Documentation/asm.md): hard shadows of point,
+   * spot and directional lights from a tree of shadow-map pieces refined
+   * where the view needs them. Progressive: every frame refines within
+   * ASMTimeBudget (ms, default 20) until nothing is left to refine, so a
+   * still view re-rendered improves (the planner does not reuse it while the
+   * stats say "refining"). ASMMemoryBudget: megabytes of node pages (default
+   * 16; 8 bytes a texel: depth and triangle id), never exceeded; nodes unused
+   * in the last frame go least recently used first, others only for a larger
+   * benefit. ASMPageSize: texels a side of a node (rounded up to a power of
+   * two, default 128). ASMCells: cells a side of a node (2, 4 or 8, default
+   * 4). ASMMaxDepth: levels below the roots (default 10). ASMAnalysisStride:
+   * the cost-benefit analysis looks at one pixel in this many (default 8, as
+   * §4.3). ASMQuality: texels per pixel side asked for (default 1).
+   * ASMIDTest: the ID + depth test of §4.2 (default on; off: depth only).
+   */
+  vtkSetClampMacro(ASMMemoryBudget, double, 0.0625, 4096.0);
+  vtkGetMacro(ASMMemoryBudget, double);
+  vtkSetClampMacro(ASMPageSize, int, 16, 4096);
+  vtkGetMacro(ASMPageSize, int);
+  vtkSetClampMacro(ASMCells, int, 2, 8);
+  vtkGetMacro(ASMCells, int);
+  vtkSetClampMacro(ASMMaxDepth, int, 0, 20);
+  vtkGetMacro(ASMMaxDepth, int);
+  vtkSetClampMacro(ASMTimeBudget, double, 0.0, 1.0e5);
+  vtkGetMacro(ASMTimeBudget, double);
+  vtkSetClampMacro(ASMAnalysisStride, int, 1, 64);
+  vtkGetMacro(ASMAnalysisStride, int);
+  vtkSetClampMacro(ASMQuality, double, 0.125, 16.0);
+  vtkGetMacro(ASMQuality, double);
+  vtkSetMacro(ASMIDTest, bool);
+  vtkGetMacro(ASMIDTest, bool);
+  vtkBooleanMacro(ASMIDTest, bool);
+  /**
+   * Whether the last frame's ASM lights are still being refined (the view
+   * is not final yet; render again to refine further). False for other methods.
+   */
+  bool GetASMRefining();
   ///@}
 
   ///@{
@@ -335,6 +377,14 @@ protected:
   bool PVSMTileCulling = true;
   int PVSMMetric = 0;
   int AverageSamples = 8;
+  double ASMMemoryBudget = 16.0;
+  int ASMPageSize = 128;
+  int ASMCells = 4;
+  int ASMMaxDepth = 10;
+  double ASMTimeBudget = 20.0;
+  int ASMAnalysisStride = 8;
+  double ASMQuality = 1.0;
+  bool ASMIDTest = true;
   double PCFRadius = 1.5;
   int BlockerSearchSamples = 8;
   int FilterMaxQuads = 24;

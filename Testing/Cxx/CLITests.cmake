@@ -251,3 +251,21 @@ add_test(NAME cli.render.float_overflow_vertex
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_float_overflow.py" ${_ss_cli}
     "${_ss_data}/GoodScenes/float_overflow.json" "${_ss_out}/float_overflow")
 set_tests_properties(cli.render.float_overflow_vertex PROPERTIES LABELS "cli" TIMEOUT 120)
+add_test(NAME cli.bench.asm_smoke
+  COMMAND env -u DISPLAY ${_ss_cli} bench --asm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json"
+    --size 160x120 --out "${_ss_out}/bench_asm_smoke")
+add_test(NAME cli.bench.asm_smoke_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_asm_bench.py" "${_ss_out}/bench_asm_smoke" 4)
+set_tests_properties(cli.bench.asm_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_asm_smoke)
+set_tests_properties(cli.bench.asm_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_asm_smoke)
+# ASM is progressive: more --frames refine the same still view further
+foreach(_n 1 16)
+  add_test(NAME cli.render.asm_frames_${_n}
+    COMMAND env -u DISPLAY ${_ss_cli} render "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json" --method asm
+      --size 320x240 --frames ${_n} --option asm_time_budget_ms=5 --stats "${_ss_out}/asm_frames_${_n}.json")
+  set_tests_properties(cli.render.asm_frames_${_n} PROPERTIES LABELS "cli" TIMEOUT 300 FIXTURES_SETUP asm_frames)
+endforeach()
+add_test(NAME cli.render.asm_frames_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_asm_frames.py"
+    "${_ss_out}/asm_frames_1.json" "${_ss_out}/asm_frames_16.json")
+set_tests_properties(cli.render.asm_frames_check PROPERTIES LABELS "cli" FIXTURES_REQUIRED asm_frames)

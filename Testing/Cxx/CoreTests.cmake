@@ -13,7 +13,8 @@ add_executable(TestSoftShadowsCore
   TestSSPVSM.cxx
   TestSSMetrics.cxx
   TestSSCasterClusters.cxx
-  TestSSClusterBounds.cxx)
+  TestSSClusterBounds.cxx
+  TestSSASM.cxx)
 find_package(TBB REQUIRED)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore TBB::tbb GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)

@@ -4,7 +4,7 @@
 include(GoogleTest)
 math(EXPR _ss_render_timeout "300 * ${SOFTSHADOWS_TIMEOUT_SCALE}")
 function(ss_render_test name label)
-  add_executable(${name} ${name}.cxx)
+  add_executable(${name} ${name}.cxx ssRenderTestUtilities.cxx)
   target_link_libraries(${name} PRIVATE
     SoftShadows::RenderingOpenGL2 SoftShadows::RenderingCore
     VTK::TestingRendering VTK::FiltersSources VTK::RenderingOpenGL2 VTK::InteractionStyle
@@ -23,5 +23,6 @@ endfunction()
 ss_render_test(TestSoftShadowPass render)
 ss_render_test(TestGearsGL render)
 ss_render_test(TestStability stability)
+ss_render_test(TestASMPass render)
 ss_render_test(TestBadLights stability)
 ss_render_test(TestTiledRendering render)

@@ -296,3 +296,69 @@ TEST(EffectPlanner, JSONAndText)
   EXPECT_TRUE(Contains(t, p.reason)) << t;
   EXPECT_EQ(MakeEffectPlan(Scene({})).ToJSON().find("\"lights\": []") != std::string::npos, true);
 }
+
+// ASM's rule (issue 21): point and spot lights get the adaptive method when
+// one is registered, directional lights only when one map cannot give a
+// texel per pixel; without it the uniform hard method serves them all.
+TEST(EffectPlanner, AdaptiveHardShadows)
+{
+  PlannerLight sun;
+  sun.frame = MakeDirectionalLightFrame({ 0, 0, -1 }, 0.0);
+  PlannerLight wideSun = sun;
+  sun.receiverTexels = 3000.0;     // < 4 x 2048
+  wideSun.receiverTexels = 9000.0; // > 4 x 2048
+  PlannerInput in = Scene({ Point(), sun, wideSun, Area() });
+  in.methods.push_back({ Method::ASM, "asm", PlannerRule::AdaptiveHardLights, false });
+  EffectPlan p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::ASM);
+  EXPECT_TRUE(Contains(p.lights[0].reason, "point/zero-size light: hard shadows, refined where the view needs it (ASM)"))
+    << p.lights[0].reason;
+  EXPECT_EQ(p.lights[1].method, Method::Hard);
+  EXPECT_EQ(p.lights[2].method, Method::ASM);
+  EXPECT_TRUE(Contains(p.lights[2].reason, "span 9000 texels")) << p.lights[2].reason;
+  EXPECT_EQ(p.lights[3].method, Method::PCSS);
+  // a bigger uniform map covers the wide sun
+  in.shadowMapSize = 4096;
+  EXPECT_EQ(MakeEffectPlan(in).lights[2].method, Method::Hard);
+  // asm asked for on an area light: the hard shadow of its centre, and the plan says so
+  in.requested = Method::ASM;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[3].method, Method::ASM);
+  EXPECT_TRUE(Contains(p.lights[3].reason, "hard shadow of its centre")) << p.lights[3].reason;
+}
+
+// A progressive solver still refining a still view: the frame is solved again
+// instead of reused, and the plan says why; once it has converged, reuse.
+TEST(EffectPlanner, StillViewRefinesWhileASolverIsRefining)
+{
+  PlannerInput in = Scene({ Point() });
+  in.unchangedSinceLastFrame = true;
+  in.refining = "asm";
+  EffectPlan p = MakeEffectPlan(in);
+  EXPECT_TRUE(p.shadowWork);
+  EXPECT_FALSE(p.reuse);
+  EXPECT_TRUE(Contains(p.reason, "asm is still refining")) << p.reason;
+  in.refining.clear();
+  p = MakeEffectPlan(in);
+  EXPECT_TRUE(p.reuse);
+}
+
+TEST(EffectPlanner, ReceiverTexelsAtPixelSize)
+{
+  // a 100 x 100 ground under a sun straight above, seen from 10 above its
+  // corner: the nearest receiver point is 10 away
+  Box ground;
+  ground.Add(glm::dvec3(0, 0, 0));
+  ground.Add(glm::dvec3(100, 100, 0));
+  const LightFrame sun = MakeDirectionalLightFrame({ 0, 0, -1 }, 0.0);
+  const double angle = 1e-3; // radians per pixel
+  EXPECT_NEAR(ReceiverTexelsAtPixelSize(sun, ground, glm::dvec3(0, 0, 10), angle, 0.0), 100.0 / (10 * angle), 1e-6);
+  // from 1000 away the pixels are 100 times larger
+  EXPECT_NEAR(ReceiverTexelsAtPixelSize(sun, ground, glm::dvec3(50, 50, 1000), angle, 0.0), 100.0 / (1000 * angle),
+    1e-6);
+  // parallel projection: its pixel size
+  EXPECT_NEAR(ReceiverTexelsAtPixelSize(sun, ground, glm::dvec3(0, 0, 10), 0.0, 0.5), 200.0, 1e-9);
+  EXPECT_EQ(ReceiverTexelsAtPixelSize(MakePointLightFrame({ 0, 0, 5 }), ground, glm::dvec3(0, 0, 10), angle, 0.0), 0.0);
+  EXPECT_TRUE(NeedsAdaptiveMap(100.0 / (10 * angle), 2048));
+  EXPECT_FALSE(NeedsAdaptiveMap(100.0 / (1000 * angle), 2048));
+}
