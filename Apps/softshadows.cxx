@@ -10,6 +10,7 @@
 #include "ssHeadless.h"
 #include "ssImageIO.h"
 #include "ssMetrics.h"
+#include "ssOptions.h"
 #include "ssScene.h"
 
 #include "vtkCamera.h"
@@ -72,6 +73,8 @@ std::string Usage()
          "        [--samples 16,32] [--out DIR]\n"
          "  softshadows bench --pvsm --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
          "        [--reference-samples K]   (PVSM vs fixed PCSS vs 8x8 hard maps; cameras, lights)\n"
+         "  softshadows bench --vpcss --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
+         "        [--reference-samples K]   (VPCSS vs hard AVSM vs PCSS vs the reference's transmittance)\n"
          "  softshadows bench --asm --scenes a.json,... [--out DIR] [--frames N] [--size WxH]\n"
          "        (ASM at 8 and 16 MB vs one 2048^2 map over a walkthrough; error vs the exact hard shadow)\n"
          "  softshadows bench --filters --mesh M [--points N] [--runs R] [--samples K] [--out DIR]\n"
@@ -82,15 +85,7 @@ std::string Usage()
          "        [--boxes plane|optimal|aligned] [--no-snap] [--no-self-intersections] [--report r.json]\n"
          "methods: " +
     vtkSoftShadowPass::GetMethodNames() +
-    ", vtk (auto is the default)\n"
-    "options: shadow_map_size, pcf_radius, blocker_samples, filter_max_quads,\n"
-    "         constant_bias, slope_bias, reference_samples, reference_pattern (regular|stratified),\n"
-    "         gears_samples (1..32), gears_grid, gears_raster (edge|lut), gears_backend (cpu|gl),\n"
-    "         gears_necessary (0|1: count Table 9's necessary assignments),\n"
-    "         pvsm_quality (scale on rho), pvsm_metric (auto|dynamic|static), pvsm_grid,\n"
-    "         pvsm_max_tile, pvsm_low_resolution, average_samples (hardavg: k per side, 1..32),\n"
-    "         asm_memory_mb, asm_page_size, asm_cells (2|4|8), asm_max_depth, asm_time_budget_ms,\n"
-    "         asm_stride, asm_quality, asm_id_test (0|1)\n";
+    ", vtk (auto is the default)\n" + ssapp::PassOptionsUsage();
 }
 }
 
@@ -134,32 +129,7 @@ void ParseSize(const std::string& s, int& width, int& height)
   width = ParseInt(s.substr(0, x), "--size width", 1, 16384);
   height = ParseInt(s.substr(x + 1), "--size height", 1, 16384);
 }
-}
 
-namespace
-{
-double ParseDouble(const std::string& s, const std::string& what)
-{
-  try
-  {
-    std::size_t used = 0;
-    const double v = std::stod(s, &used);
-    if (used != s.size() || !std::isfinite(v))
-    {
-      throw std::out_of_range(s);
-    }
-    return v;
-  }
-  catch (const std::exception&)
-  {
-    throw UsageError(what + ": expected a number, got '" + s + "'");
-  }
-}
-
-}
-
-namespace ssapp
-{
 double Median(std::vector<double> v)
 {
   if (v.empty())
@@ -169,165 +139,6 @@ double Median(std::vector<double> v)
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return (n % 2) ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-void ApplyOption(vtkSoftShadowPass* pass, const std::string& kv)
-{
-  const auto eq = kv.find('=');
-  if (eq == std::string::npos)
-  {
-    throw UsageError("--option: expected key=value, got '" + kv + "'");
-  }
-  const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
-  const std::string what = "--option " + k;
-  if (k == "shadow_map_size")
-  {
-    pass->SetShadowMapSize(ParseInt(v, what, 64, 16384));
-  }
-  else if (k == "pcf_radius")
-  {
-    pass->SetPCFRadius(ParseDouble(v, what));
-  }
-  else if (k == "blocker_samples")
-  {
-    pass->SetBlockerSearchSamples(ParseInt(v, what, 2, 32));
-  }
-  else if (k == "filter_max_quads")
-  {
-    pass->SetFilterMaxQuads(ParseInt(v, what, 2, 128));
-  }
-  else if (k == "constant_bias")
-  {
-    pass->SetConstantBias(ParseDouble(v, what));
-  }
-  else if (k == "slope_bias")
-  {
-    pass->SetSlopeBias(ParseDouble(v, what));
-  }
-  else if (k == "reference_samples")
-  {
-    pass->SetReferenceSamples(ParseInt(v, what, 1, 64));
-  }
-  else if (k == "reference_pattern")
-  {
-    if (v != "regular" && v != "stratified")
-    {
-      throw UsageError(what + ": expected regular or stratified, got '" + v + "'");
-    }
-    pass->SetReferencePattern(v == "stratified" ? 1 : 0);
-  }
-  else if (k == "gears_samples")
-  {
-    pass->SetGearsSamples(ParseInt(v, what, 1, 32));
-  }
-  else if (k == "gears_grid")
-  {
-    pass->SetGearsGrid(ParseInt(v, what, 8, 1024));
-  }
-  else if (k == "gears_raster")
-  {
-    if (v != "edge" && v != "lut")
-    {
-      throw UsageError(what + ": expected edge or lut, got '" + v + "'");
-    }
-    pass->SetGearsRaster(v == "lut" ? 1 : 0);
-  }
-  else if (k == "gears_backend")
-  {
-    if (v != "cpu" && v != "gl")
-    {
-      throw UsageError(what + ": expected cpu or gl, got '" + v + "'");
-    }
-    pass->SetGearsBackend(v == "gl" ? vtkSoftShadowPass::GEARS_BACKEND_GL : vtkSoftShadowPass::GEARS_BACKEND_CPU);
-  }
-  else if (k == "gears_necessary")
-  {
-    pass->SetGearsCountNecessary(ParseInt(v, what, 0, 1) != 0);
-  }
-  else if (k == "pvsm_quality")
-  {
-    const double q = ParseDouble(v, what);
-    if (!(q >= 0.05 && q <= 64.0))
-    {
-      throw UsageError(what + ": expected a value in [0.05, 64], got '" + v + "'");
-    }
-    pass->SetPVSMQuality(q);
-  }
-  else if (k == "pvsm_metric")
-  {
-    if (v != "auto" && v != "dynamic" && v != "static")
-    {
-      throw UsageError(what + ": expected auto, dynamic or static, got '" + v + "'");
-    }
-    pass->SetPVSMMetric(v == "auto" ? 0 : (v == "dynamic" ? 1 : 2));
-  }
-  else if (k == "pvsm_grid")
-  {
-    pass->SetPVSMGridSize(ParseInt(v, what, 4, 256));
-  }
-  else if (k == "pvsm_max_tile")
-  {
-    pass->SetPVSMMaxTileResolution(ParseInt(v, what, 64, 16384));
-  }
-  else if (k == "pvsm_low_resolution")
-  {
-    pass->SetPVSMLowResolution(ParseInt(v, what, 64, 8192));
-  }
-  else if (k == "pvsm_tile_culling")
-  {
-    pass->SetPVSMTileCulling(ParseInt(v, what, 0, 1) != 0);
-  }
-  else if (k == "average_samples")
-  {
-    pass->SetAverageSamples(ParseInt(v, what, 1, 32));
-  }
-  else if (k == "asm_memory_mb" || k == "asm_time_budget_ms" || k == "asm_quality")
-  {
-    const bool mem = k == "asm_memory_mb", quality = k == "asm_quality";
-    const double lo = mem ? 0.0625 : (quality ? 0.125 : 0.0), hi = mem ? 4096.0 : (quality ? 16.0 : 1.0e5);
-    const double x = ParseDouble(v, what);
-    if (!(x >= lo && x <= hi))
-    {
-      throw UsageError(what + ": expected a value in " +
-        (mem ? "[0.0625, 4096] (megabytes)" : (quality ? "[0.125, 16]" : "[0, 100000] (milliseconds)")) + ", got '" +
-        v + "'");
-    }
-    mem ? pass->SetASMMemoryBudget(x) : (quality ? pass->SetASMQuality(x) : pass->SetASMTimeBudget(x));
-  }
-  else if (k == "asm_page_size")
-  {
-    pass->SetASMPageSize(ParseInt(v, what, 16, 4096));
-  }
-  else if (k == "asm_cells")
-  {
-    const int c = ParseInt(v, what, 2, 8);
-    if (c != 2 && c != 4 && c != 8)
-    {
-      throw UsageError(what + ": expected 2, 4 or 8, got '" + v + "'");
-    }
-    pass->SetASMCells(c);
-  }
-  else if (k == "asm_max_depth")
-  {
-    pass->SetASMMaxDepth(ParseInt(v, what, 0, 20));
-  }
-  else if (k == "asm_stride")
-  {
-    pass->SetASMAnalysisStride(ParseInt(v, what, 1, 64));
-  }
-  else if (k == "asm_id_test")
-  {
-    pass->SetASMIDTest(ParseInt(v, what, 0, 1) != 0);
-  }
-  else
-  {
-    throw UsageError("--option: unknown key '" + k +
-      "' (expected shadow_map_size, pcf_radius, blocker_samples, filter_max_quads, constant_bias, "
-      "slope_bias, reference_samples, reference_pattern, gears_samples, gears_grid, gears_raster, gears_backend, "
-      "gears_necessary, pvsm_quality, pvsm_metric, pvsm_grid, pvsm_max_tile, pvsm_low_resolution, "
-      "pvsm_tile_culling, average_samples, asm_memory_mb, asm_page_size, asm_cells, asm_max_depth, "
-      "asm_time_budget_ms, asm_stride, asm_quality, asm_id_test)");
-  }
 }
 
 // VTK's own shadow pass, set up as in VTK's TestShadowMapPass.
@@ -428,12 +239,7 @@ int Render(const std::vector<std::string>& args)
   vtkNew<vtkSoftShadowPass> pass;
   if (!vtkMethod && !pass->SetMethodByName(method.c_str()))
   {
-    static const std::vector<std::string> later = { "vpcss" };
     const std::string available = vtkSoftShadowPass::GetMethodNames() + ", vtk";
-    if (std::find(later.begin(), later.end(), method) != later.end())
-    {
-      throw UsageError("--method " + method + ": not implemented yet (available: " + available + ")");
-    }
     throw UsageError("--method: unknown method '" + method + "' (expected " + available + ")");
   }
   if (vtkMethod && (!visibility.empty() || !positions.empty()))

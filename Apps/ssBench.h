@@ -41,6 +41,10 @@ int BenchGEARS(const std::vector<std::string>& args);
 ///   of 8x8 hard shadow maps, overview and close-up cameras, large and small
 ///   light, and PVSM soft against PVSM with a point light (PVSM §6).
 int BenchPVSM(const std::vector<std::string>& args);
+/// softshadows bench --vpcss [--smoke] --scenes a.json,... [--out DIR] [--frames N] [--size WxH]
+///   [--reference-samples K]: VPCSS against hard AVSM, PCSS and the reference's
+///   transmittance: time, error, AVSM memory (ssBenchVPCSS.cxx).
+int BenchVPCSS(const std::vector<std::string>& args);
 /// softshadows bench --asm [--smoke] --scenes a.json,... [--out DIR] [--frames N] [--size WxH]:
 ///   ASM at 8 and 16 MB against one 2048² map over a scripted walkthrough
 ///   (ssBenchASM.cxx).

@@ -49,6 +49,12 @@ int Bench(const std::vector<std::string>& args)
     std::copy_if(args.begin(), args.end(), std::back_inserter(rest), [](const std::string& a) { return a != "--gears"; });
     return BenchGEARS(rest);
   }
+  if (std::find(args.begin(), args.end(), "--vpcss") != args.end())
+  {
+    std::vector<std::string> rest;
+    std::copy_if(args.begin(), args.end(), std::back_inserter(rest), [](const std::string& a) { return a != "--vpcss"; });
+    return BenchVPCSS(rest);
+  }
   if (std::find(args.begin(), args.end(), "--pvsm") != args.end())
   {
     std::vector<std::string> rest;

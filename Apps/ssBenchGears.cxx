@@ -1,51 +1,103 @@
-// softshadows bench --gears: GEARS against the reference at identical samples.
+// softshadows bench --gears: GEARS against the minimal Embree program and the
+// project's reference, at identical light samples, on identical pixel samples.
 #include "ssBenchCommon.h"
+#include "ssBenchGearsFrame.h"
 
-#include "ssHeadless.h"
-#include "ssMetrics.h"
-#include "ssPlot.h"
+#include "ssGEARS.h"
+#include "ssGearsGL.h"
+#include "ssReference.h"
 #include "ssScene.h"
 
-#include "vtkCamera.h"
-#include "vtkFloatArray.h"
-#include "vtkImageData.h"
-#include "vtkLight.h"
-#include "vtkLightCollection.h"
 #include "vtkNew.h"
-#include "vtkPointData.h"
+#include "vtkOpenGLRenderWindow.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkSoftShadowLight.h"
-#include "vtkSoftShadowPass.h"
-#include "vtkUnsignedCharArray.h"
-#include "vtkWindowToImageFilter.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
-#include <filesystem>
+#include <cstring>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
+#include <thread>
 
 namespace ssapp
 {
 using namespace bench;
 
-// softshadows bench --gears: GEARS against the reference at identical light
-// samples (regular k x k), per scene, output size and k: time ratio, equality
-// of V, the paper's stage times (Table 2), grid load (Table 8), assignments
-// (Table 9) and the LUT's error against edge-plane rasterisation (Table 4).
+namespace
+{
+// V equality of a against b (b's background pixels are skipped)
+json Compare(const std::vector<float>& a, const std::vector<float>& b, int k)
+{
+  std::size_t equal = 0, fg = 0, identical = 0;
+  double maxDiff = 0.0, sum = 0.0;
+  for (std::size_t i = 0; i < b.size(); ++i)
+  {
+    identical += (a[i] == b[i]) || (std::isnan(a[i]) && std::isnan(b[i]));
+    if (std::isnan(b[i]))
+    {
+      continue;
+    }
+    ++fg;
+    const double d = std::isnan(a[i]) ? 1.0 : std::abs(double(a[i]) - b[i]);
+    equal += d < 1e-6;
+    maxDiff = std::max(maxDiff, d);
+    sum += d;
+  }
+  return json{ { "equal_fraction", fg ? double(equal) / fg : 1.0 }, { "max_diff_samples", maxDiff * k * k },
+    { "mae", fg ? sum / fg : 0.0 }, { "identical_fraction", b.empty() ? 1.0 : double(identical) / b.size() } };
+}
+
+json StatsJSON(const ss::GearsStats& s)
+{
+  return json::parse(ss::GearsStatsToJSON(s));
+}
+
+void WriteFrame(const GearsFrame& f, const fs::path& path)
+{
+  std::ofstream o(path, std::ios::binary);
+  auto w = [&](const void* p, std::size_t b) { o.write(static_cast<const char*>(p), static_cast<std::streamsize>(b)); };
+  const std::uint64_t np = f.pos.size() / 3, nt = f.tris.size() / 3, npc = f.pieces.orientation.size();
+  w(&np, 8);
+  w(&nt, 8);
+  w(&npc, 8);
+  w(&f.light, sizeof(f.light));
+  w(&f.origin, sizeof(f.origin));
+  w(f.pos.data(), 4 * f.pos.size());
+  w(f.nrm.data(), 4 * f.nrm.size());
+  w(f.tris.data(), sizeof(glm::dvec3) * f.tris.size());
+  w(f.opacity.data(), 4 * f.opacity.size());
+  w(f.pieces.piece.data(), 4 * f.pieces.piece.size());
+  w(f.pieces.orientation.data(), npc);
+  o.close();
+  if (!o)
+  {
+    throw std::runtime_error("bench --gears --dump: cannot write " + path.string() + ": " + std::strerror(errno));
+  }
+}
+}
+
+// softshadows bench --gears: per scene, output size and k, on one captured
+// frame (the pass's pixel samples, the scene's casters and closed pieces):
+// the minimal Embree program, the project's reference, GEARS on the CPU (its
+// stage times, grid load, assignments, thread-time profile), GEARS counting
+// necessary assignments (Table 9), the GL compute backend, and the LUT
+// raster's error (Table 4). Speed-ups are ratios of times taken in one run.
 int BenchGEARS(const std::vector<std::string>& args)
 {
   bool smoke = false;
   std::vector<std::string> scenes;
   std::vector<std::pair<int, int>> sizes = { { 512, 512 }, { 1024, 1024 } };
   std::vector<int> ks = { 16, 32 };
-  std::string out = "Documentation";
+  std::string out = "Documentation", dump;
+  int frames = 3;
+  bool gl = true, lut = true;
   for (std::size_t i = 0; i < args.size(); ++i)
   {
     const std::string& a = args[i];
@@ -86,9 +138,25 @@ int BenchGEARS(const std::vector<std::string>& args)
         ks.push_back(ParseInt(s, "--samples", 1, 32));
       }
     }
+    else if (a == "--frames")
+    {
+      frames = ParseInt(value(), "--frames", 1, 100);
+    }
     else if (a == "--out")
     {
       out = value();
+    }
+    else if (a == "--dump")
+    {
+      dump = value();
+    }
+    else if (a == "--no-gl")
+    {
+      gl = false;
+    }
+    else if (a == "--no-lut")
+    {
+      lut = false;
     }
     else
     {
@@ -103,6 +171,12 @@ int BenchGEARS(const std::vector<std::string>& args)
   StartBench(display, out);
   json data = json::array();
   std::string renderer = "?";
+  const std::string machine = std::to_string(std::thread::hardware_concurrency()) + " threads";
+  std::string loadBefore;
+  {
+    std::ifstream la("/proc/loadavg");
+    std::getline(la, loadBefore);
+  }
   for (const auto& scene : scenes)
   {
     for (const auto& size : sizes)
@@ -115,180 +189,134 @@ int BenchGEARS(const std::vector<std::string>& args)
       win->SetSize(size.first, size.second);
       win->AddRenderer(ren);
       const std::string name = fs::path(scene).stem().string();
+      std::cerr << "\r" << name << " " << size.first << "x" << size.second << ": capture" << std::string(20, ' ')
+                << std::flush;
+      const GearsFrame f = CaptureGearsFrame(win, ren);
+      if (renderer == "?")
+      {
+        renderer = RendererName(win);
+      }
+      if (!dump.empty())
+      {
+        fs::create_directories(dump);
+        WriteFrame(f, fs::path(dump) / (name + "_" + std::to_string(size.first) + ".bin"));
+      }
+      const std::size_t n = f.pos.size() / 3;
+      // the solvers' scenes, built once per frame (not timed with the solves)
+      ss::ReferenceSolver ref;
+      ref.SetTriangles(f.tris, f.opacity);
+      ss::GearsSolver gears;
+      auto tSet = Clock::now();
+      gears.SetTriangles(f.tris, f.opacity);
+      gears.SetPieces(f.pieces);
+      const double msSetup = std::chrono::duration<double, std::milli>(Clock::now() - tSet).count();
+      ss::GearsGL gearsGL;
       for (int k : ks)
       {
-        std::cerr << "\r" << name << " " << size.first << "x" << size.second << " k=" << k
-                  << std::string(20, ' ') << std::flush;
-        json row{ { "scene", name }, { "width", size.first }, { "height", size.second }, { "k", k } };
-        // the reference at the same regular samples
-        ReferenceFrame reference;
-        RunReference(win, ren, k, renderer, reference);
-        row["reference_ms"] = reference.ms;
-        row["reference_solver_ms"] = reference.stats["timings_ms"].value("reference", 0.0);
-        row["triangles"] = reference.triangles;
-
-        auto runGears = [&](int raster, bool necessary, vtkFloatArray* v, json& stats, int backend = 0) {
-          vtkNew<vtkSoftShadowPass> g;
-          g->SetMethod(vtkSoftShadowPass::GEARS);
-          g->SetGearsBackend(backend);
-          g->SetGearsSamples(k);
-          g->SetGearsRaster(raster);
-          g->SetGearsCountNecessary(necessary);
-          ren->SetPass(g);
-          const double ms = TimeFrames(win, ren, g, 1);
-          g->GetVisibilityImage(0, v);
-          stats = json::parse(g->GetStatsJSON());
-          g->ReleaseGraphicsResources(win);
-          return ms;
-        };
-        vtkNew<vtkFloatArray> gv, lv, nv;
-        json gstats, lstats, nstats;
-        row["gears_ms"] = runGears(0, false, gv, gstats);
-        row["gears_solver_ms"] = gstats["timings_ms"].value("gears", 0.0);
-        row["gears_stats"] = gstats["gears"]["stats"];
-        // V equality with the reference (same samples)
-        std::size_t equal = 0, fg = 0;
-        double maxDiff = 0.0;
-        for (std::size_t i = 0; i < reference.pixels; ++i)
+        std::cerr << "\r" << name << " " << size.first << "x" << size.second << " k=" << k << std::string(20, ' ')
+                  << std::flush;
+        json row{ { "scene", name }, { "width", size.first }, { "height", size.second }, { "k", k },
+          { "pixels", f.foreground }, { "triangles", f.tris.size() / 3 }, { "pieces", f.pieceCount },
+          { "closed_pieces", f.closedPieces }, { "closed_triangles", f.closedTriangles },
+          { "gears_setup_ms", msSetup } };
+        // the minimal Embree program
+        double msMin = 0, raysMin = 0;
+        const std::vector<float> Vmin = MinimalEmbreeLoop(f, k, msMin, raysMin);
+        row["minimal_ms"] = msMin;
+        row["minimal_rays_per_s"] = msMin > 0 ? raysMin / (msMin * 1e-3) : 0.0;
+        // the project's reference
+        ss::ReferenceOptions ro;
+        ro.k = k;
+        ss::ReferenceStats rs;
+        const std::vector<float> Vref = ref.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, ro, &rs);
+        row["reference_ms"] = rs.milliseconds;
+        row["reference_rays_per_s"] = rs.raysPerSecond;
+        row["minimal_vs_reference"] = Compare(Vmin, Vref, k);
+        // GEARS on the CPU: median of `frames` solves
+        ss::GearsOptions go;
+        go.k = k;
+        std::vector<std::pair<double, ss::GearsStats>> runs;
+        std::vector<float> Vg;
+        for (int r = 0; r < frames; ++r)
         {
-          const float a = gv->GetValue(i), b = reference.V->GetValue(i);
-          if (std::isnan(b))
-          {
-            continue;
-          }
-          ++fg;
-          const double d = std::abs(double(a) - b);
-          equal += d < 1e-6;
-          maxDiff = std::max(maxDiff, std::isnan(a) ? 1.0 : d);
+          ss::GearsStats gs;
+          Vg = gears.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, go, &gs);
+          runs.emplace_back(gs.msTotal, gs);
         }
-        row["equal_fraction"] = fg ? double(equal) / fg : 1.0;
-        row["max_diff_samples"] = maxDiff * k * k;
-        const auto err = ss::CompareVisibility(gv->GetPointer(0), reference.V->GetPointer(0), reference.pixels);
-        row["mae"] = err.all.mae;
-        row["ratio"] = row["reference_solver_ms"].get<double>() / std::max(row["gears_solver_ms"].get<double>(), 1e-9);
-        // the GL compute backend on the same inputs: time and identity with the CPU's V
-        vtkNew<vtkFloatArray> glv;
-        json glstats;
-        runGears(0, false, glv, glstats, vtkSoftShadowPass::GEARS_BACKEND_GL);
-        row["gl_backend"] = glstats["gears"]["backend"];
-        row["gl_note"] = glstats["gears"]["backend_note"];
-        row["gl_solver_ms"] = glstats["timings_ms"].value("gears", 0.0);
-        row["gl_stats"] = glstats["gears"]["stats"];
-        std::size_t same = 0;
-        for (std::size_t i = 0; i < reference.pixels; ++i)
+        std::sort(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        const double msGears = runs[runs.size() / 2].first; // the median solve (the upper one of two)
+        row["gears_ms"] = msGears;
+        row["gears_stats"] = StatsJSON(runs[runs.size() / 2].second);
+        row["gears_vs_reference"] = Compare(Vg, Vref, k);
+        row["speedup_minimal"] = msMin / std::max(msGears, 1e-9);
+        row["speedup_reference"] = rs.milliseconds / std::max(msGears, 1e-9);
+        // Table 9: necessary assignments (an extra, untimed solve)
+        ss::GearsOptions gn = go;
+        gn.countNecessary = true;
+        ss::GearsStats ns;
+        const std::vector<float> Vn = gears.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, gn, &ns);
+        row["necessary_stats"] = StatsJSON(ns);
+        row["necessary_identical"] = Compare(Vn, Vg, k)["identical_fraction"];
+        // the GL compute backend, in the window's context
+        if (gl)
         {
-          const float a = gv->GetValue(i), b = glv->GetValue(i);
-          same += (a == b) || (std::isnan(a) && std::isnan(b));
-        }
-        row["gl_identical_fraction"] = reference.pixels ? double(same) / reference.pixels : 1.0;
-        row["gl_ratio"] =
-          row["reference_solver_ms"].get<double>() / std::max(row["gl_solver_ms"].get<double>(), 1e-9);
-        // Table 9: necessary assignments (an extra, untimed run)
-        runGears(0, true, nv, nstats);
-        row["assignments_necessary"] = nstats["gears"]["stats"]["assignments"]["necessary"];
-        // Table 4: LUT against edge planes
-        row["lut_ms"] = runGears(1, false, lv, lstats);
-        row["lut_solver_ms"] = lstats["timings_ms"].value("gears", 0.0);
-        row["lut_fallbacks"] = lstats["gears"]["stats"]["lut_fallbacks"];
-        double lmax = 0.0, lsum = 0.0;
-        for (std::size_t i = 0; i < reference.pixels; ++i)
-        {
-          if (!std::isnan(gv->GetValue(i)))
+          win->MakeCurrent();
+          std::vector<float> Vgl;
+          ss::GearsStats gls;
+          std::string why;
+          const auto t0 = Clock::now();
+          const bool ran = gearsGL.Solve(gears, f.light, f.origin, f.pos.data(), f.nrm.data(), n, go, Vgl, &gls, nullptr, &why);
+          const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+          row["gl_ran"] = ran;
+          row["gl_note"] = why;
+          if (ran)
           {
-            const double d = std::abs(double(lv->GetValue(i)) - gv->GetValue(i));
-            lmax = std::max(lmax, d);
-            lsum += d;
+            row["gl_ms"] = ms;
+            row["gl_stats"] = StatsJSON(gls);
+            row["gl_identical_fraction"] = Compare(Vgl, Vg, k)["identical_fraction"];
+            row["speedup_minimal_gl"] = msMin / std::max(ms, 1e-9);
           }
         }
-        row["lut_max_samples"] = lmax * k * k;
-        row["lut_mean_255"] = fg ? 255.0 * lsum / fg : 0.0;
+        // Table 4: the LUT raster against edge planes
+        if (lut)
+        {
+          ss::GearsOptions gl2 = go;
+          gl2.raster = ss::GearsRaster::LUT;
+          ss::GearsStats ls;
+          const std::vector<float> Vl = gears.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, gl2, &ls);
+          double lmax = 0.0, lsum = 0.0;
+          std::size_t fg = 0;
+          for (std::size_t i = 0; i < n; ++i)
+          {
+            if (!std::isnan(Vg[i]))
+            {
+              const double d = std::abs(double(Vl[i]) - Vg[i]);
+              lmax = std::max(lmax, d);
+              lsum += d;
+              ++fg;
+            }
+          }
+          row["lut_ms"] = ls.msTotal;
+          row["lut_fallbacks"] = ls.lutFallbacks;
+          row["lut_max_samples"] = lmax * k * k;
+          row["lut_mean_255"] = fg ? 255.0 * lsum / fg : 0.0;
+        }
         data.push_back(row);
       }
-      ren->SetPass(nullptr);
+      gearsGL.ReleaseGraphicsResources();
     }
   }
   std::cerr << "\n";
-  WriteReport(fs::path(out) / "gears-bench.json", data.dump(2) + "\n");
-  ReportFile md(fs::path(out) / "gears-bench.md");
-  md << "# GEARS against the reference at identical light samples\n\n"
-     << "Generated by `softshadows bench --gears" << (smoke ? " --smoke" : "") << "` in one run on this "
-     << "machine (2 CPU cores; OpenGL renderer: " << renderer << "). Both solvers use the same k x k "
-     << "regular light samples, the same pixel samples and the same start offset, so V should be "
-     << "equal up to samples that graze an edge. Times are the solver's own (`timings_ms` of the "
-     << "pass: G-buffer readback excluded), one frame after a warm-up frame; the reference is Embree 3 "
-     << "with 16-ray packets on all cores; GEARS CPU is the TBB backend, GEARS GL the GL 4.3 compute "
-     << "backend in the same window (on this machine's GL renderer, so on llvmpipe it runs on the same "
-     << "CPU cores). \"GL = CPU\": pixels whose V is bit-identical between the two backends. Raw data: "
-     << "`gears-bench.json`.\n\n"
-     << "## Time and equality (the paper's Table 10 question)\n\n"
-     << "| scene | triangles | size | k | reference ms | GEARS CPU ms | speed-up | GEARS GL ms | speed-up GL "
-     << "| GL = CPU | V equal | max diff (samples) | MAE |\n"
-     << "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& r : data)
+  std::string loadAfter;
   {
-    const bool onGL = r.value("gl_backend", std::string()) == "gl";
-    md << "| " << r["scene"].get<std::string>() << " | " << r["triangles"] << " | " << r["width"] << "x"
-       << r["height"] << " | " << r["k"] << " | " << Fmt(r["reference_solver_ms"].get<double>()) << " | "
-       << Fmt(r["gears_solver_ms"].get<double>()) << " | " << Fmt(r["ratio"].get<double>(), 3) << "x | "
-       << (onGL ? Fmt(r["gl_solver_ms"].get<double>()) : "CPU fallback: " + r["gl_note"].get<std::string>())
-       << " | " << (onGL ? Fmt(r["gl_ratio"].get<double>(), 3) + "x" : "-") << " | "
-       << Fmt(100.0 * r["gl_identical_fraction"].get<double>(), 6) << "% | "
-       << Fmt(100.0 * r["equal_fraction"].get<double>(), 6) << "% | " << Fmt(r["max_diff_samples"].get<double>(), 3)
-       << " | " << Fmt(r["mae"].get<double>(), 3) << " |\n";
+    std::ifstream la("/proc/loadavg");
+    std::getline(la, loadAfter);
   }
-  md << "\n## Stage times of the CPU backend, ms (Table 2)\n\n"
-     << "| scene | size | k | project pixels | prefix sum (pass 1) | relate tris to cells | sort pairs | bitmask raster |\n"
-     << "|---|---|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& r : data)
-  {
-    const auto& ms = r["gears_stats"]["ms"];
-    md << "| " << r["scene"].get<std::string>() << " | " << r["width"] << "x" << r["height"] << " | " << r["k"]
-       << " | " << Fmt(ms["project"].get<double>(), 3) << " | " << Fmt(ms["prefix_sum"].get<double>(), 3) << " | "
-       << Fmt(ms["relate"].get<double>(), 3) << " | " << Fmt(ms["sort"].get<double>(), 3) << " | "
-       << Fmt(ms["raster"].get<double>(), 3) << " |\n";
-  }
-  md << "\n## Stage times of the GL backend, ms (Table 2; glFinish after each stage)\n\n"
-     << "| scene | size | k | project pixels | prefix sum (pass 1) | relate tris to cells | sort pairs | bitmask raster |\n"
-     << "|---|---|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& r : data)
-  {
-    if (r.value("gl_backend", std::string()) != "gl")
-    {
-      continue;
-    }
-    const auto& ms = r["gl_stats"]["ms"];
-    md << "| " << r["scene"].get<std::string>() << " | " << r["width"] << "x" << r["height"] << " | " << r["k"]
-       << " | " << Fmt(ms["project"].get<double>(), 3) << " | " << Fmt(ms["prefix_sum"].get<double>(), 3) << " | "
-       << Fmt(ms["relate"].get<double>(), 3) << " | " << Fmt(ms["sort"].get<double>(), 3) << " | "
-       << Fmt(ms["raster"].get<double>(), 3) << " |\n";
-  }
-  md << "\n## Grid load (Table 8) and assignments (Table 9), grid 128x128\n\n"
-     << "| scene | size | k | triangles/cell max | avg | samples/cell max | avg | pairs | necessary | total | necessary % |\n"
-     << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& r : data)
-  {
-    const auto& s = r["gears_stats"];
-    const double nec = r["assignments_necessary"].get<double>(), tot = s["assignments"]["total"].get<double>();
-    md << "| " << r["scene"].get<std::string>() << " | " << r["width"] << "x" << r["height"] << " | " << r["k"]
-       << " | " << s["triangles_per_cell"]["max"] << " | " << Fmt(s["triangles_per_cell"]["avg"].get<double>(), 3)
-       << " | " << s["samples_per_cell"]["max"] << " | " << Fmt(s["samples_per_cell"]["avg"].get<double>(), 3)
-       << " | " << s["pairs"] << " | " << Fmt(nec, 4) << " | " << Fmt(tot, 4) << " | "
-       << Fmt(tot > 0 ? 100.0 * nec / tot : 0.0, 3) << "% |\n";
-  }
-  md << "\n## LUT rasterisation against edge planes (Table 4)\n\n"
-     << "Max: largest per-pixel difference in light samples; mean: average per-pixel difference in "
-     << "8-bit channel units (V x 255), as the paper reports. Triangles not strictly between pixel "
-     << "and light are rasterised with edge planes (fallbacks).\n\n"
-     << "| scene | size | k | edge ms | LUT ms | max (samples) | mean (x255) | fallbacks |\n"
-     << "|---|---|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& r : data)
-  {
-    md << "| " << r["scene"].get<std::string>() << " | " << r["width"] << "x" << r["height"] << " | " << r["k"]
-       << " | " << Fmt(r["gears_solver_ms"].get<double>()) << " | " << Fmt(r["lut_solver_ms"].get<double>())
-       << " | " << Fmt(r["lut_max_samples"].get<double>(), 3) << " | " << Fmt(r["lut_mean_255"].get<double>(), 3)
-       << " | " << r["lut_fallbacks"] << " |\n";
-  }
-  md.Commit();
+  json meta{ { "renderer", renderer }, { "machine", machine }, { "loadavg_before", loadBefore },
+    { "loadavg_after", loadAfter }, { "frames", frames }, { "smoke", smoke },
+    { "simd", data.empty() ? std::string() : data[0]["gears_stats"].value("simd", std::string()) } };
+  WriteReport(fs::path(out) / "gears-bench.json", json{ { "meta", meta }, { "rows", data } }.dump(2) + "\n");
+  WriteGearsBenchReport(meta, data, fs::path(out) / "gears-bench.md");
   std::cout << "softshadows: bench --gears wrote " << (fs::path(out) / "gears-bench.md").string() << " and .json\n";
   return 0;
 }

@@ -10,6 +10,9 @@ every machine. Run by scripts/setup.sh when they are missing.
 - canopy_leaves.ply: a leaf canopy, 40 000 small disconnected triangles;
 - assembly_5m.ply: instanced CAD parts (fandisk, turbine) on a grid,
   >= 5M triangles.
+- bumpy_closed_1m.ply: a closed, outward-oriented surface of 1M triangles
+  (a sphere displaced along its normals by ridges and bumps) that shadows
+  itself: GEARS's dense closed case.
 """
 import math
 import os
@@ -21,6 +24,7 @@ from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkImageData, vtkPolyData
 from vtkmodules.vtkCommonTransforms import vtkTransform
 from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFlyingEdges3D, vtkTriangleFilter
+from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkFiltersGeneral import vtkTransformPolyDataFilter
 from vtkmodules.vtkIOPLY import vtkPLYWriter
 from vtkmodules.vtkCommonCore import vtkFloatArray
@@ -198,8 +202,46 @@ def assembly():
     write(app.GetOutput(), name)
 
 
+def bumpy_closed():
+    name = "bumpy_closed_1m.ply"
+    if os.path.exists(os.path.join(out, name)):
+        return
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    # a UV sphere is closed (its poles are single points) and its triangles
+    # face outwards; 1000 x 500 quads -> 1.0M triangles
+    sph = vtkSphereSource()
+    sph.SetThetaResolution(1000)
+    sph.SetPhiResolution(502)
+    sph.SetRadius(1.0)
+    sph.LatLongTessellationOff()
+    sph.Update()
+    pd = sph.GetOutput()
+    p = vtk_to_numpy(pd.GetPoints().GetData()).astype(np.float64)
+    d = p / np.linalg.norm(p, axis=1)[:, None]
+    x, y, z = d[:, 0], d[:, 1], d[:, 2]
+    # ridges and knobs, about 0.8..1.4 of the radius: valleys that the
+    # ridges and knobs shadow under a large light; the displacement is
+    # radial, so the surface cannot intersect itself
+    r = 1.0 + 0.08 * np.sin(11 * x + 2) * np.sin(9 * y) * np.sin(10 * z + 1)
+    rng = random.Random(13)
+    for _ in range(90):
+        c = np.array([rng.uniform(-1, 1) for _ in range(3)])
+        c /= np.linalg.norm(c)
+        w = rng.uniform(0.06, 0.16)
+        r += rng.uniform(0.05, 0.16) * np.exp(-np.sum((d - c) ** 2, axis=1) / (w * w))
+    q = d * r[:, None]
+    pts = vtkPoints()
+    pts.SetData(numpy_to_vtk(q.astype(np.float32), deep=1))
+    out_pd = vtkPolyData()
+    out_pd.SetPoints(pts)
+    out_pd.SetPolys(pd.GetPolys())
+    write(out_pd, name)
+
+
 extract_real()
 canopy()
 field_iso()
+bumpy_closed()
 if "--large" in sys.argv:
     assembly()

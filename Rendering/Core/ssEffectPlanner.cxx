@@ -1,5 +1,7 @@
 #include "ssEffectPlanner.h"
 
+#include "ssClusterBounds.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -40,6 +42,15 @@ const MethodInfo* ForRule(const std::vector<MethodInfo>& methods, PlannerRule ru
   return nullptr;
 }
 
+LightPlan Planned(Method m, const std::string& reason, const std::string& name)
+{
+  LightPlan p;
+  p.method = m;
+  p.reason = reason;
+  p.name = name;
+  return p;
+}
+
 std::string Upper(std::string s)
 {
   for (char& c : s)
@@ -76,12 +87,22 @@ std::string EffectPlan::ToJSON() const
 {
   std::ostringstream o;
   o << "{\"shadow_work\": " << (shadowWork ? "true" : "false")
-    << ", \"reuse\": " << (reuse ? "true" : "false") << ", \"reason\": \"" << JSONEscape(reason)
-    << "\", \"lights\": [";
+    << ", \"reuse\": " << (reuse ? "true" : "false") << ", \"interactive\": " << (interactive ? "true" : "false")
+    << ", \"degraded\": " << (degraded ? "true" : "false") << ", \"aborted\": " << (aborted ? "true" : "false");
+  if (interactive)
+  {
+    o << ", \"frame_budget_ms\": " << frameBudgetMs << ", \"estimated_ms\": " << estimatedMs;
+  }
+  o << ", \"reason\": \"" << JSONEscape(reason) << "\", \"lights\": [";
   for (std::size_t i = 0; i < lights.size(); ++i)
   {
     o << (i ? ", " : "") << "{\"method\": \"" << JSONEscape(lights[i].name)
-      << "\", \"reason\": \"" << JSONEscape(lights[i].reason) << "\"}";
+      << "\", \"reason\": \"" << JSONEscape(lights[i].reason) << "\"";
+    if (lights[i].stillMethod != Method::None)
+    {
+      o << ", \"still_method\": \"" << JSONEscape(lights[i].stillName) << "\"";
+    }
+    o << "}";
   }
   o << "]}";
   return o.str();
@@ -90,7 +111,8 @@ std::string EffectPlan::ToJSON() const
 std::string EffectPlan::ToText() const
 {
   std::ostringstream o;
-  o << "shadow work: " << (shadowWork ? "yes" : "no") << (reuse ? " (reused)" : "") << " - "
+  o << "shadow work: " << (shadowWork ? "yes" : "no") << (reuse ? " (reused)" : "")
+    << (degraded ? " (interactive: faster methods stand in)" : "") << (aborted ? " (aborted)" : "") << " - "
     << reason;
   for (std::size_t i = 0; i < lights.size(); ++i)
   {
@@ -99,13 +121,168 @@ std::string EffectPlan::ToText() const
   return o.str();
 }
 
+std::string EffectPlan::Summary() const
+{
+  if (!shadowWork)
+  {
+    return "none: " + reason.substr(0, reason.find(';'));
+  }
+  std::vector<std::string> names, still;
+  for (const auto& l : lights)
+  {
+    if (l.method != Method::None && std::find(names.begin(), names.end(), l.name) == names.end())
+    {
+      names.push_back(l.name);
+    }
+    if (l.stillMethod != Method::None && std::find(still.begin(), still.end(), l.stillName) == still.end())
+    {
+      still.push_back(l.stillName);
+    }
+  }
+  auto join = [](const std::vector<std::string>& v) {
+    std::string o;
+    for (const auto& n : v)
+    {
+      o += (o.empty() ? "" : ", ") + n;
+    }
+    return o;
+  };
+  std::string o = join(names);
+  if (degraded)
+  {
+    o += " (interactive: stands in for " + join(still) + ")";
+  }
+  o += reuse ? " (reused)" : "";
+  o += aborted ? " (aborted)" : "";
+  return o;
+}
+
+namespace
+{
+std::string Ms(double ms)
+{
+  std::ostringstream o;
+  o.precision(ms < 10.0 ? 2 : 0);
+  o << std::fixed << ms << " ms";
+  return o.str();
+}
+
+// An interactive frame (VTK's DesiredUpdateRate, ParaView's interactive
+// render): while the estimated shadow work exceeds the budget, the light
+// whose next step saves the most moves one step down its chain (its method
+// -> the SoftLights rule's, soft lights only -> the HardLights rule's; a
+// step to a dearer method is skipped). (A point light's step to hard shadows loses
+// nothing and usually goes first.) A method of unknown cost counts as 0: it
+// runs and is measured.
+void FitBudget(const PlannerInput& in, EffectPlan& plan)
+{
+  plan.interactive = true;
+  plan.frameBudgetMs = in.frameBudgetMs;
+  const MethodInfo* soft = ForRule(in.methods, PlannerRule::SoftLights);
+  const MethodInfo* hard = ForRule(in.methods, PlannerRule::HardLights);
+  auto cost = [&](Method m) {
+    const MethodInfo* info = FindMethod(in.methods, m);
+    return info ? info->estimatedMs : -1.0;
+  };
+  std::vector<std::vector<Method>> chain(plan.lights.size());
+  std::vector<std::size_t> step(plan.lights.size(), 0);
+  for (std::size_t i = 0; i < plan.lights.size(); ++i)
+  {
+    const Method m = plan.lights[i].method;
+    if (m == Method::None)
+    {
+      continue;
+    }
+    chain[i].push_back(m);
+    auto add = [&](const MethodInfo* info) {
+      if (info && std::find(chain[i].begin(), chain[i].end(), info->method) == chain[i].end())
+      {
+        chain[i].push_back(info->method);
+      }
+    };
+    if (in.lights[i].frame.IsSoft())
+    {
+      add(soft);
+    }
+    add(hard);
+  }
+  double total = 0.0;
+  bool known = true;
+  for (;;)
+  {
+    total = 0.0;
+    known = true;
+    std::size_t best = plan.lights.size(); // the light whose step saves the most
+    std::size_t bestTarget = 0;
+    double bestSaving = 0.0;
+    for (std::size_t i = 0; i < chain.size(); ++i)
+    {
+      if (chain[i].empty())
+      {
+        continue;
+      }
+      const double c = cost(chain[i][step[i]]);
+      known = known && c >= 0.0;
+      total += std::max(c, 0.0);
+      // its next step: the first method further down the chain that is
+      // cheaper (an unmeasured one counts as 0); a dearer one is skipped.
+      // One step at a time, so a light keeps as much softness as the budget
+      // allows.
+      for (std::size_t j = step[i] + 1; j < chain[i].size(); ++j)
+      {
+        const double saving = std::max(c, 0.0) - std::max(cost(chain[i][j]), 0.0);
+        if (saving > 0.0)
+        {
+          if (saving > bestSaving)
+          {
+            best = i;
+            bestTarget = j;
+            bestSaving = saving;
+          }
+          break;
+        }
+      }
+    }
+    if (total <= in.frameBudgetMs || best == plan.lights.size())
+    {
+      break;
+    }
+    step[best] = bestTarget;
+  }
+  plan.estimatedMs = known ? total : -1.0;
+  for (std::size_t i = 0; i < chain.size(); ++i)
+  {
+    if (step[i] == 0)
+    {
+      continue;
+    }
+    LightPlan& p = plan.lights[i];
+    const Method m = chain[i][step[i]];
+    const double from = cost(p.method), to = cost(m);
+    p.reason = "interactive frame (budget " + Ms(in.frameBudgetMs) + "): " + p.name + " takes ~" +
+      Ms(from) + ", " + NameOf(in.methods, m) + " stands in" + (to >= 0.0 ? " (~" + Ms(to) + ")" : "") +
+      "; the still frame uses " + p.name;
+    p.stillMethod = p.method;
+    p.stillName = p.name;
+    p.method = m;
+    p.name = NameOf(in.methods, m);
+    plan.degraded = true;
+  }
+  const bool fits = total <= in.frameBudgetMs;
+  plan.reason += "; interactive frame: budget " + Ms(in.frameBudgetMs) + ", shadow work estimated " +
+    (known ? Ms(total) : std::string("unknown (not every method measured yet)")) +
+    (plan.degraded ? ": faster methods stand in" : "") +
+    (fits ? (plan.degraded ? "" : ": fits") : (plan.degraded ? ", still over" : ": nothing faster to use"));
+}
+}
+
 EffectPlan MakeEffectPlan(const PlannerInput& in)
 {
   EffectPlan plan;
   const std::string none = NameOf(in.methods, Method::None);
-  plan.lights.resize(in.lights.size(), LightPlan{ Method::None, std::string(), none });
+  plan.lights.resize(in.lights.size(), Planned(Method::None, std::string(), none));
   auto off = [&](LightPlan& p, const std::string& why) {
-    p = { Method::None, why, none };
+    p = Planned(Method::None, why, none);
   };
   std::string frameReason;
   if (in.requested == Method::None)
@@ -116,7 +293,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
   {
     frameReason = "no lights";
   }
-  else if (in.casterTriangles == 0)
+  else if (in.casterTriangles == 0 && in.casterVolumes == 0)
   {
     frameReason = "no shadow casters";
   }
@@ -158,7 +335,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       }
       else
       {
-        p = { in.requested, "requested " + info->name, info->name };
+        p = Planned(in.requested, "requested " + info->name, info->name);
         if (in.requested == Method::PCSS && !l.frame.IsSoft())
         {
           p.reason += " (point/zero-size light: PCSS degenerates to an antialiased hard shadow)";
@@ -174,6 +351,15 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       }
     }
     // --- method auto: the rules, one branch each (PlannerRule)
+    else if (!l.translucentInView.empty() && ForRule(in.methods, PlannerRule::TranslucentCasters))
+    {
+      const MethodInfo* info = ForRule(in.methods, PlannerRule::TranslucentCasters);
+      p = { info->method,
+        std::string(l.frame.IsSoft() ? "area light" : "light without extent") + " with translucent casters in its view (" +
+          l.translucentInView + "): transmittance-weighted " + (l.frame.IsSoft() ? "soft" : "hard") + " shadows (" +
+          Upper(info->name) + ")",
+        info->name };
+    }
     else if (!l.frame.IsSoft())
     {
       const MethodInfo* uniform = ForRule(in.methods, PlannerRule::HardLights);
@@ -200,7 +386,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       }
       if (info)
       {
-        p = { info->method, why, info->name };
+        p = Planned(info->method, why, info->name);
       }
       else
       {
@@ -212,7 +398,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       const MethodInfo* info = ForRule(in.methods, PlannerRule::SoftLights);
       if (info)
       {
-        p = { info->method, "area light: soft shadows (" + Upper(info->name) + ")", info->name };
+        p = Planned(info->method, "area light: soft shadows (" + Upper(info->name) + ")", info->name);
       }
       else
       {
@@ -221,32 +407,62 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
     }
     plan.shadowWork = plan.shadowWork || p.method != Method::None;
   }
-  plan.reason = plan.shadowWork ? std::to_string(in.casterTriangles) + " caster triangles"
+  plan.reason = plan.shadowWork ? std::to_string(in.casterTriangles) + " caster triangles" +
+      (in.casterVolumes ? ", " + std::to_string(in.casterVolumes) + " caster volume(s)" : std::string())
                                 : "no light casts shadows";
-  if (plan.shadowWork && in.translucentCasters)
+  if (plan.shadowWork && (in.translucentCasters || in.casterVolumes > 0))
   {
-    bool opaqueOnly = false;
+    std::string opaqueOnly;
     for (const auto& l : plan.lights)
     {
       const MethodInfo* info = FindMethod(in.methods, l.method);
-      opaqueOnly = opaqueOnly || (l.method != Method::None && !(info && info->translucentCasters));
+      if (l.method != Method::None && !(info && info->translucentCasters) &&
+        opaqueOnly.find(l.name) == std::string::npos)
+      {
+        opaqueOnly += (opaqueOnly.empty() ? "" : ", ") + l.name;
+      }
     }
-    if (opaqueOnly)
+    if (!opaqueOnly.empty())
     {
-      plan.reason += "; translucent casters are treated as opaque by shadow-map methods (planner v1)";
+      plan.reason += in.translucentCasters ? "; translucent casters are treated as opaque" : "";
+      plan.reason += in.casterVolumes ? std::string(in.translucentCasters ? " and" : ";") + " volumes cast no shadows"
+                                      : "";
+      plan.reason += " by " + opaqueOnly;
     }
   }
-  if (plan.shadowWork && in.unchangedSinceLastFrame && !in.refining.empty())
+  if (plan.shadowWork && in.frameBudgetMs > 0.0)
+  {
+    FitBudget(in, plan);
+  }
+  bool sameMethods = in.lastMethods.size() == plan.lights.size();
+  for (std::size_t i = 0; sameMethods && i < plan.lights.size(); ++i)
+  {
+    sameMethods = in.lastMethods[i] == plan.lights[i].method;
+  }
+  if (plan.shadowWork && in.unchangedSinceLastFrame && sameMethods && !in.refining.empty())
   {
     // a progressive solver's last frame is not final: a still view re-rendered refines
     plan.reason += "; the view is unchanged but " + in.refining + " is still refining: solved again";
   }
-  else if (plan.shadowWork && in.unchangedSinceLastFrame)
+  else if (plan.shadowWork && in.unchangedSinceLastFrame && sameMethods)
   {
     plan.reuse = true;
     plan.reason += "; nothing changed since the last frame: visibility reused";
   }
   return plan;
+}
+
+bool CastersMayShadow(const LightFrame& light, const Box& casters, const Box& receivers)
+{
+  if (casters.Empty() || receivers.Empty())
+  {
+    return false;
+  }
+  ClusterBounds b;
+  b.aabb = casters;
+  b.obb.center = casters.Center();
+  b.obb.half = 0.5 * (casters.max - casters.min);
+  return ClusterMayShadowBox(b, light, receivers);
 }
 
 bool NeedsAdaptiveMap(double receiverTexels, int shadowMapSize)

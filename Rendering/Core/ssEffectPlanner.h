@@ -24,7 +24,9 @@ enum class Method
   GEARS = 6,     ///< exact soft shadows from per-pixel triangle lists (GEARS)
   PVSM = 7,      ///< predicted virtual soft shadow maps (adaptive tiles, anisotropic filtering)
   HardAverage = 8, ///< brute force: the average of k x k hard shadow maps, one per light sample
-  ASM = 10          ///< adaptive shadow maps: hard shadows refined where the view needs them, in a memory budget
+  VPCSS = 9,      ///< volumetric PCSS: soft shadows of translucent casters and volumes over an AVSM
+  ASM = 10,         ///< adaptive shadow maps: hard shadows refined where the view needs them, in a memory budget
+  AVSM = 11       ///< adaptive volumetric shadow maps: hard shadows of translucent casters and volumes
 };
 
 /// When the planner uses a method on its own (method auto). Each rule is one
@@ -34,6 +36,7 @@ enum class PlannerRule
   OnRequest,  ///< only when asked for by name
   HardLights, ///< auto: lights without extent (point, zero-size rect, directional without angular size)
   SoftLights, ///< auto: lights with extent (rect, directional with angular size)
+  TranslucentCasters, ///< auto: lights with a translucent caster in their view (before the others)
   /// auto: point and spot lights, and directional lights without angular size
   /// whose receivers need far more texels than one map holds at the view's
   /// pixel size (NeedsAdaptiveMap). Without a method for it, HardLights serves them.
@@ -49,6 +52,9 @@ struct MethodInfo
   /// Its solver weighs casters by their opacity; otherwise translucent
   /// casters shadow as if opaque (and the plan says so).
   bool translucentCasters = false;
+  /// What one light's shadow work with this method is expected to take this
+  /// frame (milliseconds, measured on earlier frames); negative: unknown.
+  double estimatedMs = -1.0;
 };
 
 struct PlannerLight
@@ -58,6 +64,9 @@ struct PlannerLight
   bool headlight = false;
   bool valid = true;
   std::string invalidReason;
+  /// What translucent casters may shadow a receiver of this light (e.g.
+  /// "opacity < 1", "an RGBA texture", "a volume", joined); empty: none.
+  std::string translucentInView;
   /// Directional lights: the texels a side that one map over the receivers
   /// needs for a texel per pixel where the view is finest
   /// (ReceiverTexelsAtPixelSize); 0 when unknown.
@@ -68,9 +77,17 @@ struct PlannerInput
 {
   Method requested = Method::Auto;
   std::size_t casterTriangles = 0;
+  std::size_t casterVolumes = 0; ///< volumes that cast shadows
   std::size_t receiverProps = 0;
   bool translucentCasters = false;
   bool unchangedSinceLastFrame = false;
+  /// The methods the last frame's visibility was computed with, per light:
+  /// it is reused only when this frame plans the same ones (an interactive
+  /// frame's stand-in is never kept for the still frame after it).
+  std::vector<Method> lastMethods;
+  /// Milliseconds the shadow work of an interactive frame may take (VTK's
+  /// DesiredUpdateRate); 0: a still frame, every light gets its method.
+  double frameBudgetMs = 0.0;
   /// Methods of progressive solvers still refining a still view (their last
   /// frame is not final): comma-separated names, empty when none is.
   std::string refining;
@@ -87,6 +104,10 @@ struct LightPlan
   Method method = Method::None;
   std::string reason;
   std::string name; ///< the method's name
+  /// On an interactive frame that did not fit the budget: the method the
+  /// still frame uses (`method` stands in for it); else Method::None.
+  Method stillMethod = Method::None;
+  std::string stillName; ///< its name
 };
 
 /// What to simulate this frame, and why (DESIGN.md "effect plan").
@@ -94,13 +115,37 @@ struct EffectPlan
 {
   bool shadowWork = false;
   bool reuse = false;
+  /// An interactive frame (frameBudgetMs > 0), and whether it had to stand
+  /// a faster method in for at least one light to fit the budget.
+  bool interactive = false;
+  bool degraded = false;
+  double frameBudgetMs = 0.0;
+  double estimatedMs = -1.0; ///< the planned shadow work, when every method's cost is known
+  /// The render was aborted (vtkRenderWindow::GetAbortRender) before every
+  /// light was solved: this frame shows no shadows (set by the pass).
+  bool aborted = false;
   std::vector<LightPlan> lights;
   std::string reason;
   std::string ToJSON() const;
   std::string ToText() const;
+  /// One line: the methods used, e.g. "pcss (interactive: stands in for
+  /// gears)", "gears, hard (reused)", "none: no shadow casters".
+  std::string Summary() const;
 };
 
+/// The plan: per light, the requested method (or, for auto, the rule's);
+/// on an interactive frame whose estimated shadow work exceeds the budget,
+/// lights step down the chain requested -> the SoftLights rule's method ->
+/// the HardLights rule's method, the largest saving first, until it fits (or
+/// nothing is cheaper); then reuse when nothing changed and the methods are
+/// the same.
 EffectPlan MakeEffectPlan(const PlannerInput& in);
+/// Whether casters inside the box `casters` can shadow a point of
+/// `receivers` lit by `light` (all in the same coordinates): false when a
+/// separating axis parts the box from the hull of the light and the
+/// receivers (ClusterMayShadowBox), i.e. when no such caster is "in the
+/// light's view" of what it lights. Empty boxes cast nothing.
+bool CastersMayShadow(const LightFrame& light, const Box& casters, const Box& receivers);
 
 /// How much finer than one map a directional light's receivers need: one
 /// map of `shadowMapSize` over them falls short when they span more than

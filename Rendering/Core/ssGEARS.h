@@ -2,6 +2,7 @@
 #define ssGEARS_h
 
 #include "ssLightFrame.h"
+#include "ssSolveProgress.h"
 
 #include <array>
 #include <cstddef>
@@ -19,6 +20,17 @@ enum class GearsRaster
   LUT        ///< 2-D lookup table of half-plane bitmasks [GEARS §4.3, ED07/SEA08]; approximate
 };
 
+/// Which instruction set the per-pixel kernels use. Auto takes the widest
+/// the CPU has; asking for one the CPU lacks falls back to the next narrower.
+/// Every choice gives the same bitmasks (tested).
+enum class GearsSimd
+{
+  Auto,
+  Scalar, ///< the x86-64 baseline (SSE2)
+  AVX2,
+  AVX512
+};
+
 struct GearsOptions
 {
   int k = 16;                    ///< k x k regular light samples, 1..32 (point lights: 1)
@@ -28,6 +40,15 @@ struct GearsOptions
   bool countNecessary = false;   ///< Table 9 "necessary" assignments (no early exit, slower)
   GearsRaster raster = GearsRaster::EdgePlane;
   int lutResolution = 512;       ///< LUT: angles x distances
+  // Culling (gears.md, "Fewer assignments"); none of these changes a bitmask.
+  bool closedMeshRule = true;    ///< drop faces of closed pieces that cannot bound the shadow (SetPieces)
+  bool shaftCulling = true;      ///< cull clusters and triangles against each cell's and group's shaft
+  bool pairRejection = true;     ///< per pixel, reject pairs before rasterising (vectorised kernel)
+  bool depthOrder = true;        ///< blockers nearest the receivers first (masks fill early)
+  int groupSize = 8;             ///< split a cell's samples into groups of at most this many
+  int groupMinTriangles = 48;    ///< ... when its culled list has at least this many triangles
+  GearsSimd simd = GearsSimd::Auto;
+  SolveProgress progress;        ///< optional: called between chunks of step 4's cells; false stops
 };
 
 /// The paper's tables for one Solve: stage times (Table 2), grid load
@@ -50,10 +71,29 @@ struct GearsStats
   double trianglesPerCellAvg = 0; ///< over non-empty cells
   std::size_t samplesPerCellMax = 0;
   double samplesPerCellAvg = 0;
-  double assignmentsTotal = 0;     ///< sum over pixels of the triangles of their cell
-  double assignmentsNecessary = -1; ///< of those, triangles that block >= 1 sample (-1: not counted)
-  std::size_t fullGridTriangles = 0; ///< triangles touching the light plane, given every cell
+  double assignmentsTotal = 0;     ///< (pixel, triangle) pairs left after the per-pair rejection
+  double assignmentsNecessary = -1; ///< of those, triangles hiding >= 1 sample above the pixel's horizon (-1: not counted)
+  std::size_t fullGridTriangles = 0; ///< clusters touching the light plane, given every cell
   std::size_t lutFallbacks = 0;      ///< LUT mode: pixel-triangle pairs rasterised by edge planes
+  // Beyond the paper: what the culling removed (gears.md, "Fewer assignments")
+  double msPrepare = 0;              ///< light-frame triangles, closed-mesh rule, cluster boxes
+  std::size_t clusters = 0;          ///< triangle clusters
+  std::size_t clusterPairs = 0;      ///< (cluster, cell) pairs of pass 2
+  std::size_t droppedTriangles = 0;  ///< closed-mesh rule: faces facing away from the whole light
+  std::size_t clustersCulled = 0;    ///< (cluster, cell) pairs culled by the cell's shaft
+  std::size_t trianglesCulled = 0;   ///< (triangle, cell) pairs culled by the cell's shaft
+  std::size_t groups = 0;            ///< sample groups (cells split into groups)
+  double assignmentsListed = 0;      ///< sum over pixels of their group's list (before per-pair rejection)
+  double assignmentsRasterised = 0;  ///< pairs that reached the exact raster (a full mask stops early)
+  std::size_t coveredSkips = 0;      ///< pairs not drawn: the samples they may hide are hidden already
+  std::size_t occluderBoxes = 0;     ///< inner occluders of closed pieces (SetPieces)
+  std::string simd;                  ///< the kernels' instruction set
+  /// Step 4's parts in thread time (ms summed over the threads; a profile,
+  /// not wall time): cell lists (clusters and triangles against the cell's
+  /// shaft, the inner occluders' pre-pass), the lists' double and float
+  /// arrays, the sample groups, and the pixels (rejection, exact raster, V).
+  double cpuCellLists = 0, cpuCellArrays = 0, cpuGroups = 0, cpuPixels = 0;
+  std::size_t cellsInUmbra = 0; ///< cells whose samples the horizon and inner occluders left in umbra
 };
 
 /// One pixel's light bitmask: row j (light v axis), bit i (light u axis);
@@ -112,18 +152,38 @@ struct GearsTriangleData
   std::uint64_t version = 0; ///< changes with every SetTriangles (for caches)
 };
 
+/// Which caster triangles form closed pieces, for the closed-mesh rule
+/// (gears.md, "Closed pieces"). A piece is closed when it is a 2-manifold
+/// without boundary whose faces are consistently oriented (every edge shared
+/// by exactly two of its triangles, in opposite directions) and its winding
+/// number is >= 0 everywhere (outward normals, nothing turned inside out).
+/// Triangles of such a piece that face away from every light sample hide
+/// nothing that its other triangles do not hide already, as long as no light
+/// sample lies inside the piece; GEARS checks the latter itself.
+struct GearsPieces
+{
+  /// per input triangle (vertex list / 3, as given to SetTriangles): its piece
+  std::vector<std::uint32_t> piece;
+  /// per piece: +1 closed with outward normals (counter-clockwise seen from
+  /// outside), -1 closed with inward normals, 0 not closed or not known
+  std::vector<std::int8_t> orientation;
+};
+
 /// The assignment built by step 3, exposed for tests and tools.
 struct GearsAssignment
 {
   struct Face
   {
     int grid = 0;
-    std::vector<std::uint32_t> cellBegin; ///< grid*grid + 1 offsets into triangles
-    std::vector<std::uint32_t> triangles; ///< triangle ids sorted by cell
+    std::vector<std::uint32_t> cellBegin;      ///< grid*grid + 1 offsets into triangles
+    std::vector<std::uint32_t> triangles;      ///< per cell: its triangles after the shaft culling
+    std::vector<std::uint32_t> groupBegin;     ///< groups + 1 offsets into groupTriangles
+    std::vector<std::uint32_t> groupTriangles; ///< per sample group: its triangles (the pixels' lists)
   };
   std::vector<Face> faces;              ///< 1 (rect, directional) or up to 6 (point)
   std::vector<std::int32_t> pixelFace;  ///< per pixel: face, or -1 (not in any cell)
   std::vector<std::int32_t> pixelCell;  ///< per pixel: cell in its face
+  std::vector<std::int32_t> pixelGroup; ///< per pixel: sample group in its face
 };
 
 /// GEARS (Wang et al., "A General and Efficient Algorithm for Rendering
@@ -152,6 +212,24 @@ public:
   std::size_t SkippedTriangles() const;
   /// Index of solver triangle t in the vertex list given to SetTriangles.
   std::size_t InputIndex(std::size_t t) const;
+
+  /// Closed pieces for the closed-mesh rule (call after SetTriangles; a new
+  /// SetTriangles forgets them). Pieces whose triangles are not all opaque
+  /// are treated as open. Throws std::invalid_argument if `piece` does not
+  /// have one entry per input triangle or names a piece out of range.
+  void SetPieces(const GearsPieces& pieces);
+  /// Triangle clusters (e.g. from the Filters module): ss::TriangleClusters'
+  /// order and first over the input triangles. SetTriangles makes its own
+  /// (ss::ClusterTriangles, 32 triangles). Keeps the pieces. Throws
+  /// std::invalid_argument if the order is not a permutation of the input.
+  void SetClusters(const std::vector<std::size_t>& order, const std::vector<std::size_t>& first);
+  std::size_t NumberOfClusters() const;
+  /// The closed-mesh rule as Solve applies it for `light` (world): per
+  /// solver triangle 0 (rule off), +1 / -1 (its closed piece's orientation,
+  /// for the per-pixel test "S behind the outward face"), or 2 (faces away
+  /// from every light sample: never drawn). For the GL backend.
+  std::vector<std::int8_t> ClosedRuleFlags(const LightFrame& light, const GearsOptions& options) const;
+  std::size_t ClosedTriangles() const; ///< triangles of closed pieces (SetPieces)
 
   /// Same contract as ReferenceSolver::Solve. masks (optional) receives one
   /// GearsMask per pixel (opaque blockers and below-horizon samples).

@@ -4,6 +4,7 @@
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <atomic>
@@ -132,6 +133,7 @@ struct ReferenceSolver::Impl
   std::size_t Triangles = 0, Skipped = 0;
   std::vector<float> Opacity;
   bool Translucent = false;
+  std::vector<VolumeGrid> Volumes;
 
   ~Impl()
   {
@@ -220,6 +222,18 @@ void ReferenceSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::
   rtcCommitScene(P->Scene);
 }
 
+void ReferenceSolver::SetVolumes(const std::vector<VolumeGrid>& volumes)
+{
+  P->Volumes.clear();
+  for (const auto& v : volumes)
+  {
+    if (!v.Empty())
+    {
+      P->Volumes.push_back(v);
+    }
+  }
+}
+
 std::size_t ReferenceSolver::NumberOfTriangles() const
 {
   return P->Triangles;
@@ -244,42 +258,89 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
     const_cast<ReferenceSolver*>(this)->SetTriangles({}, {});
   }
   const double eps = 1e-5 * P->Extent;
+  const bool directional = light.type == LightType::Directional;
+  const bool regular = opt.pattern == LightSamplePattern::Regular || k == 1;
+  const double T = std::tan(0.5 * light.angularDiameter) * 2.0;
 
-  // Light sample s (of k x k) as a point (rect/point) or a direction (directional),
-  // for pixel `pix` (stratified jitter is per pixel and sample, deterministic).
-  auto sample = [&](std::size_t pix, int s, glm::dvec3& target, bool& isDirection) {
+  // Light sample s (of k x k) as a point (rect/point) or a direction
+  // (directional), for pixel `pix` (stratified jitter is per pixel and
+  // sample, deterministic).
+  auto sample = [&](std::size_t pix, int s, glm::dvec3& target) {
     const int i = s % k, j = s / k;
     double a = 0.5, b = 0.5;
-    if (opt.pattern == LightSamplePattern::Stratified && k > 1)
+    if (!regular)
     {
       const std::uint64_t key = (static_cast<std::uint64_t>(pix) * 4096u + s) * 1315423911u + opt.seed;
       a = Hash01(key);
       b = Hash01(key ^ 0x5bd1e995u);
     }
     const double su = (i + a) / k - 0.5, sv = (j + b) / k - 0.5;
-    if (light.type == LightType::Directional)
-    {
-      // a square of directions of the given angular size around -n
-      const double t = std::tan(0.5 * light.angularDiameter) * 2.0;
-      target = glm::normalize(-light.n + su * t * light.u + sv * t * light.v);
-      isDirection = true;
-    }
-    else
-    {
-      target = light.center + su * light.width * light.u + sv * light.height * light.v;
-      isDirection = false;
-    }
+    target = directional ? glm::normalize(-light.n + su * T * light.u + sv * T * light.v)
+                         : light.center + su * light.width * light.u + sv * light.height * light.v;
   };
-
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const tbb::blocked_range<std::size_t>& r) {
-    long long localRays = 0;
-    for (std::size_t pix = r.begin(); pix != r.end(); ++pix)
+  // Regular samples are the same for every pixel: set up once, in float,
+  // relative to the scene's centre (points) or as unit directions.
+  std::vector<float> fixed;
+  if (regular)
+  {
+    fixed.resize(3 * static_cast<std::size_t>(ns));
+    for (int s = 0; s < ns; ++s)
     {
-      const float* pf = positions + 3 * pix;
-      if (!(std::isfinite(pf[0]) && std::isfinite(pf[1]) && std::isfinite(pf[2])))
+      glm::dvec3 t;
+      sample(0, s, t);
+      const glm::dvec3 r = directional ? t : t - P->Center;
+      fixed[3 * s] = static_cast<float>(r.x);
+      fixed[3 * s + 1] = static_cast<float>(r.y);
+      fixed[3 * s + 2] = static_cast<float>(r.z);
+    }
+  }
+
+  // Pixels in an order that keeps neighbours in space together (Morton
+  // order of their positions), so that consecutive packets traverse the
+  // same parts of the BVH.
+  std::vector<std::uint32_t> order;
+  {
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const float* pf = positions + 3 * i;
+      if (std::isfinite(pf[0]) && std::isfinite(pf[1]) && std::isfinite(pf[2]))
       {
-        continue;
+        order.push_back(static_cast<std::uint32_t>(i));
+        lo = glm::min(lo, glm::dvec3(pf[0], pf[1], pf[2]));
+        hi = glm::max(hi, glm::dvec3(pf[0], pf[1], pf[2]));
       }
+    }
+    const double size = std::max({ hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-300 });
+    auto spread = [](std::uint64_t v) {
+      v &= 0x3ff;
+      v = (v | (v << 16)) & 0x030000FFull;
+      v = (v | (v << 8)) & 0x0300F00Full;
+      v = (v | (v << 4)) & 0x030C30C3ull;
+      v = (v | (v << 2)) & 0x09249249ull;
+      return v;
+    };
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed(order.size());
+    tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t q) {
+      const float* pf = positions + 3 * order[q];
+      const glm::dvec3 u = (glm::dvec3(pf[0], pf[1], pf[2]) - lo) / size * 1023.0;
+      const std::uint64_t key = spread(static_cast<std::uint64_t>(u.x)) | (spread(static_cast<std::uint64_t>(u.y)) << 1) |
+        (spread(static_cast<std::uint64_t>(u.z)) << 2);
+      keyed[q] = { static_cast<std::uint32_t>(key), order[q] };
+    });
+    tbb::parallel_sort(keyed.begin(), keyed.end());
+    for (std::size_t q = 0; q < order.size(); ++q)
+    {
+      order[q] = keyed[q].second;
+    }
+  }
+
+  auto solvePixels = [&](const tbb::blocked_range<std::size_t>& r) {
+    long long localRays = 0;
+    for (std::size_t q = r.begin(); q != r.end(); ++q)
+    {
+      const std::size_t pix = order[q];
+      const float* pf = positions + 3 * pix;
       const glm::dvec3 p = origin + glm::dvec3(pf[0], pf[1], pf[2]);
       glm::dvec3 N(0.0);
       if (normals)
@@ -296,105 +357,155 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
       }
       // Push the start off the surface; scaled to the scene so it works at any size.
       const glm::dvec3 start = p + N * eps - P->Center;
+      const float sx = static_cast<float>(start.x), sy = static_cast<float>(start.y), sz = static_cast<float>(start.z);
+      const float nx = static_cast<float>(N.x), ny = static_cast<float>(N.y), nz = static_cast<float>(N.z);
       double visible = 0.0;
       for (int s0 = 0; s0 < ns; s0 += 16)
       {
         RTCRay16 rays;
         alignas(64) int valid[16]; // rtcOccluded16 wants the mask 64-byte aligned
         float transmittance[16];
-        int below[16];
-        for (int q = 0; q < 16; ++q)
+        float laneLen[16]; // volumes: each lane's segment length
+        for (int q2 = 0; q2 < 16; ++q2)
         {
-          const int s = s0 + q;
-          valid[q] = 0;
-          below[q] = 0;
-          transmittance[q] = 1.0f;
+          const int s = s0 + q2;
+          transmittance[q2] = 1.0f;
           // Every lane is written, active or not: an 8-wide kernel (AVX2)
           // serving a 16-ray packet reads all 16 lanes, and Debian's Embree
           // asserts that each one is a valid ray. An inactive lane is a finite
           // ray with tfar < tnear, so it could never hit even if it were read.
-          rays.org_x[q] = static_cast<float>(start.x);
-          rays.org_y[q] = static_cast<float>(start.y);
-          rays.org_z[q] = static_cast<float>(start.z);
-          rays.dir_x[q] = 0.0f;
-          rays.dir_y[q] = 0.0f;
-          rays.dir_z[q] = 1.0f;
-          rays.tnear[q] = 0.0f;
-          rays.tfar[q] = -1.0f;
-          rays.time[q] = 0.0f;
-          rays.mask[q] = 0u;
-          rays.id[q] = static_cast<unsigned>(q);
-          rays.flags[q] = 0;
-          if (s >= ns)
+          float dx = 0.0f, dy = 0.0f, dz = 1.0f, tfar = -1.0f;
+          bool ok = false;
+          if (s < ns)
           {
-            continue;
-          }
-          glm::dvec3 target;
-          bool isDir = false;
-          sample(pix, s, target, isDir);
-          glm::dvec3 dir;
-          double tfar;
-          if (isDir)
-          {
-            dir = target;
-            tfar = 1e30;
-          }
-          else
-          {
-            dir = target - (start + P->Center);
-            tfar = glm::length(dir);
-            if (!(tfar > 0.0))
+            if (regular)
             {
-              continue;
+              // in float, from the fixed samples
+              const float* t = &fixed[3 * s];
+              if (directional)
+              {
+                dx = t[0];
+                dy = t[1];
+                dz = t[2];
+                tfar = 1e30f;
+                ok = true;
+              }
+              else
+              {
+                dx = t[0] - sx;
+                dy = t[1] - sy;
+                dz = t[2] - sz;
+                const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
+                ok = len > 0.0f;
+                if (ok)
+                {
+                  dx /= len;
+                  dy /= len;
+                  dz /= len;
+                  tfar = len * (1.0f - 1e-6f);
+                }
+              }
             }
-            dir /= tfar;
-            tfar *= (1.0 - 1e-6);
+            else
+            {
+              glm::dvec3 target, dir;
+              sample(pix, s, target);
+              double tf = 1e30;
+              if (directional)
+              {
+                dir = target;
+              }
+              else
+              {
+                dir = target - (start + P->Center);
+                tf = glm::length(dir);
+                dir = tf > 0.0 ? dir / tf : dir;
+                tf *= (1.0 - 1e-6);
+              }
+              ok = tf > 0.0;
+              dx = static_cast<float>(dir.x);
+              dy = static_cast<float>(dir.y);
+              dz = static_cast<float>(dir.z);
+              tfar = static_cast<float>(tf);
+            }
+            // behind the surface: not seen from it
+            ok = ok && !(dx * nx + dy * ny + dz * nz < 0.0f);
           }
-          if (glm::dot(dir, N) < 0.0)
-          {
-            below[q] = 1; // behind the surface: not seen from it
-            continue;
-          }
-          valid[q] = -1;
-          rays.org_x[q] = static_cast<float>(start.x);
-          rays.org_y[q] = static_cast<float>(start.y);
-          rays.org_z[q] = static_cast<float>(start.z);
-          rays.dir_x[q] = static_cast<float>(dir.x);
-          rays.dir_y[q] = static_cast<float>(dir.y);
-          rays.dir_z[q] = static_cast<float>(dir.z);
-          rays.tnear[q] = static_cast<float>(eps);
-          rays.tfar[q] = static_cast<float>(tfar);
-          rays.time[q] = 0.0f;
-          rays.mask[q] = 0xFFFFFFFFu;
-          rays.id[q] = static_cast<unsigned>(q);
-          rays.flags[q] = 0;
+          valid[q2] = ok ? -1 : 0;
+          rays.org_x[q2] = sx;
+          rays.org_y[q2] = sy;
+          rays.org_z[q2] = sz;
+          rays.dir_x[q2] = ok ? dx : 0.0f;
+          rays.dir_y[q2] = ok ? dy : 0.0f;
+          rays.dir_z[q2] = ok ? dz : 1.0f;
+          rays.tnear[q2] = ok ? static_cast<float>(eps) : 0.0f;
+          rays.tfar[q2] = ok ? tfar : -1.0f;
+          rays.time[q2] = 0.0f;
+          rays.mask[q2] = ok ? 0xFFFFFFFFu : 0u;
+          rays.id[q2] = static_cast<unsigned>(q2);
+          rays.flags[q2] = 0;
+          laneLen[q2] = directional ? 1e9f : tfar; // a direction: every volume is clipped out of a long ray
         }
-        TransmittanceContext ctx;
-        rtcInitIntersectContext(&ctx.context);
-        ctx.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        ctx.opacity = P->Opacity.data();
-        ctx.transmittance = transmittance;
-        std::fill(std::begin(ctx.seenCount), std::end(ctx.seenCount), 0);
-        ctx.tEpsilon = static_cast<float>(1e-6 * P->Extent);
-        rtcOccluded16(valid, P->Scene, &ctx.context, &rays);
-        for (int q = 0; q < 16; ++q)
+        if (P->Translucent)
         {
-          if (valid[q] == 0 || below[q])
+          TransmittanceContext ctx;
+          rtcInitIntersectContext(&ctx.context);
+          ctx.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+          ctx.opacity = P->Opacity.data();
+          ctx.transmittance = transmittance;
+          std::fill(std::begin(ctx.seenCount), std::end(ctx.seenCount), 0);
+          ctx.tEpsilon = static_cast<float>(1e-6 * P->Extent);
+          rtcOccluded16(valid, P->Scene, &ctx.context, &rays);
+        }
+        else
+        {
+          // opaque scene: no filter callback, nothing to pass along
+          RTCIntersectContext ctx;
+          rtcInitIntersectContext(&ctx);
+          ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+          rtcOccluded16(valid, P->Scene, &ctx, &rays);
+        }
+        for (int q2 = 0; q2 < 16; ++q2)
+        {
+          if (valid[q2] == 0)
           {
             continue;
           }
           ++localRays;
           // occluded rays get tfar = -inf
-          if (rays.tfar[q] >= 0.0f)
+          if (rays.tfar[q2] >= 0.0f)
           {
-            visible += P->Translucent ? transmittance[q] : 1.0;
+            double t = P->Translucent ? transmittance[q2] : 1.0;
+            if (!P->Volumes.empty())
+            {
+              const glm::dvec3 dir(rays.dir_x[q2], rays.dir_y[q2], rays.dir_z[q2]);
+              const glm::dvec3 a = start + P->Center, b = a + dir * static_cast<double>(laneLen[q2]);
+              double tau = 0.0;
+              for (const auto& vol : P->Volumes)
+              {
+                tau += vol.OpticalDepth(a, b);
+              }
+              t *= std::exp(-tau);
+            }
+            visible += t;
           }
         }
       }
       V[pix] = static_cast<float>(visible / ns);
     }
     rayCount += localRays;
-  });
+  };
+  // in chunks, so that the caller hears of progress and can stop the solve
+  const std::size_t numOrdered = order.size(), chunk = std::max<std::size_t>(4096, numOrdered / 64);
+  for (std::size_t b = 0; b < numOrdered; b += chunk)
+  {
+    const std::size_t e = std::min(numOrdered, b + chunk);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(b, e, 64), solvePixels);
+    if (opt.progress && !opt.progress(static_cast<double>(e) / numOrdered))
+    {
+      break;
+    }
+  }
   if (stats)
   {
     stats->rays = static_cast<double>(rayCount.load());

@@ -2,6 +2,8 @@
 #define ssReference_h
 
 #include "ssLightFrame.h"
+#include "ssVolumeGrid.h"
+#include "ssSolveProgress.h"
 
 #include <cstddef>
 #include <memory>
@@ -21,6 +23,7 @@ struct ReferenceOptions
   int k = 32; ///< k x k light samples (1..64)
   LightSamplePattern pattern = LightSamplePattern::Regular;
   unsigned seed = 1;
+  SolveProgress progress; ///< optional: called between chunks of pixels; false stops
 };
 
 struct ReferenceStats
@@ -68,6 +71,11 @@ public:
   void SetTriangles(const std::vector<glm::dvec3>& vertices, const std::vector<float>& opacity);
   std::size_t NumberOfTriangles() const;
   std::size_t SkippedTriangles() const;
+
+  /// Volumes that attenuate the rays (world coordinates): a ray that no
+  /// opaque triangle blocks passes exp(-optical depth) of each (exact for a
+  /// uniform grid, else the midpoint rule at a quarter of a cell).
+  void SetVolumes(const std::vector<VolumeGrid>& volumes);
 
   /// V for n pixels. positions: 3 floats per pixel, world position minus
   /// `origin` (NaN: background, gives NaN); normals: 3 floats per pixel or

@@ -1,5 +1,7 @@
 #include "ssCasterSet.h"
 
+#include "ssEffectPlanner.h"
+
 #include "vtkSoftShadowPass.h"
 
 #include "ssCasterFS.h"
@@ -25,6 +27,14 @@
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkShaderProgram.h"
+#include "vtkTexture.h"
+#include "vtkImageData.h"
+#include "vtkPointData.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkAbstractVolumeMapper.h"
+#include "vtkVolume.h"
+#include "vtkVolumeCollection.h"
+#include "vtkVolumeProperty.h"
 #include "vtk_glew.h"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -53,8 +63,50 @@ bool Finite3(const double p[3])
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
-void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, float opacity, std::vector<glm::dvec3>& tris,
-  std::vector<float>& opacities, std::size_t& skipped)
+// What a caster's triangles carry besides their positions.
+struct Appearance
+{
+  float opacity = 1.0f;
+  glm::vec3 color{ 1.0f };
+  int texture = -1; ///< index in CasterSet::AlphaTextures
+};
+
+struct Attributes
+{
+  std::vector<float> opacity, color, tcoords;
+  std::vector<int> texture;
+};
+
+// The texture of `actor` when its image has an alpha channel with some
+// alpha < 1 (RGBA or luminance-alpha unsigned chars): such a caster is
+// translucent where its texture is.
+vtkTexture* AlphaTexture(vtkActor* actor)
+{
+  vtkTexture* tex = actor->GetTexture();
+  auto* img = tex ? vtkImageData::SafeDownCast(tex->GetInput()) : nullptr;
+  if (img && tex->GetInputAlgorithm())
+  {
+    tex->GetInputAlgorithm()->Update();
+    img = vtkImageData::SafeDownCast(tex->GetInput());
+  }
+  auto* rgba = img ? vtkUnsignedCharArray::SafeDownCast(img->GetPointData()->GetScalars()) : nullptr;
+  const int nc = rgba ? rgba->GetNumberOfComponents() : 0;
+  if (nc != 2 && nc != 4)
+  {
+    return nullptr;
+  }
+  for (vtkIdType i = 0; i < rgba->GetNumberOfTuples(); ++i)
+  {
+    if (rgba->GetValue(i * nc + nc - 1) < 255)
+    {
+      return tex;
+    }
+  }
+  return nullptr;
+}
+
+void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, const Appearance& look, std::vector<glm::dvec3>& tris,
+  Attributes& attr, std::size_t& skipped)
 {
   vtkPoints* pts = pd->GetPoints();
   if (!pts || pts->GetNumberOfPoints() == 0)
@@ -74,6 +126,7 @@ void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, float opacity, std::vector
     world[i] = glm::dvec3(out[0] / w, out[1] / w, out[2] / w);
     finite[i] = std::isfinite(world[i].x) && std::isfinite(world[i].y) && std::isfinite(world[i].z);
   }
+  vtkDataArray* tc = look.texture >= 0 ? pd->GetPointData()->GetTCoords() : nullptr;
   auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
     if (a < 0 || b < 0 || c < 0 || a >= np || b >= np || c >= np || !finite[a] || !finite[b] || !finite[c])
     {
@@ -89,7 +142,15 @@ void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, float opacity, std::vector
     tris.push_back(world[a]);
     tris.push_back(world[b]);
     tris.push_back(world[c]);
-    opacities.push_back(opacity);
+    attr.opacity.push_back(look.opacity);
+    attr.color.insert(attr.color.end(), { look.color.x, look.color.y, look.color.z });
+    const bool textured = tc && tc->GetNumberOfComponents() >= 2;
+    attr.texture.push_back(textured ? look.texture : -1);
+    for (vtkIdType v : { a, b, c })
+    {
+      attr.tcoords.push_back(textured ? static_cast<float>(tc->GetComponent(v, 0)) : 0.0f);
+      attr.tcoords.push_back(textured ? static_cast<float>(tc->GetComponent(v, 1)) : 0.0f);
+    }
   };
   auto polys = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
   for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
@@ -198,26 +259,62 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
     }
     mapper->Update();
     vtkDataObject* data = mapper->GetInputDataObject(0, 0);
-    keys.emplace_back(actor, data, data ? data->GetMTime() : 0, MatrixHash(m),
-      std::max(mapper->GetMTime(), actor->GetProperty()->GetMTime()));
+    vtkMTimeType look = std::max(mapper->GetMTime(), actor->GetProperty()->GetMTime());
+    if (vtkTexture* tex = actor->GetTexture())
+    {
+      look = std::max({ look, tex->GetMTime(), tex->GetInput() ? tex->GetInput()->GetMTime() : 0 });
+    }
+    keys.emplace_back(actor, data, data ? data->GetMTime() : 0, MatrixHash(m), look);
   });
+  this->UpdateVolumes(ren);
   if (keys == this->Keys)
   {
     return;
   }
   std::vector<glm::dvec3> tris;
-  std::vector<float> opacities;
+  Attributes attr;
+  std::vector<vtkTexture*> textures;
   std::size_t skipped = 0;
   bool translucent = false;
+  Box translucentBounds;
+  std::string translucentWhy;
   ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
     if (!vtkSoftShadowPass::GetCastsShadows(actor))
     {
       return;
     }
-    const float opacity = static_cast<float>(actor->GetProperty()->GetOpacity());
-    translucent = translucent || opacity < 1.0f;
+    Appearance look;
+    look.opacity = static_cast<float>(actor->GetProperty()->GetOpacity());
+    double rgb[3];
+    actor->GetProperty()->GetColor(rgb);
+    look.color = glm::vec3(rgb[0], rgb[1], rgb[2]);
+    if (vtkTexture* tex = AlphaTexture(actor))
+    {
+      const auto it = std::find(textures.begin(), textures.end(), tex);
+      look.texture = static_cast<int>(it - textures.begin());
+      if (it == textures.end())
+      {
+        textures.push_back(tex);
+      }
+    }
+    const std::size_t first = tris.size();
     ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0),
-      [&](vtkPolyData* pd) { AppendPolyData(pd, m, opacity, tris, opacities, skipped); });
+      [&](vtkPolyData* pd) { AppendPolyData(pd, m, look, tris, attr, skipped); });
+    const bool textured = std::any_of(attr.texture.begin() + static_cast<std::ptrdiff_t>(first / 3),
+      attr.texture.end(), [](int t) { return t >= 0; });
+    if ((look.opacity < 1.0f || textured) && tris.size() > first)
+    {
+      const char* why = look.opacity < 1.0f ? "opacity < 1" : "an RGBA texture";
+      if (translucentWhy.find(why) == std::string::npos)
+      {
+        translucentWhy += (translucentWhy.empty() ? "" : ", ") + std::string(why);
+      }
+      translucent = true;
+      for (std::size_t i = first; i < tris.size(); ++i)
+      {
+        translucentBounds.Add(tris[i]);
+      }
+    }
   });
   if (skipped > 0 && skipped != this->Skipped)
   {
@@ -239,10 +336,77 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
     this->Triangles[3 * i + 1] = static_cast<float>(r.y);
     this->Triangles[3 * i + 2] = static_cast<float>(r.z);
   }
-  this->Opacity = std::move(opacities);
+  this->Opacity = std::move(attr.opacity);
+  this->Color = std::move(attr.color);
+  const bool anyTexture = std::any_of(attr.texture.begin(), attr.texture.end(), [](int t) { return t >= 0; });
+  this->TCoords = anyTexture ? std::move(attr.tcoords) : std::vector<float>();
+  this->TextureIndex = anyTexture ? std::move(attr.texture) : std::vector<int>();
+  this->AlphaTextures = anyTexture ? textures : std::vector<vtkTexture*>();
+  this->TranslucentBounds = translucentBounds;
+  this->TranslucentWhy = translucentWhy;
   this->Keys = keys;
   this->Uploaded = false;
   ++this->Version;
+}
+
+std::string CasterSet::TranslucentInView(const LightFrame& light, const glm::dvec3& origin) const
+{
+  auto relative = [&](const Box& b) {
+    Box r;
+    if (!b.Empty())
+    {
+      r.Add(b.min - origin);
+      r.Add(b.max - origin);
+    }
+    return r;
+  };
+  const Box receivers = relative(this->Receivers);
+  std::string why;
+  if (this->Translucent && CastersMayShadow(light, relative(this->TranslucentBounds), receivers))
+  {
+    why = this->TranslucentWhy;
+  }
+  if (!this->Volumes.empty() && CastersMayShadow(light, relative(this->VolumeBounds), receivers))
+  {
+    why += (why.empty() ? "" : ", ") + std::string(this->Volumes.size() > 1 ? "volumes" : "a volume");
+  }
+  return why;
+}
+
+void CasterSet::UpdateVolumes(vtkRenderer* ren)
+{
+  std::vector<CasterKey> keys;
+  std::vector<vtkVolume*> volumes;
+  Box bounds;
+  vtkVolumeCollection* vc = ren->GetVolumes();
+  vtkCollectionSimpleIterator it;
+  vc->InitTraversal(it);
+  while (vtkVolume* vol = vc->GetNextVolume(it))
+  {
+    if (!vol->GetVisibility() || !vol->GetMapper() || !vtkSoftShadowPass::GetCastsShadows(vol))
+    {
+      continue;
+    }
+    vol->GetMapper()->Update();
+    vtkDataObject* data = vol->GetMapper()->GetInputDataObject(0, 0);
+    keys.emplace_back(vol, data, data ? data->GetMTime() : 0, MatrixHash(vol->GetMatrix()),
+      std::max(vol->GetMapper()->GetMTime(), vol->GetProperty() ? vol->GetProperty()->GetMTime() : 0));
+    volumes.push_back(vol);
+    double b[6];
+    vol->GetBounds(b);
+    if (vtkMath::AreBoundsInitialized(b) && Finite3(b) && Finite3(b + 3))
+    {
+      bounds.Add(glm::dvec3(b[0], b[2], b[4]));
+      bounds.Add(glm::dvec3(b[1], b[3], b[5]));
+    }
+  }
+  if (keys != this->VolumeKeys)
+  {
+    this->VolumeKeys = keys;
+    ++this->VolumeVersion;
+  }
+  this->Volumes = volumes;
+  this->VolumeBounds = bounds;
 }
 
 std::vector<glm::dvec3> CasterSet::WorldVertices() const
@@ -269,15 +433,29 @@ void CasterSet::EnsureClusters()
     v[i] = glm::dvec3(this->Triangles[3 * i], this->Triangles[3 * i + 1], this->Triangles[3 * i + 2]);
   }
   this->Clusters = ClusterTriangles(v, 1024);
-  std::vector<float> tri(this->Triangles.size()), opacity(n, 1.0f);
+  std::vector<float> tri(this->Triangles.size()), opacity(n, 1.0f), color(3 * n, 1.0f),
+    tcoords(this->TCoords.empty() ? 0 : 6 * n);
+  std::vector<int> texture(this->TextureIndex.empty() ? 0 : n);
   for (std::size_t t = 0; t < n; ++t)
   {
     const std::size_t from = this->Clusters.order[t];
     std::copy_n(&this->Triangles[9 * from], 9, &tri[9 * t]);
     opacity[t] = from < this->Opacity.size() ? this->Opacity[from] : 1.0f;
+    if (3 * from + 2 < this->Color.size())
+    {
+      std::copy_n(&this->Color[3 * from], 3, &color[3 * t]);
+    }
+    if (!tcoords.empty())
+    {
+      std::copy_n(&this->TCoords[6 * from], 6, &tcoords[6 * t]);
+      texture[t] = this->TextureIndex[from];
+    }
   }
   this->Triangles = std::move(tri);
   this->Opacity = std::move(opacity);
+  this->Color = std::move(color);
+  this->TCoords = std::move(tcoords);
+  this->TextureIndex = std::move(texture);
   this->ClusterVersion = this->Version;
   this->Uploaded = false;
 }

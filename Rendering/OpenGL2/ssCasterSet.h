@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -24,6 +25,8 @@ class vtkOpenGLRenderWindow;
 class vtkOpenGLVertexArrayObject;
 class vtkRenderer;
 class vtkShaderProgram;
+class vtkTexture;
+class vtkVolume;
 
 namespace ss
 {
@@ -59,13 +62,33 @@ public:
   std::vector<CasterKey> Keys;
   std::vector<float> Triangles; ///< 9 floats per triangle, relative to Origin
   std::vector<float> Opacity;   ///< per triangle
+  std::vector<float> Color;     ///< per triangle, RGB: the actor's colour (coloured shadows)
+  /// Casters whose texture has an alpha channel (RGBA or LA with alpha < 1
+  /// somewhere) and texture coordinates: per vertex (u, v) in TCoords (6
+  /// floats a triangle, 0 for the others) and per triangle its index in
+  /// AlphaTextures (-1: none). AVSM solvers multiply opacity by its alpha.
+  std::vector<float> TCoords;
+  std::vector<int> TextureIndex;
+  std::vector<vtkTexture*> AlphaTextures;
   glm::dvec3 Origin{ 0.0 };     ///< world; the centre of Bounds
   Box Bounds;                   ///< absolute
-  bool Translucent = false;     ///< some caster has opacity < 1
+  bool Translucent = false;     ///< some caster has opacity < 1 or an alpha texture
+  Box TranslucentBounds;        ///< absolute bounds of those casters' triangles
+  std::string TranslucentWhy;   ///< what makes them translucent ("opacity < 1", "an RGBA texture")
+
+  // --- volumes that cast shadows (vtkVolume props, visible, CastsShadows),
+  // read every frame; what they cast is the AVSM solvers' business
+  // (ssVolumeCasters)
+  std::vector<vtkVolume*> Volumes;
+  Box VolumeBounds;                ///< absolute
+  unsigned long VolumeVersion = 0; ///< changes with a volume, its data, matrix or property
   std::size_t Skipped = 0;      ///< triangles left out by the last rebuild
   unsigned long Version = 0;    ///< counts rebuilds (EnsureClusters re-orders without a new version)
 
   std::size_t NumberOfTriangles() const { return this->Triangles.size() / 9; }
+  /// What translucent casters (TranslucentWhy, "a volume") can shadow a
+  /// receiver of `light` (its frame relative to `origin`), joined; empty: none.
+  std::string TranslucentInView(const LightFrame& light, const glm::dvec3& origin) const;
   /// The triangles' vertices in world coordinates (double), 3 per triangle.
   std::vector<glm::dvec3> WorldVertices() const;
 
@@ -107,6 +130,8 @@ public:
   void ReleaseGraphicsResources();
 
 private:
+  void UpdateVolumes(vtkRenderer* ren);
+  std::vector<CasterKey> VolumeKeys;
   unsigned long ClusterVersion = 0;
   vtkSmartPointer<vtkOpenGLBufferObject> VBO;
   vtkSmartPointer<vtkOpenGLVertexArrayObject> VAO;

@@ -189,6 +189,7 @@ std::string FrameSignature(vtkRenderer* ren, const FrameState& frame, const Cast
       // (issue 17: each tile reused the first tile's visibility)
       << frame.FrameSize[0] << 'x' << frame.FrameSize[1] << '+' << frame.TileOrigin[0] << '+' << frame.TileOrigin[1]
       << ',' << frame.ViewportOrigin[0] << '+' << frame.ViewportOrigin[1] << ','
+      << casters.VolumeVersion << ','
       << settingsTime << ',' << frame.Origin.x << ',' << frame.Origin.y << ',' << frame.Origin.z;
   for (const auto& l : frame.Lights)
   {

@@ -27,6 +27,7 @@ struct ShadowLight
   vtkLight* Light = nullptr;
   int ShaderIndex = -1; ///< N of lightColorN
   int Layer = -1;       ///< its visibility layer; -1: no shadows
+  int ColorLayer = -1;  ///< its RGB visibility layer (coloured shadows); -1: none
   PlannerLight Planner;
   LightFrame Frame; ///< relative to the frame origin
   ss::Method Method = ss::Method::None;

@@ -125,6 +125,12 @@ void GBuffer::InjectOutputs(std::string& fragmentShader, std::size_t mainPos, st
     "uniform float ssPropId;\n");
 }
 
+void GBuffer::SetCameraUniforms(vtkShaderProgram* program) const
+{
+  program->SetUniformMatrix3x3("ssVCToWC", const_cast<float*>(this->VCToWC));
+  program->SetUniform3f("ssVCToRelOffset", this->VCToRelOffset);
+}
+
 void GBuffer::SetShaderParameters(vtkShaderProgram* program, vtkProp* prop, int width, int height)
 {
   auto it = this->PropIds.find(prop);
@@ -132,8 +138,7 @@ void GBuffer::SetShaderParameters(vtkShaderProgram* program, vtkProp* prop, int 
   {
     it = this->PropIds.emplace(prop, static_cast<int>(this->PropIds.size()) + 1).first;
   }
-  program->SetUniformMatrix3x3("ssVCToWC", this->VCToWC);
-  program->SetUniform3f("ssVCToRelOffset", this->VCToRelOffset);
+  this->SetCameraUniforms(program);
   program->SetUniformMatrix4x4("ssDCToVC", this->DCToVC);
   const float vs[2] = { static_cast<float>(width), static_cast<float>(height) };
   program->SetUniform2f("ssViewportSize", vs);

@@ -44,6 +44,10 @@ public:
   static void InjectOutputs(std::string& fragmentShader, std::size_t mainPos, std::size_t endPos);
   /// The uniforms of that code for `prop` (a new prop gets the next id).
   void SetShaderParameters(vtkShaderProgram* program, vtkProp* prop, int width, int height);
+  /// The camera transform of the frame (view coordinates to world relative
+  /// to the frame origin: ssVCToWC, ssVCToRelOffset), for code that places
+  /// fragments in the world.
+  void SetCameraUniforms(vtkShaderProgram* program) const;
   /// The id `prop` was drawn with into the G-buffer, 0 if it never was.
   int FindPropId(vtkProp* prop) const;
 

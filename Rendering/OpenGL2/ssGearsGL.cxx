@@ -1,10 +1,12 @@
-// GEARS on the GPU (GL 4.3 compute). The kernels are in glsl/ssGearsCS.glsl;
+// GEARS on the GPU (GL 4.3 compute). The kernels are in glsl/ssGearsCS*.glsl;
 // this file sizes the buffers, dispatches the stages in the order of the CPU
 // backend (Rendering/Core/ssGEARS.cxx) and collects the paper's statistics.
 #include "ssGearsGL.h"
 #include "ssGLLimits.h"
 
-#include "ssGearsCS.h"
+#include "ssGearsCSAssign.h"
+#include "ssGearsCSCommon.h"
+#include "ssGearsCSRaster.h"
 #include "vtk_glew.h"
 
 #include <algorithm>
@@ -53,6 +55,7 @@ enum Binding
   BScanData,
   BScanSums,
   BTriL,
+  BClosed,
   NumBindings
 };
 
@@ -161,7 +164,7 @@ struct GearsGL::Impl
     {
       return it->second;
     }
-    const std::string src = key + ssGearsCS;
+    const std::string src = key + ssGearsCSCommon + ssGearsCSAssign + ssGearsCSRaster;
     const char* text = src.c_str();
     const GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
     glShaderSource(sh, 1, &text, nullptr);
@@ -415,6 +418,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     ++levels;
   }
   if (!fits(48 * n, "pixel samples") || !fits(9 * 4 * NT, "triangles") || !fits(128 * n, "bitmasks") ||
+    !fits(4 * NT, "the closed-mesh flags") ||
     (opt.retractToFarthest && !fits(4 * NC * levels * levels, "the grid's range-maximum table")) ||
     n > 0xFFFFFFF0u || NT > 0xFFFFFFF0u)
   {
@@ -438,6 +442,14 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   const double eps = 1e-5 * D.extent;
   LightFrame L = light;
   L.center -= D.center;
+  if (L.type == LightType::Directional)
+  {
+    // a directional light has no position: its frame's centre goes to the
+    // caster centre, so depths and the culling margin (ft.margin) stay at the
+    // scene's scale wherever the scene lies (else everything is kept far from
+    // the world origin)
+    L.center = glm::dvec3(0.0);
+  }
   const glm::dvec3 rel = origin - D.center;
   const double T = (L.type == LightType::Directional) ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
   const int type = L.type == LightType::Rect ? 0 : (L.type == LightType::Directional ? 1 : 2);
@@ -448,6 +460,12 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Upload(I.Buf[BTriV], D.vertices, 9 * 4 * NT);
     I.Upload(I.Buf[BTriA], D.opacity, 4 * NT);
     I.TriVersion = D.version;
+  }
+  {
+    // the closed-mesh rule of the CPU backend, for this light
+    const std::vector<std::int8_t> flags8 = solver.ClosedRuleFlags(light, opt);
+    std::vector<std::int32_t> flags(flags8.begin(), flags8.end());
+    I.Upload(I.Buf[BClosed], flags.data(), 4 * flags.size());
   }
   I.Upload(I.Buf[BPos], positions, 12 * n);
   if (normals)
@@ -700,6 +718,8 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Use(prog["K_RASTER"]);
     cameraUniforms();
     I.U("uPre", pre ? 1 : 0);
+    I.U("uHand", glm::dot(glm::cross(C.u, C.v), C.n) < 0.0 ? -1 : 1);
+    I.Ud("uInvK", 1.0 / k);
     I.U("uK", k);
     I.U("uDir", dirLight ? 1 : 0);
     I.U("uCountNecessary", opt.countNecessary ? 1 : 0);

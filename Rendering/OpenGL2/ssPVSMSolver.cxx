@@ -362,8 +362,14 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
     t1 = Clock::now();
     st.msTiling += Milliseconds(t0, t1);
 
-    for (const ShadowTile& tile : tiles)
+    for (std::size_t ti = 0; ti < tiles.size(); ++ti)
     {
+      const ShadowTile& tile = tiles[ti];
+      // between tiles: progress, and a render abort stops here
+      if (ti > 0 && frame.Progress && !frame.Progress((vi + static_cast<double>(ti) / tiles.size()) / l.Views.size()))
+      {
+        break;
+      }
       // --- step 7: the tile's shadow map at its predicted resolution
       t0 = Clock::now();
       this->Tile.Attach(fbo, 0, 0);

@@ -1,6 +1,7 @@
 #include "ssShadingSubstitution.h"
 
 #include "ssFrameState.h"
+#include "ssTranslucentReceivers.h"
 
 #include "vtkShaderProgram.h"
 
@@ -25,7 +26,7 @@ int InjectVisibility(std::string& fragmentShader)
   for (int i = 0; i < lightsInShader; ++i)
   {
     const std::string n = std::to_string(i);
-    const std::string vis = "ssVisibility(ssLightLayer" + n + ")";
+    const std::string vis = "ssVisibility(ssLightLayer" + n + ", ssLightColorLayer" + n + ")";
     const std::pair<std::string, std::string> subs[] = {
       { "diffuse += (df * lightColor" + n + ");", "diffuse += (df * lightColor" + n + " * " + vis + ");" },
       { "specular += (sf * lightColor" + n + ");", "specular += (sf * lightColor" + n + " * " + vis + ");" },
@@ -44,21 +45,28 @@ int InjectVisibility(std::string& fragmentShader)
   }
   std::string decl = "uniform sampler2D ssGPosition;\n"
                      "uniform sampler2DArray ssVisTex;\n"
+                     "uniform sampler2DArray ssVisColorTex;\n"
                      "uniform vec2 ssViewportOrigin;\n"
                      "uniform float ssPropId;\n"
                      "uniform int ssUseVis;\n";
   for (int i = 0; i < lightsInShader; ++i)
   {
     decl += "uniform int ssLightLayer" + std::to_string(i) + ";\n";
+    decl += "uniform int ssLightColorLayer" + std::to_string(i) + ";\n";
   }
-  decl += "float ssVisibility(int layer)\n"
+  // props that are not in the G-buffer (translucent ones) get the
+  // visibility of their own fragments from the solvers that can give it
+  decl += TranslucentReceiverCode(fragmentShader);
+  decl += "vec3 ssVisibility(int layer, int colorLayer)\n"
           "{\n"
-          "  if (ssUseVis == 0 || layer < 0) { return 1.0; }\n"
+          "  if (ssUseVis == 0 || layer < 0) { return vec3(1.0); }\n"
+          "  if (ssPropId < 0.5) { return ssFragmentVisibility(layer); }\n"
           "  ivec2 pix = ivec2(gl_FragCoord.xy - ssViewportOrigin);\n"
           "  vec4 g = texelFetch(ssGPosition, pix, 0);\n"
-          "  // only the surface that is in the G-buffer (not translucent props)\n"
-          "  if (abs(g.w - ssPropId) > 0.5) { return 1.0; }\n"
-          "  return clamp(texelFetch(ssVisTex, ivec3(pix, layer), 0).r, 0.0, 1.0);\n"
+          "  // only the surface that is in the G-buffer\n"
+          "  if (abs(g.w - ssPropId) > 0.5) { return vec3(1.0); }\n"
+          "  if (colorLayer >= 0) { return clamp(texelFetch(ssVisColorTex, ivec3(pix, colorLayer), 0).rgb, 0.0, 1.0); }\n"
+          "  return vec3(clamp(texelFetch(ssVisTex, ivec3(pix, layer), 0).r, 0.0, 1.0));\n"
           "}\n";
   fragmentShader.insert(fragmentShader.find("void main"), decl);
   return 0;
@@ -71,6 +79,10 @@ void SetVisibilityUniforms(vtkShaderProgram* program, const ShadingUniforms& u, 
   // unit 0 make every draw of that shader fail (GL_INVALID_OPERATION).
   program->SetUniformi("ssGPosition", u.PositionUnit);
   program->SetUniformi("ssVisTex", u.VisibilityUnit);
+  if (program->IsUniformUsed("ssVisColorTex"))
+  {
+    program->SetUniformi("ssVisColorTex", u.ColorUnit >= 0 ? u.ColorUnit : u.VisibilityUnit);
+  }
   if (u.Use)
   {
     const float vo[2] = { static_cast<float>(u.ViewportOrigin[0]), static_cast<float>(u.ViewportOrigin[1]) };
@@ -83,6 +95,11 @@ void SetVisibilityUniforms(vtkShaderProgram* program, const ShadingUniforms& u, 
     if (program->IsUniformUsed(name.c_str()))
     {
       program->SetUniformi(name.c_str(), u.Use ? l.Layer : -1);
+    }
+    const std::string color = "ssLightColorLayer" + std::to_string(l.ShaderIndex);
+    if (program->IsUniformUsed(color.c_str()))
+    {
+      program->SetUniformi(color.c_str(), u.Use ? l.ColorLayer : -1);
     }
   }
 }

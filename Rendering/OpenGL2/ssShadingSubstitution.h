@@ -21,7 +21,10 @@ namespace ss
 struct ShadowLight;
 
 /// Multiplies each light's terms in `fragmentShader` by
-/// ssVisibility(ssLightLayerN) and declares that function and its uniforms.
+/// ssVisibility(ssLightLayerN, ssLightColorLayerN) (RGB: coloured shadows
+/// where the light has a colour layer) and declares that function and its
+/// uniforms. Fragments of props that are not in the G-buffer (translucent
+/// props) take ssFragmentVisibility (ssTranslucentReceivers).
 /// Unlit and headlight-only shaders are left alone. Returns how many lights'
 /// terms were not found (0 when all were, or when there was nothing to do);
 /// the shader is then not usable.
@@ -30,9 +33,10 @@ int InjectVisibility(std::string& fragmentShader);
 /// The uniforms of one draw with that code.
 struct ShadingUniforms
 {
-  bool Use = false;        ///< the prop is in the G-buffer and receives shadows
+  bool Use = false;        ///< the prop receives shadows (PropId 0: not in the G-buffer)
   int PositionUnit = -1;   ///< the G-buffer position texture (prop ids)
   int VisibilityUnit = -1; ///< the visibility layers
+  int ColorUnit = -1;      ///< the RGB visibility layers (-1: none)
   int ViewportOrigin[2] = { 0, 0 };
   int PropId = 0;
 };

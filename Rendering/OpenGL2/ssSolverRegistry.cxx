@@ -1,10 +1,12 @@
 #include "ssSolverRegistry.h"
 
+#include "ssAVSMSolver.h"
 #include "ssASMSolver.h"
 #include "ssHardAverageSolver.h"
 #include "ssPVSMSolver.h"
 #include "ssShadowMapSolver.h"
 #include "ssTriangleSolver.h"
+#include "ssVPCSSSolver.h"
 
 namespace ss
 {
@@ -35,6 +37,8 @@ const std::vector<SolverEntry>& SolverRegistry()
     { "asm",       Method::ASM,         Make<ASMSolver>,         PlannerRule::AdaptiveHardLights, false },
     { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
     { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
+    { "vpcss",     Method::VPCSS,       Make<VPCSSSolver>,       PlannerRule::TranslucentCasters, true },
+    { "avsm",      Method::AVSM,        Make<AVSMSolver>,        PlannerRule::OnRequest,   true },
     { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,   false },
   };
   return table;

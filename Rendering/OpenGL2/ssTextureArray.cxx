@@ -65,8 +65,10 @@ void TextureArray::Allocate(int width, int height, int layers, int levels, int c
   glBindTexture(GL_TEXTURE_2D_ARRAY, this->Handle);
   for (int l = 0; l < levels; ++l)
   {
-    glTexImage3D(GL_TEXTURE_2D_ARRAY, l, comps == 2 ? GL_RG32F : GL_R32F, std::max(1, width >> l),
-      std::max(1, height >> l), layers, 0, comps == 2 ? GL_RG : GL_RED, GL_FLOAT, nullptr);
+    const GLenum internal = comps == 4 ? GL_RGBA32F : (comps == 2 ? GL_RG32F : GL_R32F);
+    const GLenum format = comps == 4 ? GL_RGBA : (comps == 2 ? GL_RG : GL_RED);
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, l, internal, std::max(1, width >> l), std::max(1, height >> l), layers, 0,
+      format, GL_FLOAT, nullptr);
   }
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -101,7 +103,8 @@ bool TextureArray::Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* 
   this->Attach(fbo, 0, layer);
   fbo->ActivateReadBuffer(0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, this->Width, this->Height, this->Components == 2 ? GL_RG : GL_RED, GL_FLOAT, out);
+  glReadPixels(0, 0, this->Width, this->Height,
+    this->Components == 4 ? GL_RGBA : (this->Components == 2 ? GL_RG : GL_RED), GL_FLOAT, out);
   TextureArray::Detach();
   ostate->PopFramebufferBindings();
   return glGetError() == GL_NO_ERROR;

@@ -38,6 +38,7 @@ struct TextureArray
   /// width x height R32F layers, one level (the visibility of each light);
   /// false when GL refused them (larger than the implementation allows).
   bool EnsureScreen(int width, int height, int layers);
+  /// `comps` 1, 2 or 4: R32F, RG32F or RGBA32F.
   void Allocate(int width, int height, int layers, int levels, int comps);
   /// Reads layer `layer` of level 0 (w x h x Components floats) through `fbo`.
   bool Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int layer, float* out) const;

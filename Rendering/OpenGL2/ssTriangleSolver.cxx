@@ -97,7 +97,9 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   if (reference)
   {
     ReferenceStats st;
-    V = this->Reference->Solve(world, origin, pos, nrm, n, this->Opt.Reference, &st);
+    ReferenceOptions opt = this->Opt.Reference;
+    opt.progress = frame.Progress;
+    V = this->Reference->Solve(world, origin, pos, nrm, n, opt, &st);
     this->LastReferenceStats.rays += st.rays;
     this->LastReferenceStats.milliseconds += st.milliseconds;
   }
@@ -132,7 +134,9 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
     }
     if (!onGPU)
     {
-      V = this->Gears->Solve(world, origin, pos, nrm, n, this->Opt.Gears, &st);
+      GearsOptions opt = this->Opt.Gears;
+      opt.progress = frame.Progress;
+      V = this->Gears->Solve(world, origin, pos, nrm, n, opt, &st);
     }
     this->BackendUsed = onGPU ? "gl" : "cpu";
     this->Accumulate(st);

@@ -48,14 +48,65 @@ bool VisibilityLayers::Read(
   return fbo && this->Array.Read(win, fbo, layer, out.data());
 }
 
+bool VisibilityLayers::AllocateColor(int layers, const GLLimits& limits, std::string& error)
+{
+  if (layers <= 0)
+  {
+    this->Color.Release();
+    return true;
+  }
+  if (layers > limits.maxArrayTextureLayers)
+  {
+    error = "Could not allocate the RGB visibility of " + std::to_string(layers) + " light(s).";
+    return false;
+  }
+  this->Color.Allocate(this->Array.Width, this->Array.Height, layers, 1, 4);
+  if (!this->Color.Handle)
+  {
+    error = "Could not allocate the RGB visibility of " + std::to_string(layers) + " light(s) at " +
+      std::to_string(this->Array.Width) + "x" + std::to_string(this->Array.Height) + ".";
+    return false;
+  }
+  return true;
+}
+
+void VisibilityLayers::AttachWithColor(vtkOpenGLFramebufferObject* fbo, int layer, int colorLayer) const
+{
+  this->Array.Attach(fbo, 0, layer);
+  glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, this->Color.Handle, 0, colorLayer);
+  fbo->ActivateDrawBuffers(2);
+}
+
+bool VisibilityLayers::ReadColor(
+  vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int colorLayer, std::vector<float>& out) const
+{
+  std::vector<float> rgba(static_cast<std::size_t>(this->Color.Width) * this->Color.Height * 4);
+  if (!fbo || !this->Color.Handle || !this->Color.Read(win, fbo, colorLayer, rgba.data()))
+  {
+    return false;
+  }
+  out.resize(rgba.size() / 4 * 3);
+  for (std::size_t i = 0; i < rgba.size() / 4; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      out[3 * i + c] = rgba[4 * i + 3] < 0.0f ? std::nanf("") : rgba[4 * i + c]; // alpha -1: background
+    }
+  }
+  return true;
+}
+
 void VisibilityLayers::BindForShading(vtkOpenGLRenderWindow* win)
 {
   this->Unit = this->Array.Bind(win);
+  this->ColorUnit = this->Color.Handle ? this->Color.Bind(win) : -1;
 }
 
 void VisibilityLayers::UnbindAfterShading(vtkOpenGLRenderWindow* win)
 {
+  TextureArray::Unbind(win, this->ColorUnit);
   TextureArray::Unbind(win, this->Unit);
   this->Unit = -1;
+  this->ColorUnit = -1;
 }
 }

@@ -24,6 +24,7 @@
 
 #include "ssEffectPlanner.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@ class vtkObject;
 class vtkOpenGLFramebufferObject;
 class vtkOpenGLRenderWindow;
 class vtkRenderer;
+class vtkShaderProgram;
 class vtkSoftShadowPass;
 class vtkWindow;
 
@@ -61,6 +63,11 @@ struct SolverFrame
   ss::VisibilityLayers* Visibility = nullptr;
   StageTimings* Timings = nullptr; ///< add the solver's stages here (timings_ms)
   vtkObject* Reporter = nullptr;   ///< errors and warnings go out as the pass's
+  /// A long Compute calls it between chunks of its work with the fraction of
+  /// the light done; false: the render was aborted (vtkRenderWindow's
+  /// AbortRender), stop (the pass shows no shadows this frame). Also a
+  /// ss::SolveProgress for the Core solvers. Set for every Compute.
+  std::function<bool(double)> Progress;
 };
 
 class VisibilitySolver
@@ -108,6 +115,20 @@ public:
   /// After the last light of the frame.
   virtual void EndFrame(SolverFrame&) {}
 
+  /// Whether Compute also writes RGB visibility (coloured shadows) into the
+  /// light's colour layer (ShadowLight::ColorLayer, frame.Visibility).
+  virtual bool WritesColor() const { return false; }
+
+  // --- the shading stage, for fragments that are not in the G-buffer
+  // (translucent props): a solver that can give `light`'s visibility at any
+  // point says so; the pass then binds its resources around the shading
+  // (BeginShading/EndShading) and sets slot `slot`'s uniforms of the
+  // fragment code (ssShadingSubstitution, ssTranslucentReceivers) per draw;
+  // it returns the texture unit of its data (bound by BeginShading).
+  virtual bool ShadesFragments(const ShadowLight&) const { return false; }
+  virtual void BeginShading(vtkOpenGLRenderWindow*) {}
+  virtual void EndShading(vtkOpenGLRenderWindow*) {}
+  virtual int SetFragmentUniforms(vtkShaderProgram*, const ShadowLight&, int /*slot*/) const { return -1; }
   /// Progressive solvers (ASM): whether the last frame left work for the
   /// next one at the same view. The planner then solves a still view again
   /// instead of reusing its visibility.

@@ -13,6 +13,7 @@
 #include "vtkSoftShadowPass.h"
 
 #include "ssCasterSet.h"
+#include "ssFrameBudget.h"
 #include "ssFrameState.h"
 #include "ssGBuffer.h"
 #include "ssGLLimits.h"
@@ -22,6 +23,7 @@
 #include "ssShadowMaps.h"
 #include "ssShadowViews.h"
 #include "ssSolverRegistry.h"
+#include "ssTranslucentReceivers.h"
 #include "ssTriangleSolver.h"
 #include "ssVisibilityLayers.h"
 #include "ssVisibilitySolver.h"
@@ -94,6 +96,11 @@ public:
   std::string LastSignature;
   std::string LastFarLightWarning; // warned once until the far lights change
   bool HaveResults = false;
+  // --- interactive frames: the methods the kept visibility was solved with,
+  // what each method's shadow work cost; progress and abort of this frame
+  std::vector<ss::Method> LastMethods;
+  ss::MethodCosts Costs;
+  bool Aborted = false;
   // the camera's pixel size, for the planner's rule on directional lights:
   // radians per pixel (perspective) or world units per pixel (parallel)
   double PixelAngle = 0.0, ParallelPixel = 0.0;
@@ -214,6 +221,7 @@ public:
     this->Casters.ReleaseGraphicsResources();
     this->HaveResults = false;
     this->LastSignature.clear();
+    this->LastMethods.clear();
   }
 };
 
@@ -400,11 +408,14 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   in.PixelAngle = cam->GetParallelProjection() ? 0.0 : vtkMath::RadiansFromDegrees(cam->GetViewAngle()) / in.Frame.FrameSize[1];
   in.ParallelPixel = cam->GetParallelProjection() ? 2.0 * cam->GetParallelScale() / in.Frame.FrameSize[1] : 0.0;
   const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
-  this->PlanFrame(in.HaveResults && signature == in.LastSignature);
+  this->PlanFrame(in.HaveResults && signature == in.LastSignature,
+    this->AdaptToFrameBudget ? ss::FrameBudgetMs(win, this->InteractiveUpdateRate) : 0.0);
+  in.Aborted = false;
 
   // --- G-buffer and one solver per light, unless the last frame's V holds
   if (in.ShadowsThisFrame && !in.Plan.reuse)
   {
+    const auto tWork = Clock::now();
     // Our stages change blending, depth and clear state: give VTK's shading
     // (opaque, translucent, depth peeling) the state it had.
     vtkOpenGLState::ScopedglEnableDisable blendSaver(ostate, GL_BLEND);
@@ -415,10 +426,21 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     vtkOpenGLState::ScopedglClearColor clearSaver(ostate);
     this->RenderGBuffer(s);
     this->SolveVisibility(s);
-    // a solve that could not allocate its textures turned shadows off: try
-    // again next frame rather than reuse nothing
+    if (in.ShadowsThisFrame && this->AdaptToFrameBudget)
+    {
+      glFinish(); // the shadow work's true cost, for the frames to plan
+      in.Costs.Record(in.Frame.Lights, ss::Milliseconds(tWork, Clock::now()),
+        static_cast<double>(in.Frame.Width) * in.Frame.Height);
+    }
+    // a solve that could not allocate its textures (or was aborted) turned
+    // shadows off: try again next frame rather than reuse nothing
     in.HaveResults = in.ShadowsThisFrame;
     in.LastSignature = in.ShadowsThisFrame ? signature : std::string();
+    in.LastMethods.clear();
+    for (const auto& l : in.Plan.lights)
+    {
+      in.LastMethods.push_back(l.method);
+    }
   }
   else if (!in.ShadowsThisFrame)
   {
@@ -436,7 +458,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 }
 
 //------------------------------------------------------------------------------
-void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
+void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudgetMs)
 {
   auto& in = *this->Internals;
   ss::PlannerInput pin;
@@ -444,16 +466,21 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame)
   pin.casterTriangles = in.Casters.NumberOfTriangles();
   pin.receiverProps = in.Casters.ReceiverProps;
   pin.translucentCasters = in.Casters.Translucent;
+  pin.casterVolumes = in.Casters.Volumes.size();
   pin.methods = ss::PlannerMethods();
+  in.Costs.Estimate(pin.methods, static_cast<double>(in.Frame.Width) * in.Frame.Height);
+  pin.frameBudgetMs = frameBudgetMs;
   pin.shadowMapSize = this->ShadowMapSize;
   const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
+    pin.lights.back().translucentInView = in.Casters.TranslucentInView(l.Frame, in.Frame.Origin);
     pin.lights.back().receiverTexels =
       ss::ReceiverTexelsAtPixelSize(l.Frame, receivers, in.Frame.Eye, in.PixelAngle, in.ParallelPixel);
   }
   pin.unchangedSinceLastFrame = unchangedSinceLastFrame;
+  pin.lastMethods = in.LastMethods;
   // progressive solvers still refining: a still view is solved again
   for (const auto& solver : in.Solvers)
   {
@@ -583,20 +610,37 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
     in.ShadowsThisFrame = false;
     return;
   }
+  int colorLayers = 0; // RGB visibility of the lights whose solver writes colour
+  for (auto& l : in.Frame.Lights)
+  {
+    l.ColorLayer = (l.Layer >= 0 && in.SolverFor(l.Method)->WritesColor()) ? colorLayers++ : -1;
+  }
+  if (!in.Visibility.AllocateColor(colorLayers, limits, error))
+  {
+    vtkErrorMacro(<< error);
+    in.ShadowsThisFrame = false;
+    return;
+  }
   in.Timings.Set("visibility", ss::Milliseconds(tStage, Clock::now()));
 
-  // --- one solver per light writes its layer
+  // --- one solver per light writes its layer; progress over all lights,
+  // and a render abort (vtkRenderWindow) stops between lights and chunks
+  ss::FrameProgress progress(this, win, numShadowLights);
   for (const auto& l : in.Frame.Lights)
   {
-    if (l.Layer >= 0)
+    if (l.Layer >= 0 && progress.Report(0.0))
     {
+      frame.Progress = [&progress](double f) { return progress.Report(f); };
       in.SolverFor(l.Method)->Compute(frame, l);
+      progress.LightDone();
     }
   }
   for (const auto& solver : in.Solvers)
   {
     solver->EndFrame(frame);
   }
+  in.Aborted = progress.Finish(in.Plan);
+  in.ShadowsThisFrame = in.ShadowsThisFrame && !in.Aborted;
 }
 
 //------------------------------------------------------------------------------
@@ -626,6 +670,10 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
   {
     in.Visibility.BindForShading(win);
     in.GBuf.Position->Activate();
+    for (const auto& solver : in.Solvers)
+    {
+      solver->BeginShading(win);
+    }
   }
   this->PreRender(s);
   if (this->DelegatePass)
@@ -640,6 +688,10 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
   this->PostRender(s);
   if (in.ShadowsThisFrame)
   {
+    for (const auto& solver : in.Solvers)
+    {
+      solver->EndShading(win);
+    }
     in.GBuf.Position->Deactivate();
     in.Visibility.UnbindAfterShading(win);
   }
@@ -707,13 +759,16 @@ bool vtkSoftShadowPass::SetShaderParameters(
     return true;
   }
   ss::ShadingUniforms u;
-  u.PropId = in.GBuf.FindPropId(prop);
-  u.Use = in.ShadowsThisFrame && u.PropId != 0 && GetReceivesShadows(prop);
+  u.PropId = in.GBuf.FindPropId(prop); // 0: not in the G-buffer (translucent): V per fragment
+  u.Use = in.ShadowsThisFrame && GetReceivesShadows(prop);
   u.PositionUnit = in.GBuf.Position->GetTextureUnit();
   u.VisibilityUnit = in.Visibility.GetShadingUnit();
+  u.ColorUnit = in.Visibility.GetColorShadingUnit();
   u.ViewportOrigin[0] = in.Frame.ViewportOrigin[0];
   u.ViewportOrigin[1] = in.Frame.ViewportOrigin[1];
   ss::SetVisibilityUniforms(program, u, in.Frame.Lights);
+  ss::SetTranslucentReceiverUniforms(program, in.GBuf, in.Frame.Lights,
+    [&in](ss::Method m) -> const ss::VisibilitySolver* { return in.SolverFor(m); }, u.VisibilityUnit);
   return true;
 }
 
@@ -772,6 +827,25 @@ bool vtkSoftShadowPass::GetVisibilityImage(int shadowLight, vtkFloatArray* out)
   {
     out->SetValue(static_cast<vtkIdType>(i), v[i] < 0.0f ? nan : v[i]);
   }
+  return true;
+}
+
+bool vtkSoftShadowPass::GetColorVisibilityImage(int shadowLight, vtkFloatArray* out)
+{
+  auto& in = *this->Internals;
+  const ShadowLight* light = nullptr;
+  for (const auto& l : in.Frame.Lights)
+  {
+    light = (l.Layer == shadowLight && l.ColorLayer >= 0) ? &l : light;
+  }
+  std::vector<float> rgb;
+  if (!out || !light || !in.HaveResults || !in.Window || !in.Visibility.ReadColor(in.Window, in.FBO, light->ColorLayer, rgb))
+  {
+    return false;
+  }
+  out->SetNumberOfComponents(3);
+  out->SetNumberOfTuples(static_cast<vtkIdType>(rgb.size() / 3));
+  std::copy(rgb.begin(), rgb.end(), out->GetPointer(0));
   return true;
 }
 
@@ -872,6 +946,11 @@ bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFl
   return in.Maps.Read(ow, in.FBO, layer, out->GetPointer(0));
 }
 
+bool vtkSoftShadowPass::GetLastFrameAborted()
+{
+  return this->Internals->Aborted;
+}
+
 int vtkSoftShadowPass::GetLastWidth()
 {
   return this->Internals->Frame.Width;
@@ -898,6 +977,11 @@ int vtkSoftShadowPass::GetLastNumberOfCasterTriangles()
 std::string vtkSoftShadowPass::GetPlanDescription()
 {
   return this->Internals->Plan.ToText();
+}
+
+std::string vtkSoftShadowPass::GetPlanSummary()
+{
+  return ss::PlanSummary(this->Internals->Plan, this->Internals->Timings.Get("pass_total"));
 }
 
 std::string vtkSoftShadowPass::GetStatsJSON()
@@ -954,6 +1038,9 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PVSMMetric: " << this->PVSMMetric << "\n";
   os << indent << "PVSMTileCulling: " << this->PVSMTileCulling << "\n";
   os << indent << "AverageSamples: " << this->AverageSamples << "\n";
+  os << indent << "AVSMNodes: " << this->AVSMNodes << ", AVSMSize: " << this->AVSMSize
+     << ", AVSMMemory: " << this->AVSMMemory << " MB, ColoredShadows: " << this->ColoredShadows
+     << ", VolumeSteps: " << this->VolumeSteps << ", VPCSSFilterQuads: " << this->VPCSSFilterQuads << "\n";
   os << indent << "ASMMemoryBudget: " << this->ASMMemoryBudget << " MB\n";
   os << indent << "ASMPageSize: " << this->ASMPageSize << "\n";
   os << indent << "ASMCells: " << this->ASMCells << "\n";
@@ -963,6 +1050,8 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ASMQuality: " << this->ASMQuality << "\n";
   os << indent << "ASMIDTest: " << this->ASMIDTest << "\n";
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
+  os << indent << "AdaptToFrameBudget: " << this->AdaptToFrameBudget << "\n";
+  os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";
 }

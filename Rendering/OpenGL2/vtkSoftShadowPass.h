@@ -25,8 +25,13 @@
  *    or radiance (PBR) are multiplied by that light's V.
  *
  * Props opt out with SetCastsShadows / SetReceivesShadows. Lights are
- * configured with vtkSoftShadowLight. Translucent props receive no shadows
- * (their fragments are not in the G-buffer); they still cast shadows.
+ * configured with vtkSoftShadowLight. Translucent props cast shadows; with
+ * the shadow-map methods as if opaque, with VPCSS and AVSM (and the
+ * reference) by their transmittance; volumes (vtkVolume of image data, their
+ * scalar opacity) cast shadows with VPCSS, AVSM and the reference. Translucent
+ * props are not in the G-buffer: they receive the shadows of lights solved
+ * by VPCSS or AVSM (their fragments compute V), with depth peeling on or
+ * off, and none from the other methods.
  */
 #ifndef vtkSoftShadowPass_h
 #define vtkSoftShadowPass_h
@@ -63,7 +68,9 @@ public:
     GEARS = 6,     ///< exact soft shadows: triangles assigned to pixels by a grid, k x k bitmasks
     PVSM = 7,      ///< predicted virtual soft shadow maps: adaptive tiles, anisotropic coverage filter
     HARDAVG = 8,   ///< brute force: average of AverageSamples^2 hard shadow maps, one per light sample
-    ASM = 10       ///< adaptive shadow maps: hard shadows refined where the view needs them, in a memory budget
+    VPCSS = 9,     ///< volumetric PCSS: soft shadows of translucent casters and volumes over an AVSM
+    ASM = 10,      ///< adaptive shadow maps: hard shadows refined where the view needs them, in a memory budget
+    AVSM = 11      ///< adaptive volumetric shadow map: hard shadows of translucent casters and volumes
   };
 
   /** GEARS backends (SetGearsBackend). */
@@ -82,7 +89,7 @@ public:
   /** SetMethod clamps to this range: every registered method (ssSolverRegistry). */
   virtual int GetMethodMinValue();
   virtual int GetMethodMaxValue();
-  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg, asm. Returns false for unknown names. */
+  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg, vpcss, asm, avsm. Returns false for unknown names. */
   bool SetMethodByName(const char* name);
   static const char* GetMethodName(int method);
   /** Every method's name, comma-separated, in the registry's order. */
@@ -181,6 +188,35 @@ public:
    */
   vtkSetClampMacro(AverageSamples, int, 1, 32);
   vtkGetMacro(AverageSamples, int);
+  ///@}
+
+  ///@{
+  /**
+   * VPCSS and AVSM (translucent casters and volumes). AVSMNodes: nodes of
+   * each texel's transmittance function (4..16, rounded up to a multiple of
+   * 4; default 8). AVSMSize: texels a side of the adaptive volumetric shadow
+   * map (a power of two, default 512). AVSMMemory: megabytes for the maps,
+   * their per-texel buffers and the fragment lists (default 256); the map is
+   * made smaller to fit, and the fragment lists are resolved in bands of
+   * rows that fit (stats: vpcss.avsm). ColoredShadows: RGB transmittance
+   * from each caster's colour and opacity (default off: one channel).
+   * VolumeSteps: the most march steps of a texel's ray through the volumes
+   * (default 256). VPCSSFilterQuads: texel quads per axis of VPCSS's filter
+   * at most (coarser pyramid levels for larger kernels; default 8).
+   */
+  vtkSetClampMacro(AVSMNodes, int, 4, 16);
+  vtkGetMacro(AVSMNodes, int);
+  vtkSetClampMacro(AVSMSize, int, 64, 8192);
+  vtkGetMacro(AVSMSize, int);
+  vtkSetClampMacro(AVSMMemory, int, 16, 65536);
+  vtkGetMacro(AVSMMemory, int);
+  vtkSetMacro(ColoredShadows, bool);
+  vtkGetMacro(ColoredShadows, bool);
+  vtkBooleanMacro(ColoredShadows, bool);
+  vtkSetClampMacro(VolumeSteps, int, 8, 4096);
+  vtkGetMacro(VolumeSteps, int);
+  vtkSetClampMacro(VPCSSFilterQuads, int, 2, 64);
+  vtkGetMacro(VPCSSFilterQuads, int);
   ///@}
 
   ///@{
@@ -285,6 +321,38 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Interactive frames. With AdaptToFrameBudget on (default), a frame
+   * rendered while the render window's DesiredUpdateRate is at least
+   * InteractiveUpdateRate (default 0.1 frames per second) is interactive:
+   * VTK's interactor sets 15 while the user drags and 0.0001 after,
+   * ParaView's interactive render 5 and its still render 0.002. Its shadow
+   * work has 1000 / DesiredUpdateRate milliseconds: where the costs measured
+   * on earlier frames do not fit, the effect planner stands faster methods in
+   * (requested -> the method auto uses for area lights -> hard shadows) and
+   * says so in the plan; the next still frame uses the requested method
+   * again. Measuring costs one glFinish per solved frame.
+   */
+  vtkSetMacro(AdaptToFrameBudget, bool);
+  vtkGetMacro(AdaptToFrameBudget, bool);
+  vtkBooleanMacro(AdaptToFrameBudget, bool);
+  vtkSetClampMacro(InteractiveUpdateRate, double, 1e-6, 1e6);
+  vtkGetMacro(InteractiveUpdateRate, double);
+  ///@}
+
+  /**
+   * Progress and abort. While it solves, the pass invokes
+   * vtkCommand::ProgressEvent on itself (call data: a double* in [0, 1], over
+   * all shadow lights of the frame), between lights and between chunks of
+   * the long solvers' work (reference and gears on the CPU: chunks of pixels
+   * or cells; pvsm: tiles). At the same points it asks the render window
+   * vtkRenderWindow::CheckAbortStatus (which fires AbortCheckEvent); once the
+   * window's AbortRender is set, it stops: that frame has no shadows, the
+   * plan says "aborted", and the next render solves again.
+   */
+  bool GetLastFrameAborted();
+
+  ///@{
   /** Per-prop flags (stored in vtkProp::GetPropertyKeys); both default to true. */
   static void SetCastsShadows(vtkProp* prop, bool casts);
   static bool GetCastsShadows(vtkProp* prop);
@@ -305,6 +373,13 @@ public:
    */
   int GetNumberOfShadowLights();
   bool GetVisibilityImage(int shadowLight, vtkFloatArray* out);
+  /**
+   * RGB visibility of a shadow light whose solver wrote colour (VPCSS or
+   * AVSM with ColoredShadows on): 3 components per pixel, background NaN;
+   * false for lights without it. V (GetVisibilityImage) is then the mean of
+   * the three.
+   */
+  bool GetColorVisibilityImage(int shadowLight, vtkFloatArray* out);
   bool GetPositionsImage(vtkFloatArray* out);
   /**
    * The factor VTK's diffuse lighting multiplies the given shadow light's V
@@ -340,6 +415,11 @@ public:
   std::string GetStatsJSON();
   /** The plan as readable lines (also in PrintSelf). */
   std::string GetPlanDescription();
+  /**
+   * One line for an annotation: the methods of the last frame and its time,
+   * e.g. "pcss (interactive: stands in for gears), 38 ms".
+   */
+  std::string GetPlanSummary();
   ///@}
 
   /** Live GPU objects owned by the pass (textures, buffers, programs); 0 after release. */
@@ -377,6 +457,12 @@ protected:
   bool PVSMTileCulling = true;
   int PVSMMetric = 0;
   int AverageSamples = 8;
+  int AVSMNodes = 8;
+  int AVSMSize = 512;
+  int AVSMMemory = 256;
+  bool ColoredShadows = false;
+  int VolumeSteps = 256;
+  int VPCSSFilterQuads = 8;
   double ASMMemoryBudget = 16.0;
   int ASMPageSize = 128;
   int ASMCells = 4;
@@ -393,13 +479,15 @@ protected:
   double PositionsOrigin[3] = { 0, 0, 0 };
   bool AutomaticPositionsOrigin = true;
   bool MeasureTimings = false;
+  bool AdaptToFrameBudget = true;
+  double InteractiveUpdateRate = 0.1;
 
 private:
   vtkSoftShadowPass(const vtkSoftShadowPass&) = delete;
   void operator=(const vtkSoftShadowPass&) = delete;
 
   // The stages of Render (vtkSoftShadowPass.cxx says which file owns what).
-  void PlanFrame(bool unchangedSinceLastFrame);
+  void PlanFrame(bool unchangedSinceLastFrame, double frameBudgetMs);
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
   void Shade(const vtkRenderState* s);

@@ -122,7 +122,6 @@ endif ()
 
 set(_demo "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json")
 ss_cli_error(unknown_method "--method: unknown method 'fancy'" ${_ss_cli} render "${_demo}" --method fancy)
-ss_cli_error(later_method "--method vpcss: not implemented yet" ${_ss_cli} render "${_demo}" --method vpcss)
 ss_cli_error(gears_samples "--option gears_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method gears --option gears_samples=64)
 ss_cli_error(gears_raster "--option gears_raster: expected edge or lut" ${_ss_cli} render "${_demo}" --method gears --option gears_raster=fast)
 ss_cli_error(gears_backend "--option gears_backend: expected cpu or gl" ${_ss_cli} render "${_demo}" --method gears --option gears_backend=cuda)
@@ -140,7 +139,10 @@ ss_cli_error(zero_frames "--frames: expected an integer in \\[1, " ${_ss_cli} re
 ss_cli_error(option_bad_value "--option shadow_map_size: expected an integer" ${_ss_cli} render "${_demo}" --option shadow_map_size=big)
 ss_cli_error(missing_value "--output: missing value" ${_ss_cli} render "${_demo}" --output)
 add_test(NAME cli.help COMMAND ${_ss_cli} --help)
-set_tests_properties(cli.help PROPERTIES LABELS "cli" PASS_REGULAR_EXPRESSION "usage:.*softshadows render SCENE\\.json")
+# every --option key, from the one table ApplyOption uses (issue 24: --help had
+# omitted pvsm_tile_culling)
+set_tests_properties(cli.help PROPERTIES LABELS "cli" PASS_REGULAR_EXPRESSION
+  "usage:.*softshadows render SCENE\\.json.*pvsm_tile_culling \\(0\\|1\\).*average_samples.*frame_budget")
 
 add_executable(ssCheckOutputs ssCheckOutputs.cxx)
 target_link_libraries(ssCheckOutputs PRIVATE SoftShadowsScene nlohmann_json::nlohmann_json)
@@ -186,6 +188,20 @@ add_test(NAME cli.bench.smoke_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bench.py" "${_ss_out}/bench_smoke")
 set_tests_properties(cli.bench.smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_smoke)
 set_tests_properties(cli.bench.smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_smoke)
+add_test(NAME cli.bench.vpcss_smoke
+  COMMAND env -u DISPLAY ${_ss_cli} bench --vpcss --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/translucent.json"
+    --size 160x120 --frames 1 --reference-samples 4 --out "${_ss_out}/bench_vpcss_smoke")
+add_test(NAME cli.bench.vpcss_smoke_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_vpcss_bench.py" "${_ss_out}/bench_vpcss_smoke")
+set_tests_properties(cli.bench.vpcss_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_vpcss_smoke)
+set_tests_properties(cli.bench.vpcss_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_vpcss_smoke)
+add_test(NAME cli.bench.gears_smoke
+  COMMAND env -u DISPLAY ${_ss_cli} bench --gears --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
+    --sizes 160x120 --samples 8 --frames 1 --out "${_ss_out}/bench_gears_smoke")
+add_test(NAME cli.bench.gears_smoke_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_gears_bench.py" "${_ss_out}/bench_gears_smoke")
+set_tests_properties(cli.bench.gears_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_gears_smoke)
+set_tests_properties(cli.bench.gears_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_gears_smoke)
 add_test(NAME cli.bench.pvsm_smoke
   COMMAND env -u DISPLAY ${_ss_cli} bench --pvsm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
     --size 160x120 --frames 1 --reference-samples 4 --out "${_ss_out}/bench_pvsm_smoke")

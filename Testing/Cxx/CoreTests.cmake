@@ -10,10 +10,15 @@ add_executable(TestSoftShadowsCore
   TestSSReference.cxx
   TestSSReferenceISA.cxx
   TestSSGEARS.cxx
+  TestSSGEARSCulling.cxx
   TestSSPVSM.cxx
   TestSSMetrics.cxx
   TestSSCasterClusters.cxx
   TestSSClusterBounds.cxx
+  TestSSAVSM.cxx
+  TestSSVPCSS.cxx
+  TestSSVolumeGrid.cxx
+  TestSSSolveProgress.cxx
   TestSSASM.cxx)
 find_package(TBB REQUIRED)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore TBB::tbb GTest::gtest_main)

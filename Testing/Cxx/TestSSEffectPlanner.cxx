@@ -40,7 +40,9 @@ std::vector<MethodInfo> Catalogue()
     { Method::PVSM, "pvsm", PlannerRule::OnRequest, false },
     { Method::HardAverage, "hardavg", PlannerRule::OnRequest, false },
     { Method::Reference, "reference", PlannerRule::OnRequest, true },
-    { Method::GEARS, "gears", PlannerRule::OnRequest, true } };
+    { Method::GEARS, "gears", PlannerRule::OnRequest, true },
+    { Method::VPCSS, "vpcss", PlannerRule::TranslucentCasters, true },
+    { Method::AVSM, "avsm", PlannerRule::OnRequest, true } };
 }
 
 PlannerInput Scene(std::vector<PlannerLight> lights)
@@ -210,8 +212,7 @@ TEST(EffectPlanner, TranslucentCastersAndReuse)
   PlannerInput in = Scene({ Area() });
   in.translucentCasters = true;
   EffectPlan p = MakeEffectPlan(in);
-  EXPECT_TRUE(Contains(p.reason, "translucent casters are treated as opaque")) << p.reason;
-  EXPECT_TRUE(Contains(p.reason, "v1")) << p.reason;
+  EXPECT_TRUE(Contains(p.reason, "translucent casters are treated as opaque by pcss")) << p.reason;
   EXPECT_FALSE(p.reuse);
   // solvers that weigh casters by opacity need no such note
   in.requested = Method::Reference;
@@ -221,10 +222,18 @@ TEST(EffectPlanner, TranslucentCastersAndReuse)
   EXPECT_FALSE(Contains(MakeEffectPlan(in).reason, "translucent"));
 
   in.unchangedSinceLastFrame = true;
+  in.lastMethods = { Method::PCSS };
   p = MakeEffectPlan(in);
   EXPECT_TRUE(p.shadowWork);
   EXPECT_TRUE(p.reuse);
+  EXPECT_EQ(p.Summary(), "pcss (reused)");
   EXPECT_EQ(p.lights[0].method, Method::PCSS); // the plan itself still says what V holds
+  // V computed with another method is not reused (an interactive frame's
+  // stand-in must not become the still frame's picture)
+  in.lastMethods = { Method::Hard };
+  EXPECT_FALSE(MakeEffectPlan(in).reuse);
+  in.lastMethods = {};
+  EXPECT_FALSE(MakeEffectPlan(in).reuse);
   // reuse needs shadow work: a headlight-only scene has nothing to reuse
   PlannerLight head = Area();
   head.headlight = true;
@@ -233,6 +242,7 @@ TEST(EffectPlanner, TranslucentCastersAndReuse)
   p = MakeEffectPlan(h);
   EXPECT_FALSE(p.shadowWork);
   EXPECT_FALSE(p.reuse);
+  EXPECT_EQ(p.Summary(), "none: no light casts shadows");
 }
 
 TEST(EffectPlanner, JSONAndText)
@@ -297,6 +307,181 @@ TEST(EffectPlanner, JSONAndText)
   EXPECT_EQ(MakeEffectPlan(Scene({})).ToJSON().find("\"lights\": []") != std::string::npos, true);
 }
 
+// The translucent rule (VPCSS): a light with a translucent caster in its
+// view (opacity < 1, an RGBA texture or a volume, as the pass finds it) gets
+// the method registered for TranslucentCasters, soft or not, and the reason
+// names what is translucent; other lights keep their rules. Volumes alone
+// are casters.
+TEST(EffectPlanner, TranslucentCastersInViewGetVPCSS)
+{
+  PlannerLight glass = Area();
+  glass.translucentInView = "opacity < 1";
+  PlannerLight smoke = Point();
+  smoke.translucentInView = "a volume";
+  PlannerInput in = Scene({ glass, smoke, Area(), Point() });
+  in.translucentCasters = true;
+  in.casterVolumes = 1;
+  EffectPlan p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
+  EXPECT_TRUE(Contains(p.lights[0].reason, "translucent casters in its view (opacity < 1)")) << p.lights[0].reason;
+  EXPECT_TRUE(Contains(p.lights[0].reason, "soft shadows (VPCSS)")) << p.lights[0].reason;
+  EXPECT_EQ(p.lights[1].method, Method::VPCSS);
+  EXPECT_TRUE(Contains(p.lights[1].reason, "(a volume)")) << p.lights[1].reason;
+  EXPECT_TRUE(Contains(p.lights[1].reason, "hard shadows")) << p.lights[1].reason;
+  EXPECT_EQ(p.lights[2].method, Method::PCSS); // nothing translucent can shadow its receivers
+  EXPECT_EQ(p.lights[3].method, Method::Hard);
+  EXPECT_TRUE(Contains(p.reason, "1 caster volume(s)")) << p.reason;
+  // the lights on opaque-only methods are named in the frame's note
+  EXPECT_TRUE(Contains(p.reason, "treated as opaque and volumes cast no shadows by pcss, hard")) << p.reason;
+  // an explicit request wins over the rule
+  in.requested = Method::PCSS;
+  EXPECT_EQ(MakeEffectPlan(in).lights[0].method, Method::PCSS);
+  // without a method for the rule, the soft and hard rules apply
+  in.requested = Method::Auto;
+  for (auto& m : in.methods)
+  {
+    m.rule = m.method == Method::VPCSS ? PlannerRule::OnRequest : m.rule;
+  }
+  EXPECT_EQ(MakeEffectPlan(in).lights[0].method, Method::PCSS);
+  // a volume is a caster: no triangles, still shadow work
+  PlannerInput v = Scene({ smoke });
+  v.casterTriangles = 0;
+  v.casterVolumes = 1;
+  p = MakeEffectPlan(v);
+  EXPECT_TRUE(p.shadowWork);
+  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
+  v.casterVolumes = 0;
+  EXPECT_FALSE(MakeEffectPlan(v).shadowWork);
+}
+
+// Which translucent casters are "in a light's view": those that can shadow
+// a receiver it lights (a separating axis between their box and the hull of
+// the light and the receivers proves they cannot).
+TEST(EffectPlanner, CastersMayShadowReceivers)
+{
+  const LightFrame light = MakeRectLightFrame({ 0, 0, 5 }, { 0, 0, -1 }, { 0, 1, 0 }, { 1, 1 });
+  Box receivers;
+  receivers.Add({ -2, -2, 0 });
+  receivers.Add({ 2, 2, 0.1 });
+  Box over; // between the light and the ground
+  over.Add({ -0.5, -0.5, 1 });
+  over.Add({ 0.5, 0.5, 2 });
+  EXPECT_TRUE(CastersMayShadow(light, over, receivers));
+  Box aside = over; // far to the side: no segment from the ground to the light meets it
+  aside.min.x += 20;
+  aside.max.x += 20;
+  EXPECT_FALSE(CastersMayShadow(light, aside, receivers));
+  EXPECT_FALSE(CastersMayShadow(light, Box{}, receivers));
+  EXPECT_FALSE(CastersMayShadow(light, over, Box{}));
+}
+
+namespace
+{
+void SetCost(PlannerInput& in, Method m, double ms)
+{
+  for (auto& info : in.methods)
+  {
+    if (info.method == m)
+    {
+      info.estimatedMs = ms;
+    }
+  }
+}
+}
+
+TEST(EffectPlanner, InteractiveFramesFitTheBudget)
+{
+  // gears requested for an area and a point light; gears measured at 1200
+  // ms a light, pcss at 30, hard at 10; budget 200 ms (ParaView's
+  // interactive DesiredUpdateRate of 5 frames per second)
+  PlannerInput in = Scene({ Area(), Point() });
+  in.requested = Method::GEARS;
+  SetCost(in, Method::GEARS, 1200.0);
+  SetCost(in, Method::PCSS, 30.0);
+  SetCost(in, Method::Hard, 10.0);
+  // a still frame: every light gets gears, whatever it costs
+  EffectPlan p = MakeEffectPlan(in);
+  EXPECT_FALSE(p.interactive);
+  EXPECT_FALSE(p.degraded);
+  EXPECT_EQ(p.lights[0].method, Method::GEARS);
+  EXPECT_EQ(p.lights[1].method, Method::GEARS);
+  // interactive: the area light steps down to the soft rule's method, the
+  // point light (no softness to keep) straight to the hard rule's
+  in.frameBudgetMs = 200.0;
+  p = MakeEffectPlan(in);
+  EXPECT_TRUE(p.interactive);
+  EXPECT_TRUE(p.degraded);
+  EXPECT_EQ(p.lights[0].method, Method::PCSS);
+  EXPECT_EQ(p.lights[0].stillMethod, Method::GEARS);
+  EXPECT_EQ(p.lights[1].method, Method::Hard);
+  EXPECT_DOUBLE_EQ(p.estimatedMs, 40.0);
+  EXPECT_TRUE(Contains(p.lights[0].reason, "interactive frame (budget 200 ms): gears takes ~1200 ms, pcss stands in"))
+    << p.lights[0].reason;
+  EXPECT_TRUE(Contains(p.lights[0].reason, "the still frame uses gears")) << p.lights[0].reason;
+  EXPECT_TRUE(Contains(p.reason, "faster methods stand in")) << p.reason;
+  EXPECT_EQ(p.Summary(), "pcss, hard (interactive: stands in for gears)");
+  const std::string j = p.ToJSON();
+  EXPECT_TRUE(Contains(j, "\"interactive\": true, \"degraded\": true")) << j;
+  EXPECT_TRUE(Contains(j, "\"frame_budget_ms\": 200")) << j;
+  EXPECT_TRUE(Contains(j, "\"still_method\": \"gears\"")) << j;
+  // only as far down as needed, the largest saving first: the point light's
+  // step to hard (saves 1190 ms, loses no softness) before the area light's
+  in.frameBudgetMs = 1250.0;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::GEARS);
+  EXPECT_EQ(p.lights[1].method, Method::Hard) << p.lights[1].reason;
+  in.frameBudgetMs = 1210.0; // gears + hard = 1210 fits exactly
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::GEARS);
+  in.frameBudgetMs = 1209.0;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::PCSS);
+  // a budget that fits as requested changes nothing, and says so
+  in.frameBudgetMs = 5000.0;
+  p = MakeEffectPlan(in);
+  EXPECT_TRUE(p.interactive);
+  EXPECT_FALSE(p.degraded);
+  EXPECT_EQ(p.lights[0].method, Method::GEARS);
+  EXPECT_EQ(p.lights[1].method, Method::GEARS);
+  EXPECT_TRUE(Contains(p.reason, "fits")) << p.reason;
+  // nothing fits: the cheapest chain end is used (hard shadows, not none)
+  in.frameBudgetMs = 1.0;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::Hard);
+  EXPECT_EQ(p.lights[1].method, Method::Hard);
+  // a stand-in dearer than the method asked for is skipped, not taken
+  PlannerInput d = Scene({ Area() });
+  d.requested = Method::Reference;
+  SetCost(d, Method::Reference, 80.0);
+  SetCost(d, Method::PCSS, 180.0);
+  SetCost(d, Method::Hard, 20.0);
+  d.frameBudgetMs = 50.0;
+  p = MakeEffectPlan(d);
+  EXPECT_EQ(p.lights[0].method, Method::Hard) << p.lights[0].reason;
+  d.frameBudgetMs = 10.0; // even hard shadows do not fit: they are the fastest there is
+  p = MakeEffectPlan(d);
+  EXPECT_EQ(p.lights[0].method, Method::Hard);
+  EXPECT_TRUE(Contains(p.reason, "still over")) << p.reason;
+  // an unmeasured method runs (and is measured): the planner cannot know its cost
+  PlannerInput u = Scene({ Area() });
+  u.requested = Method::Reference;
+  u.frameBudgetMs = 200.0;
+  p = MakeEffectPlan(u);
+  EXPECT_EQ(p.lights[0].method, Method::Reference);
+  EXPECT_LT(p.estimatedMs, 0.0);
+  EXPECT_TRUE(Contains(p.reason, "unknown")) << p.reason;
+  // the chain comes from the registry's rules, not from names
+  for (auto& m : in.methods)
+  {
+    m.rule = m.method == Method::PVSM ? PlannerRule::SoftLights
+                                      : (m.method == Method::PCSS ? PlannerRule::OnRequest : m.rule);
+  }
+  SetCost(in, Method::PVSM, 50.0);
+  in.frameBudgetMs = 200.0;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::PVSM);
+}
+
 // ASM's rule (issue 21): point and spot lights get the adaptive method when
 // one is registered, directional lights only when one map cannot give a
 // texel per pixel; without it the uniform hard method serves them all.
@@ -332,6 +517,10 @@ TEST(EffectPlanner, AdaptiveHardShadows)
 TEST(EffectPlanner, StillViewRefinesWhileASolverIsRefining)
 {
   PlannerInput in = Scene({ Point() });
+  for (const auto& l : MakeEffectPlan(in).lights) // the last frame's methods: reuse needs the same
+  {
+    in.lastMethods.push_back(l.method);
+  }
   in.unchangedSinceLastFrame = true;
   in.refining = "asm";
   EffectPlan p = MakeEffectPlan(in);

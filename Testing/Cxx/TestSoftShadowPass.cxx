@@ -623,11 +623,12 @@ TEST(SoftShadowPass, EveryRegisteredMethodShadowsAndReleases)
         EXPECT_GT(st.umbra, 10);
         EXPECT_GT(st.lit, 2000);
         EXPECT_EQ(st.nonFinite, 0);
-        // the solvers on the caster triangles, and ASM with its own atlas, get
-        // no shared shadow maps (the pass was released before this method ran:
-        // nothing is left from the others)
+        // the solvers on the caster triangles, ASM with its own atlas and
+        // the AVSM solvers (vpcss, avsm) get no shared shadow maps (the pass
+        // was released before this method ran: nothing is left from the others)
         vtkNew<vtkFloatArray> map;
-        const bool ownMaps = name == "reference" || name == "gears" || name == "asm";
+        const bool ownMaps =
+          name == "reference" || name == "gears" || name == "asm" || name == "vpcss" || name == "avsm";
         EXPECT_EQ(s.pass->GetShadowMapLayer(s.window, 0, map), !ownMaps);
         EXPECT_NE(s.pass->GetStatsJSON().find("\"method\": \"" + (name == "auto" ? std::string("pcss") : name) + "\""),
           std::string::npos)

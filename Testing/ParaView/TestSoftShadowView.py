@@ -4,34 +4,15 @@ ground under the sphere is darker than in a plain RenderView."""
 import os
 import sys
 
-from paraview.simple import *  # noqa: F401,F403
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from paraview.simple import *  # noqa: F401,F403,E402
 
 plugin, baseline, tempdir = sys.argv[1], sys.argv[2], sys.argv[3]
 LoadPlugin(plugin, ns=globals())
 
 from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
 from vtkmodules.vtkTestingRendering import vtkTesting  # noqa: E402
-
-
-def scene(view):
-    sphere = Sphere(Center=[0, 0, 1.2], Radius=0.6, ThetaResolution=64, PhiResolution=32)
-    plane = Plane(Origin=[-4, -4, 0], Point1=[4, -4, 0], Point2=[-4, 4, 0])
-    for src in (sphere, plane):
-        d = Show(src, view)
-        d.DiffuseColor = [0.85, 0.85, 0.85]
-    view.ViewSize = [400, 300]
-    view.OrientationAxesVisibility = 0
-    view.Background = [1, 1, 1]
-    try:
-        view.UseColorPaletteForBackground = 0
-    except AttributeError:
-        pass
-    Render(view)  # the first render resets the camera; set ours after it
-    view.CameraPosition = [0, -7, 5]
-    view.CameraFocalPoint = [0, 0, 0.6]
-    view.CameraViewUp = [0, 0, 1]
-    view.CameraViewAngle = 30
-    return sphere, plane
+from ssviewtest import scene  # noqa: E402  (the sphere over a plane, camera, 400 x 300)
 
 
 def ground_brightness(png, region):
@@ -52,7 +33,7 @@ def ground_brightness(png, region):
 
 view = CreateView("SoftShadowView")
 view.Method = "pcss"
-view.LightSize = 1.0
+view.LightSize = 0.1  # the default: a tenth of the data diagonal (about 1.1 here)
 scene(view)
 Render(view)
 shot = os.path.join(tempdir, "ParaViewSoftShadowView.png")

@@ -1,0 +1,509 @@
+// GEARS step 4 [Wang et al. 2014, §4.2], cell by cell: the cell's triangles
+// from its clusters, culled against the shaft between the cell's samples and
+// the light; overloaded cells split into groups of samples with shafts of
+// their own; per pixel the rejection kernel (float, vectorised per ISA), then
+// the exact bitmask of each remaining triangle in double, nearest the
+// receivers first, until the mask is full.
+#include "ssGearsInternal.h"
+
+#define SS_GEARS_LANES 4
+#define SS_GEARS_KERNEL_NAMESPACE scalar
+#include "ssGearsKernels.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <numeric>
+
+namespace ss
+{
+namespace gears
+{
+const KernelTable& KernelsScalar()
+{
+  return scalar::Table("scalar");
+}
+
+static const KernelTable& Kernels(Isa isa)
+{
+  return isa == Isa::AVX512 ? KernelsAVX512() : (isa == Isa::AVX2 ? KernelsAVX2() : KernelsScalar());
+}
+
+void CellCounters::Add(const CellCounters& o)
+{
+  listed += o.listed;
+  total += o.total;
+  rasterised += o.rasterised;
+  necessary += o.necessary;
+  cellTriangles += o.cellTriangles;
+  cellTrianglesMax = std::max(cellTrianglesMax, o.cellTrianglesMax);
+  clustersTested += o.clustersTested;
+  clustersCulled += o.clustersCulled;
+  trianglesTested += o.trianglesTested;
+  trianglesCulled += o.trianglesCulled;
+  groups += o.groups;
+  coveredSkips += o.coveredSkips;
+  cellsInUmbra += o.cellsInUmbra;
+  lutFallbacks += o.lutFallbacks;
+  msLists += o.msLists;
+  msArrays += o.msArrays;
+  msGroups += o.msGroups;
+  msReject += o.msReject;
+  msExact += o.msExact;
+}
+
+namespace
+{
+// A shaft (MakeShaft) in float for coordinates relative to `o`.
+Shaft RelativeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double H, bool dir, double m, const glm::dvec3& o)
+{
+  const Shaft s = MakeShaft(lo, hi, W, H, dir, m);
+  // x >= a + s z in absolute terms is xr >= (a + s o.z - o.x) + s zr
+  Shaft r = s;
+  r.ax = static_cast<float>(double(s.ax) + double(s.sx) * o.z - o.x);
+  r.bx = static_cast<float>(double(s.bx) + double(s.tx) * o.z - o.x);
+  r.ay = static_cast<float>(double(s.ay) + double(s.sy) * o.z - o.y);
+  r.by = static_cast<float>(double(s.by) + double(s.ty) * o.z - o.y);
+  r.zlo = static_cast<float>(double(s.zlo) - o.z);
+  r.zhi = static_cast<float>(double(s.zhi) - o.z);
+  // the shift rounds: widen by the margin once more
+  const float mf = static_cast<float>(m);
+  r.ax -= mf;
+  r.ay -= mf;
+  r.bx += mf;
+  r.by += mf;
+  r.zlo -= mf;
+  r.zhi += mf;
+  return r;
+}
+
+// Whether any of the three points may lie in the shaft (no plane has all three outside).
+inline bool InShaft(const Shaft& s, const float* x, const float* y, const float* z)
+{
+  int out[6] = { 0, 0, 0, 0, 0, 0 };
+  for (int m = 0; m < 3; ++m)
+  {
+    out[0] += x[m] < s.ax + s.sx * z[m];
+    out[1] += x[m] > s.bx + s.tx * z[m];
+    out[2] += y[m] < s.ay + s.sy * z[m];
+    out[3] += y[m] > s.by + s.ty * z[m];
+    out[4] += !(z[m] > s.zlo);
+    out[5] += !(z[m] < s.zhi);
+  }
+  return out[0] < 3 && out[1] < 3 && out[2] < 3 && out[3] < 3 && out[4] < 3 && out[5] < 3;
+}
+
+// Whether a light-frame box (widened by m) may reach the shaft.
+inline bool BoxInShaft(const Shaft& s, const float* b, float m)
+{
+  const float x0 = b[0] - m, y0 = b[1] - m, z0 = b[2] - m, x1 = b[3] + m, y1 = b[4] + m, z1 = b[5] + m;
+  return !(x1 < s.ax + std::min(s.sx * z0, s.sx * z1) || x0 > s.bx + std::max(s.tx * z0, s.tx * z1) ||
+    y1 < s.ay + std::min(s.sy * z0, s.sy * z1) || y0 > s.by + std::max(s.ty * z0, s.ty * z1) || !(z1 > s.zlo) ||
+    !(z0 < s.zhi));
+}
+
+GroupArrays Arrays(std::vector<float>* a, std::size_t n)
+{
+  return { a[0].data(), a[1].data(), a[2].data(), a[3].data(), a[4].data(), a[5].data(), a[6].data(), a[7].data(),
+    a[8].data(), a[9].data(), a[10].data(), a[11].data(), a[12].data(), a[13].data(), a[14].data(), n };
+}
+
+// Split samples [a, b) of `order` at the median of their widest axis until
+// every group has at most `size` samples.
+void SplitSamples(const std::vector<glm::dvec3>& S, std::uint32_t* order, std::uint32_t a, std::uint32_t b,
+  int size, std::vector<std::uint32_t>& ends)
+{
+  if (b - a <= static_cast<std::uint32_t>(size))
+  {
+    ends.push_back(b);
+    return;
+  }
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (std::uint32_t q = a; q < b; ++q)
+  {
+    lo = glm::min(lo, S[order[q]]);
+    hi = glm::max(hi, S[order[q]]);
+  }
+  const glm::dvec3 e = hi - lo;
+  const int axis = (e.x >= e.y && e.x >= e.z) ? 0 : (e.y >= e.z ? 1 : 2);
+  const std::uint32_t mid = a + (b - a) / 2;
+  std::nth_element(order + a, order + mid, order + b,
+    [&](std::uint32_t p, std::uint32_t q) { return S[p][axis] < S[q][axis]; });
+  SplitSamples(S, order, a, mid, size, ends);
+  SplitSamples(S, order, mid, b, size, ends);
+}
+}
+
+bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Face* assign, std::int32_t* pixelGroup)
+{
+  const SolverData& D = *job.D;
+  const FaceGrid& g = *job.g;
+  const FaceTriangles& ft = *job.ft;
+  const FacePairs& pairs = *job.pairs;
+  const GearsOptions& opt = *job.opt;
+  const double W = job.W, H = job.H;
+  const bool dir = job.dir;
+  const double m = ft.margin;
+  const float mf = static_cast<float>(m);
+  const KernelTable& K = Kernels(job.isa);
+  const std::size_t NC = static_cast<std::size_t>(g.C.G) * g.C.G;
+  // light corners in the light frame (rect, point) or the corner directions (directional)
+  glm::dvec3 corner[4];
+  for (int q = 0; q < 4; ++q)
+  {
+    const double a = (q & 1) ? 0.5 : -0.5, b = (q & 2) ? 0.5 : -0.5;
+    corner[q] = dir ? glm::dvec3(a * W, b * H, -1.0) : glm::dvec3(a * W, b * H, 0.0);
+  }
+  std::vector<std::uint32_t> cells;
+  for (std::size_t c = 0; c < NC; ++c)
+  {
+    if (g.Count(c))
+    {
+      cells.push_back(static_cast<std::uint32_t>(c));
+    }
+  }
+  // assignment output (tests): per cell its list, per group its list
+  std::vector<std::vector<std::uint32_t>> cellLists, groupLists;
+  std::vector<std::vector<std::uint32_t>> groupPixels;
+  if (assign)
+  {
+    cellLists.resize(NC);
+    groupLists.resize(NC);
+    groupPixels.resize(NC);
+  }
+  // w.list in double (exact raster) and in float relative to o (rejection kernel)
+  auto fillArraysFor = [&](CellScratch& w, const glm::dvec3& o) {
+    const std::size_t nl = w.list.size();
+        for (auto& col : w.d)
+        {
+          col.resize(nl + kPad);
+        }
+        for (auto& a : w.f)
+        {
+          a.resize(nl + kPad); // the kernels read whole vectors
+        }
+        for (std::size_t a = 0; a < nl; ++a)
+        {
+          const std::uint32_t t = w.list[a];
+          glm::dvec3 B[3];
+          for (int q = 0; q < 3; ++q)
+          {
+            B[q] = ft.ToLight(D.Vertex(t, q));
+            w.d[3 * q][a] = B[q].x;
+            w.d[3 * q + 1][a] = B[q].y;
+            w.d[3 * q + 2][a] = B[q].z;
+            w.f[3 * q][a] = static_cast<float>(B[q].x - o.x);
+            w.f[3 * q + 1][a] = static_cast<float>(B[q].y - o.y);
+            w.f[3 * q + 2][a] = static_cast<float>(B[q].z - o.z);
+          }
+          const glm::dvec3 nT = glm::cross(B[1] - B[0], B[2] - B[0]);
+          double lo1 = 1e300, hi1 = -1e300;
+          for (int q = 0; q < 4; ++q)
+          {
+            const double v = glm::dot(nT, dir ? corner[q] : corner[q] - B[0]);
+            lo1 = std::min(lo1, v);
+            hi1 = std::max(hi1, v);
+          }
+          const double len = glm::length(nT);
+          w.d[9][a] = nT.x;
+          w.d[10][a] = nT.y;
+          w.d[11][a] = nT.z;
+          w.d[12][a] = len;
+          w.d[13][a] = lo1;
+          w.d[14][a] = hi1;
+          w.d[15][a] = double(ft.closed[t]);
+          const glm::dvec3 un = len > 0.0 ? nT / len : glm::dvec3(0.0);
+          w.f[9][a] = static_cast<float>(un.x);
+          w.f[10][a] = static_cast<float>(un.y);
+          w.f[11][a] = static_cast<float>(un.z);
+          w.f[12][a] = static_cast<float>(glm::dot(un, B[0] - o));
+          // the plane test in the kernel needs the light on one side by more than the margin
+          const double scale = len > 0.0 ? (dir ? 1e-6 : m) * len : 1e300;
+          w.f[13][a] = (ft.closed[t] > 0 || lo1 > scale) ? 1.0f : 0.0f;
+          w.f[14][a] = (ft.closed[t] < 0 || hi1 < -scale) ? 1.0f : 0.0f;
+        }
+  };
+  tbb::enumerable_thread_specific<CellScratch> scratch;
+  const auto solveCells = [&](const tbb::blocked_range<std::size_t>& r) {
+    CellScratch& w = scratch.local();
+    CellCounters& cc = w.counters;
+    for (std::size_t ci = r.begin(); ci != r.end(); ++ci)
+    {
+      const std::uint32_t c = cells[ci];
+      auto tc = Clock::now();
+      auto lap = [&](double& acc) {
+        const auto now = Clock::now();
+        acc += Ms(tc, now);
+        tc = now;
+      };
+      // --- the cell's samples in the light frame, their horizons
+      const std::uint32_t ns = g.Count(c);
+      w.S.resize(ns);
+      w.N.resize(ns);
+      w.pixel.resize(ns);
+      w.state.resize(ns);
+      w.trans.resize(std::max<std::size_t>(w.trans.size(), ns));
+      glm::dvec3 lo(1e300), hi(-1e300);
+      bool allFull = true;
+      for (std::uint32_t q = 0; q < ns; ++q)
+      {
+        const std::size_t pixel = g.pix[g.cellPix[g.cellStart[c] + q]];
+        w.pixel[q] = pixel;
+        w.S[q] = ft.ToLight((*job.start)[pixel]);
+        const glm::dvec3& Nw = (*job.normal)[pixel];
+        w.N[q] = Nw == glm::dvec3(0.0) ? Nw : glm::dvec3(glm::dot(Nw, ft.u), glm::dot(Nw, ft.v), glm::dot(Nw, ft.n));
+        lo = glm::min(lo, w.S[q]);
+        hi = glm::max(hi, w.S[q]);
+        PixelStart(job, w, q);
+        allFull = allFull && w.state[q].full;
+      }
+      const Shaft shaft = RelativeShaft(lo, hi, W, H, dir, m, glm::dvec3(0.0));
+      // --- inner occluders first (their clusters lead the cell's list): a
+      // cell whose segments to the light all pass through one box is in
+      // umbra; otherwise the boxes' faces S lies behind are drawn (their
+      // bits are the solid's too) and fill many samples' masks at once
+      std::uint32_t a0 = pairs.cellBegin[c];
+      w.list.clear();
+      bool cellUmbra = false;
+      for (; a0 < pairs.cellBegin[c + 1] && pairs.clusters[a0] >= D.realClusters; ++a0)
+      {
+        const std::uint32_t cl = pairs.clusters[a0];
+        // (a box all of whose faces the closed-mesh rule drops stands for a
+        // piece the light is inside, or the rule is off)
+        bool off = true;
+        for (std::uint32_t t = D.clusterFirst[cl]; t < D.clusterFirst[cl + 1]; ++t)
+        {
+          off = off && ft.drop[t];
+        }
+        if (allFull || cellUmbra || opt.countNecessary || off ||
+          (opt.shaftCulling && !BoxInShaft(shaft, &ft.cbox[6 * cl], mf)))
+        {
+          continue;
+        }
+        glm::dvec3 corners[8];
+        for (int q = 0; q < 8; ++q)
+        {
+          corners[q] = ft.Lc + ((q & 1) ? hi.x : lo.x) * ft.u + ((q & 2) ? hi.y : lo.y) * ft.v +
+            ((q & 4) ? hi.z : lo.z) * ft.n;
+        }
+        cellUmbra = UmbraBox(job, corners, 8, &D.occBox[6 * (cl - D.realClusters)]);
+        for (std::uint32_t t = D.clusterFirst[cl]; t < D.clusterFirst[cl + 1]; ++t)
+        {
+          if (!ft.drop[t] && (!opt.shaftCulling || InShaft(shaft, &ft.x[3 * t], &ft.y[3 * t], &ft.z[3 * t])))
+          {
+            w.list.push_back(t);
+          }
+        }
+      }
+      if (cellUmbra)
+      {
+        for (std::uint32_t q = 0; q < ns; ++q)
+        {
+          std::fill(w.state[q].rows, w.state[q].rows + job.k, job.fullRow);
+          w.state[q].full = true;
+        }
+        allFull = true;
+      }
+      else if (!allFull && !w.list.empty())
+      {
+        const glm::dvec3 o = 0.5 * (lo + hi);
+        fillArraysFor(w, o);
+        GroupView gv;
+        gv.ga = Arrays(w.f, w.list.size());
+        gv.entry = nullptr;
+        gv.ng = w.list.size();
+        gv.o = o;
+        gv.counting = false;
+        w.keep.resize(gv.ng + kPad);
+        w.cand.resize(gv.ng + kPad);
+        w.box.resize(4 * (gv.ng + kPad));
+        allFull = true;
+        for (std::uint32_t q = 0; q < ns; ++q)
+        {
+          DrawPixel(job, K, w, gv, q);
+          allFull = allFull && w.state[q].full;
+        }
+      }
+      if (allFull && !opt.countNecessary && !assign)
+      {
+        for (std::uint32_t q = 0; q < ns; ++q)
+        {
+          PixelFinish(job, w, q);
+        }
+        ++cc.cellsInUmbra;
+        lap(cc.msLists);
+        continue;
+      }
+      // --- the cell's triangles: clusters, then triangles, against its shaft
+      w.list.clear();
+      for (std::uint32_t a = a0; a < pairs.cellBegin[c + 1]; ++a)
+      {
+        const std::uint32_t cl = pairs.clusters[a];
+        ++cc.clustersTested;
+        if (opt.shaftCulling && !BoxInShaft(shaft, &ft.cbox[6 * cl], mf))
+        {
+          ++cc.clustersCulled;
+          continue;
+        }
+        for (std::uint32_t t = D.clusterFirst[cl]; t < D.clusterFirst[cl + 1]; ++t)
+        {
+          if (ft.drop[t])
+          {
+            continue; // the closed-mesh rule: faces away from the whole light
+          }
+          ++cc.trianglesTested;
+          if (opt.shaftCulling && !InShaft(shaft, &ft.x[3 * t], &ft.y[3 * t], &ft.z[3 * t]))
+          {
+            ++cc.trianglesCulled;
+            continue;
+          }
+          w.list.push_back(t);
+        }
+      }
+      const std::size_t nl = w.list.size();
+      cc.cellTriangles += static_cast<double>(nl);
+      cc.cellTrianglesMax = std::max(cc.cellTrianglesMax, nl);
+      if (assign)
+      {
+        cellLists[c] = w.list;
+      }
+      lap(cc.msLists);
+      // --- the list in double (exact raster) and in float relative to the
+      // cell's centre (rejection kernel)
+      const glm::dvec3 o = 0.5 * (lo + hi);
+      fillArraysFor(w, o);
+      lap(cc.msArrays);
+      // --- groups of samples
+      w.sampleOrder.resize(ns);
+      std::iota(w.sampleOrder.begin(), w.sampleOrder.end(), 0u);
+      w.groupEnd.clear();
+      const int gs = std::max(1, opt.groupSize);
+      if (opt.shaftCulling && ns > static_cast<std::uint32_t>(gs) && nl >= static_cast<std::size_t>(opt.groupMinTriangles))
+      {
+        SplitSamples(w.S, w.sampleOrder.data(), 0, ns, gs, w.groupEnd);
+      }
+      else
+      {
+        w.groupEnd.push_back(ns);
+      }
+      cc.groups += w.groupEnd.size();
+      std::uint32_t gbegin = 0;
+      for (const std::uint32_t gend : w.groupEnd)
+      {
+        // the group's list: the cell's, culled against the group's shaft
+        GroupView gv;
+        gv.o = o;
+        gv.ng = nl;
+        gv.entry = nullptr;
+        gv.counting = true;
+        bool groupFull = true;
+        for (std::uint32_t q = gbegin; q < gend; ++q)
+        {
+          groupFull = groupFull && w.state[w.sampleOrder[q]].full;
+        }
+        if (w.groupEnd.size() > 1 && !(groupFull && !opt.countNecessary && !assign))
+        {
+          glm::dvec3 glo(1e300), ghi(-1e300);
+          for (std::uint32_t q = gbegin; q < gend; ++q)
+          {
+            glo = glm::min(glo, w.S[w.sampleOrder[q]]);
+            ghi = glm::max(ghi, w.S[w.sampleOrder[q]]);
+          }
+          const Shaft gshaft = RelativeShaft(glo, ghi, W, H, dir, m, o);
+          w.glist.resize(nl + kPad);
+          w.keep.resize(nl + kPad);
+          w.glist.resize(K.shaft(Arrays(w.f, nl), gshaft, w.keep.data(), w.glist.data()));
+          gv.ng = w.glist.size();
+          for (int q = 0; q < 15; ++q)
+          {
+            w.gf[q].resize(gv.ng + kPad);
+            for (std::size_t a = 0; a < gv.ng; ++a)
+            {
+              w.gf[q][a] = w.f[q][w.glist[a]];
+            }
+          }
+          gv.ga = Arrays(w.gf, gv.ng);
+          gv.entry = w.glist.data();
+        }
+        else
+        {
+          gv.ga = Arrays(w.f, nl);
+        }
+        if (assign)
+        {
+          for (std::size_t a = 0; a < gv.ng; ++a)
+          {
+            groupLists[c].push_back(w.list[gv.entry ? gv.entry[a] : a]);
+          }
+          groupLists[c].push_back(0xFFFFFFFFu); // group separator
+          for (std::uint32_t q = gbegin; q < gend; ++q)
+          {
+            groupPixels[c].push_back(static_cast<std::uint32_t>(w.pixel[w.sampleOrder[q]]));
+          }
+          groupPixels[c].push_back(0xFFFFFFFFu);
+        }
+        w.keep.resize(gv.ng + kPad);
+        w.cand.resize(gv.ng + kPad);
+        w.box.resize(4 * (gv.ng + kPad));
+        lap(cc.msGroups);
+        // --- per pixel
+        for (std::uint32_t q = gbegin; q < gend; ++q)
+        {
+          const std::uint32_t sq = w.sampleOrder[q];
+          DrawPixel(job, K, w, gv, sq);
+          PixelFinish(job, w, sq);
+        }
+        lap(cc.msExact);
+        gbegin = gend;
+      }
+    }
+  };
+  // in chunks of cells, so that the caller hears of progress and can stop
+  const std::size_t numCells = cells.size(), chunk = std::max<std::size_t>(64, numCells / 32);
+  bool go = true;
+  for (std::size_t b = 0; b < numCells && go; b += chunk)
+  {
+    const std::size_t e = std::min(numCells, b + chunk);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(b, e, 1), solveCells);
+    go = !opt.progress || opt.progress((job.face + static_cast<double>(e) / numCells) / job.numFaces);
+  }
+  for (const CellScratch& w : scratch)
+  {
+    counters.Add(w.counters);
+  }
+  if (assign)
+  {
+    assign->cellBegin.assign(NC + 1, 0);
+    assign->triangles.clear();
+    assign->groupBegin.assign(1, 0);
+    assign->groupTriangles.clear();
+    for (std::size_t c = 0; c < NC; ++c)
+    {
+      assign->cellBegin[c] = static_cast<std::uint32_t>(assign->triangles.size());
+      assign->triangles.insert(assign->triangles.end(), cellLists[c].begin(), cellLists[c].end());
+      std::size_t gp = 0;
+      for (std::uint32_t t : groupLists[c])
+      {
+        if (t == 0xFFFFFFFFu)
+        {
+          const auto group = static_cast<std::int32_t>(assign->groupBegin.size() - 1);
+          for (; groupPixels[c][gp] != 0xFFFFFFFFu; ++gp)
+          {
+            pixelGroup[groupPixels[c][gp]] = group;
+          }
+          ++gp;
+          assign->groupBegin.push_back(static_cast<std::uint32_t>(assign->groupTriangles.size()));
+        }
+        else
+        {
+          assign->groupTriangles.push_back(t);
+        }
+      }
+    }
+    assign->cellBegin[NC] = static_cast<std::uint32_t>(assign->triangles.size());
+  }
+  return go;
+}
+}
+}

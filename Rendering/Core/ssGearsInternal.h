@@ -1,0 +1,480 @@
+// Internals of the GEARS CPU solver (ssGEARS.h), shared by its stages:
+//   ssGearsGrid.cxx    grid camera C, pixel samples to cells [§3.1, §3.2]
+//   ssGearsPairs.cxx   per-solve triangle and cluster data, the closed-mesh
+//                      rule, cluster shadow volumes with P_far, pairs [§3.3]
+//   ssGearsSort.cxx    the counting sort of pairs on their cell [§4.2]
+//   ssGearsCells.cxx   per cell: shaft culling, split into sample groups,
+//                      per-pixel rejection, bitmasks, V
+//   ssGearsRaster.cxx  the exact bitmask of one triangle (edge planes, LUT) [§4.2, §4.3]
+//   ssGearsSIMD*.cxx   the per-pixel rejection and row raster in AVX2 / AVX-512
+//   ssGEARS.cxx        GearsSolver: input, options, statistics
+// Not installed; not part of the API.
+#ifndef ssGearsInternal_h
+#define ssGearsInternal_h
+
+#include "ssGEARS.h"
+#include "ssGearsKernels.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace ss
+{
+namespace gears
+{
+using Clock = std::chrono::steady_clock;
+inline double Ms(Clock::time_point a, Clock::time_point b)
+{
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+/// bits lo..hi inclusive (0 <= lo <= hi <= 31)
+inline std::uint32_t RowBits(int lo, int hi)
+{
+  return static_cast<std::uint32_t>(((std::uint64_t(2) << hi) - (std::uint64_t(1) << lo)) & 0xFFFFFFFFull);
+}
+
+// Light sample directions seen from a start point S:
+//   d(i, j) = D0 + su_i Du + sv_j Dv,  su_i = (i + 1/2)/k - 1/2  (same for v)
+// rect: D0 = L_c - S, Du = w u, Dv = h v (the ReferenceSolver's regular samples);
+// directional: D0 = -n, Du = T u, Dv = T v with T = 2 tan(theta/2) (directions);
+// point: D0 = L_c - S, Du = Dv = 0 (k = 1).
+struct SampleSpace
+{
+  glm::dvec3 D0, Du, Dv;
+  int k = 1;
+  double invK = 1.0;   ///< 1 / k
+  bool segment = true; ///< finite light: a blocker must lie before the sample (t < 1)
+};
+
+/// An affine function of the sample indices, F(i, j) = A + B i + C j, of the
+/// dot product of a fixed vector with d(i, j).
+struct Affine
+{
+  double A, B, C;
+};
+
+/// x . y as every exact path (and the GL backend) evaluates it.
+inline double Dot3(const glm::dvec3& x, const glm::dvec3& y)
+{
+  return (x.x * y.x + x.y * y.y) + x.z * y.z;
+}
+/// x x y as every exact path (and the GL backend) evaluates it.
+inline glm::dvec3 Cross3(const glm::dvec3& x, const glm::dvec3& y)
+{
+  return { x.y * y.z - y.y * x.z, x.z * y.x - y.z * x.x, x.x * y.y - y.x * x.y };
+}
+
+inline Affine MakeAffine(const SampleSpace& s, const glm::dvec3& e, double constant = 0.0)
+{
+  const double du = Dot3(e, s.Du), dv = Dot3(e, s.Dv);
+  const double h = 0.5 * s.invK - 0.5;
+  return { (constant + Dot3(e, s.D0)) + h * (du + dv), du * s.invK, dv * s.invK };
+}
+
+/// The one evaluation order of an affine sample function: F(i, j) =
+/// (A + C j) + B i. A sample's bit is decided by the signs of these values
+/// alone (edge planes >= 0, the triangle's plane > 0), so every way of
+/// finding a row's samples (per sample, or a span corrected at its ends)
+/// gives the same bits.
+inline double RowValue(const Affine& f, double j)
+{
+  return f.A + f.C * j;
+}
+
+/// x clamped to [-2, k + 1]: the integers of [0, k - 1] a bound selects stay
+/// the same, and floor/ceil below stay exact.
+inline double ClampRange(double x, int k)
+{
+  return x < -2.0 ? -2.0 : (x > k + 1.0 ? k + 1.0 : x);
+}
+/// floor and ceil for |x| < 2^62 (the baseline x86-64 has no rounding
+/// instruction; std::floor would be a library call per row)
+inline double FloorSmall(double x)
+{
+  const double t = static_cast<double>(static_cast<long long>(x));
+  return t > x ? t - 1.0 : t;
+}
+inline double CeilSmall(double x)
+{
+  const double t = static_cast<double>(static_cast<long long>(x));
+  return t < x ? t + 1.0 : t;
+}
+
+/// Integer [il, ih] of real [lo, hi] for inclusive (ceil/floor) or strict
+/// bounds (the strict constraint's interval is open: exclude exact endpoints).
+inline bool IntRange(double lo, double hi, bool strictLo, bool strictHi, int k, int& il, int& ih)
+{
+  if (!(lo <= hi))
+  {
+    return false;
+  }
+  lo = ClampRange(lo, k);
+  hi = ClampRange(hi, k);
+  double l = CeilSmall(lo), h = FloorSmall(hi);
+  if (strictLo && l == lo)
+  {
+    l += 1.0;
+  }
+  if (strictHi && h == hi)
+  {
+    h -= 1.0;
+  }
+  l = std::max(l, 0.0);
+  h = std::min(h, static_cast<double>(k - 1));
+  if (l > h)
+  {
+    return false;
+  }
+  il = static_cast<int>(l);
+  ih = static_cast<int>(h);
+  return true;
+}
+
+/// The triangle's constraint functions as seen from start S [§4.2]: three
+/// edge planes (through S and an edge, oriented so the triangle is inside)
+/// and, for a finite light, the triangle's plane separating S from the light
+/// sample.
+struct TriangleSetup
+{
+  Affine edge[3];
+  Affine cross; ///< -sign(g) (g + nT.d) > 0 : the sample lies beyond the triangle's plane
+  bool hasCross = false;
+};
+
+/// The light's frame seen from one pixel sample S (all in light coordinates:
+/// origin L_c, axes u, v, n). Light sample (i, j) is (su W, sv H, 0) for a
+/// finite light, or the direction (su T, sv T, -1) for a directional one.
+struct LightSpace
+{
+  SampleSpace s;
+  glm::dvec3 S;
+  double W = 0, H = 0;
+  double kx = 0, ky = 0, hk = 0; ///< k / W, k / H, k / 2 - 1/2: light plane to sample-index units
+  bool dir = false;
+};
+LightSpace MakeLightSpace(const glm::dvec3& S, double W, double H, bool dir, int k);
+
+/// 2-D lookup table of half-plane masks [§4.3, ED07, SEA08].
+struct HalfPlaneLUT
+{
+  int k = 0, res = 0;
+  double R = 0.75; ///< |r| beyond which a half-plane holds all or none of the samples
+  std::vector<std::uint32_t> rows; ///< res * res * k
+  void Build(int k, int res);
+  /// mask of the half-plane left of p->q (interior side), into out (k rows)
+  void Edge(double px, double py, double qx, double qy, std::uint32_t* out) const;
+};
+
+/// Beyond this |P| or |Q| a row's root is taken per row (RasterSetup).
+constexpr double kSteep = 1e6;
+
+/// The constraints of a triangle seen from S (SetupTriangle): edge planes,
+/// and its own plane when `cross`; false if S lies in its plane.
+bool SetupTriangle(const SampleSpace& s, const glm::dvec3& S, const glm::dvec3& B0, const glm::dvec3& B1,
+  const glm::dvec3& B2, bool cross, TriangleSetup& t);
+/// Rows [j0, j1] of the samples every constraint admits, ORed into rows.
+bool RasterSetup(const TriangleSetup& t, int k, int j0, int j1, std::uint32_t* rows);
+
+/// The exact bitmask of one triangle (light coordinates) seen from l.S
+/// [§4.2]: the samples whose direction from S passes the three edge planes
+/// (and the triangle's own plane, unless all three vertices lie strictly
+/// between S and the light, where it holds anyway). [j0, j1]: the rows it
+/// may touch; with a LUT [§4.3], triangles wholly between S and the light use
+/// the table (fallback: this one could not).
+bool RasterizeTriangle(const LightSpace& l, const glm::dvec3& S, const glm::dvec3& B0, const glm::dvec3& B1,
+  const glm::dvec3& B2, const HalfPlaneLUT* lut, std::uint32_t* rows, int& j0, int& j1, bool& fallback);
+/// The reference's start rule for a triangle whose plane passes within eps of
+/// S: the samples its edge planes and plane cover, minus those whose hit
+/// (Moeller-Trumbore distance) lies closer than eps to S. Samples set in
+/// `known` (already hidden) are skipped.
+bool RasterizeNearTriangle(const LightSpace& l, const glm::dvec3& B0, const glm::dvec3& B1, const glm::dvec3& B2,
+  double eps, std::uint32_t* rows, const std::uint32_t* known);
+/// Rows of the samples below the tangent plane with normal N (light frame).
+void BelowHorizonRows(const SampleSpace& s, const glm::dvec3& N, std::uint32_t* rows);
+SampleSpace MakeSampleSpace(const LightFrame& L, const glm::dvec3& Lc, const glm::dvec3& S, int k);
+
+/// Which instruction set the per-pixel kernels use (GearsOptions::simd).
+enum class Isa
+{
+  Scalar,
+  AVX2,
+  AVX512
+};
+/// The widest of `wanted` and what the CPU supports.
+Isa ResolveIsa(GearsSimd wanted);
+const char* IsaName(Isa isa);
+
+
+// ---------------------------------------------------------------------------
+// Grid
+/// 2-D range-maximum table over the grid's cell max depths: O(1) P_far queries.
+struct RangeMax
+{
+  int G = 0, L = 0;
+  std::vector<float> t; ///< [ly][lx][y][x]
+  float Get(int lx, int ly, int x, int y) const
+  {
+    return t[((static_cast<std::size_t>(ly) * L + lx) * G + y) * G + x];
+  }
+  void Build(const std::vector<float>& depth, int g);
+  float Query(int x0, int y0, int x1, int y1) const; ///< inclusive
+};
+
+struct Box2
+{
+  int x0, y0, x1, y1; ///< inclusive cell range; empty if x0 > x1
+  bool Empty() const { return x0 > x1 || y0 > y1; }
+};
+
+/// One face's pixel samples in their cells [§3.2].
+struct FaceGrid
+{
+  GearsGridCamera C;
+  std::vector<std::size_t> pix;        ///< pixels of this face
+  std::vector<std::uint32_t> pixCell;  ///< per face pixel: its cell
+  std::vector<std::uint32_t> cellStart; ///< NC + 1 offsets into cellPix
+  std::vector<std::uint32_t> cellPix;  ///< face pixel indices sorted by cell
+  std::vector<float> cellDepth;        ///< farthest sample depth per cell (rounded up)
+  std::vector<std::uint32_t> sat;      ///< summed-area table of non-empty cells
+  double maxDepth = 0.0;
+  std::size_t nonEmpty = 0;
+  std::uint32_t Count(std::size_t c) const { return cellStart[c + 1] - cellStart[c]; }
+  std::uint32_t SatCount(const Box2& b) const
+  {
+    const int G = C.G;
+    return sat[(b.y1 + 1) * (G + 1) + b.x1 + 1] - sat[b.y0 * (G + 1) + b.x1 + 1] -
+      sat[(b.y1 + 1) * (G + 1) + b.x0] + sat[b.y0 * (G + 1) + b.x0];
+  }
+};
+/// Camera C from the face's samples, the grid over their projections, the
+/// samples sorted into cells, cell depths and the summed-area table.
+void BuildFaceGrid(const LightFrame& L, int face, const std::vector<glm::dvec3>& start,
+  const std::vector<std::int8_t>& pixelFace, std::size_t n, const GearsOptions& opt, FaceGrid& g);
+
+// ---------------------------------------------------------------------------
+// The solver's triangles (set once per SetTriangles / SetPieces / SetClusters)
+struct SolverData
+{
+  glm::dvec3 center{ 0.0 };
+  double extent = 1.0;
+  std::vector<float> V;                ///< 9 floats per triangle, relative to center, in cluster order
+  std::vector<float> opacity;          ///< per triangle
+  std::vector<std::size_t> input;      ///< input index per triangle
+  std::vector<std::uint32_t> clusterFirst; ///< cluster c: triangles [first[c], first[c+1])
+  std::vector<std::int8_t> orient;     ///< per triangle: its closed piece's orientation (0: not closed)
+  std::vector<std::uint32_t> piece;    ///< per triangle: its piece (solver-local index)
+  std::vector<double> pieceBox;        ///< per piece: min xyz, max xyz (solver frame)
+  std::size_t skipped = 0, closedTriangles = 0;
+  /// The real triangles are [0, real) in realClusters clusters; after them
+  /// come the inner occluders of closed pieces (ssGearsOccluders.cxx), 12
+  /// triangles and one cluster per box, kept here to append again.
+  std::size_t real = 0, realClusters = 0;
+  std::vector<float> occV;             ///< 108 floats per box
+  std::vector<std::uint32_t> occPiece; ///< per box: its piece
+  std::vector<double> occBox;          ///< per box: min xyz, max xyz (solver frame)
+  bool translucent = false;
+  std::uint64_t version = 0;
+  std::size_t Triangles() const { return opacity.size(); }
+  std::size_t Clusters() const { return clusterFirst.empty() ? 0 : clusterFirst.size() - 1; }
+  glm::dvec3 Vertex(std::size_t t, int j) const
+  {
+    const float* p = &V[9 * t + 3 * j];
+    return { p[0], p[1], p[2] };
+  }
+};
+
+// ---------------------------------------------------------------------------
+// Per-solve triangle data
+/// The shaft of the light-frame box [lo, hi] of start points; W, H the
+/// light's extent in the frame (world units; directional: tangents), `dir`
+/// for a directional light, m the margin.
+Shaft MakeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double H, bool dir, double m);
+
+/// The triangles of one face in its light frame, for culling in float.
+struct FaceTriangles
+{
+  glm::dvec3 Lc, u, v, n;          ///< the face's light frame (solver coordinates)
+  std::vector<float> x, y, z;      ///< 3 per triangle: light-frame vertices (float)
+  std::vector<std::int8_t> closed; ///< per triangle: closed-rule sign (0: rule off)
+  std::vector<std::uint8_t> drop;  ///< per triangle: faces away from every light sample of its closed piece
+  std::vector<float> cbox;         ///< per cluster: light-frame AABB of its kept triangles (6 floats)
+  std::vector<std::uint32_t> clusterOrder; ///< clusters sorted by depth, far from the light first
+  std::size_t dropped = 0;
+  double margin = 0.0; ///< float culling margin (world units)
+  glm::dvec3 ToLight(const glm::dvec3& X) const
+  {
+    const glm::dvec3 r = X - Lc;
+    return { glm::dot(r, u), glm::dot(r, v), glm::dot(r, n) };
+  }
+};
+
+/// Cluster c's box is empty (every triangle dropped).
+inline bool ClusterEmpty(const float* b)
+{
+  return !(b[0] <= b[3]);
+}
+
+/// Occluders: pieces with at least this many triangles get inner boxes from
+/// a grid of kOccluderGrid voxels along their longest side, at most
+/// kOccluderBoxes boxes of at least kOccluderMinVoxels voxels.
+constexpr std::size_t kOccluderMinTriangles = 256, kOccluderBoxes = 64, kOccluderMinVoxels = 8;
+constexpr int kOccluderGrid = 32;
+/// The inner occluders of D's closed pieces (into occV, occPiece).
+void BuildOccluders(SolverData& D);
+/// D's arrays cut back to the real triangles, then the occluders appended.
+void AppendOccluders(SolverData& D);
+
+/// The closed-mesh rule for light L (solver frame) per triangle: 0 rule off
+/// (open piece, translucent piece, light inside the piece's box), +-1 the
+/// closed piece's orientation (world frame), 2 dropped (faces away from every
+/// light sample). Returns the number dropped.
+std::size_t ClosedRuleFlags(
+  const SolverData& D, const LightFrame& L, const GearsOptions& opt, std::vector<std::int8_t>& flags);
+
+/// The face's triangles in its light frame (C.u, C.v, C.n at the light
+/// centre), the closed-mesh rule's flags, the clusters' boxes and their
+/// order by depth. L is in the solver's frame.
+void PrepareFaceTriangles(
+  const SolverData& D, const LightFrame& L, const GearsGridCamera& C, const GearsOptions& opt, FaceTriangles& ft);
+
+/// Pass 1 and 2 at the level of clusters [§3.3]: each cluster's shadow
+/// volume (its light-frame box extruded from the light corners, retracted
+/// to P_far) as a box of grid cells; (cluster, cell) pairs for the non-empty
+/// cells, sorted by cell (stable: clusters keep their depth order).
+struct FacePairs
+{
+  std::vector<std::uint32_t> cellBegin; ///< NC + 1 offsets into clusters
+  std::vector<std::uint32_t> clusters;  ///< cluster ids sorted by cell
+  std::size_t fullGrid = 0;             ///< clusters touching the light plane (all cells)
+};
+struct PairScratch
+{
+  RangeMax rmax;
+  std::vector<Box2> box;
+  std::vector<std::uint32_t> cellsN, pairItem, pairCell, hist;
+  std::vector<std::size_t> offset;
+};
+void BuildPairs(const SolverData& D, const LightFrame& L, const FaceGrid& g, const FaceTriangles& ft,
+  const GearsOptions& opt, PairScratch& w, FacePairs& out, GearsStats& st);
+
+/// What the cells stage counts (summed over threads and faces).
+struct CellCounters
+{
+  double listed = 0;     ///< sum over pixels of their group list's length
+  double total = 0;      ///< pairs left after the per-pair rejection (Table 9 "total")
+  double rasterised = 0; ///< pairs that reached the exact raster (before a mask filled)
+  double necessary = 0;  ///< pairs hiding >= 1 light sample above the horizon (countNecessary)
+  double cellTriangles = 0; ///< sum over non-empty cells of their list's length after culling
+  std::size_t cellTrianglesMax = 0;
+  std::size_t clustersTested = 0, clustersCulled = 0, trianglesTested = 0, trianglesCulled = 0;
+  std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0;
+  // thread time (ms, summed over threads) of the parts of step 4: cell
+  // lists (with the occluders' pre-pass), their arrays, the groups, and the
+  // pixels (rejection and exact raster)
+  double msLists = 0, msArrays = 0, msGroups = 0, msReject = 0, msExact = 0;
+  void Add(const CellCounters& o);
+};
+
+/// Step 4 for one face: per non-empty cell, its triangles from the cell's
+/// clusters culled against the cell's shaft, the samples split into groups
+/// with their own shafts, per pixel the rejection kernel and the exact
+/// raster, V and the masks. `assign` (optional) gets the cell and group lists.
+struct CellJob
+{
+  const SolverData* D;
+  const LightFrame* L;
+  const FaceGrid* g;
+  const FaceTriangles* ft;
+  const FacePairs* pairs;
+  const std::vector<glm::dvec3>* start;
+  const std::vector<glm::dvec3>* normal;
+  const GearsOptions* opt;
+  int k;
+  std::uint32_t fullRow;
+  double eps, W, H;
+  bool dir;
+  const HalfPlaneLUT* lut;
+  Isa isa;
+  float* V;
+  GearsMask* masks;
+  int face = 0, numFaces = 1; ///< for the progress fraction (opt->progress)
+};
+/// Returns false when opt->progress asked to stop (cells not reached keep V).
+bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Face* assign, std::int32_t* pixelGroup);
+
+constexpr std::size_t kPad = 16; ///< floats past the end of a kernel's arrays
+
+/// Every one of the k rows full (from the first row on: a pixel not in
+/// umbra stops at its first open row).
+inline bool Umbra(const std::uint32_t* rows, int k, std::uint32_t fullRow)
+{
+  int j = 0;
+  while (j < k && rows[j] == fullRow)
+  {
+    ++j;
+  }
+  return j == k;
+}
+
+/// One pixel sample's mask while its cell is drawn.
+struct PixelState
+{
+  std::uint32_t rows[40];  ///< the row kernels write whole vectors past row 31
+  std::uint32_t below[40]; ///< the samples below its horizon
+  bool full = false, haveTrans = false;
+};
+
+/// A thread's buffers for the cells stage, kept between cells.
+struct CellScratch
+{
+  std::vector<glm::dvec3> S, N;         ///< the cell's starts and normals (light frame)
+  std::vector<std::size_t> pixel;       ///< the cell's pixels
+  std::vector<PixelState> state;
+  std::vector<std::vector<float>> trans; ///< per sample: transmittance of translucent casters
+  std::vector<std::uint32_t> sampleOrder, groupEnd;
+  std::vector<std::uint32_t> list, occList; ///< the cell's triangles; its inner occluders' faces
+  std::vector<double> d[16];            ///< the list in double (ExactColumns order)
+  std::vector<float> f[15];             ///< the list in float relative to the cell's centre (GroupArrays order)
+  std::vector<float> gf[15];            ///< one group's gathered arrays
+  std::vector<std::uint32_t> glist;     ///< one group's entries (indices into list)
+  std::vector<std::int32_t> keep;
+  std::vector<float> box;
+  std::vector<std::uint32_t> cand;
+  ExactBatch batch;
+  CellCounters counters;
+};
+
+/// One sample group's list: the kernel arrays, entry -> cell list index
+/// (null: the cell's own list), its length and the cell's centre.
+struct GroupView
+{
+  GroupArrays ga;
+  const std::uint32_t* entry;
+  std::size_t ng;
+  glm::dvec3 o;
+  bool counting; ///< false for the inner occluders' faces (not the scene's triangles)
+};
+
+/// ssGearsPixel.cxx: a sample's starting mask (horizon), the occluders'
+/// pre-pass of a cell's samples, a sample's list, and its V and mask.
+void PixelStart(const CellJob& job, CellScratch& w, std::uint32_t sq);
+/// Whether every segment from the points `from` to the light (job.L: its
+/// corners, or corner directions) passes through inner occluder `box`
+/// (solver frame): their points at some common parameter t all lie in it.
+bool UmbraBox(const CellJob& job, const glm::dvec3* from, int count, const double* box);
+void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv, std::uint32_t sq);
+void PixelFinish(const CellJob& job, CellScratch& w, std::uint32_t sq);
+
+/// Stable counting sort of `count` (item, cell) pairs on the cell, in parallel
+/// chunks; cellBegin (NC + 1) gets the per-cell ranges of `sorted`.
+void SortPairsByCell(const std::uint32_t* item, const std::uint32_t* cell, std::size_t count, std::size_t NC,
+  std::vector<std::uint32_t>& hist, std::vector<std::uint32_t>& cellBegin, std::vector<std::uint32_t>& sorted);
+}
+}
+
+#endif

@@ -1,0 +1,544 @@
+// GEARS per-pixel kernels, written once and compiled per instruction set:
+// ssGearsCells.cxx includes this file for the scalar (baseline x86-64) build,
+// ssGearsSIMDAVX2.cxx and ssGearsSIMDAVX512.cxx include it after a
+// `#pragma GCC target`, so that the same loops are vectorised for each ISA
+// and the solver picks one at run time (GearsOptions::simd). Everything here
+// is plain arithmetic on float/double arrays: no library calls, so nothing is
+// shared between the instruction sets but this text.
+//
+// The rejection kernel only culls (pixel, triangle) pairs whose exact raster
+// sets no light-sample bit above the pixel's horizon, with margins far above
+// float rounding, so the bitmasks never depend on which ISA ran it.
+#ifndef ssGearsKernels_h
+#define ssGearsKernels_h
+
+#include <algorithm>
+#include <cmath>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+#include <cstddef>
+#include <cstdint>
+
+namespace ss
+{
+namespace gears
+{
+/// A shaft from a box of pixel samples to the light, in the light's frame
+/// (x, y along u, v; z the depth in front of the light): every point of a
+/// segment from a sample in the box to a light sample satisfies
+///   ax + sx z <= x <= bx + tx z,  ay + sy z <= y <= by + ty z,  zlo < z < zhi
+/// (zlo = -inf for a directional light). A triangle all of whose vertices
+/// violate one of these by more than the margin hides no light sample from
+/// any start point in the box.
+struct Shaft
+{
+  float ax, sx, bx, tx, ay, sy, by, ty, zlo, zhi;
+};
+/// One cell's (or sample group's) triangles for the per-pixel rejection, in
+/// float, relative to the cell's centre c in the face's light frame.
+struct GroupArrays
+{
+  const float *x0, *y0, *z0, *x1, *y1, *z1, *x2, *y2, *z2;
+  const float* nx; ///< unit plane normal
+  const float* ny;
+  const float* nz;
+  const float* nd;    ///< n . b0
+  const float* front; ///< 1: every light sample lies in front of the plane (or the closed-mesh rule, outward)
+  const float* back;  ///< 1: every light sample lies behind the plane (or the closed-mesh rule, inward)
+  std::size_t n;
+};
+
+/// Candidates whose sample box is at most kPointRows x kPointCols get their
+/// bits by evaluating the constraints at each sample (SetupBatch).
+constexpr int kPointRows = 6, kPointCols = 6;
+
+/// A cell's triangles in double for the exact raster, one array per column:
+/// vertices (light frame: x0 y0 z0 x1 .. z2), the plane normal (x1 - x0) x
+/// (x2 - x0), its length, the light corners' extremes on it, the closed-mesh
+/// sign.
+struct ExactColumns
+{
+  const double* c[16];
+};
+
+/// What SetupBatch found for up to 8 candidate triangles of one pixel.
+/// Per lane: the triangle's constraints F_m(i, j) = (A_m + C_m j) + B_m i for
+/// the three edge planes (>= 0) and, if nf == 4, its own plane (> 0), over
+/// rows j0..j1 (RowsSpan draws them).
+struct ExactBatch
+{
+  double A[4][8];
+  double B[4][8];
+  double C[4][8];
+  std::uint32_t bits[kPointRows][8]; ///< kind 4: rows j0 .. j0 + kPointRows - 1
+  int kind[8];                                   ///< 0 nothing, 1 spans, 2 start rule, 4 bits ready
+  int nf[8], j0[8], j1[8];
+};
+
+/// One pixel sample for the exact raster, in double, in the light frame.
+struct ExactPixel
+{
+  double Sx, Sy, Sz, eps, W, H, invK;
+  int k;
+  bool dir, project;
+};
+
+/// One pixel sample for the rejection kernel.
+struct PixelParams
+{
+  float sx, sy, sz;    ///< S - c
+  float cz;            ///< depth of c (so S.z = cz + sz)
+  float Sx, Sy, Sz;    ///< S in the light frame (for the projection onto the light)
+  float px, py, pz;    ///< pixel normal in the light frame (0: no horizon test)
+  float kx, ky, off;   ///< k / W, k / H, k / 2 - 1/2
+  float last;          ///< k - 1
+  float m;             ///< length margin
+  int dir;             ///< directional light (samples are directions)
+  int project;         ///< the projection test applies (k > 1, W > 0, H > 0)
+};
+/// The kernels compiled for one instruction set.
+struct KernelTable
+{
+  const char* name;
+  int lanes; ///< doubles per vector: candidates per SetupBatch
+  /// box: 4 columns of `stride` floats (i0, i1, j0, j1 per entry)
+  std::size_t (*reject)(
+    const GroupArrays&, const PixelParams&, std::int32_t* keep, std::uint32_t* out, float* box, std::size_t stride);
+  std::size_t (*shaft)(const GroupArrays&, const Shaft&, std::int32_t* keep, std::uint32_t* out);
+  void (*setup)(ExactBatch& b, const ExactColumns& cols, const std::uint32_t* ids, const float* const* box,
+    const std::uint32_t* gids, const ExactPixel& p, int count);
+  bool (*spans)(const ExactBatch& b, int lane, int k, std::uint32_t* rows);
+};
+const KernelTable& KernelsScalar();
+const KernelTable& KernelsAVX2();
+const KernelTable& KernelsAVX512();
+}
+}
+#endif
+
+#ifdef SS_GEARS_KERNEL_NAMESPACE
+namespace ss
+{
+namespace gears
+{
+namespace SS_GEARS_KERNEL_NAMESPACE
+{
+// GCC vector extensions: SS_GEARS_LANES floats per vector (4: SSE2, 8: AVX2,
+// 16: AVX-512), compiled to the instruction set of the including file.
+typedef float VF __attribute__((vector_size(4 * SS_GEARS_LANES)));
+typedef int VI __attribute__((vector_size(4 * SS_GEARS_LANES)));
+
+static inline VF Load(const float* p)
+{
+  VF v;
+  __builtin_memcpy(&v, p, sizeof(v));
+  return v;
+}
+static inline VF Min(VF a, VF b)
+{
+  return a < b ? a : b;
+}
+static inline VF Max(VF a, VF b)
+{
+  return a > b ? a : b;
+}
+static inline VF Abs(VF a)
+{
+  return a < 0.0f ? -a : a;
+}
+
+typedef double VD __attribute__((vector_size(4 * SS_GEARS_LANES)));      // SS_GEARS_LANES / 2 doubles
+typedef long long VL __attribute__((vector_size(4 * SS_GEARS_LANES)));   // their comparison masks
+typedef std::int32_t VJ __attribute__((vector_size(2 * SS_GEARS_LANES))); // and as many int32
+typedef std::uint32_t VU __attribute__((vector_size(2 * SS_GEARS_LANES)));
+constexpr int kRowLanes = SS_GEARS_LANES / 2;
+constexpr double kSteepKernel = 1e6; // kSteep of ssGearsInternal.h
+
+// Pairs this pixel keeps, written to out (indices into the group); returns
+// their count; box gets, per entry, the samples it may cover. keep is
+// scratch of g.n + SS_GEARS_LANES ints, box's columns hold stride >= g.n +
+// SS_GEARS_LANES floats; the group's arrays hold SS_GEARS_LANES - 1 readable
+// floats past n. A pair is rejected
+// when, by more than the margins:
+//  - all three vertices lie beyond the pixel's depth, or behind the light;
+//  - all three lie between pixel and light and their projection onto the
+//    light, seen from S, misses every light sample (outside the sample
+//    extent, or between two sample rows or columns);
+//  - S and every light sample lie on the same side of the triangle's plane
+//    (for a closed piece, S in front of an outward face: the closed-mesh rule);
+//  - all three vertices lie below the pixel's tangent plane.
+static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p, std::int32_t* keep,
+  std::uint32_t* out, float* box, std::size_t stride)
+{
+  const VF zero = VF{} + 0.0f, one = zero + 1.0f;
+  const float m = p.m;
+  const float gnum = p.dir ? 1.0f : p.Sz;
+  const float Sxo = p.dir ? 0.0f : p.Sx, Syo = p.dir ? 0.0f : p.Sy;
+  const float bx = Sxo * p.kx + p.off, by = Syo * p.ky + p.off;
+  const float ax = std::abs(Sxo * p.kx), ay = std::abs(Syo * p.ky);
+  const float sig = p.px * p.sx + p.py * p.sy + p.pz * p.sz;
+  const VI finite = (VI{} + (p.dir ? 0 : 1)) != 0;
+  const VI proj = (VI{} + (p.project ? 1 : 0)) != 0;
+  const VF last1 = zero + (p.last + 1.0f);
+  const std::size_t n = g.n;
+  for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
+  {
+    const VF X0 = Load(g.x0 + i), Y0 = Load(g.y0 + i), Z0 = Load(g.z0 + i);
+    const VF X1 = Load(g.x1 + i), Y1 = Load(g.y1 + i), Z1 = Load(g.z1 + i);
+    const VF X2 = Load(g.x2 + i), Y2 = Load(g.y2 + i), Z2 = Load(g.z2 + i);
+    const VF d0 = p.sz - Z0, d1 = p.sz - Z1, d2 = p.sz - Z2;
+    const VF b0 = p.cz + Z0, b1 = p.cz + Z1, b2 = p.cz + Z2;
+    const VI beyond = (d0 < -m) & (d1 < -m) & (d2 < -m);
+    const VI behind = finite & (b0 < -m) & (b1 < -m) & (b2 < -m);
+    const VI valid = proj & (d0 > m) & (d1 > m) & (d2 > m) & (~finite | ((b0 > m) & (b1 > m) & (b2 > m)));
+    // the projection in sample-index units (only used where valid)
+    const VF q0 = gnum / (valid ? d0 : one), q1 = gnum / (valid ? d1 : one), q2 = gnum / (valid ? d2 : one);
+    const VF u0 = (X0 - p.sx) * q0 * p.kx, u1 = (X1 - p.sx) * q1 * p.kx, u2 = (X2 - p.sx) * q2 * p.kx;
+    const VF v0 = (Y0 - p.sy) * q0 * p.ky, v1 = (Y1 - p.sy) * q1 * p.ky, v2 = (Y2 - p.sy) * q2 * p.ky;
+    const VF umin = Min(Min(u0, u1), u2), umax = Max(Max(u0, u1), u2);
+    const VF vmin = Min(Min(v0, v1), v2), vmax = Max(Max(v0, v1), v2);
+    const VF qm = Max(Max(q0, q1), q2);
+    // margins: float rounding relative to the terms, plus the coordinates' own
+    const VF mu = 1e-4f * (Max(Abs(umin), Abs(umax)) + ax) + m * qm * p.kx + 1e-3f;
+    const VF mv = 1e-4f * (Max(Abs(vmin), Abs(vmax)) + ay) + m * qm * p.ky + 1e-3f;
+    // does [lo, hi] hold a sample index 0..last? Shifted by +1 and clamped
+    // to [0, last + 2] so that truncation is floor.
+    const VF lu = Min(Max(umin + bx - mu + 1.0f, zero), last1 + 1.0f);
+    const VF hu = Min(Max(umax + bx + mu + 1.0f, zero), last1 + 1.0f);
+    const VF lv = Min(Max(vmin + by - mv + 1.0f, zero), last1 + 1.0f);
+    const VF hv = Min(Max(vmax + by + mv + 1.0f, zero), last1 + 1.0f);
+    const VF flu = __builtin_convertvector(__builtin_convertvector(lu, VI), VF);
+    const VF flv = __builtin_convertvector(__builtin_convertvector(lv, VI), VF);
+    const VF cu = Max(flu + (flu < lu ? one : zero), one), cv = Max(flv + (flv < lv ? one : zero), one);
+    const VF eu = Min(__builtin_convertvector(__builtin_convertvector(hu, VI), VF), last1);
+    const VF ev = Min(__builtin_convertvector(__builtin_convertvector(hv, VI), VF), last1);
+    const VI missed = valid & ((eu < cu) | (ev < cv));
+    // the triangle's plane: S and the light on one side
+    const VF sigma = Load(g.nx + i) * p.sx + Load(g.ny + i) * p.sy + Load(g.nz + i) * p.sz - Load(g.nd + i);
+    const VI oneSide = ((sigma > m) & (Load(g.front + i) > 0.5f)) | ((sigma < -m) & (Load(g.back + i) > 0.5f));
+    // the pixel's horizon
+    const VF t0 = p.px * X0 + p.py * Y0 + p.pz * Z0 - sig;
+    const VF t1 = p.px * X1 + p.py * Y1 + p.pz * Z1 - sig;
+    const VF t2 = p.px * X2 + p.py * Y2 + p.pz * Z2 - sig;
+    const VI below = (t0 < -m) & (t1 < -m) & (t2 < -m);
+    const VI k = ~(beyond | behind | missed | oneSide | below);
+    __builtin_memcpy(keep + i, &k, sizeof(k));
+    // the samples it may cover (projected: the box; else all), for the exact raster
+    const VF full0 = zero, full1 = last1 - 1.0f;
+    const VF bi0 = valid ? cu - 1.0f : full0, bi1 = valid ? eu - 1.0f : full1;
+    const VF bj0 = valid ? cv - 1.0f : full0, bj1 = valid ? ev - 1.0f : full1;
+    __builtin_memcpy(box + i, &bi0, sizeof(bi0));
+    __builtin_memcpy(box + stride + i, &bi1, sizeof(bi1));
+    __builtin_memcpy(box + 2 * stride + i, &bj0, sizeof(bj0));
+    __builtin_memcpy(box + 3 * stride + i, &bj1, sizeof(bj1));
+  }
+  std::size_t c = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    out[c] = static_cast<std::uint32_t>(i);
+    c += keep[i] & 1;
+  }
+  return c;
+}
+
+// Entries of the arrays (x0..z2 of GroupArrays) that may reach the shaft
+// (no plane of it has all three vertices outside), written to out.
+static inline std::size_t ShaftFilter(const GroupArrays& g, const Shaft& s, std::int32_t* keep, std::uint32_t* out)
+{
+  const std::size_t n = g.n;
+  const VI three = VI{} + 3;
+  for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
+  {
+    const VF x[3] = { Load(g.x0 + i), Load(g.x1 + i), Load(g.x2 + i) };
+    const VF y[3] = { Load(g.y0 + i), Load(g.y1 + i), Load(g.y2 + i) };
+    const VF z[3] = { Load(g.z0 + i), Load(g.z1 + i), Load(g.z2 + i) };
+    VI o0 = VI{}, o1 = VI{}, o2 = VI{}, o3 = VI{}, o4 = VI{}, o5 = VI{};
+    for (int m = 0; m < 3; ++m)
+    {
+      // comparisons give -1 where true
+      o0 -= x[m] < s.ax + s.sx * z[m];
+      o1 -= x[m] > s.bx + s.tx * z[m];
+      o2 -= y[m] < s.ay + s.sy * z[m];
+      o3 -= y[m] > s.by + s.ty * z[m];
+      o4 -= !(z[m] > s.zlo);
+      o5 -= !(z[m] < s.zhi);
+    }
+    const VI k = (o0 < three) & (o1 < three) & (o2 < three) & (o3 < three) & (o4 < three) & (o5 < three);
+    __builtin_memcpy(keep + i, &k, sizeof(k));
+  }
+  std::size_t c = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    out[c] = static_cast<std::uint32_t>(i);
+    c += keep[i] & 1;
+  }
+  return c;
+}
+
+// The exact raster [§4.2] (ssGearsRaster.cxx, SetupTriangle / RasterSetup,
+// holds the definition): sample (i, j) is hidden iff its direction from S
+// passes the three edge planes, F_m(i, j) = (A_m + C_m j) + B_m i >= 0, and,
+// for a triangle not wholly between S and the light, lies beyond its plane
+// (F_3 > 0). Here the same operations, vectorised: RowsSpan over rows,
+// SetupBatch over candidates. The GL backend (K_RASTER) repeats them.
+
+// The bound a constraint puts on a row (RasterSetup's RowBound), for the
+// rows in jv: the root x, then the signs at the samples next to it.
+static inline VD RowBoundV(double A, double B, double C, double P, double Q, bool steep, VD jv, bool strict, int k)
+{
+  const VD one = VD{} + 1.0, zero = VD{} + 0.0;
+  const VD ej = A + C * jv;
+  VD x = steep ? -ej / B : P + Q * jv;
+  const VD lowC = VD{} - 2.0, highC = VD{} + (k + 1.0);
+  x = x < lowC ? lowC : (x > highC ? highC : x);
+  const VD t = __builtin_convertvector(__builtin_convertvector(x, VJ), VD);
+  if (B > 0.0)
+  {
+    const VD c = t + (t < x ? one : zero); // ceil
+    const VD em = ej + B * (c - 1.0), e0 = ej + B * c;
+    const VL okm = strict ? em > 0.0 : em >= 0.0, ok0 = strict ? e0 > 0.0 : e0 >= 0.0;
+    return okm ? c - 1.0 : (ok0 ? c : c + 1.0);
+  }
+  const VD c = t - (t > x ? one : zero); // floor
+  const VD ep = ej + B * (c + 1.0), e0 = ej + B * c;
+  const VL okp = strict ? ep > 0.0 : ep >= 0.0, ok0 = strict ? e0 > 0.0 : e0 >= 0.0;
+  return okp ? c + 1.0 : (ok0 ? c : c - 1.0);
+}
+
+// The rows t.j0..t.j1, kRowLanes at a time, ORed into rows (which must hold
+// j1 + kRowLanes entries); returns whether any bit was set.
+static inline bool RowsSpan(const ExactBatch& b, int which, int k, std::uint32_t* rows)
+{
+  struct
+  {
+    double A[4], B[4], C[4];
+    int nf, j0, j1;
+  } t;
+  t.nf = b.nf[which];
+  t.j0 = b.j0[which];
+  t.j1 = b.j1[which];
+  double P[4], Q[4];
+  bool steep[4];
+  for (int m = 0; m < t.nf; ++m)
+  {
+    t.A[m] = b.A[m][which];
+    t.B[m] = b.B[m][which];
+    t.C[m] = b.C[m][which];
+    const double B = t.B[m];
+    P[m] = B != 0.0 ? -t.A[m] / B : 0.0;
+    Q[m] = B != 0.0 ? -t.C[m] / B : 0.0;
+    steep[m] = !(std::abs(P[m]) <= kSteepKernel && std::abs(Q[m]) <= kSteepKernel);
+  }
+  VD lane;
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    lane[q] = double(q);
+  }
+  const VD zero = VD{} + 0.0, kmax = VD{} + (k - 1.0);
+  VU any = VU{} + 0u;
+  for (int j = t.j0; j <= t.j1; j += kRowLanes)
+  {
+    const VD jv = double(j) + lane;
+    VD lo = zero, hi = kmax;
+    VL ok = jv <= double(t.j1);
+    for (int m = 0; m < t.nf; ++m)
+    {
+      const bool strict = m == 3;
+      const double B = t.B[m];
+      if (B > 0.0)
+      {
+        const VD L = RowBoundV(t.A[m], B, t.C[m], P[m], Q[m], steep[m], jv, strict, k);
+        lo = lo < L ? L : lo;
+      }
+      else if (B < 0.0)
+      {
+        const VD U = RowBoundV(t.A[m], B, t.C[m], P[m], Q[m], steep[m], jv, strict, k);
+        hi = U < hi ? U : hi;
+      }
+      else
+      {
+        const VD ej = t.A[m] + t.C[m] * jv;
+        ok &= strict ? ej > 0.0 : ej >= 0.0;
+      }
+    }
+    ok &= lo <= hi;
+    const VU il = (VU)__builtin_convertvector(lo, VJ), ih = (VU)__builtin_convertvector(hi, VJ);
+    // bits il..ih; 2 << 31 wraps to 0, which still gives bits il..31
+    VU bits = ((VU{} + 2u) << ih) - ((VU{} + 1u) << il);
+    bits = __builtin_convertvector(ok, VJ) != 0 ? bits : VU{} + 0u;
+    VU cur;
+    __builtin_memcpy(&cur, rows + j, sizeof(cur));
+    cur |= bits;
+    __builtin_memcpy(rows + j, &cur, sizeof(cur));
+    any |= bits;
+  }
+  bool hit = false;
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    hit = hit || any[q] != 0u;
+  }
+  return hit;
+}
+
+// Lane q of the result is col[ids[q]] (hardware gathers where there are).
+static inline VD Gather(const double* col, const std::uint32_t* ids)
+{
+#if SS_GEARS_LANES == 16
+  const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids));
+  const __m512d g = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), 0xFF, v, col, 8);
+  VD r;
+  __builtin_memcpy(&r, &g, sizeof(r));
+  return r;
+#elif SS_GEARS_LANES == 8
+  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(ids));
+  const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  const __m256d g = _mm256_mask_i32gather_pd(_mm256_setzero_pd(), col, v, all, 8);
+  VD r;
+  __builtin_memcpy(&r, &g, sizeof(r));
+  return r;
+#else
+  VD r;
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    r[q] = col[ids[q]];
+  }
+  return r;
+#endif
+}
+static inline VD GatherF(const float* col, const std::uint32_t* ids)
+{
+  VD r;
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    r[q] = col[ids[q]];
+  }
+  return r;
+}
+
+// The start of the exact raster for kRowLanes candidates at once: the
+// closed-mesh rule, the start rule's test, the constraints (SetupTriangle's
+// operations), and for a candidate whose box holds at most 2 x 2 samples the
+// bits themselves, each sample's constraints evaluated as RasterSetup
+// decides them.
+static inline void SetupBatch(ExactBatch& b, const ExactColumns& cols, const std::uint32_t* ids,
+  const float* const* box, const std::uint32_t* gids, const ExactPixel& p, int count)
+{
+  static_assert(kRowLanes <= 8, "ExactBatch holds 8 lanes");
+  const VD zero = VD{} + 0.0, one = VD{} + 1.0;
+  const VD B0x = Gather(cols.c[0], ids), B0y = Gather(cols.c[1], ids), B0z = Gather(cols.c[2], ids);
+  const VD B1x = Gather(cols.c[3], ids), B1y = Gather(cols.c[4], ids), B1z = Gather(cols.c[5], ids);
+  const VD B2x = Gather(cols.c[6], ids), B2y = Gather(cols.c[7], ids), B2z = Gather(cols.c[8], ids);
+  const VD nx = Gather(cols.c[9], ids), ny = Gather(cols.c[10], ids), nz = Gather(cols.c[11], ids);
+  const VD pl = Gather(cols.c[12], ids), cmin = Gather(cols.c[13], ids), cmax = Gather(cols.c[14], ids);
+  const VD closed = Gather(cols.c[15], ids);
+  // sigma = (S - B0) . n (Dot3)
+  const VD sigma = ((p.Sx - B0x) * nx + (p.Sy - B0y) * ny) + (p.Sz - B0z) * nz;
+  const VL skipClosed = (closed != 0.0) & (closed * sigma >= 0.0);
+  const VD asig = sigma < 0.0 ? -sigma : sigma;
+  const VL near = (pl > 0.0) & (asig < p.eps * pl);
+  const VL skipNear = near & (((sigma > 0.0) & (cmin >= 0.0)) | ((sigma < 0.0) & (cmax <= 0.0)));
+  VL projected = (VL{} + (p.project ? 1 : 0)) != 0;
+  projected &= (p.Sz - B0z > 0.0) & (p.Sz - B1z > 0.0) & (p.Sz - B2z > 0.0);
+  if (!p.dir)
+  {
+    projected &= (B0z > 0.0) & (B1z > 0.0) & (B2z > 0.0);
+  }
+  // SetupTriangle: a, b, c from S; nT = (b - a) x (c - a); det = nT . a
+  const VD ax = B0x - p.Sx, ay = B0y - p.Sy, az = B0z - p.Sz;
+  const VD bx = B1x - p.Sx, by = B1y - p.Sy, bz = B1z - p.Sz;
+  const VD cx = B2x - p.Sx, cy = B2y - p.Sy, cz = B2z - p.Sz;
+  const VD ux = bx - ax, uy = by - ay, uz = bz - az, vx = cx - ax, vy = cy - ay, vz = cz - az;
+  const VD tx = uy * vz - vy * uz, ty = uz * vx - vz * ux, tz = ux * vy - vx * uy;
+  const VD det = (tx * ax + ty * ay) + tz * az;
+  const VL flat = !(det != 0.0);
+  const VD sg = det > 0.0 ? one : -one;
+  // MakeAffine: D0 = -S (finite) or (0, 0, -1) (directional); Du = (W, 0, 0), Dv = (0, H, 0)
+  const double D0x = p.dir ? 0.0 : -p.Sx, D0y = p.dir ? 0.0 : -p.Sy, D0z = p.dir ? -1.0 : -p.Sz;
+  const double h = 0.5 * p.invK - 0.5;
+  VD A[4], Bc[4], C[4];
+  auto affine = [&](VD ex, VD ey, VD ez, VD constant, int m) {
+    const VD du = (ex * p.W + ey * 0.0) + ez * 0.0, dv = (ex * 0.0 + ey * p.H) + ez * 0.0;
+    A[m] = (constant + ((ex * D0x + ey * D0y) + ez * D0z)) + h * (du + dv);
+    Bc[m] = du * p.invK;
+    C[m] = dv * p.invK;
+  };
+  // edges: sg (a x b), sg (b x c), sg (c x a) (Cross3)
+  affine(sg * (ay * bz - by * az), sg * (az * bx - bz * ax), sg * (ax * by - bx * ay), zero, 0);
+  affine(sg * (by * cz - cy * bz), sg * (bz * cx - cz * bx), sg * (bx * cy - cx * by), zero, 1);
+  affine(sg * (cy * az - ay * cz), sg * (cz * ax - az * cx), sg * (cx * ay - ax * cy), zero, 2);
+  affine(sg * tx, sg * ty, sg * tz, sg * -det, 3);
+  const VL cross = ~projected & ((VL{} + (p.dir ? 0 : 1)) != 0);
+  // kind 4: at most kPointRows x kPointCols samples in the box; their bits,
+  // per sample (as many rows and columns as the largest such box needs)
+  const VD i0 = GatherF(box[0], gids), i1 = GatherF(box[1], gids), j0 = GatherF(box[2], gids), j1 = GatherF(box[3], gids);
+  const VL small = projected & (i1 - i0 < double(kPointCols)) & (j1 - j0 < double(kPointRows));
+  int rowsNeeded = 0, colsNeeded = 0;
+  for (int q = 0; q < count; ++q)
+  {
+    if (small[q])
+    {
+      rowsNeeded = std::max(rowsNeeded, static_cast<int>(j1[q] - j0[q]) + 1);
+      colsNeeded = std::max(colsNeeded, static_cast<int>(i1[q] - i0[q]) + 1);
+    }
+  }
+  for (int r = 0; r < rowsNeeded; ++r)
+  {
+    const VD jv = j0 + double(r);
+    VD ej[3];
+    for (int m = 0; m < 3; ++m)
+    {
+      ej[m] = A[m] + C[m] * jv;
+    }
+    VU rb = VU{} + 0u;
+    for (int c = 0; c < colsNeeded; ++c)
+    {
+      const VD iv = i0 + double(c);
+      const VL in = (jv <= j1) & (iv <= i1) & (ej[0] + Bc[0] * iv >= 0.0) & (ej[1] + Bc[1] * iv >= 0.0) &
+        (ej[2] + Bc[2] * iv >= 0.0);
+      const VU bit = (VU{} + 1u) << (VU)__builtin_convertvector(iv, VJ);
+      rb |= __builtin_convertvector(in, VJ) != 0 ? bit : VU{} + 0u;
+    }
+    __builtin_memcpy(b.bits[r], &rb, sizeof(rb));
+  }
+  for (int m = 0; m < 4; ++m)
+  {
+    __builtin_memcpy(b.A[m], &A[m], sizeof(VD));
+    __builtin_memcpy(b.B[m], &Bc[m], sizeof(VD));
+    __builtin_memcpy(b.C[m], &C[m], sizeof(VD));
+  }
+  for (int q = 0; q < count; ++q)
+  {
+    int kind;
+    if (skipClosed[q] || skipNear[q] || flat[q])
+    {
+      kind = 0;
+    }
+    else if (near[q])
+    {
+      kind = 2;
+    }
+    else if (small[q])
+    {
+      kind = 4;
+    }
+    else
+    {
+      kind = 1;
+    }
+    b.kind[q] = kind;
+    b.nf[q] = cross[q] ? 4 : 3;
+    b.j0[q] = static_cast<int>(j0[q]);
+    b.j1[q] = static_cast<int>(j1[q]);
+  }
+}
+
+static inline const KernelTable& Table(const char* name)
+{
+  static const KernelTable t = { name, kRowLanes, RejectPairs, ShaftFilter, SetupBatch, RowsSpan };
+  return t;
+}
+}
+}
+}
+#endif

@@ -1,0 +1,336 @@
+// GEARS step 4 [Wang et al. 2014, §4.2] for one pixel sample: its group's
+// list through the rejection kernel a chunk at a time, the survivors through
+// the exact raster (SetupBatch, then spans, per-sample bits, the start rule
+// or the 3-D path), nearest the receivers first, until the mask is full; and
+// the inner occluders' pre-pass of a cell.
+#include "ssGearsInternal.h"
+
+#include <numeric>
+
+namespace ss
+{
+namespace gears
+{
+namespace
+{
+constexpr std::size_t kChunk = 512; // list entries per rejection call: a full mask stops early
+}
+
+void PixelStart(const CellJob& job, CellScratch& w, std::uint32_t sq)
+{
+  PixelState& ps = w.state[sq];
+  std::fill(std::begin(ps.rows), std::end(ps.rows), 0u);
+  std::fill(std::begin(ps.below), std::end(ps.below), 0u);
+  const glm::dvec3& N = w.N[sq];
+  if (N != glm::dvec3(0.0))
+  {
+    const LightSpace lf = MakeLightSpace(w.S[sq], job.W, job.H, job.dir, job.k);
+    BelowHorizonRows(lf.s, N, ps.below);
+    std::copy(ps.below, ps.below + job.k, ps.rows);
+  }
+  ps.haveTrans = false;
+  ps.full = Umbra(ps.rows, job.k, job.fullRow);
+}
+
+bool UmbraBox(const CellJob& job, const glm::dvec3* from, int count, const double* box)
+{
+  // A point on the segment from a to l at parameter t is a convex
+  // combination of the points at t of the segments between the corners of
+  // their convex sets (the light's samples lie within its corners), so if
+  // those all lie in the box for one t, every segment passes through it.
+  const LightFrame& L = *job.L;
+  const bool dir = L.type == LightType::Directional;
+  const double T = dir ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
+  double t0 = 0.0, t1 = dir ? std::numeric_limits<double>::max() : 1.0;
+  for (int q = 0; q < 4; ++q)
+  {
+    const double a = (q & 1) ? 0.5 : -0.5, b = (q & 2) ? 0.5 : -0.5;
+    const glm::dvec3 l = dir ? (-L.n + a * T * L.u + b * T * L.v) : (L.center + a * L.width * L.u + b * L.height * L.v);
+    for (int p = 0; p < count; ++p)
+    {
+      const glm::dvec3 d = dir ? l : l - from[p];
+      for (int ax = 0; ax < 3; ++ax)
+      {
+        // slab of axis ax: t with box[ax] <= from + t d <= box[3 + ax]
+        const double o = from[p][ax];
+        if (d[ax] == 0.0)
+        {
+          if (o <= box[ax] || o >= box[3 + ax])
+          {
+            return false;
+          }
+          continue;
+        }
+        double ta = (box[ax] - o) / d[ax], tb = (box[3 + ax] - o) / d[ax];
+        if (ta > tb)
+        {
+          std::swap(ta, tb);
+        }
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+        if (!(t0 < t1))
+        {
+          return false;
+        }
+      }
+    }
+  }
+  return t0 > 0.0;
+}
+
+void PixelFinish(const CellJob& job, CellScratch& w, std::uint32_t sq)
+{
+  const PixelState& ps = w.state[sq];
+  const int k = job.k;
+  double visible = 0.0;
+  for (int j = 0; j < k; ++j)
+  {
+    const std::uint32_t lit = ~ps.rows[j] & job.fullRow;
+    if (!ps.haveTrans)
+    {
+      visible += __builtin_popcount(lit);
+    }
+    else
+    {
+      for (std::uint32_t bits = lit; bits; bits &= bits - 1)
+      {
+        visible += w.trans[sq][static_cast<std::size_t>(j) * k + __builtin_ctz(bits)];
+      }
+    }
+  }
+  const std::size_t pixel = w.pixel[sq];
+  job.V[pixel] = static_cast<float>(visible / (static_cast<double>(k) * k));
+  if (job.masks)
+  {
+    std::copy(ps.rows, ps.rows + 32, job.masks[pixel].begin());
+  }
+}
+
+void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv, std::uint32_t sq)
+{
+  const SolverData& D = *job.D;
+  const GearsOptions& opt = *job.opt;
+  const int k = job.k;
+  const bool necessaryMode = opt.countNecessary;
+  CellCounters& cc = w.counters;
+  PixelState& ps = w.state[sq];
+  std::uint32_t* rows = ps.rows;
+  const std::uint32_t* below = ps.below;
+  const glm::dvec3 S = w.S[sq], N = w.N[sq];
+  const LightSpace lf = MakeLightSpace(S, job.W, job.H, job.dir, k);
+  const bool project = k > 1 && job.W > 0.0 && job.H > 0.0;
+  const double counts = gv.counting ? 1.0 : 0.0;
+  cc.listed += counts * static_cast<double>(gv.ng);
+  if (ps.full && !necessaryMode)
+  {
+    return; // every light sample hidden already (horizon, occluders)
+  }
+  PixelParams pp;
+  pp.sx = static_cast<float>(S.x - gv.o.x);
+  pp.sy = static_cast<float>(S.y - gv.o.y);
+  pp.sz = static_cast<float>(S.z - gv.o.z);
+  pp.cz = static_cast<float>(gv.o.z);
+  pp.Sx = static_cast<float>(S.x);
+  pp.Sy = static_cast<float>(S.y);
+  pp.Sz = static_cast<float>(S.z);
+  const double nl = glm::length(N);
+  const glm::dvec3 un = nl > 0.0 ? N / nl : glm::dvec3(0.0);
+  pp.px = static_cast<float>(un.x);
+  pp.py = static_cast<float>(un.y);
+  pp.pz = static_cast<float>(un.z);
+  pp.kx = project ? static_cast<float>(k / job.W) : 0.0f;
+  pp.ky = project ? static_cast<float>(k / job.H) : 0.0f;
+  pp.off = static_cast<float>(0.5 * k - 0.5);
+  pp.last = static_cast<float>(k - 1);
+  pp.m = static_cast<float>(job.ft->margin);
+  pp.dir = job.dir ? 1 : 0;
+  pp.project = project ? 1 : 0;
+  ExactPixel ep;
+  ep.Sx = S.x;
+  ep.Sy = S.y;
+  ep.Sz = S.z;
+  ep.eps = job.eps;
+  ep.W = job.W;
+  ep.H = job.H;
+  ep.invK = lf.s.invK;
+  ep.k = k;
+  ep.dir = job.dir;
+  ep.project = project;
+  ExactBatch& b = w.batch;
+  ExactColumns cols;
+  for (int col = 0; col < 16; ++col)
+  {
+    cols.c[col] = w.d[col].data();
+  }
+  const std::size_t stride = gv.ng + kPad;
+  const float* boxCols[4] = { w.box.data(), w.box.data() + stride, w.box.data() + 2 * stride,
+    w.box.data() + 3 * stride };
+
+  // One candidate's exact bitmask into the rows, given what SetupBatch found.
+  auto draw = [&](std::uint32_t a, int kind, int lane) {
+    cc.rasterised += counts;
+    const float alpha = D.opacity[w.list[a]];
+    std::uint32_t tmp[40];
+    std::uint32_t* target = rows;
+    if (alpha < 1.0f || necessaryMode)
+    {
+      std::fill(tmp, tmp + 40, 0u);
+      target = tmp;
+    }
+    int j0 = 0, j1 = k - 1;
+    bool hit = false, fallback = false;
+    if (kind == 4)
+    {
+      j0 = b.j0[lane];
+      j1 = std::min(j0 + kPointRows - 1, b.j1[lane]);
+      std::uint32_t any = 0;
+      for (int r = 0; r <= j1 - j0; ++r)
+      {
+        target[j0 + r] |= b.bits[r][lane];
+        any |= b.bits[r][lane];
+      }
+      hit = any != 0u;
+    }
+    else if (kind == 1)
+    {
+      j0 = b.j0[lane];
+      j1 = b.j1[lane];
+      hit = K.spans(b, lane, k, target);
+    }
+    else
+    {
+      const glm::dvec3 B0(w.d[0][a], w.d[1][a], w.d[2][a]), B1(w.d[3][a], w.d[4][a], w.d[5][a]),
+        B2(w.d[6][a], w.d[7][a], w.d[8][a]);
+      // the start rule tests only samples not known to be hidden
+      hit = kind == 2 ? RasterizeNearTriangle(lf, B0, B1, B2, job.eps, target, target == rows ? rows : below)
+                      : RasterizeTriangle(lf, S, B0, B1, B2, job.lut, target, j0, j1, fallback);
+    }
+    cc.lutFallbacks += fallback ? 1 : 0;
+    if (hit && necessaryMode)
+    {
+      bool above = false;
+      for (int j = j0; j <= j1; ++j)
+      {
+        above = above || (tmp[j] & ~below[j]) != 0u;
+      }
+      cc.necessary += above ? 1.0 : 0.0;
+    }
+    if (alpha < 1.0f && hit)
+    {
+      std::vector<float>& trans = w.trans[sq];
+      if (!ps.haveTrans)
+      {
+        trans.assign(static_cast<std::size_t>(k) * k, 1.0f);
+        ps.haveTrans = true;
+      }
+      for (int j = j0; j <= j1; ++j)
+      {
+        for (std::uint32_t bits = tmp[j]; bits; bits &= bits - 1)
+        {
+          trans[static_cast<std::size_t>(j) * k + __builtin_ctz(bits)] *= (1.0f - alpha);
+        }
+      }
+    }
+    else if (hit)
+    {
+      if (target == tmp)
+      {
+        for (int j = j0; j <= j1; ++j)
+        {
+          rows[j] |= tmp[j];
+        }
+      }
+      ps.full = Umbra(rows, k, job.fullRow);
+    }
+  };
+  // A candidate whose box of samples is hidden already changes no bit:
+  // skipped (occlusion at the mask; not when counting what is necessary).
+  auto covered = [&](std::uint32_t gi) {
+    const int i0 = static_cast<int>(boxCols[0][gi]), i1 = static_cast<int>(boxCols[1][gi]);
+    const int j0 = static_cast<int>(boxCols[2][gi]), j1 = static_cast<int>(boxCols[3][gi]);
+    const std::uint32_t bm = RowBits(i0, i1);
+    int j = j0;
+    while (j <= j1 && (rows[j] & bm) == bm)
+    {
+      ++j;
+    }
+    return j > j1;
+  };
+
+  for (std::size_t c0 = 0; c0 < gv.ng; c0 += kChunk)
+  {
+    if (ps.full && !necessaryMode)
+    {
+      break; // umbra: no further triangle changes V
+    }
+    // --- rejection of a chunk (indices into the group, boxes at the same)
+    const std::size_t cn = std::min(kChunk, gv.ng - c0);
+    std::size_t ncand = cn;
+    std::uint32_t* cand = w.cand.data();
+    if (opt.pairRejection)
+    {
+      GroupArrays ga = gv.ga;
+      const float** p[15] = { &ga.x0, &ga.y0, &ga.z0, &ga.x1, &ga.y1, &ga.z1, &ga.x2, &ga.y2, &ga.z2, &ga.nx, &ga.ny,
+        &ga.nz, &ga.nd, &ga.front, &ga.back };
+      for (auto* q : p)
+      {
+        *q += c0;
+      }
+      ga.n = cn;
+      ncand = K.reject(ga, pp, w.keep.data(), cand, w.box.data() + c0, stride);
+      for (std::size_t q = 0; q < ncand; ++q)
+      {
+        cand[q] += static_cast<std::uint32_t>(c0);
+      }
+    }
+    else
+    {
+      std::iota(cand, cand + cn, static_cast<std::uint32_t>(c0));
+      for (std::size_t a = c0; a < c0 + cn; ++a)
+      {
+        w.box[a] = 0.0f;
+        w.box[stride + a] = static_cast<float>(k - 1);
+        w.box[2 * stride + a] = 0.0f;
+        w.box[3 * stride + a] = static_cast<float>(k - 1);
+      }
+    }
+    cc.total += counts * static_cast<double>(ncand);
+    // --- the exact raster, K.lanes candidates at a time
+    std::size_t next = 0;
+    while (next < ncand && !(ps.full && !necessaryMode))
+    {
+      std::uint32_t ids[8], gids[8];
+      int count = 0;
+      while (count < K.lanes && next < ncand)
+      {
+        const std::uint32_t gi = cand[next++];
+        if (!necessaryMode && covered(gi))
+        {
+          ++cc.coveredSkips;
+          continue;
+        }
+        gids[count++] = gi;
+      }
+      if (count == 0)
+      {
+        break;
+      }
+      for (int ln = 0; ln < K.lanes; ++ln)
+      {
+        gids[ln] = gids[ln < count ? ln : 0];
+        ids[ln] = gv.entry ? gv.entry[gids[ln]] : gids[ln];
+      }
+      K.setup(b, cols, ids, boxCols, gids, ep, count);
+      for (int ln = 0; ln < count && !(ps.full && !necessaryMode); ++ln)
+      {
+        const int kind = b.kind[ln];
+        if (kind != 0)
+        {
+          draw(ids[ln], job.lut && (kind == 1 || kind == 4) ? 3 : kind, ln);
+        }
+      }
+    }
+  }
+}
+}
+}

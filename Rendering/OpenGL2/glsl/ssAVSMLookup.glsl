@@ -1,0 +1,292 @@
+// Reading an AVSM (ssAVSMMaps) and VPCSS's filter on it (pasted where a
+// shader says //SS::AVSMLookup, after //SS::Common, whose views, receiver
+// plane and light footprint it uses). The formulas are Rendering/Core's
+// (ssAVSM.cxx Evaluate/EvaluateFront, ssVPCSS.cxx), unit-tested there.
+// The including shader defines vec4 avsmFetch(ivec3 texelAndLayer, int level)
+// (the AVSM array's texel).
+uniform float slopeBias;
+uniform int avsmNodes;        // N: a multiple of 4, at most 16
+uniform int avsmColored;      // 1: three transmittance channels
+uniform int avsmLevels;       // levels of the mean-function pyramid (1: none)
+uniform int avsmFirstLayer;   // the light's first layer
+uniform int avsmLayersPerView;
+uniform int avsmFilterQuads;  // VPCSS: texel quads per axis of the filter, at most
+
+#define AVSM_MAXN 16
+
+// The nodes of the texel loaded last (globals: GLSL copies array arguments).
+float avD[AVSM_MAXN];
+vec3 avT[AVSM_MAXN];
+int avN = 0;
+
+// Loads texel q of `view` at `level` into avD/avT (count returned); outside
+// the map there is nothing (0 nodes: transmittance 1).
+int avsmLoad(int view, ivec2 q, int level)
+{
+  int size = max(1, int(mapSize) >> level);
+  avN = 0;
+  if (q.x < 0 || q.y < 0 || q.x >= size || q.y >= size)
+  {
+    return 0;
+  }
+  int nb = avsmNodes / 4;
+  int L = avsmFirstLayer + view * avsmLayersPerView;
+  int n = 0;
+  for (int b = 0; b < nb; ++b)
+  {
+    vec4 dv = avsmFetch(ivec3(q, L + b), level);
+    vec4 t0 = avsmFetch(ivec3(q, L + nb + b), level);
+    vec4 t1 = t0, t2 = t0;
+    if (avsmColored != 0)
+    {
+      t1 = avsmFetch(ivec3(q, L + 2 * nb + b), level);
+      t2 = avsmFetch(ivec3(q, L + 3 * nb + b), level);
+    }
+    for (int j = 0; j < 4; ++j)
+    {
+      if (dv[j] < 1.0e38)
+      {
+        avD[n] = dv[j];
+        avT[n] = vec3(t0[j], t1[j], t2[j]);
+        ++n;
+      }
+    }
+  }
+  avN = n;
+  return n;
+}
+
+// T(z) of the loaded texel (front: just in front of z, a drop at z left out)
+vec3 avsmEval(float z, bool front)
+{
+  int i = -1;
+  for (int k = 0; k < avN; ++k)
+  {
+    i = (front ? avD[k] < z : avD[k] <= z) ? k : i;
+  }
+  if (i < 0)
+  {
+    return vec3(1.0);
+  }
+  if (i == avN - 1)
+  {
+    return avT[i];
+  }
+  float s = (z - avD[i]) / (avD[i + 1] - avD[i]);
+  return avT[i] + (avT[i + 1] - avT[i]) * s;
+}
+
+vec3 avsmTexel(int view, ivec2 q, int level, float z)
+{
+  avsmLoad(view, q, level);
+  return avsmEval(z, false);
+}
+
+// VPCSS eq. 6 (sign corrected: ss::ReplacementBlockerFraction)
+float avsmReplacementFraction(float a)
+{
+  if (!(a > 0.0))
+  {
+    return 0.5;
+  }
+  if (a >= 1.0)
+  {
+    return 0.0;
+  }
+  if (a < 1e-3)
+  {
+    return 0.5 - a / 8.0;
+  }
+  return log(1.0 - 0.5 * a) / log(1.0 - a);
+}
+
+// VPCSS eqs. 7-8 (ss::TransmittanceFunctionBlocker) on the loaded texel:
+// (sum Delta z_RB, sum Delta) of the blockers in front of zR, channels summed.
+vec2 avsmBlocker(float zR)
+{
+  vec2 acc = vec2(0.0);
+  vec3 prevT = vec3(1.0);
+  float prevD = (avN > 0) ? avD[0] : 0.0;
+  int channels = (avsmColored != 0) ? 3 : 1;
+  for (int i = 0; i < avN; ++i)
+  {
+    float z0 = prevD;
+    if (!(z0 < zR))
+    {
+      break;
+    }
+    float zE = avD[i];
+    vec3 tc = avT[i];
+    if (!(zE < zR))
+    {
+      tc = avsmEval(zR, true);
+      zE = zR;
+    }
+    for (int c = 0; c < channels; ++c)
+    {
+      float before = prevT[c], after = tc[c];
+      float delta = before - after;
+      if (before > 0.0 && delta > 0.0)
+      {
+        float zRB = z0 + (zE - z0) * avsmReplacementFraction(1.0 - after / before);
+        acc += vec2(delta * zRB, delta);
+      }
+    }
+    prevT = tc;
+    prevD = avD[i];
+  }
+  return acc;
+}
+
+// VPCSS §4, eq. 13: the blocker depth over the search window (the light's
+// footprint on the plane of the nearest caster, as PCSS's blocker search),
+// read from the pyramid level whose cells are about 2 * search / samples
+// texels wide so that no blocker between samples is missed; each cell
+// weighted by its overlap with the window and by its Delta (1 - T at the
+// receiver's nearest depth over the cell). -1: nothing in the window has
+// transmittance < 1 in front of the receiver (the paper's early exit).
+float avsmBlockerSearch(View w, float bias)
+{
+  vec2 searchHalf = lightFilterHalf(w.p.z, min(searchDepth, w.p.z));
+  vec2 searchTex = min(searchHalf * w.texelPerUnit, vec2(mapSize * 0.25));
+  searchTex = max(searchTex, vec2(1.0));
+  float maxDelta = max(searchTex.x, searchTex.y) * w.texelWorld * 10.0;
+  float cellsWide = 2.0 * max(searchTex.x, searchTex.y) / float(searchSamples);
+  int level = clamp(int(ceil(log2(max(cellsWide, 1.0)))), 0, avsmLevels - 1);
+  float cell = exp2(float(level));
+  vec2 s0 = w.T - searchTex;
+  vec2 s1 = w.T + searchTex;
+  ivec2 c0 = ivec2(floor(s0 / cell));
+  ivec2 c1 = ivec2(floor(s1 / cell));
+  float sum = 0.0, weight = 0.0;
+  for (int cy = c0.y; cy <= c1.y; ++cy)
+  {
+    float oy = max(0.0, min((float(cy) + 1.0) * cell, s1.y) - max(float(cy) * cell, s0.y));
+    for (int cx = c0.x; cx <= c1.x; ++cx)
+    {
+      float ox = max(0.0, min((float(cx) + 1.0) * cell, s1.x) - max(float(cx) * cell, s0.x));
+      if (ox * oy <= 0.0)
+      {
+        continue;
+      }
+      if (avsmLoad(w.index, ivec2(cx, cy), level) == 0)
+      {
+        continue;
+      }
+      float zr = planeRange(w, vec2(cx, cy) * cell, cell, maxDelta).x;
+      vec2 b = avsmBlocker(zr - bias * cell);
+      sum += ox * oy * b.x;
+      weight += ox * oy * b.y;
+    }
+  }
+  return (weight > 0.0) ? sum / weight : -1.0;
+}
+
+// Mean transmittance of quad q of 2^level texels at the receiver: the
+// pyramid's mean function at the receiver plane's depth over the quad's
+// centre; where that function changes between the plane's nearest and
+// farthest depth over the quad, the four children at theirs (as the
+// coverage filter of PCSS refines undecided quads, ssQuadLit.glsl).
+vec3 avsmQuad(View w, int level, ivec2 q, float bias, float maxDelta)
+{
+  float s = exp2(float(level));
+  if (avsmLoad(w.index, q, level) == 0)
+  {
+    return vec3(1.0);
+  }
+  if (level == 0)
+  {
+    float z = planeDepth(w, texelToProjected(w, vec2(q) + 0.5), maxDelta) - bias;
+    return avsmEval(z, false);
+  }
+  vec2 zr = planeRange(w, vec2(q) * s, s, maxDelta) - bias * s;
+  vec3 near = avsmEval(zr.x, false);
+  vec3 far = avsmEval(zr.y, false);
+  if (all(lessThan(abs(near - far), vec3(1e-3))))
+  {
+    return 0.5 * (near + far);
+  }
+  float h = 0.5 * s;
+  vec3 sum = vec3(0.0);
+  for (int c = 0; c < 4; ++c)
+  {
+    ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
+    float z = planeDepth(w, texelToProjected(w, vec2(child) * h + 0.5 * h), maxDelta) - bias * h;
+    sum += avsmTexel(w.index, child, level - 1, z);
+  }
+  return 0.25 * sum;
+}
+
+// The filtered transmittance over the kernel box [k0, k1] (texel units):
+// each quad of the chosen level contributes its overlap with the box times
+// its mean transmittance (PVSM §4.1 eq. 2's texel-as-quad integral, which
+// PCSS uses, with transmittance for the lit fraction): no sample lattice,
+// no banding.
+vec3 avsmCoverage(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
+{
+  float area = (k1.x - k0.x) * (k1.y - k0.y);
+  if (area <= 0.0)
+  {
+    return avsmQuad(w, 0, ivec2(floor(0.5 * (k0 + k1))), bias, maxDelta);
+  }
+  float extent = max(k1.x - k0.x, k1.y - k0.y);
+  int level = 0;
+  while (extent / exp2(float(level)) > float(avsmFilterQuads) && level < avsmLevels - 1)
+  {
+    ++level;
+  }
+  float s = exp2(float(level));
+  ivec2 q0 = ivec2(floor(k0 / s));
+  ivec2 q1 = ivec2(floor(k1 / s));
+  vec3 sum = vec3(0.0);
+  for (int qy = q0.y; qy <= q1.y; ++qy)
+  {
+    float oy = max(0.0, min(float(qy) * s + s, k1.y) - max(float(qy) * s, k0.y));
+    if (oy <= 0.0)
+    {
+      continue;
+    }
+    for (int qx = q0.x; qx <= q1.x; ++qx)
+    {
+      float ox = max(0.0, min(float(qx) * s + s, k1.x) - max(float(qx) * s, k0.x));
+      if (ox <= 0.0)
+      {
+        continue;
+      }
+      sum += ox * oy * avsmQuad(w, level, ivec2(qx, qy), bias, maxDelta);
+    }
+  }
+  return clamp(sum / area, 0.0, 1.0);
+}
+
+// Transmittance of the light at receiver point d (from the light's centre)
+// with normal nrm: hard AVSM (one texel, `hard` != 0) or VPCSS (blocker
+// search, eq. 14 penumbra, filtered transmittance); RGB. The light above
+// the tangent plane and the views are the caller's.
+vec3 avsmVisibility(View w, vec3 nrm, vec3 d, int hard)
+{
+  vec3 toLight = (orthographic != 0) ? -viewN[w.index] : normalize(-d);
+  float cosTheta = dot(normalize(nrm), toLight);
+  float tanTheta = (cosTheta > 1e-4) ? min(sqrt(max(0.0, 1.0 - cosTheta * cosTheta)) / cosTheta, 10.0) : 10.0;
+  if (dot(nrm, nrm) < 0.5)
+  {
+    tanTheta = 0.0; // no normal: no slope
+  }
+  if (hard != 0)
+  {
+    float slopeScaled = w.texelWorld * (constantBias + slopeBias * tanTheta);
+    return avsmTexel(w.index, ivec2(floor(w.T)), 0, w.p.z - slopeScaled);
+  }
+  float bias = w.texelWorld * constantBias;
+  float zAvg = avsmBlockerSearch(w, bias);
+  if (zAvg < 0.0)
+  {
+    return vec3(1.0); // early exit: no texel of the window blocks anything
+  }
+  // eq. 14, penumbra by parallel planes: (z_R - z_avg) / z_avg * w_L on the
+  // receiver, i.e. the light's half size times (z_R - z_avg) / (z_R z_avg)
+  // on the unit plane (PVSM §4 eq. 1, as PCSS)
+  vec2 kTex = max(lightFilterHalf(w.p.z, zAvg) * w.texelPerUnit, vec2(0.5));
+  float md = max(kTex.x, kTex.y) * w.texelWorld * 10.0;
+  return avsmCoverage(w, w.T - kTex, w.T + kTex, bias, md);
+}

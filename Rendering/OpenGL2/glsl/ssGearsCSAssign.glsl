@@ -1,0 +1,443 @@
+// GEARS GL, steps 2-3 (after ssGearsCSCommon.glsl): pixel samples, grid,
+// shadow-volume boxes with P_far, prefix sums, pairs, the sort on the cell.
+
+#if defined(K_START) || defined(K_PROJECT)
+shared uint sRed[56];
+bool IsMinSlot(uint q)
+{
+  return q < 48u ? q % 8u < 3u : q < 50u;
+}
+void SharedInit()
+{
+  for (uint q = gl_LocalInvocationID.x; q < 56u; q += WG)
+  {
+    sRed[q] = IsMinSlot(q) ? 0xFFFFFFFFu : ((q < 48u && q % 8u == 6u) ? Ord(0.0) : 0u);
+  }
+  barrier();
+}
+void SharedFlush()
+{
+  barrier();
+  for (uint q = gl_LocalInvocationID.x; q < 56u; q += WG)
+  {
+    if (IsMinSlot(q))
+    {
+      atomicMin(red[q], sRed[q]);
+    }
+    else
+    {
+      atomicMax(red[q], sRed[q]);
+    }
+  }
+}
+#endif
+
+#ifdef K_START
+// Step 2: pixel samples with the reference's rules (start offset along the
+// normal, one-sided rect light, point light's cube faces); per face the 3-D
+// AABB of the starts and the farthest depth, rounded outwards.
+uniform dvec3 uRel, uLn;   // frame origin - caster centre; light normal
+uniform double uEps;
+uniform int uType;          // 0 rect, 1 directional, 2 point
+uniform uint uFullRow;
+void main()
+{
+  SharedInit();
+  uint i = GID();
+  if (i < uN)
+  {
+    pixFace[i] = -1;
+    vec3 pf = vec3(inPos[3 * i], inPos[3 * i + 1], inPos[3 * i + 2]);
+    if (FiniteF(pf.x) && FiniteF(pf.y) && FiniteF(pf.z))
+    {
+      precise dvec3 p = uRel + dvec3(pf);
+      dvec3 N = dvec3(inNrm[3 * i], inNrm[3 * i + 1], inNrm[3 * i + 2]);
+      precise double l = sqrt(Dot(N, N));
+      precise dvec3 Nn = N / l;
+      N = (l > 0.0 && FiniteD(l)) ? Nn : dvec3(0.0);
+      if (uType == 0 && Dot(Sub(p, uLc), uLn) <= 0.0)
+      {
+        vis[i] = 0.0; // behind the one-sided light: every sample hidden
+        for (int j = 0; j < 32; ++j)
+        {
+          masks[32 * i + j] = uFullRow;
+        }
+      }
+      else
+      {
+        precise dvec3 S = p + N * uEps;
+        int face = 0;
+        dvec3 n = uLn;
+        bool ok = true;
+        if (uType == 2)
+        {
+          dvec3 d = S - uLc;
+          dvec3 a = abs(d);
+          int axis = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
+          if (!(a[axis] > 0.0))
+          {
+            vis[i] = 1.0; // at the light itself
+            ok = false;
+          }
+          face = 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+          n = dvec3(0.0);
+          n[axis] = (face % 2) != 0 ? -1.0 : 1.0;
+        }
+        if (ok)
+        {
+          pixFace[i] = face;
+          smp[6 * i] = S.x;
+          smp[6 * i + 1] = S.y;
+          smp[6 * i + 2] = S.z;
+          smp[6 * i + 3] = N.x;
+          smp[6 * i + 4] = N.y;
+          smp[6 * i + 5] = N.z;
+          uint b = uint(8 * face);
+          for (int c = 0; c < 3; ++c)
+          {
+            atomicMin(sRed[b + c], Ord(FloatDown(S[c])));
+            atomicMax(sRed[b + 3 + c], Ord(FloatUp(S[c])));
+          }
+          atomicMax(sRed[b + 6], Ord(FloatUp(dot(S - uLc, n))));
+        }
+      }
+    }
+  }
+  SharedFlush();
+}
+#endif
+
+#ifdef K_PROJECT
+// 3.2: the 2-D AABB of the face's projected samples (rounded outwards).
+void main()
+{
+  SharedInit();
+  uint i = GID();
+  if (i < uN && pixFace[i] == uFace)
+  {
+    dvec2 q = Project(Start(i));
+    atomicMin(sRed[48], Ord(FloatDown(q.x)));
+    atomicMin(sRed[49], Ord(FloatDown(q.y)));
+    atomicMax(sRed[50], Ord(FloatUp(q.x)));
+    atomicMax(sRed[51], Ord(FloatUp(q.y)));
+  }
+  SharedFlush();
+}
+#endif
+
+#ifdef K_CELL
+// 3.2: samples to cells; per cell the count and the farthest depth, rounded up.
+void main()
+{
+  uint i = GID();
+  if (i < uN && pixFace[i] == uFace)
+  {
+    dvec3 S = Start(i);
+    uint c = CellOf(ToGrid(Project(S)));
+    pixCell[i] = c;
+    atomicAdd(cellCount[c], 1u);
+    atomicMax(cellDepth[c], Ord(NextUp(float(Depth(S)))));
+  }
+}
+#endif
+
+#ifdef K_SAT_ROWS
+// summed-area table of non-empty cells: prefix along x per row, then y
+void main()
+{
+  uint y = GID();
+  if (y < uint(uG))
+  {
+    uint run = 0u;
+    uint G1 = uint(uG) + 1u;
+    for (uint x = 0u; x < uint(uG); ++x)
+    {
+      run += cellCount[y * uint(uG) + x] > 0u ? 1u : 0u;
+      sat[(y + 1u) * G1 + x + 1u] = run;
+    }
+  }
+}
+#endif
+
+#ifdef K_SAT_COLS
+void main()
+{
+  uint x = GID();
+  if (x < uint(uG))
+  {
+    uint G1 = uint(uG) + 1u;
+    for (uint y = 1u; y < uint(uG); ++y)
+    {
+      sat[(y + 1u) * G1 + x + 1u] += sat[y * G1 + x + 1u];
+    }
+  }
+}
+#endif
+
+// 2-D range-maximum table of the cells' far depths: [ly][lx][y][x]
+uniform int uL, uLx, uLy;
+uint RmqIndex(int lx, int ly, int x, int y)
+{
+  return uint(((ly * uL + lx) * uG + y) * uG + x);
+}
+
+#ifdef K_RMQ
+void main()
+{
+  uint c = GID();
+  if (c < uint(uG * uG))
+  {
+    int x = int(c) % uG, y = int(c) / uG;
+    if (uLx == 0 && uLy == 0)
+    {
+      rmq[RmqIndex(0, 0, x, y)] = Unord(cellDepth[c]);
+    }
+    else if (x + (1 << uLx) <= uG && y + (1 << uLy) <= uG)
+    {
+      rmq[RmqIndex(uLx, uLy, x, y)] = uLx > 0
+        ? max(rmq[RmqIndex(uLx - 1, uLy, x, y)], rmq[RmqIndex(uLx - 1, uLy, x + (1 << (uLx - 1)), y)])
+        : max(rmq[RmqIndex(uLx, uLy - 1, x, y)], rmq[RmqIndex(uLx, uLy - 1, x, y + (1 << (uLy - 1)))]);
+    }
+  }
+}
+#endif
+
+#ifdef K_PASS1
+// 3.3 pass 1: per triangle the 2-D AABB of its 15-point shadow volume,
+// extruded to the farthest sample and retracted to P_far of the cells it
+// touches [§3.1, Fig. 5]; cellsN = its non-empty cells (summed-area table).
+uniform double uMaxDepth, uMinDepth;
+uniform int uCorners, uRetract;
+uniform dvec3 uCorner[4], uAway[4];
+int Log2(int n)
+{
+  int l = 0;
+  while ((2 << l) <= n)
+  {
+    ++l;
+  }
+  return l;
+}
+float RangeMax(ivec4 b)
+{
+  int lx = Log2(b.z - b.x + 1), ly = Log2(b.w - b.y + 1);
+  int xb = b.z - (1 << lx) + 1, yb = b.w - (1 << ly) + 1;
+  return max(max(rmq[RmqIndex(lx, ly, b.x, b.y)], rmq[RmqIndex(lx, ly, xb, b.y)]),
+    max(rmq[RmqIndex(lx, ly, b.x, yb)], rmq[RmqIndex(lx, ly, xb, yb)]));
+}
+ivec4 VolumeBox(dvec3 B[3], double d[3], double far)
+{
+  double bx0 = 1e300LF, by0 = 1e300LF, bx1 = -1e300LF, by1 = -1e300LF;
+  for (int m = 0; m < 3; ++m)
+  {
+    for (int c = -1; c < uCorners; ++c)
+    {
+      if (c >= 0 && far <= d[m])
+      {
+        break; // this vertex is beyond every sample: no extrusion
+      }
+      dvec3 X = c < 0 ? B[m]
+                      : (uOrtho != 0 ? B[m] + (far - d[m]) * uAway[c]
+                                     : uCorner[c] + (far / d[m]) * (B[m] - uCorner[c]));
+      dvec2 g = ToGrid(Project(X));
+      bx0 = min(bx0, g.x);
+      bx1 = max(bx1, g.x);
+      by0 = min(by0, g.y);
+      by1 = max(by1, g.y);
+    }
+  }
+  double e = 1e-7LF * double(uG);
+  ivec4 r;
+  r.x = max(int(floor(max(bx0 - e, -1.0LF))), 0);
+  r.y = max(int(floor(max(by0 - e, -1.0LF))), 0);
+  r.z = min(int(floor(min(bx1 + e, double(uG)))), uG - 1);
+  r.w = min(int(floor(min(by1 + e, double(uG)))), uG - 1);
+  if (!(bx1 + e >= 0.0 && by1 + e >= 0.0 && bx0 - e < double(uG) && by0 - e < double(uG)))
+  {
+    r = ivec4(1, 1, 0, 0);
+  }
+  return r;
+}
+void main()
+{
+  uint t = GID();
+  if (t >= uN)
+  {
+    return;
+  }
+  ivec4 b = ivec4(1, 1, 0, 0);
+  dvec3 B[3];
+  double d[3];
+  bool behind = true, touching = false;
+  for (int m = 0; m < 3; ++m)
+  {
+    B[m] = dvec3(triV[9 * t + 3 * m], triV[9 * t + 3 * m + 1], triV[9 * t + 3 * m + 2]);
+    d[m] = Depth(B[m]);
+    behind = behind && d[m] <= 0.0;
+    touching = touching || d[m] <= uMinDepth;
+  }
+  double dMin = min(min(d[0], d[1]), d[2]);
+  if (uOrtho != 0)
+  {
+    touching = false;
+    behind = false;
+  }
+  if (behind || dMin >= uMaxDepth || closedFlag[t] == 2)
+  {
+    // behind the light plane, beyond every sample, or a closed piece's face
+    // turned away from the whole light: changes no bit
+  }
+  else if (touching)
+  {
+    b = ivec4(0, 0, uG - 1, uG - 1); // unbounded extrusion: every cell
+    atomicAdd(red[56], 1u);
+  }
+  else
+  {
+    b = VolumeBox(B, d, uMaxDepth);
+    if (uRetract != 0 && b.x <= b.z && b.y <= b.w)
+    {
+      double pfar = double(RangeMax(b));
+      if (!(pfar > dMin))
+      {
+        b = ivec4(1, 1, 0, 0);
+      }
+      else if (pfar < uMaxDepth)
+      {
+        b = VolumeBox(B, d, pfar);
+      }
+    }
+  }
+  box[t] = b;
+  uint n = 0u;
+  if (b.x <= b.z && b.y <= b.w)
+  {
+    uint G1 = uint(uG) + 1u;
+    n = sat[uint(b.w + 1) * G1 + uint(b.z + 1)] - sat[uint(b.y) * G1 + uint(b.z + 1)] -
+      sat[uint(b.w + 1) * G1 + uint(b.x)] + sat[uint(b.y) * G1 + uint(b.x)];
+  }
+  off[t] = n;
+}
+#endif
+
+#define SCAN_ELEMS 1024u
+#ifdef K_SCAN_BLOCK
+// Exclusive prefix sum, 4 WG = SCAN_ELEMS elements per workgroup (WG 256), block totals to
+// scanSums; an overflow of 32 bits raises red[57].
+shared uint sSum[WG];
+void main()
+{
+  uint t = gl_LocalInvocationID.x;
+  uint base = GroupID() * SCAN_ELEMS + 4u * t;
+  uint v[4];
+  uint run = 0u;
+  bool over = false;
+  for (int q = 0; q < 4; ++q)
+  {
+    uint x = base + uint(q) < uN ? scanData[base + uint(q)] : 0u;
+    v[q] = run;
+    over = over || run + x < run;
+    run += x;
+  }
+  sSum[t] = run;
+  barrier();
+  for (uint s = 1u; s < uint(WG); s <<= 1)
+  {
+    uint add = t >= s ? sSum[t - s] : 0u;
+    barrier();
+    over = over || sSum[t] + add < add;
+    sSum[t] += add;
+    barrier();
+  }
+  uint before = t > 0u ? sSum[t - 1u] : 0u;
+  for (int q = 0; q < 4; ++q)
+  {
+    if (base + uint(q) < uN)
+    {
+      over = over || v[q] + before < before;
+      scanData[base + uint(q)] = v[q] + before;
+    }
+  }
+  if (t == uint(WG) - 1u)
+  {
+    scanSums[GroupID()] = sSum[t];
+  }
+  if (over)
+  {
+    atomicOr(red[57], 1u);
+  }
+}
+#endif
+
+#ifdef K_SCAN_ADD
+void main()
+{
+  uint i = GID();
+  if (i < uN)
+  {
+    uint add = scanSums[i / SCAN_ELEMS];
+    uint x = scanData[i];
+    if (x + add < add)
+    {
+      atomicOr(red[57], 1u);
+    }
+    scanData[i] = x + add;
+  }
+}
+#endif
+
+#ifdef K_PASS2
+// 3.3 pass 2: the (triID, cellID) pairs at the prefix-sum offsets
+void main()
+{
+  uint t = GID();
+  if (t >= uN)
+  {
+    return;
+  }
+  uint o = off[t];
+  if (off[t + 1u] == o)
+  {
+    return;
+  }
+  ivec4 b = box[t];
+  for (int y = b.y; y <= b.w; ++y)
+  {
+    for (int x = b.x; x <= b.z; ++x)
+    {
+      uint c = uint(y * uG + x);
+      if (cellCount[c] != 0u)
+      {
+        pairTri[o] = t;
+        pairCell[o] = c;
+        ++o;
+      }
+    }
+  }
+}
+#endif
+
+#ifdef K_HIST
+void main()
+{
+  uint q = GID();
+  if (q < uN)
+  {
+    atomicAdd(cellBegin[pairCell[q]], 1u);
+  }
+}
+#endif
+
+#ifdef K_SCATTER
+void main()
+{
+  uint q = GID();
+  if (q < uN)
+  {
+    uint c = pairCell[q];
+    sorted[cellBegin[c] + atomicAdd(cursor[c], 1u)] = pairTri[q];
+  }
+}
+#endif
+
+

@@ -1,0 +1,486 @@
+// GEARS GL, step 4 (after ssGearsCSCommon.glsl and ssGearsCSAssign.glsl):
+// the per-pixel bitmasks and V.
+
+#ifdef K_TOLIGHT
+// per face, every triangle's vertices in the light's frame once (the CPU
+// backend does this once per cell), instead of once per pixel and triangle
+void main()
+{
+  uint t = GID();
+  if (t < uN)
+  {
+    for (int m = 0; m < 3; ++m)
+    {
+      dvec3 B = ToLight(dvec3(triV[9 * t + 3 * m], triV[9 * t + 3 * m + 1], triV[9 * t + 3 * m + 2]));
+      triL[9 * t + 3 * m] = B.x;
+      triL[9 * t + 3 * m + 1] = B.y;
+      triL[9 * t + 3 * m + 2] = B.z;
+    }
+  }
+}
+#endif
+
+#ifdef K_RASTER
+// Step 4 [§4.2]: per pixel sample the k x k bitmask of hidden light samples
+// from its cell's triangles, in the light's frame (origin L_c, axes u v n).
+// The arithmetic repeats Rendering/Core's exact raster (ssGearsRaster.cxx:
+// SetupTriangle, RasterSetup, RasterizeTriangle, RasterizeNearTriangle; the
+// closed-mesh rule and the start rule's test of ssGearsKernels.h SetupBatch)
+// operation for operation, with `precise`, so the bits are the CPU's.
+uniform int uK, uDir, uCountNecessary, uHand;
+uniform int uPre; // the triangles' light-frame vertices are in triL (K_TOLIGHT)
+uniform uint uFullRow;
+uniform double uW, uH, uEps, uInvK, uXlo, uXhi, uYlo, uYhi;
+
+struct Affine
+{
+  double A, B, C;
+};
+// the sample space seen from S: d(i, j) = D0 + su_i Du + sv_j Dv
+dvec3 gD0, gDu, gDv;
+Affine MakeAffine(dvec3 e, double constant)
+{
+  precise double du = Dot(e, gDu);
+  precise double dv = Dot(e, gDv);
+  precise double h = 0.5LF * uInvK - 0.5LF;
+  precise double A = (constant + Dot(e, gD0)) + h * (du + dv);
+  precise double B = du * uInvK;
+  precise double C = dv * uInvK;
+  return Affine(A, B, C);
+}
+uint RowBits(int lo, int hi)
+{
+  return (2u << uint(hi)) - (1u << uint(lo));
+}
+bool IntRange(double lo, double hi, bool strictLo, bool strictHi, out int il, out int ih)
+{
+  il = 0;
+  ih = -1;
+  if (!(lo <= hi))
+  {
+    return false;
+  }
+  double l = ceil(lo), h = floor(hi);
+  if (strictLo && l == lo)
+  {
+    l += 1.0;
+  }
+  if (strictHi && h == hi)
+  {
+    h -= 1.0;
+  }
+  l = max(l, 0.0LF);
+  h = min(h, double(uK - 1));
+  if (l > h)
+  {
+    return false;
+  }
+  il = int(l);
+  ih = int(h);
+  return true;
+}
+
+uint rows[32];
+uint tmpRows[32];
+uint coverRows[32];
+uint belowRows[32];
+int gFull; // rows of `rows` that are full (umbra when == k)
+void OrRow(int j, uint bits)
+{
+  bool was = rows[j] == uFullRow;
+  rows[j] |= bits;
+  gFull += (!was && rows[j] == uFullRow) ? 1 : 0;
+}
+
+// the triangle's constraints: edge[3] (+ its plane) as TriangleSetup
+Affine gF[4];
+bool gHasCross;
+double gP[4], gQ4[4];
+bool gSteep[4];
+
+// three edge planes through S and, if `cross`, the triangle's plane [§4.2]
+bool SetupTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool cross)
+{
+  dvec3 a = Sub(B0, S), b = Sub(B1, S), c = Sub(B2, S);
+  dvec3 nT = Cross(Sub(b, a), Sub(c, a));
+  precise double det = Dot(nT, a);
+  if (!(det != 0.0))
+  {
+    return false;
+  }
+  double sg = det > 0.0 ? 1.0LF : -1.0LF;
+  precise dvec3 e0 = sg * Cross(a, b);
+  precise dvec3 e1 = sg * Cross(b, c);
+  precise dvec3 e2 = sg * Cross(c, a);
+  gF[0] = MakeAffine(e0, 0.0LF);
+  gF[1] = MakeAffine(e1, 0.0LF);
+  gF[2] = MakeAffine(e2, 0.0LF);
+  gHasCross = cross && uDir == 0;
+  if (gHasCross)
+  {
+    precise dvec3 en = sg * nT;
+    precise double cn = sg * -det;
+    gF[3] = MakeAffine(en, cn);
+  }
+  return true;
+}
+
+// RowBound of ssGearsRaster.cxx: the row's root, then the signs of the
+// constraint at the samples next to it
+double RowBound(int m, double ej, double jd, bool strict)
+{
+  double B = gF[m].B;
+  precise double xr = gSteep[m] ? -ej / B : gP[m] + gQ4[m] * jd;
+  double x = xr < -2.0LF ? -2.0LF : (xr > double(uK) + 1.0LF ? double(uK) + 1.0LF : xr);
+  if (B > 0.0)
+  {
+    double c = ceil(x);
+    precise double em = ej + B * (c - 1.0LF);
+    precise double e0 = ej + B * c;
+    bool okm = strict ? em > 0.0 : em >= 0.0;
+    bool ok0 = strict ? e0 > 0.0 : e0 >= 0.0;
+    return okm ? c - 1.0LF : (ok0 ? c : c + 1.0LF);
+  }
+  double c = floor(x);
+  precise double ep = ej + B * (c + 1.0LF);
+  precise double e0 = ej + B * c;
+  bool okp = strict ? ep > 0.0 : ep >= 0.0;
+  bool ok0 = strict ? e0 > 0.0 : e0 >= 0.0;
+  return okp ? c + 1.0LF : (ok0 ? c : c - 1.0LF);
+}
+void Constraint(int m, double jd, inout double lo, inout double hi, inout bool ok)
+{
+  bool strict = m == 3;
+  precise double ej = gF[m].A + gF[m].C * jd;
+  if (gF[m].B > 0.0)
+  {
+    lo = max(lo, RowBound(m, ej, jd, strict));
+  }
+  else if (gF[m].B < 0.0)
+  {
+    hi = min(hi, RowBound(m, ej, jd, strict));
+  }
+  else
+  {
+    ok = ok && (strict ? ej > 0.0 : ej >= 0.0);
+  }
+}
+
+// RasterSetup: rows [j0, j1] of the samples every constraint admits, into
+// rows (0), tmpRows (1) or coverRows (2); whether any bit was set
+bool RasterSetup(int j0, int j1, int target)
+{
+  int nf = gHasCross ? 4 : 3;
+  for (int m = 0; m < nf; ++m)
+  {
+    precise double B = gF[m].B;
+    precise double p = B != 0.0 ? -gF[m].A / B : 0.0LF;
+    precise double q = B != 0.0 ? -gF[m].C / B : 0.0LF;
+    gP[m] = p;
+    gQ4[m] = q;
+    gSteep[m] = !(abs(p) <= 1e6LF && abs(q) <= 1e6LF);
+  }
+  bool any = false;
+  for (int j = j0; j <= j1; ++j)
+  {
+    double jd = double(j);
+    double lo = 0.0LF, hi = double(uK - 1);
+    bool ok = true;
+    // the constraints written out (no loop: llvmpipe's loop budget)
+    Constraint(0, jd, lo, hi, ok);
+    Constraint(1, jd, lo, hi, ok);
+    Constraint(2, jd, lo, hi, ok);
+    if (nf == 4)
+    {
+      Constraint(3, jd, lo, hi, ok);
+    }
+    if (ok && lo <= hi)
+    {
+      uint bits = RowBits(int(lo), int(hi));
+      if (target == 0)
+      {
+        OrRow(j, bits);
+      }
+      else if (target == 1)
+      {
+        tmpRows[j] |= bits;
+      }
+      else
+      {
+        coverRows[j] |= bits;
+      }
+      any = true;
+    }
+  }
+  return any;
+}
+
+// RasterizeTriangle: the edge planes, and the triangle's plane unless all
+// three vertices lie strictly between S and the light
+bool RasterizeTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
+{
+  bool projected = uK > 1 && uW > 0.0 && uH > 0.0;
+  dvec3 B[3] = dvec3[3](B0, B1, B2);
+  for (int m = 0; m < 3; ++m)
+  {
+    precise double den = S.z - B[m].z;
+    projected = projected && den > 0.0 && (uDir != 0 || B[m].z > 0.0);
+  }
+  return SetupTriangle(S, B0, B1, B2, !projected) && RasterSetup(0, uK - 1, toTmp ? 1 : 0);
+}
+
+// RasterizeNearTriangle: the covered samples not already hidden, each kept
+// only if its Moeller-Trumbore hit lies at least eps from S (the reference's
+// start rule)
+dvec3 gE1, gE2, gTv, gQ;
+bool NearSample(int i, double sv)
+{
+  precise double su = (double(i) + 0.5LF) / double(uK) - 0.5LF;
+  precise dvec3 d = gD0 + su * gDu + sv * gDv;
+  dvec3 p = Cross(d, gE2);
+  precise double det = Dot(gE1, p);
+  if (det == 0.0)
+  {
+    return false;
+  }
+  precise double t = Dot(gE2, gQ) / det;
+  precise double tl = t * sqrt(Dot(d, d));
+  return tl >= uEps;
+}
+// the samples of a row are written out, not looped over: llvmpipe ends any
+// invocation after 65535 loop iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS)
+#define NEAR1(I) if (((todo >> uint(I)) & 1u) != 0u && NearSample(I, sv)) { rb |= 1u << uint(I); }
+#define NEAR4(I) NEAR1(I) NEAR1((I) + 1) NEAR1((I) + 2) NEAR1((I) + 3)
+#define NEAR16(I) NEAR4(I) NEAR4((I) + 4) NEAR4((I) + 8) NEAR4((I) + 12)
+bool RasterizeNearTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
+{
+  for (int j = 0; j < 32; ++j)
+  {
+    coverRows[j] = 0u;
+  }
+  if (!SetupTriangle(S, B0, B1, B2, true) || !RasterSetup(0, uK - 1, 2))
+  {
+    return false;
+  }
+  gE1 = Sub(B1, B0);
+  gE2 = Sub(B2, B0);
+  gTv = Sub(S, B0);
+  gQ = Cross(gTv, gE1);
+  bool any = false;
+  for (int j = 0; j < uK; ++j)
+  {
+    uint todo = coverRows[j] & ~(toTmp ? belowRows[j] : rows[j]);
+    if (todo == 0u)
+    {
+      continue;
+    }
+    precise double sv = (double(j) + 0.5LF) / double(uK) - 0.5LF;
+    uint rb = 0u;
+    NEAR16(0)
+    NEAR16(16)
+    if (rb != 0u)
+    {
+      if (toTmp)
+      {
+        tmpRows[j] |= rb;
+      }
+      else
+      {
+        OrRow(j, rb);
+      }
+      any = true;
+    }
+  }
+  return any;
+}
+
+
+// Chunk uChunk of the pixel's cell list (uChunkSize triangles): the rows
+// persist in masks[] between chunks and K_FINISH turns them into V.
+uniform uint uChunk, uChunkSize;
+void main()
+{
+  uint i = GID();
+  if (i >= uN || pixFace[i] != uFace)
+  {
+    return;
+  }
+  uint c = pixCell[i];
+  uint a0 = cellBegin[c] + uChunk * uChunkSize;
+  uint end = min(cellBegin[c + 1], a0 + uChunkSize);
+  if (uChunk > 0u && a0 >= end)
+  {
+    return; // this cell's list ended in an earlier chunk
+  }
+  dvec3 S = ToLight(Start(i));
+  gD0 = uDir != 0 ? dvec3(0.0, 0.0, -1.0) : -S;
+  gDu = dvec3(uW, 0.0, 0.0);
+  gDv = dvec3(0.0, uH, 0.0);
+  // light samples below the tangent plane are not seen (reference rule)
+  for (int j = 0; j < 32; ++j)
+  {
+    belowRows[j] = 0u;
+  }
+  dvec3 Nw = dvec3(smp[6 * i + 3], smp[6 * i + 4], smp[6 * i + 5]);
+  if (Nw != dvec3(0.0))
+  {
+    dvec3 N = dvec3(Dot(Nw, uU), Dot(Nw, uV), Dot(Nw, uNrm));
+    Affine below = MakeAffine(-N, 0.0LF);
+    for (int j = 0; j < uK; ++j)
+    {
+      precise double blo = -1e300LF, bhi = 1e300LF;
+      precise double a = below.A + below.C * double(j);
+      double b = below.B;
+      if (b > 0.0)
+      {
+        blo = max(blo, -a / b);
+      }
+      else if (b < 0.0)
+      {
+        bhi = min(bhi, a / -b);
+      }
+      else if (!(a > 0.0))
+      {
+        blo = 1.0;
+        bhi = 0.0;
+      }
+      int il, ih;
+      if (IntRange(blo, bhi, b > 0.0, b < 0.0, il, ih))
+      {
+        belowRows[j] |= RowBits(il, ih);
+      }
+    }
+  }
+  for (int j = 0; j < 32; ++j)
+  {
+    rows[j] = uChunk == 0u ? belowRows[j] : masks[32u * i + uint(j)];
+  }
+  gFull = 0;
+  for (int j = 0; j < uK; ++j)
+  {
+    gFull += rows[j] == uFullRow ? 1 : 0;
+  }
+  uint necessary = 0u;
+  bool dirLight = uDir != 0;
+  double sx = S.x, sy = S.y, sd = S.z;
+  for (uint a = a0; a < end; ++a)
+  {
+    if (gFull == uK && uCountNecessary == 0)
+    {
+      break; // umbra: no further triangle changes V
+    }
+    uint tri = sorted[a];
+    dvec3 Bv[3];
+    for (int m = 0; m < 3; ++m)
+    {
+      Bv[m] = uPre != 0 ? dvec3(triL[9 * tri + 3 * m], triL[9 * tri + 3 * m + 1], triL[9 * tri + 3 * m + 2])
+                        : ToLight(dvec3(triV[9 * tri + 3 * m], triV[9 * tri + 3 * m + 1], triV[9 * tri + 3 * m + 2]));
+    }
+    // the closed-mesh rule, exactly as the CPU's SetupBatch: a face S is
+    // not behind is never the last crossing
+    dvec3 pn = Cross(Sub(Bv[1], Bv[0]), Sub(Bv[2], Bv[0]));
+    precise double sigma = Dot(Sub(S, Bv[0]), pn);
+    int cs = closedFlag[tri];
+    int csl = cs == 2 ? 0 : cs * uHand;
+    if (csl != 0 && double(csl) * sigma >= 0.0)
+    {
+      continue;
+    }
+    precise double pl = sqrt(Dot(pn, pn));
+    precise double lim = uEps * pl;
+    bool near = pl > 0.0 && abs(sigma) < lim;
+    if (near)
+    {
+      // S and every light sample on one side of the plane: no crossing
+      double cmin = 1e300LF, cmax = -1e300LF;
+      for (int q = 0; q < 4; ++q)
+      {
+        double a1 = (q & 1) != 0 ? 0.5LF : -0.5LF, b1 = (q & 2) != 0 ? 0.5LF : -0.5LF;
+        precise dvec3 corner = dvec3(a1 * uW, b1 * uH, dirLight ? -1.0LF : 0.0LF);
+        precise double v = Dot(pn, dirLight ? corner : Sub(corner, Bv[0]));
+        cmin = min(cmin, v);
+        cmax = max(cmax, v);
+      }
+      if ((sigma > 0.0 && cmin >= 0.0) || (sigma < 0.0 && cmax <= 0.0))
+      {
+        continue;
+      }
+    }
+    // cheap rejection: wholly beyond the pixel, behind the light, or
+    // projected beyond one side of the samples (it would set no bit)
+    int out0 = 0, out1 = 0, out2 = 0, out3 = 0, valid = 0, beyondPixel = 0, behindLight = 0;
+    for (int m = 0; m < 3; ++m)
+    {
+      double bx = Bv[m].x, by = Bv[m].y, bd = Bv[m].z;
+      precise double den = sd - bd;
+      beyondPixel += !(den > 0.0) ? 1 : 0;
+      behindLight += (!dirLight && !(bd > 0.0)) ? 1 : 0;
+      valid += (den > 0.0 && (dirLight || bd > 0.0)) ? 1 : 0;
+      double fx = dirLight ? 1.0LF : sd, gx = dirLight ? 0.0LF : sx;
+      precise double ux = (gx - uXlo) * den + (bx - sx) * fx;
+      precise double vx = (gx - uXhi) * den + (bx - sx) * fx;
+      precise double uy = ((dirLight ? 0.0LF : sy) - uYlo) * den + (by - sy) * fx;
+      precise double vy = ((dirLight ? 0.0LF : sy) - uYhi) * den + (by - sy) * fx;
+      out0 += ux < 0.0 ? 1 : 0;
+      out1 += vx > 0.0 ? 1 : 0;
+      out2 += uy < 0.0 ? 1 : 0;
+      out3 += vy > 0.0 ? 1 : 0;
+    }
+    if (beyondPixel == 3 || behindLight == 3 || (valid == 3 && (out0 == 3 || out1 == 3 || out2 == 3 || out3 == 3)))
+    {
+      continue;
+    }
+    // opaque casters only (translucent scenes run on the CPU backend)
+    bool toTmp = uCountNecessary != 0;
+    if (toTmp)
+    {
+      for (int j = 0; j < 32; ++j)
+      {
+        tmpRows[j] = 0u;
+      }
+    }
+    bool hit = near ? RasterizeNearTriangle(S, Bv[0], Bv[1], Bv[2], toTmp)
+                    : RasterizeTriangle(S, Bv[0], Bv[1], Bv[2], toTmp);
+    if (hit && toTmp)
+    {
+      // necessary: it hides a sample above the horizon
+      bool above = false;
+      for (int j = 0; j < uK; ++j)
+      {
+        above = above || (tmpRows[j] & ~belowRows[j]) != 0u;
+        OrRow(j, tmpRows[j]);
+      }
+      necessary += above ? 1u : 0u;
+    }
+  }
+  for (int j = 0; j < uK; ++j)
+  {
+    masks[32u * i + uint(j)] = rows[j];
+  }
+  if (uCountNecessary != 0)
+  {
+    nec[i] += necessary;
+  }
+}
+#endif
+
+#ifdef K_FINISH
+// V from the rows of K_RASTER: the fraction of light samples not hidden
+uniform int uK;
+uniform uint uFullRow;
+void main()
+{
+  uint i = GID();
+  if (i >= uN || pixFace[i] != uFace)
+  {
+    return;
+  }
+  precise double visible = 0.0LF;
+  for (int j = 0; j < uK; ++j)
+  {
+    visible += double(bitCount(~masks[32u * i + uint(j)] & uFullRow));
+  }
+  precise double kk = double(uK) * double(uK);
+  vis[i] = float(visible / kk);
+}
+#endif

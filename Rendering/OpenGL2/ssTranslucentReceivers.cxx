@@ -1,0 +1,172 @@
+#include "ssTranslucentReceivers.h"
+
+#include "ssFrameState.h"
+#include "ssGBuffer.h"
+#include "ssVisibilitySolver.h"
+
+#include "ssAVSMLookup.h"
+#include "ssShadowCommon.h"
+
+#include "vtkShaderProgram.h"
+
+#include <regex>
+#include <sstream>
+
+namespace ss
+{
+namespace
+{
+// The shared code with its plain uniforms turned into globals: the fragment
+// function sets them from a slot's arrays before it calls the shared
+// functions (samplers stay uniforms: they cannot be assigned).
+std::string AsGlobals(const char* code)
+{
+  static const std::regex uniform(R"(^uniform (?!sampler)([^;]*;))", std::regex::multiline);
+  return std::regex_replace(std::string(code), uniform, "$1");
+}
+}
+
+std::string TranslucentReceiverCode(const std::string& fs)
+{
+  const bool haveVC = fs.find("in vec4 vertexVCVSOutput;") != std::string::npos;
+  const bool haveN = fs.find("in vec3 normalVCVSOutput;") != std::string::npos;
+  std::ostringstream o;
+  o << "uniform mat3 ssVCToWC;\n"
+       "uniform vec3 ssVCToRelOffset;\n"
+       "uniform sampler2DArray ssFragAVSM0;\n"
+       "uniform sampler2DArray ssFragAVSM1;\n"
+       "#define SS_SLOTS "
+    << kFragmentSlots
+    << "\n"
+       "uniform int ssFragLayer[SS_SLOTS];   // visibility layer of the slot's light (-1: none)\n"
+       "uniform int ssFragSampler[SS_SLOTS]; // 0 or 1: which AVSM\n"
+       "uniform vec3 ssFragOrigin[SS_SLOTS];\n"
+       "uniform vec3 ssFragU[SS_SLOTS];\n"
+       "uniform vec3 ssFragV[SS_SLOTS];\n"
+       "uniform vec3 ssFragN[SS_SLOTS];\n"
+       "uniform vec4 ssFragExtent[SS_SLOTS];\n"
+       "uniform vec3 ssFragLightU[SS_SLOTS];\n"
+       "uniform vec3 ssFragLightV[SS_SLOTS];\n"
+       "uniform vec4 ssFragLight[SS_SLOTS];  // half width, half height, search depth, constant bias\n"
+       "uniform vec4 ssFragView[SS_SLOTS];   // orthographic, one-sided, map size, levels\n"
+       "uniform vec4 ssFragAVSM[SS_SLOTS];   // first layer, nodes, coloured, layers per view\n"
+       "uniform vec4 ssFragFilter[SS_SLOTS]; // hard, filter quads, search samples, slope bias\n"
+       "int ssFragSel = 0;\n";
+  o << AsGlobals(ssShadowCommon);
+  o << "vec4 avsmFetch(ivec3 p, int level)\n"
+       "{\n"
+       "  return (ssFragSel == 0) ? texelFetch(ssFragAVSM0, p, level) : texelFetch(ssFragAVSM1, p, level);\n"
+       "}\n";
+  o << AsGlobals(ssAVSMLookup);
+  o << "vec3 ssFragmentVisibility(int layer)\n"
+       "{\n";
+  if (!haveVC)
+  {
+    o << "  return vec3(1.0); // no view-coordinate position in this shader\n}\n";
+    return o.str();
+  }
+  o << "  int k = -1;\n"
+       "  for (int i = 0; i < SS_SLOTS; ++i) { k = (ssFragLayer[i] == layer && layer >= 0) ? i : k; }\n"
+       "  if (k < 0) { return vec3(1.0); }\n"
+       "  ssFragSel = ssFragSampler[k];\n"
+       "  firstLayer = 0;\n"
+       "  numViews = 1;\n"
+       "  viewU[0] = ssFragU[k];\n"
+       "  viewV[0] = ssFragV[k];\n"
+       "  viewN[0] = ssFragN[k];\n"
+       "  viewExtent[0] = ssFragExtent[k];\n"
+       "  lightCenter = ssFragOrigin[k];\n"
+       "  orthographic = int(ssFragView[k].x);\n"
+       "  oneSided = int(ssFragView[k].y);\n"
+       "  mapSize = ssFragView[k].z;\n"
+       "  numLevels = int(ssFragView[k].w);\n"
+       "  lightHalfSize = ssFragLight[k].xy;\n"
+       "  lightU = ssFragLightU[k];\n"
+       "  lightV = ssFragLightV[k];\n"
+       "  searchDepth = ssFragLight[k].z;\n"
+       "  constantBias = ssFragLight[k].w;\n"
+       "  searchSamples = int(ssFragFilter[k].z);\n"
+       "  slopeBias = ssFragFilter[k].w;\n"
+       "  avsmFirstLayer = int(ssFragAVSM[k].x);\n"
+       "  avsmNodes = int(ssFragAVSM[k].y);\n"
+       "  avsmColored = int(ssFragAVSM[k].z);\n"
+       "  avsmLayersPerView = int(ssFragAVSM[k].w);\n"
+       "  avsmLevels = int(ssFragView[k].w);\n"
+       "  avsmFilterQuads = int(ssFragFilter[k].y);\n"
+       "  vec3 p = ssVCToWC * vertexVCVSOutput.xyz + ssVCToRelOffset;\n";
+  if (haveN)
+  {
+    // VTK turns the normal of a back face towards the camera; so does this
+    o << "  vec3 nVC = normalize(normalVCVSOutput);\n"
+         "  if (gl_FrontFacing == false) { nVC = -nVC; }\n"
+         "  vec3 nrm = normalize(ssVCToWC * nVC);\n";
+  }
+  else
+  {
+    o << "  vec3 nrm = vec3(0.0); // no normal: no tangent-plane clipping, no slope bias\n";
+  }
+  o << "  vec3 d = p - lightCenter;\n"
+       "  View w = selectView(d, nrm);\n"
+       "  if (w.index < 0) { return vec3(outsideViewsVisibility(d)); }\n"
+       "  vec3 T = avsmVisibility(w, nrm, d, int(ssFragFilter[k].x));\n"
+       "  if (dot(nrm, nrm) > 0.5) { T *= lightAboveTangent(nrm, d); }\n"
+       "  return clamp(T, 0.0, 1.0);\n"
+       "}\n";
+  return o.str();
+}
+
+void SetTranslucentReceiverUniforms(vtkShaderProgram* program, const GBuffer& gbuffer,
+  const std::vector<ShadowLight>& all, const std::function<const VisibilitySolver*(Method)>& solverOf,
+  int fallbackUnit)
+{
+  if (!program->IsUniformUsed("ssFragLayer[0]"))
+  {
+    return;
+  }
+  std::vector<std::pair<const ShadowLight*, const VisibilitySolver*>> lights;
+  for (const auto& l : all)
+  {
+    const VisibilitySolver* solver = l.Layer >= 0 ? solverOf(l.Method) : nullptr;
+    if (solver && solver->ShadesFragments(l))
+    {
+      lights.emplace_back(&l, solver);
+    }
+  }
+  gbuffer.SetCameraUniforms(program);
+  const VisibilitySolver* samplerSolver[2] = { nullptr, nullptr };
+  int samplerUnit[2] = { fallbackUnit, fallbackUnit };
+  int slot = 0;
+  for (const auto& ls : lights)
+  {
+    if (slot >= kFragmentSlots)
+    {
+      break;
+    }
+    int sampler = ls.second == samplerSolver[0] ? 0 : (ls.second == samplerSolver[1] ? 1 : -1);
+    if (sampler < 0)
+    {
+      sampler = !samplerSolver[0] ? 0 : (!samplerSolver[1] ? 1 : -1);
+    }
+    if (sampler < 0)
+    {
+      continue; // a third solver's light: no sampler left
+    }
+    const int unit = ls.second->SetFragmentUniforms(program, *ls.first, slot);
+    if (unit < 0)
+    {
+      continue;
+    }
+    samplerSolver[sampler] = ls.second;
+    samplerUnit[sampler] = unit;
+    const std::string k = "[" + std::to_string(slot) + "]";
+    program->SetUniformi(("ssFragSampler" + k).c_str(), sampler);
+    ++slot;
+  }
+  for (int s = slot; s < kFragmentSlots; ++s)
+  {
+    program->SetUniformi(("ssFragLayer[" + std::to_string(s) + "]").c_str(), -1);
+  }
+  program->SetUniformi("ssFragAVSM0", samplerUnit[0]);
+  program->SetUniformi("ssFragAVSM1", samplerUnit[1]);
+}
+}

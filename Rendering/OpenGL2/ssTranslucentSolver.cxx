@@ -1,0 +1,333 @@
+#include "ssTranslucentSolver.h"
+
+#include "vtkSoftShadowPass.h"
+
+#include "ssCasterSet.h"
+#include "ssFullScreenQuad.h"
+#include "ssGBuffer.h"
+#include "ssPassStats.h"
+#include "ssShadowViews.h"
+#include "ssVisibilityLayers.h"
+
+#include "ssAVSMLookup.h"
+#include "ssAVSMVisibilityFS.h"
+
+#include "vtkObject.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLQuadHelper.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkSetGet.h"
+#include "vtkShaderProgram.h"
+#include "vtkTextureObject.h"
+#include "vtk_glew.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <sstream>
+
+namespace ss
+{
+TranslucentSolver::TranslucentSolver(Method method, bool hard)
+  : VisibilitySolver(method)
+  , Hard(hard)
+{
+}
+
+TranslucentSolver::~TranslucentSolver() = default;
+
+void TranslucentSolver::Configure(vtkSoftShadowPass* pass)
+{
+  this->Opt.AVSM.Nodes = pass->GetAVSMNodes();
+  this->Opt.AVSM.MapSize = pass->GetAVSMSize();
+  this->Opt.AVSM.MemoryMB = pass->GetAVSMMemory();
+  this->Opt.AVSM.Colored = pass->GetColoredShadows();
+  this->Opt.AVSM.VolumeSteps = pass->GetVolumeSteps();
+  this->Opt.AVSM.Pyramid = !this->Hard;
+  this->Opt.BlockerSearchSamples = pass->GetBlockerSearchSamples();
+  this->Opt.FilterQuads = pass->GetVPCSSFilterQuads();
+  this->Opt.ConstantBias = pass->GetConstantBias();
+  this->Opt.SlopeBias = pass->GetSlopeBias();
+}
+
+void TranslucentSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights)
+{
+  this->Active = !lights.empty();
+  this->Ready = false;
+  this->Lights.clear();
+  this->FirstView.clear();
+  this->LightCount = 0;
+  this->MsBuild = this->MsFilter = 0.0;
+  this->LastError.clear();
+  if (!this->Active)
+  {
+    this->LastStats = AVSMBuildStats{};
+    return;
+  }
+  const auto t0 = Clock::now();
+  CasterSet& casters = *frame.Casters;
+  // the caster set on the GPU, in clusters (each view draws those that reach it)
+  casters.EnsureClusters();
+  std::string error;
+  if (!casters.ReadyProgram(frame.Window, error))
+  {
+    vtkErrorWithObjectMacro(frame.Reporter, << error);
+    return;
+  }
+  this->Volumes.Update(casters, frame.Reporter);
+  // views fitted to the receivers and to every caster, volumes included
+  const glm::dvec3& origin = frame.State->Origin;
+  Box all = casters.Bounds;
+  all.Add(this->Volumes.Bounds());
+  const Box receivers = RelativeBox(casters.Receivers, origin);
+  const Box castersBox = RelativeBox(all, origin);
+  int views = 0;
+  for (const ShadowLight* l : lights)
+  {
+    ShadowLight mine = *l;
+    FitShadowViews(mine, receivers, castersBox, casters, origin);
+    // the blocker search starts at the nearest caster: a volume may be nearer
+    for (const VolumeGrid& g : this->Volumes.Grids())
+    {
+      for (const glm::dvec3& c : g.Corners())
+      {
+        const double z = mine.Views.front().ToLightSpace(c - origin).z;
+        if (z > 1e-4 * std::max(castersBox.Diagonal(), 1e-30))
+        {
+          mine.SearchDepth = std::min(mine.SearchDepth, z);
+        }
+      }
+    }
+    this->FirstView.push_back(views);
+    views += static_cast<int>(mine.Views.size());
+    this->Lights.push_back(std::move(mine));
+  }
+  if (!this->Maps.Begin(frame, std::max(views, 1), this->Opt.AVSM, error))
+  {
+    this->LastError = error;
+    vtkErrorWithObjectMacro(frame.Reporter, << error);
+    return;
+  }
+  this->Ready = true;
+  this->MsBuild += Milliseconds(t0, Clock::now());
+}
+
+const ShadowLight* TranslucentSolver::FindLight(const ShadowLight& light) const
+{
+  for (const auto& l : this->Lights)
+  {
+    if (l.Layer == light.Layer && l.Light == light.Light)
+    {
+      return &l;
+    }
+  }
+  return nullptr;
+}
+
+void TranslucentSolver::Compute(SolverFrame& frame, const ShadowLight& light)
+{
+  const ShadowLight* mine = this->FindLight(light);
+  if (!this->Ready || !mine || mine->Views.empty())
+  {
+    return;
+  }
+  const std::size_t index = static_cast<std::size_t>(mine - this->Lights.data());
+  auto t0 = Clock::now();
+  std::string error;
+  if (!this->Maps.Build(frame, *mine, this->FirstView[index], this->Volumes, error))
+  {
+    this->LastError = error;
+    vtkErrorWithObjectMacro(frame.Reporter, << error);
+    return;
+  }
+  frame.Timings->Finish();
+  auto t1 = Clock::now();
+  this->MsBuild += Milliseconds(t0, t1);
+  ++this->LightCount;
+
+  // --- V (and RGB) of every G-buffer pixel: one full-screen pass
+  static const std::string fs = []() {
+    std::string s = WithCommon(ssAVSMVisibilityFS);
+    vtkShaderProgram::Substitute(s, "//SS::AVSMLookup", ssAVSMLookup);
+    return s;
+  }();
+  vtkOpenGLRenderWindow* win = frame.Window;
+  vtkOpenGLState* ostate = win->GetState();
+  const int W = frame.State->Width, H = frame.State->Height;
+  ostate->PushFramebufferBindings();
+  frame.FBO->Bind();
+  ostate->vtkglDisable(GL_DEPTH_TEST);
+  ostate->vtkglDisable(GL_BLEND);
+  vtkShaderProgram* prog = ReadyQuad(this->Quad, win, fs.c_str());
+  if (!prog)
+  {
+    vtkErrorWithObjectMacro(frame.Reporter, "Could not build the AVSM visibility program.");
+    ostate->PopFramebufferBindings();
+    return;
+  }
+  GBuffer& g = *frame.GBuffer;
+  g.Position->Activate();
+  g.Normal->Activate();
+  const int unit = this->Maps.GetArray().Bind(win);
+  prog->SetUniformi("gPosition", g.Position->GetTextureUnit());
+  prog->SetUniformi("gNormal", g.Normal->GetTextureUnit());
+  prog->SetUniformi("avsmTex", unit);
+  prog->SetUniformi("shadowMaps", unit); // declared by the shared code; a 2-D array on its unit
+  prog->SetUniformf("mapSize", static_cast<float>(this->Maps.GetSize()));
+  prog->SetUniformi("numLevels", this->Maps.GetArray().Levels);
+  prog->SetUniformi("searchSamples", this->Opt.BlockerSearchSamples);
+  prog->SetUniformf("constantBias", static_cast<float>(this->Opt.ConstantBias));
+  prog->SetUniformf("slopeBias", static_cast<float>(this->Opt.SlopeBias));
+  prog->SetUniformi("hardAVSM", this->Hard ? 1 : 0);
+  prog->SetUniformi("avsmNodes", this->Maps.GetNodes());
+  prog->SetUniformi("avsmColored", this->Maps.GetChannels() == 3 ? 1 : 0);
+  prog->SetUniformi("avsmLevels", this->Maps.GetArray().Levels);
+  prog->SetUniformi("avsmFirstLayer", this->FirstView[index] * this->Maps.GetLayersPerView());
+  prog->SetUniformi("avsmLayersPerView", this->Maps.GetLayersPerView());
+  prog->SetUniformi("avsmFilterQuads", this->Opt.FilterQuads);
+  SetLightUniforms(prog, *mine);
+  prog->SetUniformi("firstLayer", 0);
+  ostate->vtkglViewport(0, 0, W, H);
+  ostate->vtkglScissor(0, 0, W, H);
+  if (light.ColorLayer >= 0)
+  {
+    frame.Visibility->AttachWithColor(frame.FBO, light.Layer, light.ColorLayer);
+  }
+  else
+  {
+    frame.Visibility->Attach(frame.FBO, light.Layer);
+  }
+  this->Quad->Render();
+  glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, 0, 0, 0);
+  TextureArray::Unbind(win, unit);
+  g.Normal->Deactivate();
+  g.Position->Deactivate();
+  TextureArray::Detach();
+  frame.FBO->RemoveColorAttachments(1);
+  frame.FBO->ActivateDrawBuffers(1);
+  ostate->PopFramebufferBindings();
+  frame.Timings->Finish();
+  this->MsFilter += Milliseconds(t1, Clock::now());
+}
+
+void TranslucentSolver::EndFrame(SolverFrame& frame)
+{
+  if (!this->Active)
+  {
+    return;
+  }
+  this->LastStats = this->Maps.GetStats();
+  frame.Timings->Set(this->Hard ? "avsm_build" : "vpcss_build", this->MsBuild);
+  frame.Timings->Set(this->Hard ? "avsm_lookup" : "vpcss_filter", this->MsFilter);
+}
+
+std::string TranslucentSolver::GetStatsJSON() const
+{
+  std::ostringstream o;
+  o.precision(9);
+  o << "{\"lights\": " << this->LightCount << ", \"nodes\": " << this->Opt.AVSM.Nodes
+    << ", \"map_size_asked\": " << this->Opt.AVSM.MapSize << ", \"memory_mb\": " << this->Opt.AVSM.MemoryMB
+    << ", \"colored\": " << (this->Opt.AVSM.Colored ? "true" : "false");
+  if (!this->Hard)
+  {
+    o << ", \"filter_quads\": " << this->Opt.FilterQuads << ", \"blocker_samples\": " << this->Opt.BlockerSearchSamples;
+  }
+  o << ", \"ms_build\": " << this->MsBuild << ", \"ms_filter\": " << this->MsFilter
+    << ", \"memory_bytes\": " << this->GetMemoryBytes() << ", \"avsm\": " << this->LastStats.ToJSON()
+    << ", \"error\": \"" << JSONEscape(this->LastError) << "\"}";
+  return o.str();
+}
+
+long long TranslucentSolver::GetMemoryBytes() const
+{
+  return this->Maps.Bytes() + this->Volumes.Bytes();
+}
+
+int TranslucentSolver::GetNumberOfGraphicsResources() const
+{
+  return this->Maps.CountGraphicsResources() + this->Volumes.CountGraphicsResources() + (this->Quad ? 1 : 0);
+}
+
+void TranslucentSolver::ReleaseGraphicsResources(vtkWindow* w)
+{
+  this->Maps.ReleaseGraphicsResources(w);
+  this->Volumes.ReleaseGraphicsResources(w);
+  ReleaseQuad(this->Quad, w);
+  this->Lights.clear();
+  this->FirstView.clear();
+  this->Ready = false;
+}
+
+bool TranslucentSolver::ShadesFragments(const ShadowLight& light) const
+{
+  const ShadowLight* mine = this->FindLight(light);
+  return this->Ready && mine && mine->Views.size() == 1 && this->Maps.GetArray().Handle != 0;
+}
+
+void TranslucentSolver::BeginShading(vtkOpenGLRenderWindow* win)
+{
+  this->ShadingUnit = (this->Ready && this->Maps.GetArray().Handle) ? this->Maps.GetArray().Bind(win) : -1;
+}
+
+void TranslucentSolver::EndShading(vtkOpenGLRenderWindow* win)
+{
+  TextureArray::Unbind(win, this->ShadingUnit);
+  this->ShadingUnit = -1;
+}
+
+int TranslucentSolver::SetFragmentUniforms(vtkShaderProgram* p, const ShadowLight& light, int slot) const
+{
+  const ShadowLight* mine = this->FindLight(light);
+  if (!mine || mine->Views.size() != 1 || this->ShadingUnit < 0)
+  {
+    return -1;
+  }
+  const std::size_t index = static_cast<std::size_t>(mine - this->Lights.data());
+  const ShadowView& v = mine->Views.front();
+  const std::string k = "[" + std::to_string(slot) + "]";
+  auto name = [&](const char* base) { return std::string(base) + k; };
+  p->SetUniformi(name("ssFragLayer").c_str(), light.Layer);
+  const glm::vec3 o(v.origin), u(v.u), vv(v.v), n(v.n), lu(mine->Frame.u), lv(mine->Frame.v);
+  p->SetUniform3f(name("ssFragOrigin").c_str(), glm::value_ptr(o));
+  p->SetUniform3f(name("ssFragU").c_str(), glm::value_ptr(u));
+  p->SetUniform3f(name("ssFragV").c_str(), glm::value_ptr(vv));
+  p->SetUniform3f(name("ssFragN").c_str(), glm::value_ptr(n));
+  p->SetUniform3f(name("ssFragLightU").c_str(), glm::value_ptr(lu));
+  p->SetUniform3f(name("ssFragLightV").c_str(), glm::value_ptr(lv));
+  const float e[4] = { static_cast<float>(v.extent.x0), static_cast<float>(v.extent.y0),
+    static_cast<float>(v.extent.x1), static_cast<float>(v.extent.y1) };
+  p->SetUniform4f(name("ssFragExtent").c_str(), e);
+  float half[2] = { 0.0f, 0.0f };
+  if (mine->Frame.type == LightType::Rect)
+  {
+    half[0] = static_cast<float>(0.5 * mine->Frame.width);
+    half[1] = static_cast<float>(0.5 * mine->Frame.height);
+  }
+  else if (mine->Frame.type == LightType::Directional)
+  {
+    half[0] = half[1] = static_cast<float>(std::tan(0.5 * mine->Frame.angularDiameter));
+  }
+  const float lightParams[4] = { half[0], half[1], static_cast<float>(mine->SearchDepth),
+    static_cast<float>(this->Opt.ConstantBias) };
+  p->SetUniform4f(name("ssFragLight").c_str(), lightParams);
+  const float view[4] = { v.orthographic ? 1.0f : 0.0f, mine->Frame.type == LightType::Rect ? 1.0f : 0.0f,
+    static_cast<float>(this->Maps.GetSize()), static_cast<float>(this->Maps.GetArray().Levels) };
+  p->SetUniform4f(name("ssFragView").c_str(), view);
+  const float avsm[4] = { static_cast<float>(this->FirstView[index] * this->Maps.GetLayersPerView()),
+    static_cast<float>(this->Maps.GetNodes()), this->Maps.GetChannels() == 3 ? 1.0f : 0.0f,
+    static_cast<float>(this->Maps.GetLayersPerView()) };
+  p->SetUniform4f(name("ssFragAVSM").c_str(), avsm);
+  // Translucent receivers run the filter per fragment and per depth peel: a
+  // coarser VPCSS filter (at most kFragmentQuads quads a side, from coarser
+  // pyramid levels, and kFragmentSearch blocker samples) bounds that cost;
+  // the G-buffer pixels keep the full filter (Documentation/vpcss.md).
+  constexpr int kFragmentQuads = 2, kFragmentSearch = 4;
+  const float filter[4] = { this->Hard ? 1.0f : 0.0f,
+    static_cast<float>(std::min(this->Opt.FilterQuads, kFragmentQuads)),
+    static_cast<float>(std::min(this->Opt.BlockerSearchSamples, kFragmentSearch)),
+    static_cast<float>(this->Opt.SlopeBias) };
+  p->SetUniform4f(name("ssFragFilter").c_str(), filter);
+  return this->ShadingUnit;
+}
+}

@@ -1,0 +1,142 @@
+"""pvpython: the Soft Shadow View as a ParaView user drives it, per object and
+in the panel (issue 24).
+
+- Display properties Cast Shadows / Receive Shadows on the representations:
+  a sphere with CastShadows = 0 leaves no shadow, a plane with
+  ReceiveShadows = 0 shows none, and both come back when switched on; they
+  follow a change of representation type (Surface -> Wireframe -> Surface).
+- Invalid values are refused and the previous value kept (view and lights).
+- The labels read as words ("PVSM Quality", not "P VSMQuality").
+- Plan and Stats are updated after every render without asking, and the
+  optional plan annotation draws text in the view.
+"""
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from paraview.simple import *  # noqa: F401,F403,E402
+
+plugin, tempdir = sys.argv[1], sys.argv[2]
+LoadPlugin(plugin, ns=globals())
+import ssviewtest as t  # noqa: E402
+
+c = t.Checks()
+view = CreateView("SoftShadowView")
+view.Method = "pcss"
+sphere, plane, dsphere, dplane = t.scene(view)
+
+# --- the properties exist on the representations, with their documentation
+for d in (dsphere, dplane):
+    c.check("CastShadows" in d.ListProperties() and "ReceiveShadows" in d.ListProperties(),
+            "Cast Shadows / Receive Shadows are display properties")
+prop = dsphere.GetProperty("CastShadows")
+c.check(prop.GetXMLLabel() == "Cast Shadows", "label 'Cast Shadows' (got %r)" % prop.GetXMLLabel())
+c.check(prop.GetDocumentation() is not None and "casts shadows" in prop.GetDocumentation().GetDescription(),
+        "Cast Shadows has a tooltip")
+c.check(dplane.GetProperty("ReceiveShadows").GetDocumentation() is not None, "Receive Shadows has a tooltip")
+
+img = t.shot(view, tempdir, "ObjectsDefault.png")
+under, far = t.region(img, t.UNDER), t.region(img, t.FAR)
+print("default: under %.1f far %.1f" % (under, far))
+c.check(under < 0.8 * far, "default: a shadow under the sphere")
+
+# --- a sphere that casts no shadow leaves none
+dsphere.CastShadows = 0
+img = t.shot(view, tempdir, "ObjectsSphereCastsNone.png")
+under_nc, far_nc = t.region(img, t.UNDER), t.region(img, t.FAR)
+print("sphere CastShadows=0: under %.1f far %.1f" % (under_nc, far_nc))
+c.check(under_nc > 0.97 * far_nc, "sphere CastShadows=0: no shadow under it")
+view.UpdatePropertyInformation()
+stats = json.loads(view.GetPropertyValue("Stats"))
+c.check(stats["caster_triangles"] == 2,
+        "sphere CastShadows=0: only the plane's 2 triangles cast (caster triangles %s)" % stats["caster_triangles"])
+dsphere.CastShadows = 1
+img = t.shot(view, tempdir, "ObjectsSphereCastsAgain.png")
+c.check(t.region(img, t.UNDER) < 0.8 * t.region(img, t.FAR), "sphere CastShadows=1 again: the shadow is back")
+
+# --- a plane that receives no shadow shows none
+dplane.ReceiveShadows = 0
+img = t.shot(view, tempdir, "ObjectsPlaneReceivesNone.png")
+under_nr, far_nr = t.region(img, t.UNDER), t.region(img, t.FAR)
+print("plane ReceiveShadows=0: under %.1f far %.1f" % (under_nr, far_nr))
+c.check(under_nr > 0.97 * far_nr, "plane ReceiveShadows=0: no shadow on it")
+dplane.ReceiveShadows = 1
+
+# --- the flags follow the representation type the user picks
+dsphere.CastShadows = 0
+dsphere.SetRepresentationType("Wireframe")
+Render(view)
+dsphere.SetRepresentationType("Surface")
+img = t.shot(view, tempdir, "ObjectsAfterRepresentationChange.png")
+c.check(t.region(img, t.UNDER) > 0.97 * t.region(img, t.FAR),
+        "CastShadows=0 holds after Surface -> Wireframe -> Surface")
+dsphere.CastShadows = 1
+
+# --- invalid values are refused and the previous value kept
+view.LightSize = 0.2
+view.LightSize = -1
+c.check(abs(view.LightSize - 0.2) < 1e-12, "LightSize = -1 refused, 0.2 kept (got %s)" % view.LightSize)
+view.LightSize = float("nan")
+c.check(abs(view.LightSize - 0.2) < 1e-12, "LightSize = nan refused, 0.2 kept (got %s)" % view.LightSize)
+view.PVSMQuality = 100
+c.check(view.PVSMQuality == 1.0, "PVSMQuality = 100 refused, 1 kept (got %s)" % view.PVSMQuality)
+view.ShadowMapSize = 10
+c.check(view.ShadowMapSize == 2048, "ShadowMapSize = 10 refused, 2048 kept (got %s)" % view.ShadowMapSize)
+view.ShadowLightDirection = [0, 0, float("inf")]
+c.check(list(view.ShadowLightDirection) == [0, 0, 1], "ShadowLightDirection with inf refused")
+light = AddLight(view=view)
+light.ShadowSize = 0.3
+light.ShadowSize = -0.5
+c.check(abs(light.ShadowSize - 0.3) < 1e-12, "light ShadowSize = -0.5 refused, 0.3 kept")
+light.ShadowAngularDiameter = 45
+c.check(abs(light.ShadowAngularDiameter - 2.0) < 1e-12, "light ShadowAngularDiameter = 45 refused, 2 kept")
+RemoveLight(light)
+
+# --- labels read as words
+expected = {"Method": "Method", "LightSize": "Light Size", "LightSizeUnits": "Light Size Units",
+            "ShadowLight": "Shadow Light", "ShadowLightPlacement": "Shadow Light Placement",
+            "ShadowLightDirection": "Shadow Light Direction", "ShadowLightIntensity": "Shadow Light Intensity",
+            "AdaptToFrameBudget": "Adapt To Frame Budget", "ShadowMapSize": "Shadow Map Size",
+            "GearsBackend": "Gears Backend", "PVSMQuality": "PVSM Quality",
+            "ShowPlanAnnotation": "Show Plan Annotation", "Plan": "Plan", "Stats": "Stats",
+            "GearsBackendInUse": "Gears Backend In Use",
+            "ShadowLightPosition": "Shadow Light Position"}
+for name, label in expected.items():
+    p = view.GetProperty(name)
+    got = p.GetXMLLabel() if p else None
+    c.check(got == label, "label of %s: %r (want %r)" % (name, got, label))
+# the information properties are shown in the panel (not panel_visibility never)
+for name in ("Plan", "Stats", "GearsBackendInUse"):
+    c.check(view.GetProperty(name).GetPanelVisibility() != "never", "%s is shown in the panel" % name)
+
+# --- Plan and Stats follow every render without UpdatePropertyInformation
+view.Method = "hard"
+Render(view)
+plan = view.GetPropertyValue("Plan")
+c.check("requested hard" in plan, "Plan after a render: %r" % plan.splitlines()[-1:])
+view.Method = "pcss"
+Render(view)
+plan = view.GetPropertyValue("Plan")
+c.check("requested pcss" in plan and "requested hard" not in plan, "Plan follows the next render")
+stats = json.loads(view.GetPropertyValue("Stats"))
+c.check(stats["plan"]["lights"][-1]["method"] == "pcss", "Stats follow the next render")
+
+# --- the plan annotation: text in the lower-left corner when on
+corner = (0.0, 0.6, 0.0, 0.1)
+off = t.shot(view, tempdir, "ObjectsAnnotationOff.png")
+view.ShowPlanAnnotation = 1
+on = t.shot(view, tempdir, "ObjectsAnnotationOn.png")
+view.ShowPlanAnnotation = 0
+h, w, _ = on.shape
+# (rows from the bottom: VTK's image origin is the lower-left corner)
+diff = abs(on[:int(0.1 * h), :int(0.6 * w)] - off[:int(0.1 * h), :int(0.6 * w)]).max(axis=2)
+changed = float((diff > 40).mean())
+c.check(changed > 0.2, "Show Plan Annotation draws text on a dark box in the corner (%.0f %% of it changed)"
+        % (100 * changed))
+summary = t.shadow_pass(view).GetPlanSummary()
+c.check(summary.startswith("pcss"), "the annotation's text: %s" % summary)
+
+Delete(view)
+del view
+sys.exit(1 if c.failures else 0)

@@ -1,0 +1,23 @@
+#!/usr/bin/python3
+"""check_vpcss_bench.py DIR: the `bench --vpcss` report in DIR has every
+method per scene, finite errors, and VPCSS's error below hard AVSM's and PCSS's
+(the issue 20 target that holds on every scene measured)."""
+import json
+import os
+import sys
+
+rows = json.load(open(os.path.join(sys.argv[1], "vpcss-bench.json")))
+assert os.path.getsize(os.path.join(sys.argv[1], "vpcss-bench.md")) > 0
+scenes = {r["scene"] for r in rows}
+for s in scenes:
+    by = {r["method"]: r for r in rows if r["scene"] == s}
+    for m in ("reference", "vpcss", "avsm", "pcss"):
+        assert m in by, (s, m)
+        assert by[m]["ms"] > 0, (s, m)
+    for m in ("vpcss", "avsm", "pcss"):
+        assert by[m]["nonfinite"] == 0, (s, m)
+    for m in ("vpcss", "avsm"):
+        assert by[m]["avsm_bytes"] > 0 and by[m]["fragments"] > 0, (s, m)
+    assert by["vpcss"]["mae"] < by["avsm"]["mae"], (s, by["vpcss"]["mae"], by["avsm"]["mae"])
+    assert by["vpcss"]["mae"] < by["pcss"]["mae"], (s, by["vpcss"]["mae"], by["pcss"]["mae"])
+print("vpcss bench ok:", ", ".join(sorted(scenes)))
