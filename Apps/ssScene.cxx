@@ -31,6 +31,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -188,6 +189,25 @@ std::array<double, 3> NonZero(std::array<double, 3> v, const Ctx& c)
     c.Fail("expected a non-zero vector");
   }
   return v;
+}
+
+// A light position VTK can shade: its shaders take the light's direction as
+// normalize(light - vertex) in float, whose length overflows once |x|^2
+// passes 3.4e38; beyond 1e18 the picture was black with exit 0 (issue 17).
+// Lights far from the scene but within the bound are shadowed as
+// directional lights by the pass (vtkSoftShadowPass, with a warning).
+void CheckLightPosition(const std::array<double, 3>& p, const Ctx& c)
+{
+  for (double x : p)
+  {
+    if (std::fabs(x) > 1.0e18)
+    {
+      char buf[32];
+      std::snprintf(buf, sizeof(buf), "%g", x);
+      c.Fail(std::string("light coordinate ") + buf +
+        " beyond 1e18 (the shaders' float distance to the light overflows)");
+    }
+  }
 }
 
 std::array<double, 3> Color(const json& parent, const char* key, const Ctx& c, std::array<double, 3> def)
@@ -693,6 +713,7 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
         {
           (c / "size").Fail("expected an array of 2 non-negative numbers");
         }
+        CheckLightPosition(center, c / "center");
         light->SetPosition(center.data());
         light->SetFocalPoint(center[0] + normal[0], center[1] + normal[1], center[2] + normal[2]);
         vtkSoftShadowLight::SetAreaSize(light, size[0], size[1]);
@@ -705,6 +726,7 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
       {
         CheckKeys(l, c, { "type", "position", "intensity", "color" });
         const auto pos = Required<3>(l, "position", c);
+        CheckLightPosition(pos, c / "position");
         light->SetPosition(pos.data());
         // The cone is open (90 degrees): the direction does not matter for a
         // point light; the pass fits its shadow views to the receivers.
@@ -718,6 +740,12 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
       if (intensity < 0)
       {
         (c / "intensity").Fail("expected a non-negative number");
+      }
+      if (intensity > FLT_MAX)
+      {
+        // VTK uploads colour x intensity as a float uniform: inf, and the
+        // shading's inf x 0 made the picture black (issue 17)
+        (c / "intensity").Fail("intensity beyond the float range (3.4e38) the shaders compute in");
       }
       light->SetIntensity(intensity);
       auto lightColor = Color(l, "color", c, { 1, 1, 1 });

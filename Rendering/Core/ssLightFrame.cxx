@@ -185,4 +185,26 @@ double DiffuseCosine(const LightFrame& light, const glm::dvec3& p, const glm::dv
   }
   return std::max(0.0, glm::dot(n, l / ll));
 }
+
+bool FarLightAsDirectional(
+  const LightFrame& light, const glm::dvec3& sceneCenter, double sceneDiagonal, LightFrame& out)
+{
+  if (light.type == LightType::Directional || !(sceneDiagonal > 0.0) || !Finite(sceneCenter))
+  {
+    return false;
+  }
+  const glm::dvec3 dir = sceneCenter - light.center;
+  const double dist = glm::length(dir);
+  if (!(dist > kFarLightRatio * sceneDiagonal) || !std::isfinite(dist))
+  {
+    return false;
+  }
+  if (light.type == LightType::Rect && glm::dot(light.n, dir) <= 0.0)
+  {
+    return false; // faces away: nothing in front, it stays as it is
+  }
+  const double side = std::max(light.width, light.height);
+  out = MakeDirectionalLightFrame(dir / dist, 2.0 * std::atan(0.5 * side / dist));
+  return true;
+}
 }

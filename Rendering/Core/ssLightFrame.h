@@ -43,6 +43,22 @@ glm::dvec3 RegularLightSample(const LightFrame& light, int i, int j, int k);
 /// directions (the reference samples it the same way); a point light is itself.
 LightFrame LightSampleFrame(const LightFrame& light, int i, int j, int k);
 
+/// Distance, in scene diagonals, beyond which a rect or point light is
+/// shadowed as a directional light (FarLightAsDirectional).
+constexpr double kFarLightRatio = 1.0e3;
+
+/// A rect or point light farther than kFarLightRatio scene diagonals from
+/// the centre of the scene `sceneCenter` (diagonal `sceneDiagonal`), as the
+/// directional light it is for the scene: the direction from its centre to
+/// the scene's, the angular diameter its largest side subtends. Float light
+/// space cannot tell the scene's depths apart seen from a light that far
+/// (its depths differ in the 8th digit: no shadow at all at 1e6 diagonals,
+/// issue 17), while the directions to it across the scene differ by at most
+/// 1/kFarLightRatio radians. False (out untouched) when the light is near
+/// enough, directional already, or a one-sided rect light facing away.
+bool FarLightAsDirectional(
+  const LightFrame& light, const glm::dvec3& sceneCenter, double sceneDiagonal, LightFrame& out);
+
 /// The factor VTK's diffuse lighting multiplies a light's V with at point p
 /// (normal nrm, seen from eye): max(0, n . l), l the unit vector towards the
 /// light's centre (against the direction of a directional light), n = nrm

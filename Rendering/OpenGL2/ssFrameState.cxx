@@ -11,7 +11,10 @@
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkRenderState.h"
 #include "vtkRenderer.h"
+#include "vtkWindow.h"
 
+#include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <exception>
 #include <sstream>
@@ -74,6 +77,40 @@ std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origi
   return lights;
 }
 
+std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const Box& scene)
+{
+  std::ostringstream out;
+  auto sep = [&out]() -> std::ostream& { return out << (out.tellp() > 0 ? "; " : ""); };
+  bool far = false;
+  for (auto& l : lights)
+  {
+    LightFrame d;
+    if (l.Planner.valid && !scene.Empty() && FarLightAsDirectional(l.Frame, scene.Center(), scene.Diagonal(), d))
+    {
+      sep() << "light " << l.ShaderIndex << " is " << glm::length(l.Frame.center - scene.Center()) / scene.Diagonal()
+            << " scene sizes away";
+      l.Frame = d;
+      l.Planner.frame = d;
+      far = true;
+    }
+    double rgb[3];
+    l.Light->GetDiffuseColor(rgb);
+    if (l.Light->GetIntensity() * std::max({ rgb[0], rgb[1], rgb[2], 1e-30 }) > FLT_MAX)
+    {
+      // VTK's shaders get colour x intensity as a float: inf, then NaN
+      sep() << "light " << l.ShaderIndex << " has intensity " << l.Light->GetIntensity()
+            << ", beyond the float range VTK's shading computes in (black picture)";
+    }
+  }
+  if (far)
+  {
+    out << " (a light beyond " << kFarLightRatio
+        << " scene sizes is shadowed as a directional light: float light-space depths cannot separate the "
+           "scene's surfaces from there)";
+  }
+  return out.str();
+}
+
 bool UpdateFrameState(FrameState& frame, const vtkRenderState* s, const double* fixedOrigin)
 {
   vtkRenderer* ren = s->GetRenderer();
@@ -97,9 +134,30 @@ bool UpdateFrameState(FrameState& frame, const vtkRenderState* s, const double* 
   frame.Height = h;
   frame.ViewportOrigin[0] = x0;
   frame.ViewportOrigin[1] = y0;
+  // A tiled render (vtkWindowToImageFilter::SetScale, ParaView screenshots
+  // larger than the view) draws the frame TileScale times larger, one tile
+  // of the window's size at a time, through the window's tile viewport (in
+  // units of the whole frame). The renderer's part of the whole frame is
+  // TileScale times its viewport; this tile's place in it follows.
   frame.FrameSize[0] = w;
   frame.FrameSize[1] = h;
   frame.TileOrigin[0] = frame.TileOrigin[1] = 0;
+  if (vtkWindow* win = ren->GetVTKWindow())
+  {
+    int scale[2];
+    double tile[4];
+    win->GetTileScale(scale);
+    win->GetTileViewport(tile);
+    const double* vp = ren->GetViewport();
+    const int* size = win->GetSize();
+    for (int i = 0; i < 2; ++i)
+    {
+      const double part = (vp[i + 2] - vp[i]) * size[i] * scale[i];
+      frame.FrameSize[i] = std::max(static_cast<int>(std::lround(part)), i == 0 ? w : h);
+      frame.TileOrigin[i] =
+        std::max(0, static_cast<int>(std::lround((std::max(tile[i], vp[i]) - vp[i]) * size[i] * scale[i])));
+    }
+  }
   vtkCamera* cam = ren->GetActiveCamera();
   const double* o = fixedOrigin ? fixedOrigin : cam->GetFocalPoint();
   frame.Origin = glm::dvec3(o[0], o[1], o[2]);
@@ -119,8 +177,18 @@ std::string FrameSignature(vtkRenderer* ren, const FrameState& frame, const Cast
   {
     sig << v << ',';
   }
+  // the projection as drawn (tiled renders shift it per tile; window centre)
+  vtkMatrix4x4::DeepCopy(vm, cam->GetProjectionTransformMatrix(ren));
+  for (double v : vm)
+  {
+    sig << v << ',';
+  }
   sig << cam->GetViewAngle() << ',' << cam->GetParallelProjection() << ',' << cam->GetParallelScale() << ','
       << ren->GetTiledAspectRatio() << ',' << frame.Width << 'x' << frame.Height << ',' << casters.Version << ','
+      // the tile: a tiled render's tiles share the camera but not the pixels
+      // (issue 17: each tile reused the first tile's visibility)
+      << frame.FrameSize[0] << 'x' << frame.FrameSize[1] << '+' << frame.TileOrigin[0] << '+' << frame.TileOrigin[1]
+      << ',' << frame.ViewportOrigin[0] << '+' << frame.ViewportOrigin[1] << ','
       << casters.VolumeVersion << ','
       << settingsTime << ',' << frame.Origin.x << ',' << frame.Origin.y << ',' << frame.Origin.z;
   for (const auto& l : frame.Lights)

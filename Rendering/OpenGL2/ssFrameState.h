@@ -49,8 +49,11 @@ struct FrameState
   /// The whole frame and this viewport's place in it. A tiled render
   /// (vtkWindowToImageFilter::SetScale, ParaView screenshots larger than the
   /// view) renders the frame in parts; shadows must be those of the whole
-  /// frame (DESIGN.md, issue 17). Today every render is its own frame:
-  /// FrameSize is the viewport's size and TileOrigin (0, 0).
+  /// frame (DESIGN.md, issue 17). FrameSize is the renderer's part of the
+  /// whole (tiled) frame in pixels, TileOrigin this tile's lower-left corner
+  /// in it; both enter the reuse signature, so no tile reuses another's V.
+  /// Light-space data (views, maps, search depth) depends on neither: the
+  /// views are fitted to the receivers' bounds, not to the screen.
   int FrameSize[2] = { 0, 0 };
   int TileOrigin[2] = { 0, 0 };
   /// Origin of the positions buffer and of all float computations (world).
@@ -64,6 +67,14 @@ struct FrameState
 /// them), their frames relative to `origin` and what the planner needs of
 /// them. A light whose geometry is invalid is kept, with the reason.
 std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origin);
+
+/// Lights the pass cannot shadow or VTK cannot shade as given (issue 17).
+/// A rect or point light farther than kFarLightRatio sizes of `scene` (the
+/// casters' and receivers' bounds, relative coordinates) gets the
+/// directional frame it is for the scene (ss::FarLightAsDirectional); a light
+/// whose colour x intensity exceeds the float range is reported (VTK's
+/// shading of it is black). Returns the warning text, empty when none.
+std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const Box& scene);
 
 /// Sets the viewport (the render state's framebuffer, else the renderer's
 /// tiled viewport, as vtkCameraPass does), the origin (the camera's focal

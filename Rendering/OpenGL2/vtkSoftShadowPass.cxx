@@ -94,6 +94,7 @@ public:
   bool ShadowsThisFrame = false;
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
   std::string LastSignature;
+  std::string LastFarLightWarning; // warned once until the far lights change
   bool HaveResults = false;
   // --- interactive frames: the methods the kept visibility was solved with,
   // what each method's shadow work cost; progress and abort of this frame
@@ -391,9 +392,21 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
 
   // --- lights and the effect plan
   in.Frame.Lights = ss::CollectLights(ren, in.Frame.Origin);
+  {
+    // Lights float light space or VTK's float shading cannot handle: far
+    // lights become directional for the shadows; each warned once (issue 17).
+    ss::Box scene = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
+    scene.Add(ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin));
+    const std::string warning = ss::CheckFarAndOverflowingLights(in.Frame.Lights, scene);
+    if (!warning.empty() && warning != in.LastFarLightWarning)
+    {
+      vtkWarningMacro(<< warning);
+    }
+    in.LastFarLightWarning = warning;
+  }
   vtkCamera* cam = ren->GetActiveCamera();
-  in.PixelAngle = cam->GetParallelProjection() ? 0.0 : vtkMath::RadiansFromDegrees(cam->GetViewAngle()) / in.Frame.Height;
-  in.ParallelPixel = cam->GetParallelProjection() ? 2.0 * cam->GetParallelScale() / in.Frame.Height : 0.0;
+  in.PixelAngle = cam->GetParallelProjection() ? 0.0 : vtkMath::RadiansFromDegrees(cam->GetViewAngle()) / in.Frame.FrameSize[1];
+  in.ParallelPixel = cam->GetParallelProjection() ? 2.0 * cam->GetParallelScale() / in.Frame.FrameSize[1] : 0.0;
   const std::string signature = ss::FrameSignature(ren, in.Frame, in.Casters, this->GetMTime());
   this->PlanFrame(in.HaveResults && signature == in.LastSignature,
     this->AdaptToFrameBudget ? ss::FrameBudgetMs(win, this->InteractiveUpdateRate) : 0.0);

@@ -35,6 +35,17 @@ file(WRITE "${_gen}/bad_index.off" "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")
 file(WRITE "${_gen}/bad_off.json" "{\"objects\": [{\"mesh\": \"bad_index.off\"}]}\n")
 file(WRITE "${_gen}/zero_scale.json"
   "{\"objects\": [{\"primitive\": \"sphere\", \"transform\": {\"scale\": [1, 0, 1]}}]}\n")
+# Issue 17: lights VTK's float shading cannot render (a black picture with
+# exit 0 before) are clear errors naming the key.
+file(WRITE "${_gen}/light_intensity_1e39.json"
+  "{\"lights\": [{\"type\": \"rect\", \"center\": [0,0,5], \"normal\": [0,0,-1], \"intensity\": 1e39}], \"objects\": [{\"primitive\": \"sphere\"}]}\n")
+file(WRITE "${_gen}/light_position_1e30.json"
+  "{\"lights\": [{\"type\": \"point\", \"position\": [0,0,1e30]}], \"objects\": [{\"primitive\": \"sphere\"}]}\n")
+file(WRITE "${_gen}/light_center_1e30.json"
+  "{\"lights\": [{\"type\": \"rect\", \"center\": [1e30,0,5], \"normal\": [0,0,-1]}], \"objects\": [{\"primitive\": \"sphere\"}]}\n")
+ss_cli_error(light_intensity_1e39 "lights\\[0\\]\\.intensity: intensity beyond the float range" ${_ss_cli} render "${_gen}/light_intensity_1e39.json")
+ss_cli_error(light_position_1e30 "lights\\[0\\]\\.position: light coordinate 1e\\+30 beyond 1e18" ${_ss_cli} render "${_gen}/light_position_1e30.json")
+ss_cli_error(light_center_1e30 "lights\\[0\\]\\.center: light coordinate 1e\\+30 beyond 1e18" ${_ss_cli} render "${_gen}/light_center_1e30.json")
 ss_cli_error(number_overflow "number_overflow\\.json: invalid JSON: .*number overflow" ${_ss_cli} render "${_gen}/number_overflow.json")
 ss_cli_error(zero_image_size "zero_width\\.json: image\\.width: expected an integer in \\[1, " ${_ss_cli} render "${_gen}/zero_width.json")
 ss_cli_error(unreadable_vtp "empty_vtp\\.json: objects\\[0\\]\\.mesh: could not read" ${_ss_cli} render "${_gen}/empty_vtp.json")

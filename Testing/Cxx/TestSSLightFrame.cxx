@@ -210,3 +210,26 @@ TEST(LightFrame, SampleFramesArePointLikeAndMatchTheReference)
   const auto point = ss::MakePointLightFrame({ 0, 0, 3 });
   EXPECT_LT(glm::length(ss::LightSampleFrame(point, 2, 1, k).center - point.center), 1e-15);
 }
+
+TEST(LightFrame, FarLightAsDirectional)
+{
+  const glm::dvec3 centre(0, 0, 0);
+  const double diag = 8.0;
+  LightFrame out;
+  // near enough: untouched
+  EXPECT_FALSE(FarLightAsDirectional(MakePointLightFrame({ 0, 0, 5 }), centre, diag, out));
+  EXPECT_FALSE(FarLightAsDirectional(MakePointLightFrame({ 0, 0, 0.99 * kFarLightRatio * diag }), centre, diag, out));
+  // far: the direction from the light to the scene, the angle its side subtends
+  const LightFrame far = MakeRectLightFrame({ 0, 3e9, 4e9 }, { 0, -3, -4 }, { 0, 0, 0 }, { 10, 20 });
+  ASSERT_TRUE(FarLightAsDirectional(far, centre, diag, out));
+  EXPECT_EQ(out.type, LightType::Directional);
+  EXPECT_NEAR(out.n.y, -0.6, 1e-12);
+  EXPECT_NEAR(out.n.z, -0.8, 1e-12);
+  EXPECT_NEAR(out.angularDiameter, 20.0 / 5e9, 1e-18);
+  // a far rect light facing away from the scene stays as it is
+  const LightFrame away = MakeRectLightFrame({ 0, 0, 1e9 }, { 0, 0, 1 }, { 0, 0, 0 }, { 1, 1 });
+  EXPECT_FALSE(FarLightAsDirectional(away, centre, diag, out));
+  // directional lights and empty scenes: untouched
+  EXPECT_FALSE(FarLightAsDirectional(MakeDirectionalLightFrame({ 0, 0, -1 }, 0.0), centre, diag, out));
+  EXPECT_FALSE(FarLightAsDirectional(MakePointLightFrame({ 0, 0, 1e9 }), centre, 0.0, out));
+}

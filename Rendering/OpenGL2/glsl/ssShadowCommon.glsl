@@ -128,10 +128,12 @@ float lightAboveTangent(vec3 nrm, vec3 d)
   {
     return a > 0.0 ? 1.0 : 0.0;
   }
-  float b = dot(nrm, lightU);
-  float c = dot(nrm, lightV);
-  vec2 h = lightHalfSize;
-  vec2 q[4] = vec2[4](vec2(-h.x, -h.y), vec2(h.x, -h.y), vec2(h.x, h.y), vec2(-h.x, h.y));
+  // The rectangle in units of its half sizes, [-1,1]^2 (area 4): a light of
+  // size 1e30 overflowed float in 4 * h.x * h.y and gave V = 0 everywhere
+  // (issue 17). Same as ss::LightFractionAboveTangentPlane.
+  float b = lightHalfSize.x * dot(nrm, lightU);
+  float c = lightHalfSize.y * dot(nrm, lightV);
+  vec2 q[4] = vec2[4](vec2(-1.0, -1.0), vec2(1.0, -1.0), vec2(1.0, 1.0), vec2(-1.0, 1.0));
   vec2 outp[8];
   int n = 0;
   for (int i = 0; i < 4; ++i)
@@ -156,7 +158,7 @@ float lightAboveTangent(vec3 nrm, vec3 d)
     vec2 p1 = outp[(i + 1) % n];
     area += p0.x * p1.y - p1.x * p0.y;
   }
-  return clamp(0.5 * abs(area) / (4.0 * h.x * h.y), 0.0, 1.0);
+  return clamp(0.125 * abs(area), 0.0, 1.0);
 }
 
 // The view of the light that holds the light-space direction d (from the

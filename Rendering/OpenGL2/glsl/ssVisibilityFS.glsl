@@ -31,11 +31,25 @@ vec2 mapPlaneRange(View w, vec2 a, float s, float maxDelta)
 // its overlap with the kernel box times its lit fraction, over the box area.
 float coverageFilter(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
 {
-  float area = (k1.x - k0.x) * (k1.y - k0.y);
-  if (area <= 0.0)
+  vec2 size = k1 - k0;
+  if (size.x * size.y <= 0.0)
   {
     return quadLit(w, 0, ivec2(floor(0.5 * (k0 + k1))), bias, maxDelta);
   }
+  // Texels outside the map hold nothing (fetchDepth: lit), so the kernel is
+  // clipped to the map and its outside counted lit: V = 1 - blocked / area,
+  // divided one axis at a time. A huge light's kernel (1e32 texels for a
+  // light of size 1e30) overflowed the area and the quad indices in float
+  // and int and gave V = 0 everywhere (issue 17).
+  vec2 m0 = max(k0, vec2(0.0));
+  vec2 m1 = min(k1, vec2(mapSize));
+  if (m1.x <= m0.x || m1.y <= m0.y)
+  {
+    return 1.0;
+  }
+  float inside = (m1.x - m0.x) * (m1.y - m0.y);
+  k0 = m0;
+  k1 = m1;
   float extent = max(k1.x - k0.x, k1.y - k0.y);
   int level = 0;
   while (extent / exp2(float(level)) > float(maxQuads) && level < numLevels - 1)
@@ -65,7 +79,7 @@ float coverageFilter(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
       lit += ox * oy * quadLit(w, level, ivec2(qx, qy), bias, maxDelta);
     }
   }
-  return clamp(lit / area, 0.0, 1.0);
+  return clamp(1.0 - ((inside - lit) / size.x) / size.y, 0.0, 1.0);
 }
 
 void main()
