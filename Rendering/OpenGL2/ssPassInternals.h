@@ -1,0 +1,198 @@
+// The state vtkSoftShadowPass keeps between its stages and frames (its
+// vtkInternals): the frame's shared pieces, one solver per registered method,
+// what the mappers' shaders carry, and what the last frame left for the
+// queries. Private to the module: vtkSoftShadowPass.cxx runs the frame,
+// ssPassQueries.cxx answers the public getters from it.
+#ifndef ssPassInternals_h
+#define ssPassInternals_h
+
+#include "vtkSoftShadowPass.h"
+
+#include "ssCasterSet.h"
+#include "ssEffectPlanner.h"
+#include "ssFrameBudget.h"
+#include "ssFrameState.h"
+#include "ssGBuffer.h"
+#include "ssGLLimits.h"
+#include "ssPassStats.h"
+#include "ssShadowMaps.h"
+#include "ssVisibilityLayers.h"
+#include "ssVisibilitySolver.h"
+
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkSmartPointer.h"
+#include "vtkTimeStamp.h"
+#include "vtkWeakPointer.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ss
+{
+// Which code the mappers' shaders get: the G-buffer outputs while the
+// G-buffer is drawn, the visibility multiplication while shading.
+enum class PassStage
+{
+  Idle,
+  GBuffer,
+  Shade
+};
+}
+
+class vtkSoftShadowPass::vtkInternals
+{
+public:
+  // --- the frame and its shared pieces (GPU ones released by Release)
+  ss::FrameState Frame;
+  ss::CasterSet Casters;
+  ss::EffectPlan Plan;
+  ss::GBuffer GBuf;
+  ss::ShadowMaps Maps;
+  ss::VisibilityLayers Visibility;
+  ss::StageTimings Timings;
+  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO; // render target of the off-screen stages
+  vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+
+  // --- one solver per registered method, in registry order
+  std::vector<std::unique_ptr<ss::VisibilitySolver>> Solvers;
+
+  // --- what the mappers' shaders carry, and whether the results are valid
+  ss::PassStage CurrentStage = ss::PassStage::Idle;
+  vtkTimeStamp StageTime;
+  bool ShadowsThisFrame = false;
+  bool ShadeShadows = false; // whether the shading shaders carry the visibility code
+  std::string LastSignature;
+  std::string LastFarLightWarning; // warned once until the far lights change
+  bool HaveResults = false;
+  // --- interactive frames: the methods the kept visibility was solved with,
+  // what each method's shadow work cost; progress and abort of this frame
+  std::vector<ss::Method> LastMethods;
+  ss::MethodCosts Costs;
+  bool Aborted = false;
+  // the camera's pixel size, for the planner's rule on directional lights:
+  // radians per pixel (perspective) or world units per pixel (parallel)
+  double PixelAngle = 0.0, ParallelPixel = 0.0;
+
+  ss::VisibilitySolver* SolverFor(ss::Method m) const
+  {
+    for (const auto& solver : this->Solvers)
+    {
+      if (solver->GetMethod() == m)
+      {
+        return solver.get();
+      }
+    }
+    return nullptr;
+  }
+
+  ss::SolverFrame MakeSolverFrame(vtkRenderer* ren, vtkOpenGLRenderWindow* win, vtkObject* reporter)
+  {
+    ss::SolverFrame f;
+    f.Renderer = ren;
+    f.Window = win;
+    f.FBO = this->FBO;
+    f.State = &this->Frame;
+    f.GBuffer = &this->GBuf;
+    f.Casters = &this->Casters;
+    f.Maps = &this->Maps;
+    f.Visibility = &this->Visibility;
+    f.Timings = &this->Timings;
+    f.Reporter = reporter;
+    return f;
+  }
+
+  // The whole-view shadow maps of the frame, drawn by the solvers of the
+  // lights that use them into one shared array. False (with `error`) when the
+  // maps cannot be made; `error` may also hold a non-fatal error.
+  bool DrawShadowMaps(ss::SolverFrame& frame, const std::vector<std::vector<const ss::ShadowLight*>>& lightsOf,
+    const std::vector<int>& asked, int fallbackSize, int views, const ss::GLLimits& limits, std::string& error)
+  {
+    const int S = this->Maps.ChooseSize(asked, fallbackSize, limits.maxTextureSize, frame.Reporter);
+    const auto t0 = ss::Clock::now();
+    if (!this->Maps.Allocate(S, views, limits, error))
+    {
+      this->ShadowsThisFrame = false;
+      return false;
+    }
+    for (std::size_t i = 0; i < this->Solvers.size(); ++i)
+    {
+      if (!lightsOf[i].empty())
+      {
+        this->Solvers[i]->PrepareCasters(this->Casters);
+      }
+    }
+    if (!this->Casters.ReadyProgram(frame.Window, error))
+    {
+      return false;
+    }
+    this->Maps.BeginDrawing(frame.Window, this->FBO);
+    int layer = 0;
+    for (auto& l : this->Frame.Lights)
+    {
+      if (l.Layer < 0)
+      {
+        continue;
+      }
+      l.FirstLayer = layer;
+      layer += static_cast<int>(l.Views.size());
+      ss::VisibilitySolver* solver = this->SolverFor(l.Method);
+      if (solver->UsesShadowMaps())
+      {
+        solver->DrawShadowMaps(frame, l);
+      }
+    }
+    if (!this->Maps.EndDrawing(frame.Window, this->FBO))
+    {
+      error = "Could not build the min-depth reduction program.";
+    }
+    this->Timings.Finish();
+    this->Timings.Set("shadow_maps", ss::Milliseconds(t0, ss::Clock::now()));
+    return true;
+  }
+
+  int CountResources() const
+  {
+    int n = this->GBuf.CountGraphicsResources() + this->Maps.CountGraphicsResources() +
+      this->Visibility.CountGraphicsResources() + this->Casters.CountGraphicsResources();
+    for (const auto& solver : this->Solvers)
+    {
+      n += solver->GetNumberOfGraphicsResources();
+    }
+    n += (this->FBO && this->FBO->GetFBOIndex() != 0) ? 1 : 0;
+    return n;
+  }
+
+  long long MemoryBytes() const
+  {
+    long long b = this->GBuf.Bytes() + this->Maps.Bytes() + this->Visibility.Bytes() + this->Casters.Bytes();
+    for (const auto& solver : this->Solvers)
+    {
+      b += solver->GetMemoryBytes();
+    }
+    return b;
+  }
+
+  void Release(vtkWindow* w)
+  {
+    this->Maps.ReleaseGraphicsResources(w);
+    for (const auto& solver : this->Solvers)
+    {
+      solver->ReleaseGraphicsResources(w);
+    }
+    this->Visibility.ReleaseGraphicsResources();
+    this->GBuf.ReleaseGraphicsResources(w);
+    if (this->FBO)
+    {
+      this->FBO->ReleaseGraphicsResources(w);
+      this->FBO = nullptr;
+    }
+    this->Casters.ReleaseGraphicsResources();
+    this->HaveResults = false;
+    this->LastSignature.clear();
+    this->LastMethods.clear();
+  }
+};
+
+#endif
