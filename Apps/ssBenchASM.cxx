@@ -162,12 +162,8 @@ int BenchASM(const std::vector<std::string>& args)
   for (const auto& scene : ba.scenes)
   {
     vtkNew<vtkRenderer> ren;
-    const SceneInfo info = LoadScene(scene, ren);
     vtkNew<vtkRenderWindow> win;
-    win->SetOffScreenRendering(1);
-    win->SetMultiSamples(0);
-    win->SetSize(ba.width ? ba.width : info.width, ba.height ? ba.height : info.height);
-    win->AddRenderer(ren);
+    OpenScene(scene, ren, win, ba.width, ba.height);
     const std::string name = fs::path(scene).stem().string();
     vtkNew<vtkCamera> start;
     start->DeepCopy(ren->GetActiveCamera());

@@ -120,12 +120,8 @@ int Bench(const std::vector<std::string>& args)
   for (const auto& scene : scenes)
   {
     vtkNew<vtkRenderer> ren;
-    const SceneInfo info = LoadScene(scene, ren);
     vtkNew<vtkRenderWindow> win;
-    win->SetOffScreenRendering(1);
-    win->SetMultiSamples(0);
-    win->SetSize(width ? width : info.width, height ? height : info.height);
-    win->AddRenderer(ren);
+    OpenScene(scene, ren, win, width, height);
     const std::string name = fs::path(scene).stem().string();
 
     // --- the reference, once
@@ -212,14 +208,7 @@ int Bench(const std::vector<std::string>& args)
       }
       else
       {
-        vtkNew<vtkSoftShadowPass> pass;
-        pass->SetMethodByName(cfg.method.c_str());
-        for (const auto& o : cfg.options)
-        {
-          ApplyOption(pass, o);
-        }
-        pass->SetMeasureTimings(true);
-        ren->SetPass(pass);
+        const vtkSmartPointer<vtkSoftShadowPass> pass = MakePass(ren, cfg.method, cfg.options);
         r.ms = TimeFrames(
           win, ren, pass, (cfg.method == "reference" || cfg.method == "gears" || cfg.method == "hardavg") ? 1 : frames);
         vtkNew<vtkFloatArray> v;

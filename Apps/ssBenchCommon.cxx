@@ -51,6 +51,30 @@ std::vector<float> Luminance(vtkRenderWindow* win)
   return l;
 }
 
+SceneInfo OpenScene(const std::string& scene, vtkRenderer* ren, vtkRenderWindow* win, int width, int height)
+{
+  const SceneInfo info = LoadScene(scene, ren);
+  win->SetOffScreenRendering(1);
+  win->SetMultiSamples(0);
+  win->SetSize(width ? width : info.width, height ? height : info.height);
+  win->AddRenderer(ren);
+  return info;
+}
+
+vtkSmartPointer<vtkSoftShadowPass> MakePass(
+  vtkRenderer* ren, const std::string& method, const std::vector<std::string>& options)
+{
+  vtkNew<vtkSoftShadowPass> pass;
+  pass->SetMethodByName(method.c_str());
+  for (const auto& o : options)
+  {
+    ApplyOption(pass, o);
+  }
+  pass->SetMeasureTimings(true);
+  ren->SetPass(pass);
+  return vtkSmartPointer<vtkSoftShadowPass>(pass.GetPointer());
+}
+
 double TimeFrames(vtkRenderWindow* win, vtkRenderer* ren, vtkSoftShadowPass* pass, int frames)
 {
   std::vector<double> t;

@@ -9,9 +9,11 @@
 #include "ssBench.h"
 #include "ssHeadless.h"
 #include "ssMetrics.h"
+#include "ssScene.h"
 
 #include "vtkFloatArray.h"
 #include "vtkNew.h"
+#include "vtkSmartPointer.h"
 
 #include <nlohmann/json.hpp>
 
@@ -72,6 +74,14 @@ struct Row
   ss::VisibilityErrors err;
   std::string note;
 };
+
+/// `scene` loaded into `ren`, shown off-screen in `win` (no multisampling) at
+/// width x height, or at the scene's own size where they are 0.
+SceneInfo OpenScene(const std::string& scene, vtkRenderer* ren, vtkRenderWindow* win, int width, int height);
+/// A soft-shadow pass of `method` with the `--option` strings applied and
+/// stage timings on, set as `ren`'s pass.
+vtkSmartPointer<vtkSoftShadowPass> MakePass(
+  vtkRenderer* ren, const std::string& method, const std::vector<std::string>& options);
 
 /// Luminance of the window's picture (Rec. 709 weights), one value per pixel.
 std::vector<float> Luminance(vtkRenderWindow* win);

@@ -130,12 +130,8 @@ int BenchPVSM(const std::vector<std::string>& args)
   for (const auto& scene : scenes)
   {
     vtkNew<vtkRenderer> ren;
-    const SceneInfo info = LoadScene(scene, ren);
     vtkNew<vtkRenderWindow> win;
-    win->SetOffScreenRendering(1);
-    win->SetMultiSamples(0);
-    win->SetSize(width ? width : info.width, height ? height : info.height);
-    win->AddRenderer(ren);
+    OpenScene(scene, ren, win, width, height);
     const std::string name = fs::path(scene).stem().string();
     vtkNew<vtkCamera> overview;
     overview->DeepCopy(ren->GetActiveCamera());
@@ -180,14 +176,7 @@ int BenchPVSM(const std::vector<std::string>& args)
       auto run = [&](const Cfg& cfg, bool compare) {
         std::cerr << "\r" << name << " " << var.camera << " " << var.light << ": " << cfg.label
                   << std::string(20, ' ') << std::flush;
-        vtkNew<vtkSoftShadowPass> pass;
-        pass->SetMethodByName(cfg.method.c_str());
-        for (const auto& o : cfg.options)
-        {
-          ApplyOption(pass, o);
-        }
-        pass->SetMeasureTimings(true);
-        ren->SetPass(pass);
+        const vtkSmartPointer<vtkSoftShadowPass> pass = MakePass(ren, cfg.method, cfg.options);
         json r = base();
         r["config"] = cfg.label;
         r["settings"] = cfg.options;

@@ -52,12 +52,8 @@ int BenchVPCSS(const std::vector<std::string>& args)
   for (const auto& scene : ba.scenes)
   {
     vtkNew<vtkRenderer> ren;
-    const SceneInfo info = LoadScene(scene, ren);
     vtkNew<vtkRenderWindow> win;
-    win->SetOffScreenRendering(1);
-    win->SetMultiSamples(0);
-    win->SetSize(ba.width ? ba.width : info.width, ba.height ? ba.height : info.height);
-    win->AddRenderer(ren);
+    OpenScene(scene, ren, win, ba.width, ba.height);
     ren->SetUseDepthPeeling(1);
     const std::string name = fs::path(scene).stem().string();
     std::cerr << "\r" << name << ": reference" << std::string(20, ' ') << std::flush;
@@ -68,14 +64,7 @@ int BenchVPCSS(const std::vector<std::string>& args)
     for (const auto& cfg : configs)
     {
       std::cerr << "\r" << name << ": " << cfg.method << std::string(20, ' ') << std::flush;
-      vtkNew<vtkSoftShadowPass> pass;
-      pass->SetMethodByName(cfg.method.c_str());
-      for (const auto& o : cfg.options)
-      {
-        ApplyOption(pass, o);
-      }
-      pass->SetMeasureTimings(true);
-      ren->SetPass(pass);
+      const vtkSmartPointer<vtkSoftShadowPass> pass = MakePass(ren, cfg.method, cfg.options);
       json r = { { "scene", name }, { "method", cfg.method }, { "settings", cfg.options } };
       r["ms"] = TimeFrames(win, ren, pass, ba.frames);
       const json st = json::parse(pass->GetStatsJSON());
