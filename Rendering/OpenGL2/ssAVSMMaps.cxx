@@ -1,6 +1,7 @@
 #include "ssAVSMMaps.h"
 
 #include "ssCasterSet.h"
+#include "ssComputeProgram.h"
 #include "ssFrameState.h"
 #include "ssGLLimits.h"
 #include "ssPassStats.h"
@@ -152,30 +153,11 @@ struct AVSMMaps::Impl
     }
     std::string src = key + ssAVSMBuildCS;
     vtkShaderProgram::Substitute(src, "//SS::AVSMNodes", ssAVSMNodes);
-    const char* text = src.c_str();
-    const GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
-    glShaderSource(sh, 1, &text, nullptr);
-    glCompileShader(sh);
-    GLint ok = 0, len = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok)
+    std::string why;
+    const GLuint prog = CompileComputeProgram(src, why);
+    if (!prog)
     {
-      glGetShaderiv(sh, GL_INFO_LOG_LENGTH, &len);
-      std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
-      glGetShaderInfoLog(sh, len, nullptr, &log[0]);
-      error = "AVSM: " + kernel + " does not compile: " + log;
-      glDeleteShader(sh);
-      return 0;
-    }
-    const GLuint prog = glCreateProgram();
-    glAttachShader(prog, sh);
-    glLinkProgram(prog);
-    glDeleteShader(sh);
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok)
-    {
-      error = "AVSM: " + kernel + " does not link";
-      glDeleteProgram(prog);
+      error = "AVSM: " + kernel + " " + why;
       return 0;
     }
     this->Programs[key] = prog;

@@ -2,6 +2,7 @@
 // this file sizes the buffers, dispatches the stages in the order of the CPU
 // backend (Rendering/Core/ssGEARS.cxx) and collects the paper's statistics.
 #include "ssGearsGL.h"
+#include "ssComputeProgram.h"
 #include "ssGLLimits.h"
 
 #include "ssGearsCSAssign.h"
@@ -165,40 +166,14 @@ struct GearsGL::Impl
       return it->second;
     }
     const std::string src = key + ssGearsCSCommon + ssGearsCSAssign + ssGearsCSRaster;
-    const char* text = src.c_str();
-    const GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
-    glShaderSource(sh, 1, &text, nullptr);
-    glCompileShader(sh);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    auto log = [](GLuint obj, bool shader) {
-      GLint len = 0;
-      shader ? glGetShaderiv(obj, GL_INFO_LOG_LENGTH, &len) : glGetProgramiv(obj, GL_INFO_LOG_LENGTH, &len);
-      std::string s(static_cast<std::size_t>(std::max(len, 1)), '\0');
-      shader ? glGetShaderInfoLog(obj, len, nullptr, &s[0]) : glGetProgramInfoLog(obj, len, nullptr, &s[0]);
-      return s;
-    };
-    if (!ok)
+    std::string error;
+    const GLuint prog = CompileComputeProgram(src, error);
+    if (!prog)
     {
       if (why)
       {
-        *why = "GEARS GL: " + kernel + " does not compile: " + log(sh, true);
+        *why = "GEARS GL: " + kernel + " " + error;
       }
-      glDeleteShader(sh);
-      return 0;
-    }
-    const GLuint prog = glCreateProgram();
-    glAttachShader(prog, sh);
-    glLinkProgram(prog);
-    glDeleteShader(sh);
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok)
-    {
-      if (why)
-      {
-        *why = "GEARS GL: " + kernel + " does not link: " + log(prog, false);
-      }
-      glDeleteProgram(prog);
       return 0;
     }
     Programs[key] = prog;
