@@ -55,12 +55,6 @@ int ParseChoice(const std::string& v, const std::string& what, const std::vector
 
 constexpr double Unbounded = 1e300;
 
-std::string Number(double v)
-{
-  std::ostringstream o;
-  o << v;
-  return o.str();
-}
 }
 
 namespace ssapp
@@ -86,26 +80,13 @@ const std::vector<PassOption>& PassOptions()
     {
       const std::string type = P::GetSolverOptionType(i);
       const double lo = P::GetSolverOptionMinimum(i), hi = P::GetSolverOptionMaximum(i);
-      const double def = P::GetSolverOptionDefault(i);
       std::vector<std::string> names;
       for (int n = 0; n < P::GetSolverOptionNumberOfNames(i); ++n)
       {
         names.emplace_back(P::GetSolverOptionName(i, n));
       }
-      std::string values, defText;
-      if (type == "enum")
-      {
-        for (const auto& n : names)
-        {
-          values += (values.empty() ? "" : "|") + n;
-        }
-        defText = names[static_cast<std::size_t>(def)];
-      }
-      else
-      {
-        values = type == "bool" ? "0|1" : Number(lo) + ".." + Number(hi);
-        defText = Number(def);
-      }
+      const std::string values = P::GetSolverOptionValues(i);
+      const std::string defText = P::GetSolverOptionDefaultAsString(i);
       const std::string key = P::GetSolverOptionKey(i);
       const std::string help = std::string(P::GetSolverOptionHelp(i)) + " [" + P::GetSolverOptionMethods(i) +
         "; default " + defText + "]";

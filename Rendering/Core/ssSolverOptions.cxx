@@ -6,6 +6,20 @@
 
 namespace ss
 {
+namespace
+{
+// "a, b or c": the names an enum option accepts, for its errors.
+std::string ChoiceList(const std::vector<std::string>& names)
+{
+  std::string list;
+  for (std::size_t i = 0; i < names.size(); ++i)
+  {
+    list += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + names[i];
+  }
+  return list;
+}
+}
+
 OptionDescriptor IntOption(const char* key, const char* property, const char* label, int lo, int hi,
   int def, const char* help)
 {
@@ -100,12 +114,7 @@ std::string CheckValue(const OptionDescriptor& d, double v)
       {
         return {};
       }
-      std::string list;
-      for (std::size_t i = 0; i < d.Names.size(); ++i)
-      {
-        list += (i == 0 ? "" : (i + 1 == d.Names.size() ? " or " : ", ")) + d.Names[i];
-      }
-      return std::string(d.Key) + ": expected " + list + ", got " + got;
+      return std::string(d.Key) + ": expected " + ChoiceList(d.Names) + ", got " + got;
     }
   }
   return std::string(d.Key) + ": unknown option type";
@@ -115,7 +124,6 @@ std::string ParseValue(const OptionDescriptor& d, const std::string& text, doubl
 {
   if (d.Type == OptionType::Enum)
   {
-    std::string list;
     for (std::size_t i = 0; i < d.Names.size(); ++i)
     {
       if (d.Names[i] == text)
@@ -123,9 +131,8 @@ std::string ParseValue(const OptionDescriptor& d, const std::string& text, doubl
         v = double(i);
         return {};
       }
-      list += (i == 0 ? "" : (i + 1 == d.Names.size() ? " or " : ", ")) + d.Names[i];
     }
-    return std::string(d.Key) + ": expected " + list + ", got '" + text + "'";
+    return std::string(d.Key) + ": expected " + ChoiceList(d.Names) + ", got '" + text + "'";
   }
   double x = 0.0;
   bool ok = false;

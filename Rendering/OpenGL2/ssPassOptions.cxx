@@ -194,6 +194,23 @@ const char* vtkSoftShadowPass::GetSolverOptionName(int i, int value)
   return d && value >= 0 && value < static_cast<int>(d->Names.size()) ? d->Names[value].c_str() : nullptr;
 }
 
+std::string vtkSoftShadowPass::GetSolverOptionValues(int i)
+{
+  const auto* d = Descriptor(i);
+  return d ? ss::DescribeValues(*d) : std::string();
+}
+
+std::string vtkSoftShadowPass::GetSolverOptionDefaultAsString(int i)
+{
+  const auto* d = Descriptor(i);
+  if (!d)
+  {
+    return {};
+  }
+  return d->Type == ss::OptionType::Enum ? d->Names[static_cast<std::size_t>(d->Default)]
+                                         : ss::FormatNumber(d->Default);
+}
+
 const char* vtkSoftShadowPass::GetSolverOptionMethods(int i)
 {
   const auto& all = ss::RegisteredOptions();

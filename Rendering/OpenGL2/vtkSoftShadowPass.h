@@ -143,6 +143,10 @@ public:
   static double GetSolverOptionDefault(int i);
   static int GetSolverOptionNumberOfNames(int i); ///< enum: its names (0 for other types)
   static const char* GetSolverOptionName(int i, int value);
+  /** What its value may be, as usage lines say it: "1..32", "0.05..64", "0|1", "edge|lut". */
+  static std::string GetSolverOptionValues(int i);
+  /** Its default as text: the number, or the enum's name. */
+  static std::string GetSolverOptionDefaultAsString(int i);
   /** The methods whose registry line declares it, comma-separated ("reference, gears"). */
   static const char* GetSolverOptionMethods(int i);
   ///@}
