@@ -99,16 +99,40 @@ ASMSolver::ASMSolver(Method method)
 
 ASMSolver::~ASMSolver() = default;
 
+const OptionList& ASMSolver::DeclaredOptions()
+{
+  // key, property (Python, ParaView), label, range, default, help
+  static const OptionList options = {
+    DoubleOption("asm_memory_mb", "ASMMemoryBudget", "ASM Memory Budget", 0.0625, 4096.0, 16.0,
+      "asm: memory budget of the page pool, megabytes (never exceeded)"),
+    IntOption("asm_page_size", "ASMPageSize", "ASM Page Size", 16, 4096, 128,
+      "asm: page texels a side (rounded up to a power of two)"),
+    IntOption("asm_cells", "ASMCells", "ASM Cells", 2, 8, 4,
+      "asm: cells a side a node splits into (rounded up to 2, 4 or 8)"),
+    IntOption("asm_max_depth", "ASMMaxDepth", "ASM Max Depth", 0, 20, 10,
+      "asm: deepest level of the hierarchy"),
+    DoubleOption("asm_time_budget_ms", "ASMTimeBudget", "ASM Time Budget", 0.0, 1.0e5, 20.0,
+      "asm: refinement time a frame, ms"),
+    IntOption("asm_stride", "ASMAnalysisStride", "ASM Analysis Stride", 1, 64, 8,
+      "asm: one pixel in N analysed a frame"),
+    DoubleOption("asm_quality", "ASMQuality", "ASM Quality", 0.125, 16.0, 1.0,
+      "asm: texels per pixel side"),
+    BoolOption("asm_id_test", "ASMIDTest", "ASM ID Test", true, "asm: the ID+depth test (section 4.2)"),
+  };
+  return options;
+}
+
 void ASMSolver::Configure(vtkSoftShadowPass* pass)
 {
-  this->Opt.MemoryMB = pass->GetASMMemoryBudget();
-  this->Opt.PageSize = pass->GetASMPageSize();
-  this->Opt.Cells = pass->GetASMCells();
-  this->Opt.MaxDepth = pass->GetASMMaxDepth();
-  this->Opt.TimeBudgetMs = pass->GetASMTimeBudget();
-  this->Opt.AnalysisStride = pass->GetASMAnalysisStride();
-  this->Opt.Quality = pass->GetASMQuality();
-  this->Opt.IDTest = pass->GetASMIDTest();
+  const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.MemoryMB = pass->GetSolverOption("asm_memory_mb");
+  this->Opt.PageSize = opt("asm_page_size");
+  this->Opt.Cells = opt("asm_cells");
+  this->Opt.MaxDepth = opt("asm_max_depth");
+  this->Opt.TimeBudgetMs = pass->GetSolverOption("asm_time_budget_ms");
+  this->Opt.AnalysisStride = opt("asm_stride");
+  this->Opt.Quality = pass->GetSolverOption("asm_quality");
+  this->Opt.IDTest = opt("asm_id_test") != 0;
   this->Opt.ConstantBias = pass->GetConstantBias();
   this->Opt.SlopeBias = pass->GetSlopeBias();
   // the tree's shape: powers of two (the properties clamp the ranges)

@@ -51,16 +51,37 @@ PVSMSolver::PVSMSolver(Method method)
 
 PVSMSolver::~PVSMSolver() = default;
 
+const OptionList& PVSMSolver::DeclaredOptions()
+{
+  // key, property (Python, ParaView), label, range or names, default, help
+  static const OptionList options = {
+    DoubleOption("pvsm_quality", "PVSMQuality", "PVSM Quality", 0.05, 64.0, 1.0,
+      "pvsm: scale on the perceptual metric rho (section 5.1): 2 asks about twice the texels per "
+      "kernel (slower, finer penumbrae), 0.5 half"),
+    EnumOption("pvsm_metric", "PVSMMetric", "PVSM Metric", { "auto", "dynamic", "static" }, 0,
+      "pvsm: which metric of section 5.1 (auto: static when only the camera moved)"),
+    IntOption("pvsm_grid", "PVSMGridSize", "PVSM Grid Size", 4, 256, 64, "pvsm: shadow-map tile grid"),
+    IntOption("pvsm_max_tile", "PVSMMaxTileResolution", "PVSM Max Tile Resolution", 64, 16384, 4096,
+      "pvsm: largest tile, texels a side"),
+    IntOption("pvsm_low_resolution", "PVSMLowResolution", "PVSM Low Resolution", 64, 8192, 1024,
+      "pvsm: conservative low-resolution map"),
+    BoolOption("pvsm_tile_culling", "PVSMTileCulling", "PVSM Tile Culling", true,
+      "pvsm: draw only the caster clusters reaching a tile"),
+  };
+  return options;
+}
+
 void PVSMSolver::Configure(vtkSoftShadowPass* pass)
 {
-  this->Opt.LowResolution = pass->GetPVSMLowResolution();
-  this->Opt.GridSize = pass->GetPVSMGridSize();
-  this->Opt.MaxTileResolution = pass->GetPVSMMaxTileResolution();
-  this->Opt.Quality = pass->GetPVSMQuality();
-  this->Opt.Metric = pass->GetPVSMMetric();
-  this->Opt.TileCulling = pass->GetPVSMTileCulling();
-  this->Opt.BlockerSearchSamples = pass->GetBlockerSearchSamples();
-  this->Opt.FilterMaxQuads = pass->GetFilterMaxQuads();
+  const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.LowResolution = opt("pvsm_low_resolution");
+  this->Opt.GridSize = opt("pvsm_grid");
+  this->Opt.MaxTileResolution = opt("pvsm_max_tile");
+  this->Opt.Quality = pass->GetSolverOption("pvsm_quality");
+  this->Opt.Metric = opt("pvsm_metric");
+  this->Opt.TileCulling = opt("pvsm_tile_culling") != 0;
+  this->Opt.BlockerSearchSamples = opt("blocker_samples");
+  this->Opt.FilterMaxQuads = opt("filter_max_quads");
   this->Opt.ConstantBias = pass->GetConstantBias();
 }
 

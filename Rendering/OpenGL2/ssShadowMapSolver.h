@@ -36,6 +36,9 @@ public:
   explicit ShadowMapSolver(Method method);
   ~ShadowMapSolver() override;
 
+  /// Its typed options (the registry line points here; the pass, the CLI and
+  /// ParaView's view enumerate them). Configure reads their values.
+  static const OptionList& DeclaredOptions();
   void Configure(vtkSoftShadowPass* pass) override;
   int GetShadowMapSize() const override { return this->Opt.ShadowMapSize; }
   void Compute(SolverFrame& frame, const ShadowLight& light) override;

@@ -37,16 +37,36 @@ TranslucentSolver::TranslucentSolver(Method method, bool hard)
 
 TranslucentSolver::~TranslucentSolver() = default;
 
+const OptionList& TranslucentSolver::DeclaredOptions()
+{
+  // key, property (Python, ParaView), label, range, default, help
+  static const OptionList options = {
+    IntOption("avsm_nodes", "AVSMNodes", "AVSM Nodes", 4, 16, 8,
+      "avsm, vpcss: nodes per texel of the adaptive volumetric shadow map (rounded up to a multiple of 4)"),
+    IntOption("avsm_size", "AVSMSize", "AVSM Size", 64, 8192, 512, "avsm, vpcss: map texels a side"),
+    IntOption("avsm_memory", "AVSMMemory", "AVSM Memory", 16, 65536, 256,
+      "avsm, vpcss: MB for the maps, their buffers and the fragment lists"),
+    BoolOption("colored_shadows", "ColoredShadows", "Colored Shadows", false,
+      "avsm, vpcss: coloured transmittance of tinted casters"),
+    IntOption("volume_steps", "VolumeSteps", "Volume Steps", 8, 4096, 256,
+      "avsm, vpcss: march steps through a volume"),
+    IntOption("vpcss_filter_quads", "VPCSSFilterQuads", "VPCSS Filter Quads", 2, 64, 8,
+      "vpcss: largest filter, quads a side"),
+  };
+  return options;
+}
+
 void TranslucentSolver::Configure(vtkSoftShadowPass* pass)
 {
-  this->Opt.AVSM.Nodes = pass->GetAVSMNodes();
-  this->Opt.AVSM.MapSize = pass->GetAVSMSize();
-  this->Opt.AVSM.MemoryMB = pass->GetAVSMMemory();
-  this->Opt.AVSM.Colored = pass->GetColoredShadows();
-  this->Opt.AVSM.VolumeSteps = pass->GetVolumeSteps();
+  const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.AVSM.Nodes = opt("avsm_nodes");
+  this->Opt.AVSM.MapSize = opt("avsm_size");
+  this->Opt.AVSM.MemoryMB = opt("avsm_memory");
+  this->Opt.AVSM.Colored = opt("colored_shadows") != 0;
+  this->Opt.AVSM.VolumeSteps = opt("volume_steps");
   this->Opt.AVSM.Pyramid = !this->Hard;
-  this->Opt.BlockerSearchSamples = pass->GetBlockerSearchSamples();
-  this->Opt.FilterQuads = pass->GetVPCSSFilterQuads();
+  this->Opt.BlockerSearchSamples = opt("blocker_samples");
+  this->Opt.FilterQuads = opt("vpcss_filter_quads");
   this->Opt.ConstantBias = pass->GetConstantBias();
   this->Opt.SlopeBias = pass->GetSlopeBias();
 }

@@ -43,6 +43,9 @@ public:
   TranslucentSolver(Method method, bool hard);
   ~TranslucentSolver() override;
 
+  /// Its typed options (the registry line points here; the pass, the CLI and
+  /// ParaView's view enumerate them). Configure reads their values.
+  static const OptionList& DeclaredOptions();
   void Configure(vtkSoftShadowPass* pass) override;
   void BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights) override;
   bool UsesShadowMaps() const override { return false; }

@@ -27,16 +27,37 @@ TriangleSolver::TriangleSolver(Method method)
 
 TriangleSolver::~TriangleSolver() = default;
 
+const OptionList& TriangleSolver::DeclaredOptions()
+{
+  // key, property (Python, ParaView), label, range or names, default, help
+  static const OptionList options = {
+    IntOption("reference_samples", "ReferenceSamples", "Reference Samples", 1, 64, 32,
+      "reference: k x k light samples"),
+    EnumOption("reference_pattern", "ReferencePattern", "Reference Pattern", { "regular", "stratified" }, 0,
+      "reference: light sample pattern"),
+    IntOption("gears_samples", "GearsSamples", "Gears Samples", 1, 32, 16, "gears: k x k light samples"),
+    IntOption("gears_grid", "GearsGrid", "Gears Grid", 8, 1024, 128, "gears: grid cells a side"),
+    EnumOption("gears_raster", "GearsRaster", "Gears Raster", { "edge", "lut" }, 0,
+      "gears: exact edge planes or the lookup table"),
+    EnumOption("gears_backend", "GearsBackend", "Gears Backend", { "cpu", "gl" }, 0,
+      "gears: CPU (TBB) or GL 4.3 compute (without GL 4.3: the CPU, with one warning)"),
+    BoolOption("gears_necessary", "GearsCountNecessary", "Gears Count Necessary", false,
+      "gears: count Table 9's necessary assignments (slower)"),
+  };
+  return options;
+}
+
 void TriangleSolver::Configure(vtkSoftShadowPass* pass)
 {
-  this->Opt.Reference.k = pass->GetReferenceSamples();
+  const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.Reference.k = opt("reference_samples");
   this->Opt.Reference.pattern =
-    pass->GetReferencePattern() == 1 ? LightSamplePattern::Stratified : LightSamplePattern::Regular;
-  this->Opt.Gears.k = pass->GetGearsSamples();
-  this->Opt.Gears.grid = pass->GetGearsGrid();
-  this->Opt.Gears.raster = pass->GetGearsRaster() == 1 ? GearsRaster::LUT : GearsRaster::EdgePlane;
-  this->Opt.Gears.countNecessary = pass->GetGearsCountNecessary();
-  this->Opt.GearsOnGL = pass->GetGearsBackend() == vtkSoftShadowPass::GEARS_BACKEND_GL;
+    opt("reference_pattern") == 1 ? LightSamplePattern::Stratified : LightSamplePattern::Regular;
+  this->Opt.Gears.k = opt("gears_samples");
+  this->Opt.Gears.grid = opt("gears_grid");
+  this->Opt.Gears.raster = opt("gears_raster") == 1 ? GearsRaster::LUT : GearsRaster::EdgePlane;
+  this->Opt.Gears.countNecessary = opt("gears_necessary") != 0;
+  this->Opt.GearsOnGL = opt("gears_backend") == vtkSoftShadowPass::GEARS_BACKEND_GL;
 }
 
 void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLight*>& lights)

@@ -75,6 +75,7 @@ vtkSoftShadowPass::vtkSoftShadowPass()
       this->Internals->Solvers.push_back(entry.Factory(entry.Method));
     }
   }
+  this->ResetSolverOptions();
 }
 
 vtkSoftShadowPass::~vtkSoftShadowPass()
