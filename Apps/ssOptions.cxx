@@ -101,6 +101,8 @@ const std::vector<PassOption>& PassOptions()
       [](P* p, S v, S w) { p->SetPVSMLowResolution(ParseInt(v, w, 64, 8192)); } },
     { "pvsm_tile_culling", "0|1", "pvsm: draw only the caster clusters reaching a tile",
       [](P* p, S v, S w) { p->SetPVSMTileCulling(ParseInt(v, w, 0, 1) != 0); } },
+    { "caster_culling", "0|1", "asm, avsm, vpcss: draw only the caster clusters reaching a cell or view",
+      [](P* p, S v, S w) { p->SetCasterCulling(ParseInt(v, w, 0, 1) != 0); } },
     { "average_samples", "1..32", "hardavg: k x k hard maps",
       [](P* p, S v, S w) { p->SetAverageSamples(ParseInt(v, w, 1, 32)); } },
     { "avsm_nodes", "4..16", "avsm, vpcss: nodes per texel of the adaptive volumetric shadow map",

@@ -262,6 +262,7 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PVSMQuality: " << this->PVSMQuality << "\n";
   os << indent << "PVSMMetric: " << this->PVSMMetric << "\n";
   os << indent << "PVSMTileCulling: " << this->PVSMTileCulling << "\n";
+  os << indent << "CasterCulling: " << this->CasterCulling << "\n";
   os << indent << "AverageSamples: " << this->AverageSamples << "\n";
   os << indent << "AVSMNodes: " << this->AVSMNodes << ", AVSMSize: " << this->AVSMSize
      << ", AVSMMemory: " << this->AVSMMemory << " MB, ColoredShadows: " << this->ColoredShadows

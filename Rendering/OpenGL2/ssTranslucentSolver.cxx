@@ -45,6 +45,7 @@ void TranslucentSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.AVSM.Colored = pass->GetColoredShadows();
   this->Opt.AVSM.VolumeSteps = pass->GetVolumeSteps();
   this->Opt.AVSM.Pyramid = !this->Hard;
+  this->Opt.AVSM.Culling = pass->GetCasterCulling();
   this->Opt.BlockerSearchSamples = pass->GetBlockerSearchSamples();
   this->Opt.FilterQuads = pass->GetVPCSSFilterQuads();
   this->Opt.ConstantBias = pass->GetConstantBias();
@@ -63,6 +64,7 @@ void TranslucentSolver::BeginFrame(SolverFrame& frame, const std::vector<const S
   if (!this->Active)
   {
     this->LastStats = AVSMBuildStats{};
+    this->LastClustersJSON.clear();
     return;
   }
   const auto t0 = Clock::now();
@@ -218,6 +220,7 @@ void TranslucentSolver::EndFrame(SolverFrame& frame)
     return;
   }
   this->LastStats = this->Maps.GetStats();
+  this->LastClustersJSON = frame.Casters->ClusterStatsJSON(this->LastStats.clusters);
   frame.Timings->Set(this->Hard ? "avsm_build" : "vpcss_build", this->MsBuild);
   frame.Timings->Set(this->Hard ? "avsm_lookup" : "vpcss_filter", this->MsFilter);
 }
@@ -235,6 +238,7 @@ std::string TranslucentSolver::GetStatsJSON() const
   }
   o << ", \"ms_build\": " << this->MsBuild << ", \"ms_filter\": " << this->MsFilter
     << ", \"memory_bytes\": " << this->GetMemoryBytes() << ", \"avsm\": " << this->LastStats.ToJSON()
+    << ", \"view_clusters\": " << (this->LastClustersJSON.empty() ? "null" : this->LastClustersJSON)
     << ", \"error\": \"" << JSONEscape(this->LastError) << "\"}";
   return o.str();
 }

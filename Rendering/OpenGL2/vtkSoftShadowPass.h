@@ -182,6 +182,20 @@ public:
 
   ///@{
   /**
+   * CasterCulling (default on): ASM's top-level cells (§4.3) and the AVSM
+   * build's views (avsm, vpcss) draw only the caster clusters whose bounds
+   * reach them. The clusters are those of vtkShadowCasterPreparation when the
+   * casters' data carries its cluster table, Morton clusters otherwise. The
+   * maps are the same either way; off draws every triangle everywhere (for
+   * measuring and testing). PVSM's tiles have PVSMTileCulling.
+   */
+  vtkSetMacro(CasterCulling, bool);
+  vtkGetMacro(CasterCulling, bool);
+  vtkBooleanMacro(CasterCulling, bool);
+  ///@}
+
+  ///@{
+  /**
    * HARDAVG: light samples per side (default 8: the 64 hard shadow maps PVSM
    * §6 compares against). Each sample of the regular grid gets its own hard
    * map of ShadowMapSize^2 and V is the mean of the hard tests.
@@ -455,6 +469,7 @@ protected:
   int PVSMMaxTileResolution = 4096;
   double PVSMQuality = 1.0;
   bool PVSMTileCulling = true;
+  bool CasterCulling = true;
   int PVSMMetric = 0;
   int AverageSamples = 8;
   int AVSMNodes = 8;
