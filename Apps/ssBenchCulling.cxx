@@ -210,6 +210,7 @@ int BenchCulling(const std::vector<std::string>& args)
         row["tile_clusters"] = p["tile_clusters"];
         row["tiles"] = p["stats"]["tiles"];
         row["tile_triangles_drawn"] = p["stats"]["tile_triangles_drawn"];
+        row["pvsm_ms"] = p["stats"]["ms"]; // Table 1's stages: where the time goes
         tileTris = bench::Fmt(p["stats"]["tile_triangles_drawn"].get<double>(), 4);
         if (!p["tile_clusters"].is_null() && p["tile_clusters"]["source"] != "none")
         {
