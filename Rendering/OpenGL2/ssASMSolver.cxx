@@ -55,6 +55,7 @@ struct ASMSolver::FrameStats
   int queryPasses = 0;
   double trianglesDrawn = 0.0;
   int roots = 0;
+  std::string clusters; ///< CasterSet::ClusterStatsJSON summed over the lights' top-level cells
 };
 
 namespace
@@ -118,6 +119,11 @@ const OptionList& ASMSolver::DeclaredOptions()
     DoubleOption("asm_quality", "ASMQuality", "ASM Quality", 0.125, 16.0, 1.0,
       "asm: texels per pixel side"),
     BoolOption("asm_id_test", "ASMIDTest", "ASM ID Test", true, "asm: the ID+depth test (section 4.2)"),
+    // shared with the AVSM build (ssTranslucentSolver reads it too); PVSM's
+    // tiles have pvsm_tile_culling
+    BoolOption("caster_culling", "CasterCulling", "Caster Culling", true,
+      "asm, avsm, vpcss: draw only the caster clusters whose bounds reach a cell or view (off: every triangle "
+      "everywhere, for measuring)"),
   };
   return options;
 }
@@ -125,6 +131,7 @@ const OptionList& ASMSolver::DeclaredOptions()
 void ASMSolver::Configure(vtkSoftShadowPass* pass)
 {
   const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.Culling = opt("caster_culling") != 0;
   this->Opt.MemoryMB = pass->GetSolverOption("asm_memory_mb");
   this->Opt.PageSize = opt("asm_page_size");
   this->Opt.Cells = opt("asm_cells");
@@ -323,6 +330,7 @@ bool ASMSolver::BuildLight(SolverFrame& frame, LightState& ls, const LightFrame&
 {
   const CasterSet& casters = *frame.Casters;
   ls.Views = MakeASMViews(absolute, casters.Receivers, casters.Bounds);
+  ls.Clusters = ClusterCounts{};
   const int n = static_cast<int>(ls.Views.views.size());
   const int C = this->Settings.cells;
   ls.CellRanges.assign(static_cast<std::size_t>(n), {});
@@ -364,12 +372,13 @@ bool ASMSolver::BuildLight(SolverFrame& frame, LightState& ls, const LightFrame&
     const int root = this->Tree.Root(id);
     for (int cell = 0; cell < C * C; ++cell)
     {
-      ranges.push_back(casters.HasClusters()
-          ? VisibleTriangleRanges(casters.Clusters, view, casters.Origin, this->Tree.CellWindow(root, cell), 1e-3)
+      ranges.push_back(casters.HasClusters() && this->Opt.Culling
+          ? VisibleTriangleRanges(
+              casters.Clusters, view, casters.Origin, this->Tree.CellWindow(root, cell), 1e-3, &ls.Clusters)
           : TriangleRanges{ { 0, casters.NumberOfTriangles() } });
     }
-    ranges.push_back(casters.HasClusters()
-        ? VisibleTriangleRanges(casters.Clusters, view, casters.Origin, view.extent, 1e-3)
+    ranges.push_back(casters.HasClusters() && this->Opt.Culling
+        ? VisibleTriangleRanges(casters.Clusters, view, casters.Origin, view.extent, 1e-3, &ls.Clusters)
         : TriangleRanges{ { 0, casters.NumberOfTriangles() } });
   }
   if (!this->Cost.calibrated && n > 0)
@@ -810,6 +819,13 @@ void ASMSolver::EndFrame(SolverFrame& frame)
   frame.Timings->Set("asm_analysis", st.msAnalysis);
   frame.Timings->Set("asm_node_creation", st.msCreation);
   frame.Timings->Set("asm_queries", st.msQueries);
+  ClusterCounts clusters;
+  for (const auto& ls : this->Lights)
+  {
+    clusters.drawn += ls->Clusters.drawn;
+    clusters.culled += ls->Clusters.culled;
+  }
+  st.clusters = frame.Casters->ClusterStatsJSON(clusters);
   *this->LastStats = st;
 }
 
@@ -858,6 +874,7 @@ std::string ASMSolver::GetStatsJSON() const
     << ", \"left_for_next_frame\": " << s.remaining << ", \"predicted_ms\": " << s.predictedMs
     << ", \"creation_ms\": " << s.creationMs << ", \"triangles_drawn\": " << s.trianglesDrawn
     << ", \"query_passes\": " << s.queryPasses << "}"
+    << ", \"cell_clusters\": " << (s.clusters.empty() ? "null" : s.clusters)
     << ", \"analysis\": {\"pixels\": " << a.pixels << ", \"sampled\": " << a.sampled << ", \"edges\": " << a.edges
     << ", \"mismatched\": " << a.mismatched << ", \"unresolvable\": " << a.unresolvable
     << ", \"leaves_used\": " << a.leavesUsed << ", \"leaf_cache_hit_rate\": " << (lookups > 0 ? a.cacheHits / lookups : 0.0)

@@ -70,6 +70,7 @@ std::string AVSMBuildStats::ToJSON() const
     << ", \"longest_list\": " << longestList << ", \"bands\": " << bands << ", \"resolve_dispatches\": " << dispatches
     << ", \"fragment_capacity\": " << fragmentCapacity << ", \"unsorted_lists\": " << (unsortedLists ? "true" : "false")
     << ", \"truncated_rows\": " << (truncated ? "true" : "false") << ", \"triangles_drawn\": " << trianglesDrawn
+    << ", \"clusters_drawn\": " << clusters.drawn << ", \"clusters_culled\": " << clusters.culled
     << ", \"volumes\": " << volumes << ", \"map_bytes\": " << mapBytes << ", \"buffer_bytes\": " << bufferBytes
     << ", \"ms\": {\"opaque\": " << msOpaque << ", \"count\": " << msCount << ", \"store\": " << msStore
     << ", \"sort\": " << msSort << ", \"resolve\": " << msResolve << ", \"pyramid\": " << msPyramid << "}"
@@ -447,9 +448,9 @@ bool AVSMMaps::Impl::BuildView(
 
   // the clusters whose bounds reach the view (all triangles without clusters)
   TriangleRanges ranges;
-  if (casters.HasClusters())
+  if (casters.HasClusters() && this->Settings.Culling)
   {
-    ranges = VisibleTriangleRanges(casters.Clusters, view, offset, view.extent, 1e-3);
+    ranges = VisibleTriangleRanges(casters.Clusters, view, offset, view.extent, 1e-3, &this->Stats.clusters);
   }
   else if (casters.NumberOfTriangles() > 0)
   {

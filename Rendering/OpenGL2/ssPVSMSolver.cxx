@@ -92,10 +92,12 @@ void PVSMSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLi
   if (!this->Active)
   {
     this->LastStats = PVSMStats{};
+    this->LastClustersJSON.clear();
     return;
   }
   this->Stats = PVSMStats{};
   this->Stats.quality = this->Opt.Quality;
+  this->TileClusters = ClusterCounts{};
   // §5.1: the static metric when only the camera moved since the last frame:
   // the same caster set and the same lights (a light that follows the camera
   // moves with it, so its transformed position is part of the key)
@@ -409,7 +411,7 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
         {
           // only the clusters whose light-space bounds reach the tile; the
           // pad (1e-3 of the tile) covers the GPU's float projection
-          const auto ranges = VisibleTriangleRanges(casters.Clusters, view, casterOffset, r, 1e-3);
+          const auto ranges = VisibleTriangleRanges(casters.Clusters, view, casterOffset, r, 1e-3, &this->TileClusters);
           for (const auto& range : ranges)
           {
             st.tileTrianglesDrawn += static_cast<double>(range.second);
@@ -519,6 +521,7 @@ void PVSMSolver::EndFrame(SolverFrame& frame)
   st.shadowMemoryBytes = static_cast<double>(frame.Maps->Bytes() + this->Tile.Bytes()) + G * G * 8 + W * H * (3 * 16 + 8);
   st.msTotal = st.msGBuffer + st.msLowResSM + st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
   this->LastStats = st;
+  this->LastClustersJSON = frame.Casters->ClusterStatsJSON(this->TileClusters);
   frame.Timings->Set("pvsm", st.msKernel + st.msTiling + st.msTileSM + st.msFiltering);
 }
 
@@ -528,6 +531,7 @@ std::string PVSMSolver::GetStatsJSON() const
   o.precision(17);
   o << "{\"lights\": " << this->Lights << ", \"low_resolution\": " << this->Opt.LowResolution
     << ", \"grid\": " << this->Opt.GridSize << ", \"max_tile\": " << this->Opt.MaxTileResolution
+    << ", \"tile_clusters\": " << (this->LastClustersJSON.empty() ? "null" : this->LastClustersJSON)
     << ", \"stats\": " << PVSMStatsToJSON(this->LastStats) << "}";
   return o.str();
 }

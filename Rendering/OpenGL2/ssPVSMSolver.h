@@ -9,6 +9,7 @@
 #ifndef ssPVSMSolver_h
 #define ssPVSMSolver_h
 
+#include "ssCasterClusters.h"
 #include "ssPVSM.h"
 #include "ssTextureArray.h"
 #include "ssVisibilitySolver.h"
@@ -74,6 +75,8 @@ private:
   bool Active = false; ///< the frame has PVSM lights
   int Lights = 0;
   PVSMStats Stats, LastStats;
+  ClusterCounts TileClusters;   ///< clusters drawn and culled over the frame's tiles
+  std::string LastClustersJSON; ///< CasterSet::ClusterStatsJSON of the last frame
   float RhoCoeffs[4] = { 0, 0, 0, 0 };
   double RhoEnd = 0.0;
   int GridSide = 4;

@@ -59,6 +59,7 @@ const OptionList& TranslucentSolver::DeclaredOptions()
 void TranslucentSolver::Configure(vtkSoftShadowPass* pass)
 {
   const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.AVSM.Culling = opt("caster_culling") != 0;
   this->Opt.AVSM.Nodes = opt("avsm_nodes");
   this->Opt.AVSM.MapSize = opt("avsm_size");
   this->Opt.AVSM.MemoryMB = opt("avsm_memory");
@@ -83,6 +84,7 @@ void TranslucentSolver::BeginFrame(SolverFrame& frame, const std::vector<const S
   if (!this->Active)
   {
     this->LastStats = AVSMBuildStats{};
+    this->LastClustersJSON.clear();
     return;
   }
   const auto t0 = Clock::now();
@@ -238,6 +240,7 @@ void TranslucentSolver::EndFrame(SolverFrame& frame)
     return;
   }
   this->LastStats = this->Maps.GetStats();
+  this->LastClustersJSON = frame.Casters->ClusterStatsJSON(this->LastStats.clusters);
   frame.Timings->Set(this->Hard ? "avsm_build" : "vpcss_build", this->MsBuild);
   frame.Timings->Set(this->Hard ? "avsm_lookup" : "vpcss_filter", this->MsFilter);
 }
@@ -255,6 +258,7 @@ std::string TranslucentSolver::GetStatsJSON() const
   }
   o << ", \"ms_build\": " << this->MsBuild << ", \"ms_filter\": " << this->MsFilter
     << ", \"memory_bytes\": " << this->GetMemoryBytes() << ", \"avsm\": " << this->LastStats.ToJSON()
+    << ", \"view_clusters\": " << (this->LastClustersJSON.empty() ? "null" : this->LastClustersJSON)
     << ", \"error\": \"" << JSONEscape(this->LastError) << "\"}";
   return o.str();
 }

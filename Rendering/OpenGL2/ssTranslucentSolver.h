@@ -82,6 +82,7 @@ private:
   int LightCount = 0;
   double MsBuild = 0.0, MsFilter = 0.0;
   AVSMBuildStats LastStats;
+  std::string LastClustersJSON; ///< CasterSet::ClusterStatsJSON of the last frame's views
   std::string LastError;
   std::unique_ptr<vtkOpenGLQuadHelper> Quad;
   int ShadingUnit = -1;

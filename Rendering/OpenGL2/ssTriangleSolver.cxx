@@ -96,6 +96,15 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
         this->Gears.reset(new GearsSolver);
       }
       this->Gears->SetTriangles(casters.WorldVertices(), casters.Opacity);
+      if (!casters.Piece.empty())
+      {
+        // prepared casters (vtkShadowCasterPreparation upstream): their
+        // closed pieces, for the closed-mesh rule and the inner occluders
+        GearsPieces pieces;
+        pieces.piece = casters.Piece;
+        pieces.orientation = casters.PieceOrientation;
+        this->Gears->SetPieces(pieces);
+      }
       this->Version = casters.Version;
     }
     this->HaveTriangles = true;
@@ -198,6 +207,21 @@ void TriangleSolver::Accumulate(const GearsStats& st)
     st.assignmentsNecessary < 0 ? -1.0 : std::max(a.assignmentsNecessary, 0.0) + st.assignmentsNecessary;
   a.fullGridTriangles += st.fullGridTriangles;
   a.lutFallbacks += st.lutFallbacks;
+  // the culling's counts (gears.md, "Fewer assignments"): the closed pieces
+  // of prepared casters show in droppedTriangles and occluderBoxes
+  a.msPrepare += st.msPrepare;
+  a.clusters = st.clusters;
+  a.clusterPairs += st.clusterPairs;
+  a.droppedTriangles += st.droppedTriangles;
+  a.clustersCulled += st.clustersCulled;
+  a.trianglesCulled += st.trianglesCulled;
+  a.groups += st.groups;
+  a.assignmentsListed += st.assignmentsListed;
+  a.assignmentsRasterised += st.assignmentsRasterised;
+  a.coveredSkips += st.coveredSkips;
+  a.occluderBoxes = st.occluderBoxes;
+  a.simd = st.simd;
+  a.cellsInUmbra += st.cellsInUmbra;
   ++this->GearsLights;
   // averages over all non-empty cells of the frame's GEARS lights
   a.trianglesPerCellAvg = (a.trianglesPerCellAvg * (a.nonEmptyCells - st.nonEmptyCells) +

@@ -190,6 +190,11 @@ public:
   virtual bool GetPVSMTileCulling();
   virtual void PVSMTileCullingOn();
   virtual void PVSMTileCullingOff();
+  // asm, avsm, vpcss: caster clusters culled per cell or view (ssASMSolver)
+  virtual void SetCasterCulling(bool v);
+  virtual bool GetCasterCulling();
+  virtual void CasterCullingOn();
+  virtual void CasterCullingOff();
   // hardavg (ssHardAverageSolver)
   virtual void SetAverageSamples(int v);
   virtual int GetAverageSamples();

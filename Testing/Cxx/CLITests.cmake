@@ -253,6 +253,10 @@ add_test(NAME cli.bench.filters_smoke
   COMMAND ${_ss_cli} bench --filters --smoke --out "${_ss_out}/bench_filters_smoke")
 set_tests_properties(cli.bench.filters_smoke PROPERTIES LABELS "cli;bench;filters" TIMEOUT 300
   PASS_REGULAR_EXPRESSION "prepare [0-9.e+-]+ s per million triangles")
+add_test(NAME cli.bench.culling_smoke
+  COMMAND ${_ss_cli} bench --culling --smoke --frames 1 --out "${_ss_out}/bench_culling_smoke")
+set_tests_properties(cli.bench.culling_smoke PROPERTIES LABELS "cli;bench;filters" TIMEOUT 300
+  PASS_REGULAR_EXPRESSION "close-up / gears, prepared \\(closed pieces\\): [0-9.e+-]+ ms")
 
 # Other machines' paths on this one (issue 16): llvmpipe thread counts, a
 # smaller GL texture limit, a GL 3.2 context, a small SSBO limit, Embree's
