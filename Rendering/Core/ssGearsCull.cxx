@@ -119,42 +119,6 @@ std::size_t HorizonFilter(
 // holds that box iff it holds its corners. A common t in (0, 1) at which all
 // 8 lie in B (shrunk by the margin) proves it. A and C are light-frame
 // boxes, B is axis-aligned in the solver's frame.
-namespace
-{
-// [t0, t1] narrowed to the t at which P + t d lies in B shrunk by m.
-inline bool Slab(const glm::dvec3& P, const glm::dvec3& d, const double* B, double m, double& t0, double& t1)
-{
-  for (int ax = 0; ax < 3; ++ax)
-  {
-    const double lo = B[ax] + m, hi = B[3 + ax] - m;
-    if (!(lo < hi))
-    {
-      return false;
-    }
-    if (d[ax] == 0.0)
-    {
-      if (!(P[ax] > lo && P[ax] < hi))
-      {
-        return false;
-      }
-      continue;
-    }
-    double ta = (lo - P[ax]) / d[ax], tb = (hi - P[ax]) / d[ax];
-    if (ta > tb)
-    {
-      std::swap(ta, tb);
-    }
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (!(t0 < t1))
-    {
-      return false;
-    }
-  }
-  return true;
-}
-}
-
 bool SegmentsThroughBox(const FaceTriangles& ft, const glm::dvec3& alo, const glm::dvec3& ahi, const glm::dvec3& clo,
   const glm::dvec3& chi, const double* B, double m)
 {
@@ -164,7 +128,7 @@ bool SegmentsThroughBox(const FaceTriangles& ft, const glm::dvec3& alo, const gl
   {
     const glm::dvec3 ac = 0.5 * (alo + ahi), cc = 0.5 * (clo + chi);
     const glm::dvec3 P = solver(ac.x, ac.y, ac.z);
-    if (!Slab(P, solver(cc.x, cc.y, cc.z) - P, B, m, t0, t1))
+    if (!SlabClip(P, solver(cc.x, cc.y, cc.z) - P, B, m, t0, t1))
     {
       return false;
     }
@@ -174,7 +138,7 @@ bool SegmentsThroughBox(const FaceTriangles& ft, const glm::dvec3& alo, const gl
     const bool bx = q & 1, by = q & 2, bz = q & 4;
     const glm::dvec3 P = solver(bx ? ahi.x : alo.x, by ? ahi.y : alo.y, bz ? ahi.z : alo.z);
     const glm::dvec3 X = solver(bx ? chi.x : clo.x, by ? chi.y : clo.y, bz ? chi.z : clo.z);
-    if (!Slab(P, X - P, B, m, t0, t1))
+    if (!SlabClip(P, X - P, B, m, t0, t1))
     {
       return false;
     }

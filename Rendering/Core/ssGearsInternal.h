@@ -5,6 +5,7 @@
 //   ssGearsSort.cxx    the counting sort of pairs on their cell [§4.2]
 //   ssGearsCells.cxx   per cell: shaft culling, split into sample groups,
 //                      per-pixel rejection, bitmasks, V
+//   ssGearsCull.cxx    culling rules beyond the shafts: horizon, inner occluders
 //   ssGearsRaster.cxx  the exact bitmask of one triangle (edge planes, LUT) [§4.2, §4.3]
 //   ssGearsSIMD*.cxx   the per-pixel rejection and row raster in AVX2 / AVX-512
 //   ssGEARS.cxx        GearsSolver: input, options, statistics
@@ -482,6 +483,39 @@ bool BoxBelowHorizons(const HorizonPlanes& h, const float* b, double margin);
 std::size_t HorizonFilter(
   const GroupArrays& a, const HorizonPlanes& h, const glm::dvec3& o, double margin, std::uint32_t* list, std::size_t n);
 
+/// [t0, t1] narrowed to the t at which P + t d lies strictly inside box B
+/// (min xyz, max xyz) shrunk by m; false once that is empty.
+inline bool SlabClip(const glm::dvec3& P, const glm::dvec3& d, const double* B, double m, double& t0, double& t1)
+{
+  for (int ax = 0; ax < 3; ++ax)
+  {
+    const double lo = B[ax] + m, hi = B[3 + ax] - m;
+    if (!(lo < hi))
+    {
+      return false; // (a box thinner than 2 m holds nothing)
+    }
+    if (d[ax] == 0.0)
+    {
+      if (!(P[ax] > lo && P[ax] < hi))
+      {
+        return false;
+      }
+      continue;
+    }
+    double ta = (lo - P[ax]) / d[ax], tb = (hi - P[ax]) / d[ax];
+    if (ta > tb)
+    {
+      std::swap(ta, tb);
+    }
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (!(t0 < t1))
+    {
+      return false;
+    }
+  }
+  return true;
+}
 /// ssGearsCull.cxx, the inner-occluder rule: whether every segment from the
 /// light-frame box [alo, ahi] to the light-frame box [clo, chi] passes
 /// through the interior of box B (solver frame, min xyz max xyz) shrunk by
