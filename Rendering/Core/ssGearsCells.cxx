@@ -106,6 +106,17 @@ inline bool BoxInShaft(const Shaft& s, const float* b, float m)
     !(z0 < s.zhi));
 }
 
+// Scratch arrays only grow: resizing them down and up again per cell and
+// group zero-filled them every time (5% of step 4 in a profile).
+template <typename T>
+inline void Grow(std::vector<T>& v, std::size_t n)
+{
+  if (v.size() < n)
+  {
+    v.resize(n);
+  }
+}
+
 GroupArrays Arrays(std::vector<float>* a, std::size_t n)
 {
   return { a[0].data(), a[1].data(), a[2].data(), a[3].data(), a[4].data(), a[5].data(), a[6].data(), a[7].data(),
@@ -180,11 +191,11 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     const std::size_t nl = w.list.size();
         for (auto& col : w.d)
         {
-          col.resize(nl + kPad);
+          Grow(col, nl + kPad);
         }
         for (auto& a : w.f)
         {
-          a.resize(nl + kPad); // the kernels read whole vectors
+          Grow(a, nl + kPad); // the kernels read whole vectors
         }
         for (std::size_t a = 0; a < nl; ++a)
         {
@@ -326,9 +337,9 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         gv.ng = w.list.size();
         gv.o = o;
         gv.counting = false;
-        w.keep.resize(gv.ng + kPad);
-        w.cand.resize(gv.ng + kPad);
-        w.box.resize(4 * (gv.ng + kPad));
+        Grow(w.keep, gv.ng + kPad);
+        Grow(w.cand, gv.ng + kPad);
+        Grow(w.box, 4 * (gv.ng + kPad));
         allFull = true;
         for (std::uint32_t q = 0; q < ns; ++q)
         {
@@ -452,8 +463,8 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         const bool split = w.groupEnd.size() > 1;
         if ((split || opt.horizonCulling) && !(groupFull && !opt.countNecessary && !assign))
         {
-          w.glist.resize(nl + kPad);
-          w.keep.resize(nl + kPad);
+          Grow(w.glist, nl + kPad);
+          Grow(w.keep, nl + kPad);
           std::size_t ng = nl;
           if (split)
           {
@@ -480,11 +491,10 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           }
           if (ng < nl)
           {
-            w.glist.resize(ng);
             gv.ng = ng;
             for (int q = 0; q < 15; ++q)
             {
-              w.gf[q].resize(gv.ng + kPad);
+              Grow(w.gf[q], gv.ng + kPad);
               for (std::size_t a = 0; a < gv.ng; ++a)
               {
                 w.gf[q][a] = w.f[q][w.glist[a]];
@@ -515,9 +525,9 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           }
           groupPixels[c].push_back(0xFFFFFFFFu);
         }
-        w.keep.resize(gv.ng + kPad);
-        w.cand.resize(gv.ng + kPad);
-        w.box.resize(4 * (gv.ng + kPad));
+        Grow(w.keep, gv.ng + kPad);
+        Grow(w.cand, gv.ng + kPad);
+        Grow(w.box, 4 * (gv.ng + kPad));
         lap(cc.msGroups);
         // --- per pixel
         for (std::uint32_t q = gbegin; q < gend; ++q)
