@@ -266,6 +266,7 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AVSMNodes: " << this->AVSMNodes << ", AVSMSize: " << this->AVSMSize
      << ", AVSMMemory: " << this->AVSMMemory << " MB, ColoredShadows: " << this->ColoredShadows
      << ", VolumeSteps: " << this->VolumeSteps << ", VPCSSFilterQuads: " << this->VPCSSFilterQuads << "\n";
+  os << indent << "KeepRequestedMethod: " << (this->KeepRequestedMethod ? "on" : "off") << "\n";
   os << indent << "ASMMemoryBudget: " << this->ASMMemoryBudget << " MB\n";
   os << indent << "ASMPageSize: " << this->ASMPageSize << "\n";
   os << indent << "ASMCells: " << this->ASMCells << "\n";

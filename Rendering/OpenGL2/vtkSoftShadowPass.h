@@ -221,6 +221,20 @@ public:
 
   ///@{
   /**
+   * KeepRequestedMethod: every light gets the requested method as asked,
+   * also where the planner would give it an equivalent, cheaper one (off by
+   * default: a requested vpcss gives pcss to a light with no translucent
+   * caster in its view, where VPCSS's filter is PCSS's). For comparing a
+   * solver with that equivalent and for testing it (plan reason: "requested
+   * vpcss").
+   */
+  vtkSetMacro(KeepRequestedMethod, bool);
+  vtkGetMacro(KeepRequestedMethod, bool);
+  vtkBooleanMacro(KeepRequestedMethod, bool);
+  ///@}
+
+  ///@{
+  /**
    * ASM (Fernando et al. 2001, Documentation/asm.md): hard shadows of point,
    * spot and directional lights from a tree of shadow-map pieces refined
    * where the view needs them. Progressive: every frame refines within
@@ -463,6 +477,7 @@ protected:
   bool ColoredShadows = false;
   int VolumeSteps = 256;
   int VPCSSFilterQuads = 8;
+  bool KeepRequestedMethod = false;
   double ASMMemoryBudget = 16.0;
   int ASMPageSize = 128;
   int ASMCells = 4;
