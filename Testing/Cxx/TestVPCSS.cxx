@@ -99,9 +99,23 @@ struct LayerScene
   }
 };
 
-void Report(const char* what, const Errors& e)
+// Compare(a, b), printed as `what`.
+Errors CompareAndReport(const char* what, const Frame& a, const Frame& b)
 {
+  const Errors e = Compare(a, b);
   std::cout << what << ": MAE " << e.mae << ", max " << e.max << " over " << e.n << " px\n";
+  return e;
+}
+
+// Foreground pixels with V < 0.01.
+int UmbraPixels(const Frame& f)
+{
+  int umbra = 0;
+  for (float v : f.V)
+  {
+    umbra += (!std::isnan(v) && v < 0.01f) ? 1 : 0;
+  }
+  return umbra;
 }
 }
 
@@ -122,10 +136,8 @@ TEST(VPCSS, TranslucentLayersMatchReference)
     const Frame vp = ls.Render(vtkSoftShadowPass::VPCSS);
     const Frame hard = ls.Render(vtkSoftShadowPass::AVSM);
     const Frame pcss = ls.Render(vtkSoftShadowPass::PCSS);
-    const Errors ev = Compare(vp, ref), eh = Compare(hard, ref), ep = Compare(pcss, ref);
-    Report("vpcss", ev);
-    Report("avsm", eh);
-    Report("pcss", ep);
+    const Errors ev = CompareAndReport("vpcss", vp, ref), eh = CompareAndReport("avsm", hard, ref),
+                 ep = CompareAndReport("pcss", pcss, ref);
     EXPECT_GT(ev.n, 20000);
     EXPECT_EQ(ev.nonFinite, 0);
     EXPECT_EQ(eh.nonFinite, 0);
@@ -157,16 +169,10 @@ TEST(VPCSS, OpaqueCastersGivePCSS)
   ls.s.renderer->AddActor(Sphere(1.3, 0.6, 0.8, 0.4));
   const Frame pcss = ls.Render(vtkSoftShadowPass::PCSS);
   const Frame vp = ls.Render(vtkSoftShadowPass::VPCSS);
-  const Errors e = Compare(vp, pcss);
-  Report("vpcss vs pcss (alpha 1)", e);
+  const Errors e = CompareAndReport("vpcss vs pcss (alpha 1)", vp, pcss);
   EXPECT_EQ(e.nonFinite, 0);
   EXPECT_LT(e.mae, 0.012);
-  int umbra = 0;
-  for (float v : vp.V)
-  {
-    umbra += (!std::isnan(v) && v < 0.01f) ? 1 : 0;
-  }
-  EXPECT_GT(umbra, 500) << "an opaque caster is a step to 0";
+  EXPECT_GT(UmbraPixels(vp), 500) << "an opaque caster is a step to 0";
 }
 
 // The VPCSS solver itself on casters that are all opaque (KeepRequestedMethod:
@@ -184,20 +190,14 @@ TEST(VPCSS, OpaqueCastersThroughTheSolver)
   EXPECT_NE(plan.find("vpcss"), std::string::npos) << plan;
   const Frame ref = ls.Render(vtkSoftShadowPass::REFERENCE);
   const Frame pcss = ls.Render(vtkSoftShadowPass::PCSS);
-  const Errors ev = Compare(vp, ref), ep = Compare(pcss, ref), evp = Compare(vp, pcss);
-  Report("vpcss solver (alpha 1) vs reference", ev);
-  Report("pcss vs reference", ep);
-  Report("vpcss solver vs pcss", evp);
+  const Errors ev = CompareAndReport("vpcss solver (alpha 1) vs reference", vp, ref);
+  CompareAndReport("pcss vs reference", pcss, ref);
+  const Errors evp = CompareAndReport("vpcss solver vs pcss", vp, pcss);
   EXPECT_GT(ev.n, 20000);
   EXPECT_EQ(ev.nonFinite, 0);
   EXPECT_LT(ev.mae, 0.012);
   EXPECT_LT(evp.mae, 0.012);
-  int umbra = 0;
-  for (float v : vp.V)
-  {
-    umbra += (!std::isnan(v) && v < 0.01f) ? 1 : 0;
-  }
-  EXPECT_GT(umbra, 500) << "an opaque caster is a step to 0";
+  EXPECT_GT(UmbraPixels(vp), 500) << "an opaque caster is a step to 0";
 }
 
 // A uniform-density box volume over a plane: the transmittance to a (nearly)
@@ -480,8 +480,7 @@ TEST(VPCSS, StabilityThinFaintAndTouchingLayers)
     LayerScene thin(many);
     const Frame ref = thin.Render(vtkSoftShadowPass::REFERENCE);
     const Frame vp = thin.Render(vtkSoftShadowPass::VPCSS);
-    const Errors e = Compare(vp, ref);
-    Report("vpcss, 16 layers of alpha 0.1", e);
+    const Errors e = CompareAndReport("vpcss, 16 layers of alpha 0.1", vp, ref);
     EXPECT_EQ(e.nonFinite, 0);
     EXPECT_LT(e.mae, 0.01);
   }
@@ -527,13 +526,8 @@ TEST(AVSM, FirstFrameInAFreshWindowShadowsOpaqueCasters)
   const Frame hard = s.Render();
   vtkOutputWindow::SetInstance(previous);
   ASSERT_FALSE(first.V.empty());
-  int umbra = 0;
-  for (float v : first.V)
-  {
-    umbra += (!std::isnan(v) && v < 0.01f) ? 1 : 0;
-  }
-  const Errors e = Compare(first, hard);
-  Report("first avsm frame vs hard", e);
+  const int umbra = UmbraPixels(first);
+  const Errors e = CompareAndReport("first avsm frame vs hard", first, hard);
   std::cout << umbra << " umbra px\n";
   EXPECT_GT(umbra, 1000) << "the opaque casters' shadow";
   EXPECT_EQ(e.nonFinite, 0);
