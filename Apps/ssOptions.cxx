@@ -115,7 +115,7 @@ const std::vector<PassOption>& PassOptions()
       [](P* p, S v, S w) { p->SetVolumeSteps(ParseInt(v, w, 8, 4096)); } },
     { "vpcss_filter_quads", "2..64", "vpcss: largest filter, quads a side",
       [](P* p, S v, S w) { p->SetVPCSSFilterQuads(ParseInt(v, w, 2, 64)); } },
-    { "keep_requested_method", "0|1", "the requested method on every light, also where an equivalent one is cheaper (vpcss over opaque casters: pcss)",
+    { "keep_requested_method", "0|1", "no equivalent stand-in for the requested method (vpcss, opaque casters: pcss)",
       [](P* p, S v, S w) { p->SetKeepRequestedMethod(ParseInt(v, w, 0, 1) != 0); } },
     { "asm_memory_mb", "0.0625..4096", "asm: memory budget of the page pool, megabytes",
       [](P* p, S v, S w) { p->SetASMMemoryBudget(ParseDouble(v, w, 0.0625, 4096.0)); } },
