@@ -74,6 +74,8 @@ const std::vector<PassOption>& PassOptions()
         [](P* p, S v, S w) { p->SetSlopeBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
       { "frame_budget", "0|1", "interactive frames (DesiredUpdateRate >= 0.1/s) fit the method to the budget",
         false, [](P* p, S v, S w) { p->SetAdaptToFrameBudget(ParseInt(v, w, 0, 1) != 0); } },
+      { "keep_requested_method", "0|1", "no equivalent stand-in for the requested method (vpcss, opaque casters: pcss)",
+        false, [](P* p, S v, S w) { p->SetKeepRequestedMethod(ParseInt(v, w, 0, 1) != 0); } },
     };
     // each solver's own: declared in its files, enumerated from the registry
     for (int i = 0; i < P::GetNumberOfSolverOptions(); ++i)

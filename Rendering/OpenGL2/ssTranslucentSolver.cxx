@@ -346,7 +346,7 @@ int TranslucentSolver::SetFragmentUniforms(vtkShaderProgram* p, const ShadowLigh
   // coarser VPCSS filter (at most kFragmentQuads quads a side, from coarser
   // pyramid levels, and kFragmentSearch blocker samples) bounds that cost;
   // the G-buffer pixels keep the full filter (Documentation/vpcss.md).
-  constexpr int kFragmentQuads = 2, kFragmentSearch = 4;
+  constexpr int kFragmentQuads = 1, kFragmentSearch = 1;
   const float filter[4] = { this->Hard ? 1.0f : 0.0f,
     static_cast<float>(std::min(this->Opt.FilterQuads, kFragmentQuads)),
     static_cast<float>(std::min(this->Opt.BlockerSearchSamples, kFragmentSearch)),

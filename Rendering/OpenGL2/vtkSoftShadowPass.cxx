@@ -303,6 +303,7 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudg
   auto& in = *this->Internals;
   ss::PlannerInput pin;
   pin.requested = static_cast<ss::Method>(this->Method);
+  pin.keepRequested = this->KeepRequestedMethod;
   pin.casterTriangles = in.Casters.NumberOfTriangles();
   pin.receiverProps = in.Casters.ReceiverProps;
   pin.translucentCasters = in.Casters.Translucent;

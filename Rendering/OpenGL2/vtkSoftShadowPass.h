@@ -303,6 +303,20 @@ public:
   vtkSetMacro(AdaptToFrameBudget, bool);
   vtkGetMacro(AdaptToFrameBudget, bool);
   vtkBooleanMacro(AdaptToFrameBudget, bool);
+  ///@}
+
+  ///@{
+  /**
+   * KeepRequestedMethod: every light gets the requested method as asked,
+   * also where the planner would give it an equivalent, cheaper one (off by
+   * default: a requested vpcss gives pcss to a light with no translucent
+   * caster in its view, where VPCSS's filter is PCSS's). For comparing a
+   * solver with that equivalent and for testing it (plan reason: "requested
+   * vpcss"). Frame-wide (a planner input), not a solver option.
+   */
+  vtkSetMacro(KeepRequestedMethod, bool);
+  vtkGetMacro(KeepRequestedMethod, bool);
+  vtkBooleanMacro(KeepRequestedMethod, bool);
   vtkSetClampMacro(InteractiveUpdateRate, double, 1e-6, 1e6);
   vtkGetMacro(InteractiveUpdateRate, double);
   ///@}
@@ -416,6 +430,7 @@ protected:
   bool AutomaticPositionsOrigin = true;
   bool MeasureTimings = false;
   bool AdaptToFrameBudget = true;
+  bool KeepRequestedMethod = false;
   double InteractiveUpdateRate = 0.1;
 
 private:
