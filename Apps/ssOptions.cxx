@@ -75,6 +75,8 @@ const std::vector<PassOption>& PassOptions()
       [](P* p, S v, S w) { p->SetConstantBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
     { "slope_bias", "number", "slope-scaled depth bias, texels",
       [](P* p, S v, S w) { p->SetSlopeBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
+    { "normal_offset", "0..16", "normal-offset lookup along the facet normal, texels (0: off)",
+      [](P* p, S v, S w) { p->SetNormalOffset(ParseDouble(v, w, 0.0, 16.0)); } },
     { "reference_samples", "1..64", "reference: k x k light samples",
       [](P* p, S v, S w) { p->SetReferenceSamples(ParseInt(v, w, 1, 64)); } },
     { "reference_pattern", "regular|stratified", "reference: light sample pattern",

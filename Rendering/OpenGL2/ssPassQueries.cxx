@@ -251,6 +251,7 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FilterMaxQuads: " << this->FilterMaxQuads << "\n";
   os << indent << "ConstantBias: " << this->ConstantBias << "\n";
   os << indent << "SlopeBias: " << this->SlopeBias << "\n";
+  os << indent << "NormalOffset: " << this->NormalOffset << "\n";
   os << indent << "ReferenceSamples: " << this->ReferenceSamples << "\n";
   os << indent << "GearsSamples: " << this->GearsSamples << "\n";
   os << indent << "GearsGrid: " << this->GearsGrid << "\n";
