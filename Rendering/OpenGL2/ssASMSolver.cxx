@@ -585,12 +585,14 @@ void ASMSolver::QueryPass(SolverFrame& frame, LightState& ls, const std::string&
   GBuffer& g = *frame.GBuffer;
   g.Position->Activate();
   g.Normal->Activate();
+  g.GeometricNormal->Activate();
   const int idUnit = ASMTextures::Bind(win, GL_TEXTURE_2D, this->Tex.Ids);
   const int atlasUnit = ASMTextures::Bind(win, GL_TEXTURE_2D_ARRAY, this->Tex.Atlas);
   const int summaryUnit = ASMTextures::Bind(win, GL_TEXTURE_2D_ARRAY, this->Tex.Summary);
   const int nodeUnit = ASMTextures::Bind(win, GL_TEXTURE_2D, this->Tex.Nodes);
   prog->SetUniformi("gPosition", g.Position->GetTextureUnit());
   prog->SetUniformi("gNormal", g.Normal->GetTextureUnit());
+  prog->SetUniformi("gGeomNormal", g.GeometricNormal->GetTextureUnit());
   prog->SetUniformi("idImage", idUnit);
   prog->SetUniformi("atlas", atlasUnit);
   prog->SetUniformi("summary", summaryUnit);
@@ -659,6 +661,7 @@ void ASMSolver::QueryPass(SolverFrame& frame, LightState& ls, const std::string&
   ASMTextures::Unbind(win, GL_TEXTURE_2D_ARRAY, summaryUnit);
   ASMTextures::Unbind(win, GL_TEXTURE_2D_ARRAY, atlasUnit);
   ASMTextures::Unbind(win, GL_TEXTURE_2D, idUnit);
+  g.GeometricNormal->Deactivate();
   g.Normal->Deactivate();
   g.Position->Deactivate();
   TextureArray::Detach();

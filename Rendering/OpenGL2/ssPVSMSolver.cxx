@@ -83,6 +83,7 @@ void PVSMSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.BlockerSearchSamples = opt("blocker_samples");
   this->Opt.FilterMaxQuads = opt("filter_max_quads");
   this->Opt.ConstantBias = pass->GetConstantBias();
+  this->Opt.NormalOffset = pass->GetNormalOffset();
 }
 
 void PVSMSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights)
@@ -274,6 +275,8 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   auto commonUniforms = [&](vtkShaderProgram* p, int shadowUnit) {
     p->SetUniformi("gPosition", gbuf.Position->GetTextureUnit());
     p->SetUniformi("gNormal", gbuf.Normal->GetTextureUnit());
+    p->SetUniformi("gGeomNormal", gbuf.GeometricNormal->GetTextureUnit());
+    p->SetUniformf("normalOffset", static_cast<float>(this->Opt.NormalOffset));
     p->SetUniformi("shadowMaps", shadowUnit);
     p->SetUniformf("mapSize", static_cast<float>(maps.Size));
     p->SetUniformi("numLevels", maps.Levels);
@@ -299,6 +302,7 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   }
   gbuf.Position->Activate();
   gbuf.Normal->Activate();
+  gbuf.GeometricNormal->Activate();
   int shadowUnit = maps.Bind(win);
   commonUniforms(kp, shadowUnit);
   kp->SetUniformMatrix("clipToRel", clipToRel);
@@ -501,6 +505,7 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   {
     vtkErrorWithObjectMacro(frame.Reporter, "Could not build the PVSM resolve program.");
   }
+  gbuf.GeometricNormal->Deactivate();
   gbuf.Normal->Deactivate();
   gbuf.Position->Deactivate();
   finish();

@@ -43,6 +43,7 @@ public:
     int BlockerSearchSamples = 0;
     int FilterMaxQuads = 0;
     double ConstantBias = 0.0;
+    double NormalOffset = 0.0;
   };
 
   explicit PVSMSolver(Method method);

@@ -52,6 +52,7 @@ void ShadowMapSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.FilterMaxQuads = static_cast<int>(pass->GetSolverOption("filter_max_quads"));
   this->Opt.ConstantBias = pass->GetConstantBias();
   this->Opt.SlopeBias = pass->GetSlopeBias();
+  this->Opt.NormalOffset = pass->GetNormalOffset();
 }
 
 vtkShaderProgram* ShadowMapSolver::ReadyProgram(SolverFrame& frame, int& shadowUnit)
@@ -67,9 +68,12 @@ vtkShaderProgram* ShadowMapSolver::ReadyProgram(SolverFrame& frame, int& shadowU
   const TextureArray& maps = frame.Maps->GetArray();
   g.Position->Activate();
   g.Normal->Activate();
+  g.GeometricNormal->Activate();
   shadowUnit = maps.Bind(frame.Window);
   prog->SetUniformi("gPosition", g.Position->GetTextureUnit());
   prog->SetUniformi("gNormal", g.Normal->GetTextureUnit());
+  prog->SetUniformi("gGeomNormal", g.GeometricNormal->GetTextureUnit());
+  prog->SetUniformf("normalOffset", static_cast<float>(this->Opt.NormalOffset));
   prog->SetUniformi("shadowMaps", shadowUnit);
   prog->SetUniformf("mapSize", static_cast<float>(maps.Size));
   prog->SetUniformi("numLevels", maps.Levels);
@@ -91,6 +95,7 @@ void ShadowMapSolver::DrawVisibility(vtkShaderProgram* program, const ShadowLigh
 void ShadowMapSolver::ReleaseProgram(SolverFrame& frame, int shadowUnit)
 {
   TextureArray::Unbind(frame.Window, shadowUnit);
+  frame.GBuffer->GeometricNormal->Deactivate();
   frame.GBuffer->Normal->Deactivate();
   frame.GBuffer->Position->Deactivate();
 }

@@ -30,6 +30,7 @@ public:
     int FilterMaxQuads = 0;
     double ConstantBias = 0.0;
     double SlopeBias = 0.0;
+    double NormalOffset = 0.0;
   };
 
   /// `method`: Method::Hard, Method::PCF or Method::PCSS.

@@ -70,6 +70,7 @@ void TranslucentSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.FilterQuads = opt("vpcss_filter_quads");
   this->Opt.ConstantBias = pass->GetConstantBias();
   this->Opt.SlopeBias = pass->GetSlopeBias();
+  this->Opt.NormalOffset = pass->GetNormalOffset();
 }
 
 void TranslucentSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights)
@@ -191,9 +192,12 @@ void TranslucentSolver::Compute(SolverFrame& frame, const ShadowLight& light)
   GBuffer& g = *frame.GBuffer;
   g.Position->Activate();
   g.Normal->Activate();
+  g.GeometricNormal->Activate();
   const int unit = this->Maps.GetArray().Bind(win);
   prog->SetUniformi("gPosition", g.Position->GetTextureUnit());
   prog->SetUniformi("gNormal", g.Normal->GetTextureUnit());
+  prog->SetUniformi("gGeomNormal", g.GeometricNormal->GetTextureUnit());
+  prog->SetUniformf("normalOffset", static_cast<float>(this->Opt.NormalOffset));
   prog->SetUniformi("avsmTex", unit);
   prog->SetUniformi("shadowMaps", unit); // declared by the shared code; a 2-D array on its unit
   prog->SetUniformf("mapSize", static_cast<float>(this->Maps.GetSize()));
@@ -223,6 +227,7 @@ void TranslucentSolver::Compute(SolverFrame& frame, const ShadowLight& light)
   this->Quad->Render();
   glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, 0, 0, 0);
   TextureArray::Unbind(win, unit);
+  g.GeometricNormal->Deactivate();
   g.Normal->Deactivate();
   g.Position->Deactivate();
   TextureArray::Detach();

@@ -37,6 +37,7 @@ public:
     int FilterQuads = 0;
     double ConstantBias = 0.0;
     double SlopeBias = 0.0;
+    double NormalOffset = 0.0;
   };
 
   /// `hard`: one texel per pixel (hard AVSM); otherwise VPCSS's filter.

@@ -588,7 +588,7 @@ bool vtkSoftShadowPass::SetShaderParameters(
   const bool polyMapper = vtkOpenGLPolyDataMapper::SafeDownCast(mapper) != nullptr;
   if (in.CurrentStage == Stage::GBuffer)
   {
-    in.FBO->ActivateDrawBuffers(polyMapper ? 2 : 1);
+    in.FBO->ActivateDrawBuffers(polyMapper ? ss::GBuffer::NumberOfTargets : 1);
     if (polyMapper)
     {
       in.GBuf.SetShaderParameters(program, prop, in.Frame.Width, in.Frame.Height);
