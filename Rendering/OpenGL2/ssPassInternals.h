@@ -66,6 +66,7 @@ public:
   vtkTimeStamp StageTime;
   bool ShadowsThisFrame = false;
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
+  bool ShadeTranslucent = false; // ... and the per-fragment code of translucent receivers
   std::string LastSignature;
   std::string LastFarLightWarning; // warned once until the far lights change
   bool HaveResults = false;

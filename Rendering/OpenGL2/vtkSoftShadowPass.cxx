@@ -500,11 +500,20 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
     ren->Clear();
   }
   // The shading code is injected only while there are shadows (its samplers
-  // must be bound to real textures): rebuild shaders when that changes.
-  if (in.CurrentStage != Stage::Shade || in.ShadeShadows != in.ShadowsThisFrame)
+  // must be bound to real textures), the per-fragment code of translucent
+  // receivers only while one is shown: rebuild shaders when either changes.
+  bool translucent = false;
+  for (int i = 0; in.ShadowsThisFrame && !translucent && i < s->GetPropArrayCount(); ++i)
+  {
+    vtkProp* prop = s->GetPropArray()[i];
+    translucent = prop->GetVisibility() && prop->HasTranslucentPolygonalGeometry() && GetReceivesShadows(prop);
+  }
+  if (in.CurrentStage != Stage::Shade || in.ShadeShadows != in.ShadowsThisFrame ||
+    in.ShadeTranslucent != translucent)
   {
     in.CurrentStage = Stage::Shade;
     in.ShadeShadows = in.ShadowsThisFrame;
+    in.ShadeTranslucent = translucent;
     in.StageTime.Modified();
   }
   if (in.ShadowsThisFrame)
@@ -571,7 +580,7 @@ bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader, std::
   {
     return true;
   }
-  if (const int missing = ss::InjectVisibility(fragmentShader))
+  if (const int missing = ss::InjectVisibility(fragmentShader, in.ShadeTranslucent))
   {
     vtkErrorMacro("vtkSoftShadowPass: could not find the light terms of "
       << missing << " light(s) in the shader of " << (prop ? prop->GetClassName() : "?")
