@@ -643,29 +643,41 @@ RepairedMesh RepairMesh(const RepairInput& in, const RepairOptions& options, Rep
     }
   }
 
-  // --- concatenate in unit order
+  // --- concatenate in unit order: offsets first, then the units' copies in parallel
+  std::vector<std::size_t> pointBase(next + 1, 0), triBase(next + 1, 0), pieceBase(next + 1, 0);
   for (std::size_t u = 0; u < next; ++u)
   {
-    UnitResult& r = results[u];
-    const std::int64_t pointBase = static_cast<std::int64_t>(out.points.size());
-    const std::int64_t pieceBase = static_cast<std::int64_t>(out.pieces.size());
-    out.points.insert(out.points.end(), r.points.begin(), r.points.end());
-    out.sourcePoint.insert(out.sourcePoint.end(), r.sourcePoint.begin(), r.sourcePoint.end());
-    out.pointNormals.insert(out.pointNormals.end(), r.pointNormals.begin(), r.pointNormals.end());
-    for (const auto& t : r.triangles)
-    {
-      out.triangles.push_back({ t[0] + pointBase, t[1] + pointBase, t[2] + pointBase });
-    }
-    out.sourceCell.insert(out.sourceCell.end(), r.sourceCell.begin(), r.sourceCell.end());
-    out.faceNormals.insert(out.faceNormals.end(), r.faceNormals.begin(), r.faceNormals.end());
-    for (std::int64_t p : r.piece)
-    {
-      out.piece.push_back(p + pieceBase);
-    }
-    out.pieces.insert(out.pieces.end(), r.pieces.begin(), r.pieces.end());
-    Add(stats, r.stats);
-    r = UnitResult();
+    pointBase[u + 1] = pointBase[u] + results[u].points.size();
+    triBase[u + 1] = triBase[u] + results[u].triangles.size();
+    pieceBase[u + 1] = pieceBase[u] + results[u].pieces.size();
+    Add(stats, results[u].stats);
   }
+  out.points.resize(pointBase[next]);
+  out.sourcePoint.resize(pointBase[next]);
+  out.pointNormals.resize(pointBase[next]);
+  out.triangles.resize(triBase[next]);
+  out.sourceCell.resize(triBase[next]);
+  out.faceNormals.resize(triBase[next]);
+  out.piece.resize(triBase[next]);
+  out.pieces.resize(pieceBase[next]);
+  tbb::parallel_for(std::size_t(0), next, [&](std::size_t u) {
+    UnitResult& r = results[u];
+    const std::int64_t pb = static_cast<std::int64_t>(pointBase[u]);
+    const std::int64_t qb = static_cast<std::int64_t>(pieceBase[u]);
+    std::copy(r.points.begin(), r.points.end(), out.points.begin() + pointBase[u]);
+    std::copy(r.sourcePoint.begin(), r.sourcePoint.end(), out.sourcePoint.begin() + pointBase[u]);
+    std::copy(r.pointNormals.begin(), r.pointNormals.end(), out.pointNormals.begin() + pointBase[u]);
+    for (std::size_t t = 0; t < r.triangles.size(); ++t)
+    {
+      const auto& tr = r.triangles[t];
+      out.triangles[triBase[u] + t] = { tr[0] + pb, tr[1] + pb, tr[2] + pb };
+      out.piece[triBase[u] + t] = r.piece[t] + qb;
+    }
+    std::copy(r.sourceCell.begin(), r.sourceCell.end(), out.sourceCell.begin() + triBase[u]);
+    std::copy(r.faceNormals.begin(), r.faceNormals.end(), out.faceNormals.begin() + triBase[u]);
+    std::copy(r.pieces.begin(), r.pieces.end(), out.pieces.begin() + pieceBase[u]);
+    r = UnitResult();
+  });
   return out;
 }
 }

@@ -5,6 +5,7 @@
 
 #include "ssClusterBounds.h"
 #include "ssClusterTable.h"
+#include "ssWeld.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -591,4 +592,85 @@ TEST(ShadowCasterPreparation, EmptyAndDegenerateInput)
   EXPECT_EQ(out->GetNumberOfCells(), 0);
   EXPECT_EQ(Count(out, "NonFiniteCells"), 1);
   EXPECT_EQ(Count(out, "CollapsedTriangles"), 1);
+}
+
+// The weld (ssWeld.h) against the O(n^2) greedy merge in point order on the
+// hard cases: points on axis-aligned planes and lines (a CAD model's grid,
+// where an axis sweep would see thousands of equal keys), near-copies that
+// chain (a - b and b - c within the tolerance, a - c not), exact copies, far
+// coordinates, and the tolerance 0.
+TEST(ShadowCasterPreparation, WeldIsTheGreedyMergeInPointOrder)
+{
+  const auto bruteForce = [](const std::vector<glm::dvec3>& p, double tol) {
+    std::vector<std::int64_t> map(p.size(), -1);
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+      if (map[i] >= 0)
+      {
+        continue;
+      }
+      map[i] = static_cast<std::int64_t>(i);
+      for (std::size_t j = i + 1; j < p.size(); ++j)
+      {
+        const glm::dvec3 e = p[j] - p[i];
+        if (map[j] < 0 && glm::dot(e, e) <= tol * tol)
+        {
+          map[j] = static_cast<std::int64_t>(i);
+        }
+      }
+    }
+    return map;
+  };
+  std::mt19937 rng(11);
+  for (const glm::dvec3 offset : { glm::dvec3(0.0), glm::dvec3(3e5, -2e5, 1e5) })
+  {
+    for (const double tol : { 0.0, 0.01, 0.3 })
+    {
+      std::vector<glm::dvec3> p;
+      for (int i = 0; i < 12; ++i)
+      {
+        for (int j = 0; j < 12; ++j)
+        {
+          for (int k = 0; k < 12; ++k)
+          {
+            p.push_back(offset + glm::dvec3(i, j, 0.5 * k)); // sheets and lines of equal coordinates
+          }
+        }
+      }
+      std::uniform_int_distribution<std::size_t> pick(0, p.size() - 1);
+      std::uniform_real_distribution<double> jitter(-0.7, 0.7);
+      const std::size_t grid = p.size();
+      for (int c = 0; c < 1500; ++c)
+      {
+        const glm::dvec3 base = p[pick(rng)];
+        switch (c % 3)
+        {
+          case 0: // an exact copy
+            p.push_back(base);
+            break;
+          case 1: // a near copy, up to 1.2 tolerances away: chains form
+            p.push_back(base + tol * glm::dvec3(jitter(rng), jitter(rng), jitter(rng)));
+            break;
+          default: // just outside along an axis, and just inside
+            p.push_back(base + glm::dvec3(tol * (1.0 + 1e-9) + 1e-12, 0.0, 0.0));
+            p.push_back(base + glm::dvec3(0.0, tol * (1.0 - 1e-9), 0.0));
+            break;
+        }
+      }
+      // the copies come before and after their originals in id order
+      std::shuffle(p.begin() + static_cast<std::ptrdiff_t>(grid / 2), p.end(), rng);
+      const std::vector<std::int64_t> expected = bruteForce(p, tol);
+      const std::vector<std::int64_t> got = ssf::WeldPoints(p, tol);
+      ASSERT_EQ(got.size(), p.size());
+      std::size_t welded = 0, differ = 0;
+      for (std::size_t i = 0; i < p.size(); ++i)
+      {
+        welded += expected[i] != static_cast<std::int64_t>(i) ? 1 : 0;
+        differ += got[i] != expected[i] ? 1 : 0;
+      }
+      EXPECT_EQ(differ, 0u) << "tolerance " << tol << ", offset " << offset.x;
+      EXPECT_GT(welded, 500u); // the exact copies at least
+    }
+  }
+  EXPECT_TRUE(ssf::WeldPoints({}, 1.0).empty());
 }
