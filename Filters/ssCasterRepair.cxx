@@ -21,8 +21,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <ctime>
 #include <numeric>
+#include <thread>
 
 namespace ssf
 {
@@ -616,31 +618,51 @@ RepairedMesh RepairMesh(const RepairInput& in, const RepairOptions& options, Rep
   }
   pieces.clear();
 
-  // --- units in parallel, in batches so that progress is reported (and an
-  // abort honoured) on the calling thread
+  // --- units in parallel in one loop, the largest first (a loop per batch
+  // left a core idle behind each batch's last unit). Progress is reported,
+  // and an abort honoured, on the calling thread only (VTK's progress events
+  // are not thread-safe), after each unit it ran.
   std::vector<UnitResult> results(units.size());
   std::vector<std::int64_t> localOf(in.points.size(), -1);
+  std::vector<char> finished(units.size(), 0);
+  std::vector<std::size_t> largestFirst(units.size());
+  std::iota(largestFirst.begin(), largestFirst.end(), std::size_t(0));
+  std::stable_sort(largestFirst.begin(), largestFirst.end(),
+    [&](std::size_t a, std::size_t b) { return units[a].size() > units[b].size(); });
   const std::size_t total = std::max<std::size_t>(kept.size(), 1);
-  std::size_t done = 0, next = 0;
-  while (next < units.size())
+  std::atomic<std::size_t> done{ 0 };
+  std::atomic<bool> stop{ false };
+  const std::thread::id caller = std::this_thread::get_id();
+  tbb::parallel_for(std::size_t(0), units.size(), [&](std::size_t i) {
+    const std::size_t u = largestFirst[i];
+    if (stop.load())
+    {
+      return;
+    }
+    results[u] = ProcessUnit(in, units[u], localOf, options);
+    finished[u] = 1;
+    const std::size_t d = done.fetch_add(units[u].size()) + units[u].size();
+    if (progress && std::this_thread::get_id() == caller &&
+      !progress(static_cast<double>(d) / static_cast<double>(total)))
+    {
+      stop = true;
+    }
+  });
+  std::size_t next = 0;
+  while (next < units.size() && finished[next])
   {
-    std::size_t end = next, batch = 0;
-    while (end < units.size() && (batch == 0 || batch < total / 50))
+    ++next;
+  }
+  if (next < units.size())
+  {
+    if (aborted)
     {
-      batch += units[end].size();
-      ++end;
+      *aborted = true;
     }
-    tbb::parallel_for(next, end, [&](std::size_t u) { results[u] = ProcessUnit(in, units[u], localOf, options); });
-    done += batch;
-    next = end;
-    if (progress && !progress(static_cast<double>(done) / static_cast<double>(total)) && next < units.size())
-    {
-      if (aborted)
-      {
-        *aborted = true;
-      }
-      break;
-    }
+  }
+  else if (progress && !stop.load())
+  {
+    progress(1.0);
   }
 
   // --- concatenate in unit order: offsets first, then the units' copies in parallel
