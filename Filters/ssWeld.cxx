@@ -1,6 +1,5 @@
 #include "ssWeld.h"
 
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -36,47 +35,62 @@ std::vector<std::int64_t> WeldPoints(const std::vector<glm::dvec3>& points, doub
   const double tol = std::max(tolerance, 0.0);
   const double window = tol * (1.0 + 1e-9) + 8.0 * DBL_EPSILON * (3.0 * largest + tol);
   const double tol2 = tol * tol;
-  using Pairs = std::vector<std::pair<std::int64_t, std::int64_t>>;
-  tbb::enumerable_thread_specific<Pairs> found;
+  const auto near = [&](std::size_t a, std::size_t b) {
+    const glm::dvec3 e = points[order[b].second] - points[order[a].second];
+    return glm::dot(e, e) <= tol2;
+  };
+  // 1. in parallel: which points have any other point within the tolerance
+  // (a scan stops at its first hit, so a pile of copies costs no more than a pair)
+  std::vector<char> alone(n, 1);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-    Pairs& local = found.local();
     for (std::size_t a = r.begin(); a != r.end(); ++a)
     {
-      const glm::dvec3& p = points[order[a].second];
-      for (std::size_t b = a + 1; b < n && order[b].first - order[a].first <= window; ++b)
+      bool hit = false;
+      for (std::size_t b = a + 1; !hit && b < n && order[b].first - order[a].first <= window; ++b)
       {
-        const glm::dvec3 e = points[order[b].second] - p;
-        if (glm::dot(e, e) <= tol2)
-        {
-          const std::int64_t i = order[a].second, j = order[b].second;
-          local.emplace_back(std::min(i, j), std::max(i, j));
-        }
+        hit = near(a, b);
       }
+      for (std::size_t b = a; !hit && b-- > 0 && order[a].first - order[b].first <= window;)
+      {
+        hit = near(a, b);
+      }
+      alone[order[a].second] = hit ? 0 : 1;
     }
   });
-  Pairs pairs;
-  for (const Pairs& local : found)
+  // 2. the greedy merge in point order over the others: a point not yet
+  // welded takes every point not yet welded within the tolerance. Each point
+  // is taken once and only keepers search, so n copies of one point cost n.
+  std::vector<std::size_t> rank(n);
+  for (std::size_t a = 0; a < n; ++a)
   {
-    pairs.insert(pairs.end(), local.begin(), local.end());
-  }
-  std::sort(pairs.begin(), pairs.end());
-  // the greedy merge in point order: only points with a partner can change
-  for (const auto& pq : pairs)
-  {
-    if (map[pq.first] < 0)
-    {
-      map[pq.first] = pq.first;
-    }
-    if (map[pq.first] == pq.first && map[pq.second] < 0)
-    {
-      map[pq.second] = pq.first;
-    }
+    rank[order[a].second] = a;
   }
   for (std::size_t i = 0; i < n; ++i)
   {
-    if (map[i] < 0)
+    if (alone[i])
     {
       map[i] = static_cast<std::int64_t>(i);
+      continue;
+    }
+    if (map[i] >= 0)
+    {
+      continue;
+    }
+    map[i] = static_cast<std::int64_t>(i);
+    const std::size_t a = rank[i];
+    for (std::size_t b = a + 1; b < n && order[b].first - order[a].first <= window; ++b)
+    {
+      if (map[order[b].second] < 0 && near(a, b))
+      {
+        map[order[b].second] = static_cast<std::int64_t>(i);
+      }
+    }
+    for (std::size_t b = a; b-- > 0 && order[a].first - order[b].first <= window;)
+    {
+      if (map[order[b].second] < 0 && near(a, b))
+      {
+        map[order[b].second] = static_cast<std::int64_t>(i);
+      }
     }
   }
   return map;

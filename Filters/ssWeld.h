@@ -17,10 +17,12 @@ namespace ssf
 /// with an equal or lower id that maps to itself, and every group of points
 /// within the tolerance of each other maps to its lowest id.
 ///
-/// Candidate pairs come from a sort of the points' projections onto a fixed
-/// generic direction (|d.(p - q)| <= |p - q|) swept in parallel; each is
-/// checked with the exact squared distance. `tolerance` 0 welds exactly
-/// coincident points only.
+/// Candidates come from a sort of the points' projections onto a fixed
+/// generic direction (|d.(p - q)| <= |p - q|), each checked with the exact
+/// squared distance: a parallel sweep finds the points that have a neighbour
+/// within the tolerance, and only those go through the merge, in which only
+/// points that keep themselves search (so a pile of n copies costs O(n), not
+/// O(n^2)). `tolerance` 0 welds exactly coincident points only.
 std::vector<std::int64_t> WeldPoints(const std::vector<glm::dvec3>& points, double tolerance);
 }
 

@@ -673,6 +673,20 @@ TEST(ShadowCasterPreparation, WeldIsTheGreedyMergeInPointOrder)
     }
   }
   EXPECT_TRUE(ssf::WeldPoints({}, 1.0).empty());
+  // a pile of 300,000 copies of one point (a collapsed export) next to a
+  // small grid: all go to the first copy, in linear time (every pair of the
+  // pile would be 4.5e10 distance tests)
+  std::vector<glm::dvec3> pile(300000, glm::dvec3(0.25, 0.5, 0.75));
+  for (int i = 0; i < 1000; ++i)
+  {
+    pile.push_back(glm::dvec3(i % 10, (i / 10) % 10, i / 100));
+  }
+  const std::vector<std::int64_t> piled = ssf::WeldPoints(pile, 1e-3);
+  EXPECT_EQ(std::count(piled.begin(), piled.begin() + 300000, 0), 300000);
+  for (std::size_t i = 300000; i < pile.size(); ++i)
+  {
+    ASSERT_EQ(piled[i], static_cast<std::int64_t>(i));
+  }
 }
 
 namespace
