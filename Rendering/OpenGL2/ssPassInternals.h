@@ -49,6 +49,7 @@ public:
   ss::CasterSet Casters;
   ss::EffectPlan Plan;
   ss::GBuffer GBuf;
+  ss::VisibleReceivers Visible; ///< the receiver points the camera sees (views are fitted to them)
   ss::ShadowMaps Maps;
   ss::VisibilityLayers Visibility;
   ss::StageTimings Timings;
@@ -63,6 +64,7 @@ public:
   vtkTimeStamp StageTime;
   bool ShadowsThisFrame = false;
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
+  bool ShadeTranslucent = false; // ... and the per-fragment code of translucent receivers
   std::string LastSignature;
   std::string LastFarLightWarning; // warned once until the far lights change
   bool HaveResults = false;

@@ -9,7 +9,7 @@
 
 namespace ss
 {
-int InjectVisibility(std::string& fragmentShader)
+int InjectVisibility(std::string& fragmentShader, bool translucentReceivers)
 {
   int lightsInShader = 0;
   while (fragmentShader.find("lightColor" + std::to_string(lightsInShader)) != std::string::npos)
@@ -56,7 +56,8 @@ int InjectVisibility(std::string& fragmentShader)
   }
   // props that are not in the G-buffer (translucent ones) get the
   // visibility of their own fragments from the solvers that can give it
-  decl += TranslucentReceiverCode(fragmentShader);
+  decl += translucentReceivers ? TranslucentReceiverCode(fragmentShader)
+                               : std::string("vec3 ssFragmentVisibility(int layer) { return vec3(1.0); }\n");
   decl += "vec3 ssVisibility(int layer, int colorLayer)\n"
           "{\n"
           "  if (ssUseVis == 0 || layer < 0) { return vec3(1.0); }\n"

@@ -24,11 +24,14 @@ struct ShadowLight;
 /// ssVisibility(ssLightLayerN, ssLightColorLayerN) (RGB: coloured shadows
 /// where the light has a colour layer) and declares that function and its
 /// uniforms. Fragments of props that are not in the G-buffer (translucent
-/// props) take ssFragmentVisibility (ssTranslucentReceivers).
+/// props) take ssFragmentVisibility (ssTranslucentReceivers) when
+/// `translucentReceivers`; without them that function is 1: its code (the
+/// AVSM lookup and filter) made every shaded fragment 7x slower on llvmpipe,
+/// which runs both sides of a branch (issue 24, PVSM's first frame).
 /// Unlit and headlight-only shaders are left alone. Returns how many lights'
 /// terms were not found (0 when all were, or when there was nothing to do);
 /// the shader is then not usable.
-int InjectVisibility(std::string& fragmentShader);
+int InjectVisibility(std::string& fragmentShader, bool translucentReceivers);
 
 /// The uniforms of one draw with that code.
 struct ShadingUniforms

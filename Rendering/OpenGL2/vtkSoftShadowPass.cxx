@@ -387,6 +387,22 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
   ss::SolverFrame frame = in.MakeSolverFrame(ren, win, this);
 
+  // The receiver points the camera sees: the shadow views are fitted to them
+  // (and to what can shadow them), when a light's solver fits views.
+  const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
+  in.Visible = ss::VisibleReceivers{};
+  for (const auto& l : in.Frame.Lights)
+  {
+    if (l.Layer >= 0 && in.SolverFor(l.Method)->FitsShadowViews())
+    {
+      const auto t0 = Clock::now();
+      in.Visible = ss::CollectFrameReceivers(frame, receivers);
+      in.Timings.Set("visible_receivers", ss::Milliseconds(t0, Clock::now()));
+      break;
+    }
+  }
+  frame.Visible = &in.Visible;
+
   // Each solver reads its options and learns its lights of the frame (maybe none).
   std::vector<std::vector<const ShadowLight*>> lightsOf(in.Solvers.size());
   for (std::size_t i = 0; i < in.Solvers.size(); ++i)
@@ -404,7 +420,6 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 
   // --- whole-view shadow maps, one shared array: views fitted to the
   // receivers (relative coordinates), the size the lights agree on
-  const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   const ss::Box casters = ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin);
   int totalViews = 0, numShadowLights = 0;
   std::vector<int> asked;
@@ -421,7 +436,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       l.Views.clear();
       continue;
     }
-    ss::FitShadowViews(l, receivers, casters, in.Casters, in.Frame.Origin);
+    ss::FitShadowViews(l, receivers, casters, in.Casters, in.Frame.Origin, &in.Visible);
     totalViews += static_cast<int>(l.Views.size());
     asked.push_back(solver->GetShadowMapSize());
   }
@@ -498,11 +513,20 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
     ren->Clear();
   }
   // The shading code is injected only while there are shadows (its samplers
-  // must be bound to real textures): rebuild shaders when that changes.
-  if (in.CurrentStage != Stage::Shade || in.ShadeShadows != in.ShadowsThisFrame)
+  // must be bound to real textures), the per-fragment code of translucent
+  // receivers only while one is shown: rebuild shaders when either changes.
+  bool translucent = false;
+  for (int i = 0; in.ShadowsThisFrame && !translucent && i < s->GetPropArrayCount(); ++i)
+  {
+    vtkProp* prop = s->GetPropArray()[i];
+    translucent = prop->GetVisibility() && prop->HasTranslucentPolygonalGeometry() && GetReceivesShadows(prop);
+  }
+  if (in.CurrentStage != Stage::Shade || in.ShadeShadows != in.ShadowsThisFrame ||
+    in.ShadeTranslucent != translucent)
   {
     in.CurrentStage = Stage::Shade;
     in.ShadeShadows = in.ShadowsThisFrame;
+    in.ShadeTranslucent = translucent;
     in.StageTime.Modified();
   }
   if (in.ShadowsThisFrame)
@@ -569,7 +593,7 @@ bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader, std::
   {
     return true;
   }
-  if (const int missing = ss::InjectVisibility(fragmentShader))
+  if (const int missing = ss::InjectVisibility(fragmentShader, in.ShadeTranslucent))
   {
     vtkErrorMacro("vtkSoftShadowPass: could not find the light terms of "
       << missing << " light(s) in the shader of " << (prop ? prop->GetClassName() : "?")
