@@ -21,6 +21,17 @@ void ExpandRect(Rect& r, double margin, double pad)
   r.y1 += my;
 }
 
+// Clamps r to |X| <= tMax; true when that cut it.
+bool ClampExtent(Rect& r, double tMax)
+{
+  const bool cut = r.x0 < -tMax || r.y0 < -tMax || r.x1 > tMax || r.y1 > tMax;
+  r.x0 = std::max(r.x0, -tMax);
+  r.y0 = std::max(r.y0, -tMax);
+  r.x1 = std::min(r.x1, tMax);
+  r.y1 = std::min(r.y1, tMax);
+  return cut;
+}
+
 void MakeNonDegenerate(Rect& r)
 {
   // A view must have a positive size even for a flat or point-like box.
@@ -94,14 +105,7 @@ bool FitPerspectiveExtent(
     return false;
   }
   ExpandRect(r, margin, 0.0);
-  if (r.x0 < -tMax || r.y0 < -tMax || r.x1 > tMax || r.y1 > tMax)
-  {
-    clamped = true;
-    r.x0 = std::max(r.x0, -tMax);
-    r.y0 = std::max(r.y0, -tMax);
-    r.x1 = std::min(r.x1, tMax);
-    r.y1 = std::min(r.y1, tMax);
-  }
+  clamped = ClampExtent(r, tMax);
   MakeNonDegenerate(r);
   out = r;
   return true;
@@ -183,10 +187,7 @@ bool FitPerspectiveExtentToPoints(const ShadowView& view, const VisibleReceivers
     return false;
   }
   ExpandRect(r, margin, 0.0);
-  r.x0 = std::max(r.x0, -tMax);
-  r.y0 = std::max(r.y0, -tMax);
-  r.x1 = std::min(r.x1, tMax);
-  r.y1 = std::min(r.y1, tMax);
+  ClampExtent(r, tMax);
   MakeNonDegenerate(r);
   out = r;
   return true;
