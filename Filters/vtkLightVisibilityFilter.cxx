@@ -43,31 +43,9 @@ struct BakeLight
 // The frame of a vtkLight as vtkSoftShadowPass builds it (world coordinates).
 bool FrameOf(vtkLight* light, ss::LightFrame& frame, std::string& why)
 {
-  double pos[3], fp[3];
-  light->GetTransformedPosition(pos);
-  light->GetTransformedFocalPoint(fp);
-  const glm::dvec3 p(pos[0], pos[1], pos[2]), f(fp[0], fp[1], fp[2]);
   try
   {
-    if (light->GetPositional())
-    {
-      double size[2];
-      vtkSoftShadowLight::GetAreaSize(light, size);
-      if (size[0] > 0.0 || size[1] > 0.0)
-      {
-        double up[3] = { 0, 0, 0 };
-        vtkSoftShadowLight::GetAreaUp(light, up);
-        frame = ss::MakeRectLightFrame(p, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
-      }
-      else
-      {
-        frame = ss::MakePointLightFrame(p);
-      }
-    }
-    else
-    {
-      frame = ss::MakeDirectionalLightFrame(f - p, vtkSoftShadowLight::GetAngularDiameter(light) * M_PI / 180.0);
-    }
+    frame = vtkSoftShadowLight::MakeLightFrame(light);
   }
   catch (const std::exception& e)
   {

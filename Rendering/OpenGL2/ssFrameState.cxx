@@ -38,33 +38,10 @@ std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origi
     sl.ShaderIndex = shaderIndex++;
     sl.Planner.headlight = light->LightTypeIsHeadlight() != 0;
     sl.Planner.castsShadows = vtkSoftShadowLight::GetCastsShadows(light);
-    double pos[3], fp[3];
-    light->GetTransformedPosition(pos);
-    light->GetTransformedFocalPoint(fp);
     try
     {
-      const glm::dvec3 p(pos[0], pos[1], pos[2]);
-      const glm::dvec3 f(fp[0], fp[1], fp[2]);
-      if (light->GetPositional())
-      {
-        double size[2];
-        vtkSoftShadowLight::GetAreaSize(light, size);
-        if (size[0] > 0.0 || size[1] > 0.0)
-        {
-          double up[3] = { 0, 0, 0 };
-          vtkSoftShadowLight::GetAreaUp(light, up);
-          sl.Frame = MakeRectLightFrame(p - origin, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
-        }
-        else
-        {
-          sl.Frame = MakePointLightFrame(p - origin);
-        }
-      }
-      else
-      {
-        const double angle = vtkSoftShadowLight::GetAngularDiameter(light);
-        sl.Frame = MakeDirectionalLightFrame(f - p, angle * M_PI / 180.0);
-      }
+      const double o[3] = { origin.x, origin.y, origin.z };
+      sl.Frame = vtkSoftShadowLight::MakeLightFrame(light, o);
     }
     catch (const std::exception& e)
     {

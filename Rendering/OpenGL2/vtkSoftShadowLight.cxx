@@ -1,5 +1,7 @@
 #include "vtkSoftShadowLight.h"
 
+#include "ssLightFrame.h"
+
 #include "vtkInformation.h"
 #include "vtkInformationDoubleKey.h"
 #include "vtkInformationDoubleVectorKey.h"
@@ -132,6 +134,28 @@ bool vtkSoftShadowLight::GetCastsShadows(vtkLight* light)
     return light->GetInformation()->Get(CASTS_SHADOWS()) != 0;
   }
   return true;
+}
+
+ss::LightFrame vtkSoftShadowLight::MakeLightFrame(vtkLight* light, const double origin[3])
+{
+  double pos[3], fp[3];
+  light->GetTransformedPosition(pos);
+  light->GetTransformedFocalPoint(fp);
+  const glm::dvec3 p(pos[0], pos[1], pos[2]), f(fp[0], fp[1], fp[2]);
+  const glm::dvec3 o = origin ? glm::dvec3(origin[0], origin[1], origin[2]) : glm::dvec3(0.0);
+  if (!light->GetPositional())
+  {
+    return ss::MakeDirectionalLightFrame(f - p, vtkSoftShadowLight::GetAngularDiameter(light) * M_PI / 180.0);
+  }
+  double size[2];
+  vtkSoftShadowLight::GetAreaSize(light, size);
+  if (size[0] > 0.0 || size[1] > 0.0)
+  {
+    double up[3] = { 0, 0, 0 };
+    vtkSoftShadowLight::GetAreaUp(light, up);
+    return ss::MakeRectLightFrame(p - o, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
+  }
+  return ss::MakePointLightFrame(p - o);
 }
 
 void vtkSoftShadowLight::PrintSelf(ostream& os, vtkIndent indent)

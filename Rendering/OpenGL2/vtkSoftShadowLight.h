@@ -38,6 +38,12 @@ class vtkLight;
 class vtkInformationDoubleKey;
 class vtkInformationDoubleVectorKey;
 class vtkInformationIntegerKey;
+#ifndef __VTK_WRAP__
+namespace ss
+{
+struct LightFrame;
+}
+#endif
 
 class SOFTSHADOWSRENDERINGOPENGL2_EXPORT vtkSoftShadowLight : public vtkObject
 {
@@ -79,6 +85,16 @@ public:
   static void SetCastsShadows(vtkLight* light, bool casts);
   static bool GetCastsShadows(vtkLight* light);
   ///@}
+
+#ifndef __VTK_WRAP__
+  /**
+   * The light's frame (rect, point or directional; see ssLightFrame.h) as the
+   * pass and vtkLightVisibilityFilter both build it, with positions relative
+   * to `origin` (null: world coordinates). Throws std::invalid_argument for a
+   * degenerate light (the message names what is wrong). C++ only.
+   */
+  static ss::LightFrame MakeLightFrame(vtkLight* light, const double origin[3] = nullptr);
+#endif
 
   static vtkInformationDoubleVectorKey* AREA_SIZE();
   static vtkInformationDoubleVectorKey* AREA_UP();
