@@ -159,6 +159,7 @@ bool FitPerspectiveExtentToPoints(const ShadowView& view, const VisibleReceivers
 {
   beyond = false;
   Rect r{ 1e300, 1e300, -1e300, -1e300 };
+  glm::dvec2 maxReach(0.0);
   bool any = false;
   const std::size_t n = points.Count();
   for (std::size_t i = 0; i < n; ++i)
@@ -176,6 +177,7 @@ bool FitPerspectiveExtentToPoints(const ShadowView& view, const VisibleReceivers
     }
     // PVSM §4 eq. 1: blockers between zb >= nearest and the receiver
     const double reach = (nearest > 0.0 && nearest < q.z) ? 1.0 / nearest - 1.0 / q.z : 0.0;
+    maxReach = glm::max(maxReach, halfSize * reach);
     r.x0 = std::min(r.x0, X.x - halfSize.x * reach);
     r.x1 = std::max(r.x1, X.x + halfSize.x * reach);
     r.y0 = std::min(r.y0, X.y - halfSize.y * reach);
@@ -187,6 +189,21 @@ bool FitPerspectiveExtentToPoints(const ShadowView& view, const VisibleReceivers
     return false;
   }
   ExpandRect(r, margin, 0.0);
+  // The blocker search reads at most a quarter of the map on each side of a
+  // receiver (ssShadowCommon.glsl, blockerSearch): the extent is at least 4
+  // reaches wide, so a close-up of a small area under a large light does not
+  // cut the search short.
+  for (int axis = 0; axis < 2; ++axis)
+  {
+    double& lo = axis == 0 ? r.x0 : r.y0;
+    double& hi = axis == 0 ? r.x1 : r.y1;
+    const double need = 4.0 * (axis == 0 ? maxReach.x : maxReach.y) - (hi - lo);
+    if (need > 0.0)
+    {
+      lo -= 0.5 * need;
+      hi += 0.5 * need;
+    }
+  }
   ClampExtent(r, tMax);
   MakeNonDegenerate(r);
   out = r;
@@ -237,25 +254,10 @@ std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& recei
     v.origin = all.Center() - light.n * diag;
     // Kernels reach at most diag * tan(angle/2) beyond a receiver.
     const double pad = diag * std::tan(0.5 * light.angularDiameter);
+    // Fitted to the receivers' bounds only: cut to the visible receivers, the
+    // wide PCSS kernels of a large angular size outgrew the quarter of the
+    // map the search reads (ParaView's SoftShadowViewLights lost penumbra).
     v.extent = FitOrthographicExtent(v, receivers.Empty() ? all : receivers, 0.02, pad);
-    if (fit && visible->Count() > 0)
-    {
-      // what shadows a visible receiver projects within `pad` of it
-      Rect r{ 1e300, 1e300, -1e300, -1e300 };
-      for (std::size_t i = 0; i < visible->Count(); ++i)
-      {
-        const float* p = visible->xyz.data() + 3 * i;
-        const glm::dvec3 q = v.ToLightSpace(glm::dvec3(p[0], p[1], p[2]));
-        r.x0 = std::min(r.x0, q.x);
-        r.y0 = std::min(r.y0, q.y);
-        r.x1 = std::max(r.x1, q.x);
-        r.y1 = std::max(r.y1, q.y);
-      }
-      ExpandRect(r, 0.02, pad);
-      MakeNonDegenerate(r);
-      v.extent = IntersectExtent(v.extent, r);
-      info.fitted = true;
-    }
     views.push_back(v);
     return views;
   }

@@ -129,9 +129,11 @@ Rect IntersectExtent(const Rect& a, const Rect& b);
 /// - point light: one perspective view towards the receivers when they fit in
 ///   a cone of about 76 degrees half-angle, else six cube faces;
 /// - directional light: one orthographic view placed behind casters and receivers.
-/// With `visible` known, each extent is the box-fitted one cut to the visible
-/// receivers and the reach of what can shadow them (FitPerspectiveExtentToPoints,
-/// `nearestCaster`: the nearest caster's depth along a rect light's normal),
+/// With `visible` known, a perspective extent is the box-fitted one cut to the
+/// visible receivers and the reach of what can shadow them
+/// (FitPerspectiveExtentToPoints, `nearestCaster`: the nearest caster's depth
+/// along a rect light's normal; at least 4 reaches wide, the blocker search's
+/// cap); a directional light's view stays fitted to the bounds;
 /// and a rect light gets four side views (half cube faces in front of its
 /// plane) only when a visible receiver lies beyond the widest angle its main
 /// view covers (issue 17: a light inside a closed sphere). Without it, the

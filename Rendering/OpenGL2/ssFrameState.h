@@ -36,10 +36,6 @@ struct ShadowLight
   std::vector<ShadowView> Views;
   LightViewInfo ViewInfo;
   double SearchDepth = 0.0; ///< PCSS blocker-search plane (light space)
-  /// Per axis, the main view's extent fitted to the receivers' bounds over
-  /// the one fitted to the visible receivers (>= 1): PCF's radius, in texels
-  /// of the bounds-fitted map, keeps its world size whatever the camera sees.
-  glm::dvec2 FitScale{ 1.0 };
   int FirstLayer = 0;       ///< its first layer in the shadow-map array
 };
 

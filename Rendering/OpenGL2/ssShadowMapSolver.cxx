@@ -70,8 +70,6 @@ vtkShaderProgram* ShadowMapSolver::ReadyProgram(SolverFrame& frame, int& shadowU
 void ShadowMapSolver::DrawVisibility(vtkShaderProgram* program, const ShadowLight& light, Method method)
 {
   SetLightUniforms(program, light);
-  const float pcfScale[2] = { static_cast<float>(light.FitScale.x), static_cast<float>(light.FitScale.y) };
-  program->SetUniform2f("pcfScale", pcfScale);
   program->SetUniformi("method", static_cast<int>(method));
   this->Quad->Render();
 }

@@ -34,17 +34,6 @@ void FitShadowViews(ShadowLight& l, const Box& receivers, const Box& casters, co
     nearest = searchDepth(axis);
   }
   l.Views = MakeLightViews(l.Frame, receivers, casters, l.ViewInfo, visible, nearest);
-  l.FitScale = glm::dvec2(1.0);
-  if (l.ViewInfo.fitted)
-  {
-    LightViewInfo info;
-    const std::vector<ShadowView> bounds = MakeLightViews(l.Frame, receivers, casters, info);
-    if (!bounds.empty() && !info.cube && !l.ViewInfo.cube)
-    {
-      const Rect &b = bounds.front().extent, &f = l.Views.front().extent;
-      l.FitScale = glm::max(glm::dvec2((b.x1 - b.x0) / (f.x1 - f.x0), (b.y1 - b.y0) / (f.y1 - f.y0)), 1.0);
-    }
-  }
   l.SearchDepth = l.Frame.type == LightType::Rect ? nearest : searchDepth(l.Views.front());
   if (l.ViewInfo.sideViews)
   {

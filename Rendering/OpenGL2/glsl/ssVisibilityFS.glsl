@@ -2,8 +2,7 @@
 // Visibility V(x,y) of one light for every G-buffer pixel: hard, PCF or PCSS.
 uniform int method;         // 1 hard, 2 pcf, 3 pcss
 uniform int maxQuads;
-uniform float pcfRadius; // texels of a map fitted to the receivers' bounds
-uniform vec2 pcfScale;    // their size over this map's (ShadowLight::FitScale)
+uniform float pcfRadius;
 uniform float slopeBias;
 in vec2 texCoord; // from VTK's full-screen quad
 //VTK::Output::Dec
@@ -120,8 +119,8 @@ void main()
     float bias = w.texelWorld * constantBias;
     if (method == 2)
     {
-      vec2 r = pcfRadius * pcfScale;
-      V = coverageFilter(w, w.T - r, w.T + r, bias, 8.0 * max(r.x, r.y) * w.texelWorld * 10.0);
+      vec2 r = vec2(pcfRadius);
+      V = coverageFilter(w, w.T - r, w.T + r, bias, 8.0 * pcfRadius * w.texelWorld * 10.0);
     }
     else
     {
