@@ -20,6 +20,10 @@ int Prepare(const std::vector<std::string>& args);
 /// softshadows bench --filters [--smoke] [--mesh M] [--points N] [--runs R] [--out DIR]:
 ///   preparation time per million triangles and baking time for an N-point surface.
 int BenchFilters(const std::vector<std::string>& args);
+/// softshadows bench --culling --mesh M [--frames N] [--out DIR] | --smoke:
+/// PVSM and GEARS with and without the prepared caster set's culling
+/// (ssBenchCulling.cxx).
+int BenchCulling(const std::vector<std::string>& args);
 }
 
 #endif

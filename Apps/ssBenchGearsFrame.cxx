@@ -266,23 +266,7 @@ ss::LightFrame FirstShadowLight(vtkRenderer* ren)
     {
       continue;
     }
-    double pos[3], fp[3];
-    light->GetTransformedPosition(pos);
-    light->GetTransformedFocalPoint(fp);
-    const glm::dvec3 p(pos[0], pos[1], pos[2]), f(fp[0], fp[1], fp[2]);
-    if (!light->GetPositional())
-    {
-      return ss::MakeDirectionalLightFrame(f - p, vtkSoftShadowLight::GetAngularDiameter(light) * M_PI / 180.0);
-    }
-    double size[2];
-    vtkSoftShadowLight::GetAreaSize(light, size);
-    if (size[0] > 0.0 || size[1] > 0.0)
-    {
-      double up[3] = { 0, 0, 0 };
-      vtkSoftShadowLight::GetAreaUp(light, up);
-      return ss::MakeRectLightFrame(p, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
-    }
-    return ss::MakePointLightFrame(p);
+    return vtkSoftShadowLight::MakeLightFrame(light); // world coordinates, as the pass builds it
   }
   throw std::runtime_error("bench --gears: the scene has no shadow-casting light");
 }

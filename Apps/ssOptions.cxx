@@ -54,6 +54,7 @@ int ParseChoice(const std::string& v, const std::string& what, const std::vector
 }
 
 constexpr double Unbounded = 1e300;
+
 }
 
 namespace ssapp
@@ -62,78 +63,59 @@ const std::vector<PassOption>& PassOptions()
 {
   using P = vtkSoftShadowPass;
   using S = const std::string&;
-  static const std::vector<PassOption> options = {
-    { "shadow_map_size", "64..16384", "shadow map texels a side",
-      [](P* p, S v, S w) { p->SetShadowMapSize(ParseInt(v, w, 64, 16384)); } },
-    { "pcf_radius", "0.5..64", "pcf filter radius, texels",
-      [](P* p, S v, S w) { p->SetPCFRadius(ParseDouble(v, w, 0.5, 64.0)); } },
-    { "blocker_samples", "2..32", "PCSS blocker-search samples per axis",
-      [](P* p, S v, S w) { p->SetBlockerSearchSamples(ParseInt(v, w, 2, 32)); } },
-    { "filter_max_quads", "2..128", "coverage filter: texel quads per axis at most",
-      [](P* p, S v, S w) { p->SetFilterMaxQuads(ParseInt(v, w, 2, 128)); } },
-    { "constant_bias", "number", "depth bias, shadow-map texels",
-      [](P* p, S v, S w) { p->SetConstantBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
-    { "slope_bias", "number", "slope-scaled depth bias, texels",
-      [](P* p, S v, S w) { p->SetSlopeBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
-    { "reference_samples", "1..64", "reference: k x k light samples",
-      [](P* p, S v, S w) { p->SetReferenceSamples(ParseInt(v, w, 1, 64)); } },
-    { "reference_pattern", "regular|stratified", "reference: light sample pattern",
-      [](P* p, S v, S w) { p->SetReferencePattern(ParseChoice(v, w, { "regular", "stratified" })); } },
-    { "gears_samples", "1..32", "gears: k x k light samples",
-      [](P* p, S v, S w) { p->SetGearsSamples(ParseInt(v, w, 1, 32)); } },
-    { "gears_grid", "8..1024", "gears: grid cells a side",
-      [](P* p, S v, S w) { p->SetGearsGrid(ParseInt(v, w, 8, 1024)); } },
-    { "gears_raster", "edge|lut", "gears: exact edge planes or the lookup table",
-      [](P* p, S v, S w) { p->SetGearsRaster(ParseChoice(v, w, { "edge", "lut" })); } },
-    { "gears_backend", "cpu|gl", "gears: CPU (TBB) or GL 4.3 compute",
-      [](P* p, S v, S w) { p->SetGearsBackend(ParseChoice(v, w, { "cpu", "gl" })); } },
-    { "gears_necessary", "0|1", "gears: count Table 9's necessary assignments (slower)",
-      [](P* p, S v, S w) { p->SetGearsCountNecessary(ParseInt(v, w, 0, 1) != 0); } },
-    { "pvsm_quality", "0.05..64", "pvsm: scale on the perceptual metric rho",
-      [](P* p, S v, S w) { p->SetPVSMQuality(ParseDouble(v, w, 0.05, 64.0)); } },
-    { "pvsm_metric", "auto|dynamic|static", "pvsm: which metric of section 5.1",
-      [](P* p, S v, S w) { p->SetPVSMMetric(ParseChoice(v, w, { "auto", "dynamic", "static" })); } },
-    { "pvsm_grid", "4..256", "pvsm: shadow-map tile grid",
-      [](P* p, S v, S w) { p->SetPVSMGridSize(ParseInt(v, w, 4, 256)); } },
-    { "pvsm_max_tile", "64..16384", "pvsm: largest tile, texels a side",
-      [](P* p, S v, S w) { p->SetPVSMMaxTileResolution(ParseInt(v, w, 64, 16384)); } },
-    { "pvsm_low_resolution", "64..8192", "pvsm: conservative low-resolution map",
-      [](P* p, S v, S w) { p->SetPVSMLowResolution(ParseInt(v, w, 64, 8192)); } },
-    { "pvsm_tile_culling", "0|1", "pvsm: draw only the caster clusters reaching a tile",
-      [](P* p, S v, S w) { p->SetPVSMTileCulling(ParseInt(v, w, 0, 1) != 0); } },
-    { "average_samples", "1..32", "hardavg: k x k hard maps",
-      [](P* p, S v, S w) { p->SetAverageSamples(ParseInt(v, w, 1, 32)); } },
-    { "avsm_nodes", "4..16", "avsm, vpcss: nodes per texel of the adaptive volumetric shadow map",
-      [](P* p, S v, S w) { p->SetAVSMNodes(ParseInt(v, w, 4, 16)); } },
-    { "avsm_size", "64..8192", "avsm, vpcss: map texels a side",
-      [](P* p, S v, S w) { p->SetAVSMSize(ParseInt(v, w, 64, 8192)); } },
-    { "avsm_memory", "16..65536", "avsm, vpcss: MB for the maps, their buffers and the fragment lists",
-      [](P* p, S v, S w) { p->SetAVSMMemory(ParseInt(v, w, 16, 65536)); } },
-    { "colored_shadows", "0|1", "avsm, vpcss: coloured transmittance of tinted casters",
-      [](P* p, S v, S w) { p->SetColoredShadows(ParseInt(v, w, 0, 1) != 0); } },
-    { "volume_steps", "8..4096", "avsm, vpcss: march steps through a volume",
-      [](P* p, S v, S w) { p->SetVolumeSteps(ParseInt(v, w, 8, 4096)); } },
-    { "vpcss_filter_quads", "2..64", "vpcss: largest filter, quads a side",
-      [](P* p, S v, S w) { p->SetVPCSSFilterQuads(ParseInt(v, w, 2, 64)); } },
-    { "asm_memory_mb", "0.0625..4096", "asm: memory budget of the page pool, megabytes",
-      [](P* p, S v, S w) { p->SetASMMemoryBudget(ParseDouble(v, w, 0.0625, 4096.0)); } },
-    { "asm_page_size", "16..4096", "asm: page texels a side",
-      [](P* p, S v, S w) { p->SetASMPageSize(ParseInt(v, w, 16, 4096)); } },
-    { "asm_cells", "2|4|8", "asm: cells a side a node splits into",
-      [](P* p, S v, S w) { p->SetASMCells(2 << ParseChoice(v, w, { "2", "4", "8" })); } },
-    { "asm_max_depth", "0..20", "asm: deepest level of the hierarchy",
-      [](P* p, S v, S w) { p->SetASMMaxDepth(ParseInt(v, w, 0, 20)); } },
-    { "asm_time_budget_ms", "0..100000", "asm: refinement time a frame, ms",
-      [](P* p, S v, S w) { p->SetASMTimeBudget(ParseDouble(v, w, 0.0, 1.0e5)); } },
-    { "asm_stride", "1..64", "asm: one pixel in N analysed a frame",
-      [](P* p, S v, S w) { p->SetASMAnalysisStride(ParseInt(v, w, 1, 64)); } },
-    { "asm_quality", "0.125..16", "asm: texels per pixel side",
-      [](P* p, S v, S w) { p->SetASMQuality(ParseDouble(v, w, 0.125, 16.0)); } },
-    { "asm_id_test", "0|1", "asm: the ID+depth test",
-      [](P* p, S v, S w) { p->SetASMIDTest(ParseInt(v, w, 0, 1) != 0); } },
-    { "frame_budget", "0|1", "interactive frames (DesiredUpdateRate >= 0.1/s) fit the method to the budget",
-      [](P* p, S v, S w) { p->SetAdaptToFrameBudget(ParseInt(v, w, 0, 1) != 0); } },
-  };
+  static const std::vector<PassOption> options = [] {
+    // frame-wide: the pass's own properties, shared by every method
+    std::vector<PassOption> all = {
+      { "shadow_map_size", "64..16384", "shadow map texels a side", false,
+        [](P* p, S v, S w) { p->SetShadowMapSize(ParseInt(v, w, 64, 16384)); } },
+      { "constant_bias", "number", "depth bias, shadow-map texels", false,
+        [](P* p, S v, S w) { p->SetConstantBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
+      { "slope_bias", "number", "slope-scaled depth bias, texels", false,
+        [](P* p, S v, S w) { p->SetSlopeBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
+      { "normal_offset", "0..16", "normal-offset lookup, texels along the triangle's normal (0: off)", false,
+        [](P* p, S v, S w) { p->SetNormalOffset(ParseDouble(v, w, 0.0, 16.0)); } },
+      { "frame_budget", "0|1", "interactive frames (DesiredUpdateRate >= 0.1/s) fit the method to the budget",
+        false, [](P* p, S v, S w) { p->SetAdaptToFrameBudget(ParseInt(v, w, 0, 1) != 0); } },
+      { "keep_requested_method", "0|1", "no equivalent stand-in for the requested method (vpcss, opaque casters: pcss)",
+        false, [](P* p, S v, S w) { p->SetKeepRequestedMethod(ParseInt(v, w, 0, 1) != 0); } },
+    };
+    // each solver's own: declared in its files, enumerated from the registry
+    for (int i = 0; i < P::GetNumberOfSolverOptions(); ++i)
+    {
+      const std::string type = P::GetSolverOptionType(i);
+      const double lo = P::GetSolverOptionMinimum(i), hi = P::GetSolverOptionMaximum(i);
+      std::vector<std::string> names;
+      for (int n = 0; n < P::GetSolverOptionNumberOfNames(i); ++n)
+      {
+        names.emplace_back(P::GetSolverOptionName(i, n));
+      }
+      const std::string values = P::GetSolverOptionValues(i);
+      const std::string defText = P::GetSolverOptionDefaultAsString(i);
+      const std::string key = P::GetSolverOptionKey(i);
+      const std::string help = std::string(P::GetSolverOptionHelp(i)) + " [" + P::GetSolverOptionMethods(i) +
+        "; default " + defText + "]";
+      all.push_back({ key, values, help, true, [key, type, lo, hi, names](P* p, S v, S w) {
+                       double x = 0.0;
+                       if (type == "enum")
+                       {
+                         x = ParseChoice(v, w, names);
+                       }
+                       else if (type == "double")
+                       {
+                         x = ParseDouble(v, w, lo, hi);
+                       }
+                       else
+                       {
+                         x = ParseInt(v, w, static_cast<int>(lo), static_cast<int>(hi));
+                       }
+                       if (!p->SetSolverOption(key.c_str(), x))
+                       {
+                         throw UsageError(w + ": refused by the pass");
+                       }
+                     } });
+    }
+    return all;
+  }();
   return options;
 }
 
@@ -141,9 +123,15 @@ std::string PassOptionsUsage()
 {
   std::ostringstream o;
   o << "options (--option key=value):\n";
+  bool solvers = false;
   for (const auto& opt : PassOptions())
   {
-    std::string head = std::string("  ") + opt.Key + " (" + opt.Values + ")";
+    if (opt.Solver && !solvers)
+    {
+      o << " each method's own (its solver's options; vtkSoftShadowPass::SetSolverOption):\n";
+      solvers = true;
+    }
+    std::string head = "  " + opt.Key + " (" + opt.Values + ")";
     if (head.size() < 40)
     {
       head.resize(40, ' ');
@@ -158,7 +146,7 @@ std::string PassOptionKeys()
   std::string keys;
   for (const auto& opt : PassOptions())
   {
-    keys += (keys.empty() ? "" : ", ") + std::string(opt.Key);
+    keys += (keys.empty() ? "" : ", ") + opt.Key;
   }
   return keys;
 }

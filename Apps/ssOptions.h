@@ -1,7 +1,9 @@
 // The `--option key=value` keys of `softshadows render` and `bench`: one
 // table, from which ApplyOption, the usage text and the unknown-key error
 // are all made, so the three cannot disagree (issue 24: `--help` had
-// omitted pvsm_tile_culling).
+// omitted pvsm_tile_culling). The frame-wide keys are rows here; every
+// solver's own options come from the solver registry through the pass's
+// enumeration (vtkSoftShadowPass::GetSolverOptionKey, ...; issue 19).
 #ifndef ssOptions_h
 #define ssOptions_h
 
@@ -15,14 +17,15 @@ namespace ssapp
 {
 struct PassOption
 {
-  const char* Key;
-  const char* Values; ///< what the value is, for the usage text ("1..32", "edge|lut", ...)
-  const char* Help;   ///< what it sets
+  std::string Key;
+  std::string Values; ///< what the value is, for the usage text ("1..32", "edge|lut", ...)
+  std::string Help;   ///< what it sets (solver options: the methods and the default too)
+  bool Solver;        ///< from the registry (vtkSoftShadowPass::SetSolverOption)
   /// Parses `value` (throws UsageError naming `what`) and sets the pass.
   std::function<void(vtkSoftShadowPass*, const std::string& value, const std::string& what)> Apply;
 };
 
-/// Every key, in the order the usage lists them.
+/// Every key, in the order the usage lists them: frame-wide, then the solvers'.
 const std::vector<PassOption>& PassOptions();
 
 /// The usage text's "options:" section, one key a line.

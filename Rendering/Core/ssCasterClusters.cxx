@@ -181,20 +181,32 @@ bool BoxMayReachWindow(const ShadowView& view, const Box& box, const Rect& r, do
   return CornersMayReachWindow(view, corners, r, pad);
 }
 
-std::vector<std::pair<std::size_t, std::size_t>> VisibleTriangleRanges(
-  const TriangleClusters& clusters, const ShadowView& view, const glm::dvec3& offset, const Rect& r, double pad)
+std::vector<std::pair<std::size_t, std::size_t>> VisibleTriangleRanges(const TriangleClusters& clusters,
+  const ShadowView& view, const glm::dvec3& offset, const Rect& r, double pad, ClusterCounts* counts)
 {
   std::vector<std::pair<std::size_t, std::size_t>> ranges;
+  const bool shaped = clusters.shapes.size() == clusters.Clusters();
+  std::size_t culled = 0;
   for (std::size_t c = 0; c < clusters.Clusters(); ++c)
   {
-    Box b = clusters.bounds[c];
-    if (!b.Empty())
+    bool reach;
+    if (shaped)
     {
-      b.min += offset;
-      b.max += offset;
+      reach = ClusterMayReachWindow(view, clusters.shapes[c], offset, r, pad);
     }
-    if (!BoxMayReachWindow(view, b, r, pad))
+    else
     {
+      Box b = clusters.bounds[c];
+      if (!b.Empty())
+      {
+        b.min += offset;
+        b.max += offset;
+      }
+      reach = BoxMayReachWindow(view, b, r, pad);
+    }
+    if (!reach)
+    {
+      ++culled;
       continue;
     }
     const std::size_t first = clusters.first[c], count = clusters.first[c + 1] - first;
@@ -206,6 +218,11 @@ std::vector<std::pair<std::size_t, std::size_t>> VisibleTriangleRanges(
     {
       ranges.emplace_back(first, count);
     }
+  }
+  if (counts)
+  {
+    counts->culled += static_cast<double>(culled);
+    counts->drawn += static_cast<double>(clusters.Clusters() - culled);
   }
   return ranges;
 }

@@ -1,6 +1,7 @@
 #ifndef ssCasterClusters_h
 #define ssCasterClusters_h
 
+#include "ssClusterBounds.h"
 #include "ssShadowView.h"
 
 #include <glm/glm.hpp>
@@ -23,7 +24,18 @@ struct TriangleClusters
   std::vector<std::size_t> order; ///< new position i holds old triangle order[i]
   std::vector<std::size_t> first; ///< cluster starts, plus the end (size clusters + 1)
   std::vector<Box> bounds;        ///< per cluster; not finite when a vertex is not
+  /// Per cluster when the clusters came with more than an AABB (the cluster
+  /// table of vtkShadowCasterPreparation: oriented box, normal cone, closed
+  /// pieces), in the coordinates of `bounds`; empty: `bounds` only.
+  std::vector<ClusterBounds> shapes;
   std::size_t Clusters() const { return bounds.size(); }
+};
+
+/// How many clusters a culling test kept (drawn) and skipped (culled),
+/// summed over the windows (tiles, nodes) it was asked about.
+struct ClusterCounts
+{
+  double drawn = 0, culled = 0;
 };
 
 /// Builds the clusters of `vertices` (3 per triangle; a trailing partial
@@ -52,9 +64,12 @@ TriangleClusters ClusterTriangles(
 bool BoxMayReachWindow(const ShadowView& view, const Box& box, const Rect& r, double pad);
 
 /// The triangle ranges (first triangle, count) of the clusters whose bounds,
-/// moved by `offset`, may reach `r`; adjacent ranges are merged.
-std::vector<std::pair<std::size_t, std::size_t>> VisibleTriangleRanges(
-  const TriangleClusters& clusters, const ShadowView& view, const glm::dvec3& offset, const Rect& r, double pad);
+/// moved by `offset`, may reach `r`; adjacent ranges are merged. With
+/// `shapes`, a cluster is tested with ClusterMayReachWindow (its AABB and its
+/// oriented box), else with BoxMayReachWindow on `bounds`. `counts`, when
+/// given, adds the clusters kept and culled.
+std::vector<std::pair<std::size_t, std::size_t>> VisibleTriangleRanges(const TriangleClusters& clusters,
+  const ShadowView& view, const glm::dvec3& offset, const Rect& r, double pad, ClusterCounts* counts = nullptr);
 }
 
 #endif

@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace ss
 {
@@ -364,6 +368,61 @@ bool CornersMayReachWindow(const ShadowView& view, const std::array<glm::dvec3, 
     }
   }
   return true;
+}
+
+ClusterBounds FitClusterBounds(const glm::dvec3* vertices, std::size_t triangles, const std::array<glm::dvec3, 3>& axes)
+{
+  ClusterBounds b;
+  std::vector<glm::dvec3> pts(vertices, vertices + 3 * triangles), normals;
+  normals.reserve(triangles);
+  bool allNormals = true;
+  for (std::size_t t = 0; t < triangles; ++t)
+  {
+    const glm::dvec3* v = vertices + 3 * t;
+    const glm::dvec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
+    const double l = glm::length(n);
+    allNormals = allNormals && l > 0.0 && std::isfinite(l);
+    normals.push_back(l > 0.0 ? n / l : n);
+  }
+  for (const glm::dvec3& p : pts)
+  {
+    b.aabb.Add(p);
+  }
+  b.cone = allNormals ? FitNormalCone(normals) : NormalCone{};
+  const std::array<glm::dvec3, 3> world{ glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1) };
+  b.obb = FitOrientedBox(world, pts);
+  const OrientedBox fitted = FitOrientedBox(axes, pts);
+  const auto volume = [](const OrientedBox& o) { return o.half.x * o.half.y * o.half.z; };
+  if (volume(fitted) < volume(b.obb))
+  {
+    b.obb = fitted;
+  }
+  return b;
+}
+
+std::vector<ClusterBounds> FitClusterBounds(const std::vector<glm::dvec3>& vertices,
+  const std::vector<std::pair<std::size_t, std::size_t>>& ranges, const std::vector<std::array<glm::dvec3, 3>>& axes)
+{
+  if (axes.size() != ranges.size())
+  {
+    throw std::invalid_argument("FitClusterBounds: one set of axes per cluster expected");
+  }
+  const std::size_t n = vertices.size() / 3;
+  for (const auto& [first, count] : ranges)
+  {
+    if (first > n || count > n - first)
+    {
+      throw std::invalid_argument("FitClusterBounds: a cluster leaves the triangles");
+    }
+  }
+  std::vector<ClusterBounds> out(ranges.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ranges.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t k = r.begin(); k != r.end(); ++k)
+    {
+      out[k] = FitClusterBounds(vertices.data() + 3 * ranges[k].first, ranges[k].second, axes[k]);
+    }
+  });
+  return out;
 }
 
 bool ClusterMayReachWindow(

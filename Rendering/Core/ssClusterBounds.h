@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace ss
@@ -69,6 +70,21 @@ struct ClusterBounds
   /// Bounds of all the pieces the cluster's triangles belong to.
   Box pieceBounds;
 };
+
+/// The bounds of the triangles vertices[3 t], vertices[3 t + 1],
+/// vertices[3 t + 2] for t < `triangles`: their AABB, the oriented box along
+/// `axes` (FitOrientedBox; the AABB's box when that is smaller) and the cone
+/// of their unit face normals (full when a triangle has no normal).
+/// closedOutward stays false and pieceBounds empty: the caller knows those.
+/// The render pass fits the clusters of a prepared caster set so, on the
+/// coordinates it draws, after the actor's transform (any affine one).
+ClusterBounds FitClusterBounds(const glm::dvec3* vertices, std::size_t triangles, const std::array<glm::dvec3, 3>& axes);
+/// The same for many clusters, in parallel (TBB): cluster k is the triangles
+/// [ranges[k].first, ranges[k].first + ranges[k].second) of `vertices` (3 per
+/// triangle), its box axes axes[k]. Throws std::invalid_argument when the
+/// sizes disagree or a range leaves the triangles.
+std::vector<ClusterBounds> FitClusterBounds(const std::vector<glm::dvec3>& vertices,
+  const std::vector<std::pair<std::size_t, std::size_t>>& ranges, const std::vector<std::array<glm::dvec3, 3>>& axes);
 
 /// Whether `light` may face some triangle of the cluster: for some normal n
 /// of the cone, some point y of the cluster's box and some point l of the

@@ -353,7 +353,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
         // is exact for that case and cheaper (the AVSM build has nothing to
         // compress); the reason says so.
         const MethodInfo* pcss = FindMethod(in.methods, Method::PCSS);
-        if (in.requested == Method::VPCSS && l.translucentInView.empty() && pcss)
+        if (in.requested == Method::VPCSS && l.translucentInView.empty() && pcss && !in.keepRequested)
         {
           p = Planned(Method::PCSS,
             "requested " + info->name + "; no translucent caster in this light's view, where VPCSS is PCSS: " +

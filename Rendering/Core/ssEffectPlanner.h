@@ -76,6 +76,9 @@ struct PlannerLight
 struct PlannerInput
 {
   Method requested = Method::Auto;
+  /// The requested method on every light as asked, also where an
+  /// equivalent, cheaper one would serve (vpcss over opaque casters: pcss).
+  bool keepRequested = false;
   std::size_t casterTriangles = 0;
   std::size_t casterVolumes = 0; ///< volumes that cast shadows
   std::size_t receiverProps = 0;

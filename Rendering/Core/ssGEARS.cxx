@@ -62,11 +62,35 @@ struct GearsSolver::Impl
     std::vector<std::int8_t> face;
     FaceGrid grid;
     FaceTriangles tris;
+    // what `tris` was prepared from: it depends only on the casters (their
+    // generation), the light, the face's frame and two options, so a solve
+    // that changes none of them (a camera move, new pixels) reuses it
+    std::uint64_t trisGeneration = 0;
+    LightFrame trisLight;
+    glm::dvec3 trisFrame[4];
+    bool trisClosedRule = false, trisDepthOrder = false;
+    bool SamePreparation(std::uint64_t generation, const LightFrame& L, const GearsGridCamera& C,
+      const GearsOptions& opt) const
+    {
+      const LightFrame& P = trisLight;
+      return trisGeneration != 0 && trisGeneration == generation && P.type == L.type && P.center == L.center &&
+        P.u == L.u && P.v == L.v && P.n == L.n && P.width == L.width && P.height == L.height &&
+        P.angularDiameter == L.angularDiameter && trisFrame[0] == C.Lc && trisFrame[1] == C.u &&
+        trisFrame[2] == C.v && trisFrame[3] == C.n && trisClosedRule == opt.closedMeshRule &&
+        trisDepthOrder == opt.depthOrder;
+    }
     PairScratch pairs;
     FacePairs facePairs;
   };
   mutable std::mutex SolveMutex;
   mutable Scratch Work;
+  /// changes with every SetTriangles, SetClusters, SetPieces (0: never prepared)
+  std::uint64_t generation = 0;
+  void Changed()
+  {
+    static std::atomic<std::uint64_t> generations{ 0 };
+    generation = ++generations;
+  }
 
   const HalfPlaneLUT& GetLUT(int k, int res) const
   {
@@ -148,6 +172,7 @@ void GearsSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::vect
   d.input.reserve(sel.kept);
   static std::atomic<std::uint64_t> versions{ 0 };
   d.version = ++versions;
+  P->Changed();
   P->inputStatus.assign(nt, 0);
   P->inputToSolver.assign(nt, -1);
   for (std::size_t t = 0; t < nt; ++t)
@@ -183,6 +208,7 @@ void GearsSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::vect
 
 void GearsSolver::SetClusters(const std::vector<std::size_t>& order, const std::vector<std::size_t>& first)
 {
+  P->Changed();
   const std::size_t nt = P->inputToSolver.size();
   std::vector<char> seen(nt, 0);
   bool ok = order.size() == nt && !first.empty() && first.front() == 0 && first.back() == nt;
@@ -236,6 +262,7 @@ void GearsSolver::SetClusters(const std::vector<std::size_t>& order, const std::
 
 void GearsSolver::SetPieces(const GearsPieces& pieces)
 {
+  P->Changed();
   const std::size_t nt = P->inputToSolver.size();
   const std::size_t np = pieces.orientation.size();
   if (pieces.piece.size() != nt)
@@ -502,7 +529,23 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     st.msProject += Ms(t0, t1);
     // --- the triangles in the face's light frame, the closed-mesh rule, clusters
     FaceTriangles& ft = WS.tris;
-    PrepareFaceTriangles(D, L, g.C, opt, ft);
+    if (WS.SamePreparation(I.generation, L, g.C, opt))
+    {
+      ++st.prepareReused;
+    }
+    else
+    {
+      WS.trisGeneration = 0; // invalid while it is rebuilt
+      PrepareFaceTriangles(D, L, g.C, opt, ft);
+      WS.trisGeneration = I.generation;
+      WS.trisLight = L;
+      WS.trisFrame[0] = g.C.Lc;
+      WS.trisFrame[1] = g.C.u;
+      WS.trisFrame[2] = g.C.v;
+      WS.trisFrame[3] = g.C.n;
+      WS.trisClosedRule = opt.closedMeshRule;
+      WS.trisDepthOrder = opt.depthOrder;
+    }
     st.droppedTriangles += ft.dropped;
     auto t2 = Clock::now();
     st.msPrepare += Ms(t1, t2);
@@ -564,6 +607,9 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   st.assignmentsNecessary = opt.countNecessary ? counters.necessary : -1.0;
   st.clustersCulled = counters.clustersCulled;
   st.trianglesCulled = counters.trianglesCulled;
+  st.clustersBelowHorizon = counters.clustersBelowHorizon;
+  st.trianglesBelowHorizon = counters.trianglesBelowHorizon;
+  st.clustersBehindOccluders = counters.clustersBehindOccluders;
   st.groups = counters.groups;
   st.coveredSkips = counters.coveredSkips;
   st.occluderBoxes = D.occPiece.size();
@@ -595,7 +641,10 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"lut_fallbacks\": " << s.lutFallbacks << ", \"simd\": \"" << s.simd << "\", \"ms_prepare\": " << s.msPrepare
     << ", \"clusters\": " << s.clusters << ", \"cluster_pairs\": " << s.clusterPairs
     << ", \"dropped_triangles\": " << s.droppedTriangles << ", \"clusters_culled\": " << s.clustersCulled
-    << ", \"triangles_culled\": " << s.trianglesCulled << ", \"groups\": " << s.groups
+    << ", \"triangles_culled\": " << s.trianglesCulled << ", \"clusters_below_horizon\": " << s.clustersBelowHorizon
+    << ", \"triangles_below_horizon\": " << s.trianglesBelowHorizon
+    << ", \"clusters_behind_occluders\": " << s.clustersBehindOccluders << ", \"prepare_reused\": " << s.prepareReused
+    << ", \"groups\": " << s.groups
     << ", \"covered_skips\": " << s.coveredSkips << ", \"occluder_boxes\": " << s.occluderBoxes
     << ", \"assignments_listed\": " << s.assignmentsListed << ", \"assignments_rasterised\": " << s.assignmentsRasterised
     << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists << ", \"cell_arrays\": " << s.cpuCellArrays

@@ -45,6 +45,8 @@ struct GearsOptions
   bool shaftCulling = true;      ///< cull clusters and triangles against each cell's and group's shaft
   bool pairRejection = true;     ///< per pixel, reject pairs before rasterising (vectorised kernel)
   bool depthOrder = true;        ///< blockers nearest the receivers first (masks fill early)
+  bool horizonCulling = true;    ///< cull clusters (per cell) and triangles (per group) below every sample's tangent plane
+  bool occluderCulling = true;   ///< cull clusters every segment to which passes through a drawn inner occluder
   int groupSize = 8;             ///< split a cell's samples into groups of at most this many
   int groupMinTriangles = 48;    ///< ... when its culled list has at least this many triangles
   GearsSimd simd = GearsSimd::Auto;
@@ -77,11 +79,15 @@ struct GearsStats
   std::size_t lutFallbacks = 0;      ///< LUT mode: pixel-triangle pairs rasterised by edge planes
   // Beyond the paper: what the culling removed (gears.md, "Fewer assignments")
   double msPrepare = 0;              ///< light-frame triangles, closed-mesh rule, cluster boxes
+  std::size_t prepareReused = 0;     ///< faces whose prepared triangles came from the previous solve (same casters and light)
   std::size_t clusters = 0;          ///< triangle clusters
   std::size_t clusterPairs = 0;      ///< (cluster, cell) pairs of pass 2
   std::size_t droppedTriangles = 0;  ///< closed-mesh rule: faces facing away from the whole light
   std::size_t clustersCulled = 0;    ///< (cluster, cell) pairs culled by the cell's shaft
   std::size_t trianglesCulled = 0;   ///< (triangle, cell) pairs culled by the cell's shaft
+  std::size_t clustersBelowHorizon = 0;  ///< (cluster, cell) pairs below every sample's tangent plane (horizonCulling)
+  double trianglesBelowHorizon = 0;      ///< (triangle, group) pairs below every sample's tangent plane (horizonCulling)
+  std::size_t clustersBehindOccluders = 0; ///< (cluster, cell) pairs hidden behind a drawn inner occluder (occluderCulling)
   std::size_t groups = 0;            ///< sample groups (cells split into groups)
   double assignmentsListed = 0;      ///< sum over pixels of their group's list (before per-pair rejection)
   double assignmentsRasterised = 0;  ///< pairs that reached the exact raster (a full mask stops early)

@@ -42,6 +42,9 @@ void CellCounters::Add(const CellCounters& o)
   clustersCulled += o.clustersCulled;
   trianglesTested += o.trianglesTested;
   trianglesCulled += o.trianglesCulled;
+  clustersBelowHorizon += o.clustersBelowHorizon;
+  clustersBehindOccluders += o.clustersBehindOccluders;
+  trianglesBelowHorizon += o.trianglesBelowHorizon;
   groups += o.groups;
   coveredSkips += o.coveredSkips;
   cellsInUmbra += o.cellsInUmbra;
@@ -101,6 +104,17 @@ inline bool BoxInShaft(const Shaft& s, const float* b, float m)
   return !(x1 < s.ax + std::min(s.sx * z0, s.sx * z1) || x0 > s.bx + std::max(s.tx * z0, s.tx * z1) ||
     y1 < s.ay + std::min(s.sy * z0, s.sy * z1) || y0 > s.by + std::max(s.ty * z0, s.ty * z1) || !(z1 > s.zlo) ||
     !(z0 < s.zhi));
+}
+
+// Scratch arrays only grow: resizing them down and up again per cell and
+// group zero-filled them every time (5% of step 4 in a profile).
+template <typename T>
+inline void Grow(std::vector<T>& v, std::size_t n)
+{
+  if (v.size() < n)
+  {
+    v.resize(n);
+  }
 }
 
 GroupArrays Arrays(std::vector<float>* a, std::size_t n)
@@ -177,11 +191,11 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     const std::size_t nl = w.list.size();
         for (auto& col : w.d)
         {
-          col.resize(nl + kPad);
+          Grow(col, nl + kPad);
         }
         for (auto& a : w.f)
         {
-          a.resize(nl + kPad); // the kernels read whole vectors
+          Grow(a, nl + kPad); // the kernels read whole vectors
         }
         for (std::size_t a = 0; a < nl; ++a)
         {
@@ -265,6 +279,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       // bits are the solid's too) and fill many samples' masks at once
       std::uint32_t a0 = pairs.cellBegin[c];
       w.list.clear();
+      w.drawnBoxes.clear();
       bool cellUmbra = false;
       for (; a0 < pairs.cellBegin[c + 1] && pairs.clusters[a0] >= D.realClusters; ++a0)
       {
@@ -288,6 +303,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
             ((q & 4) ? hi.z : lo.z) * ft.n;
         }
         cellUmbra = UmbraBox(job, corners, 8, &D.occBox[6 * (cl - D.realClusters)]);
+        const std::size_t before = w.list.size();
         for (std::uint32_t t = D.clusterFirst[cl]; t < D.clusterFirst[cl + 1]; ++t)
         {
           if (!ft.drop[t] && (!opt.shaftCulling || InShaft(shaft, &ft.x[3 * t], &ft.y[3 * t], &ft.z[3 * t])))
@@ -295,7 +311,12 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
             w.list.push_back(t);
           }
         }
+        if (w.list.size() > before)
+        {
+          w.drawnBoxes.push_back(cl - static_cast<std::uint32_t>(D.realClusters));
+        }
       }
+      bool drawn = false; // the inner occluders' faces went into every open mask
       if (cellUmbra)
       {
         for (std::uint32_t q = 0; q < ns; ++q)
@@ -307,6 +328,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       }
       else if (!allFull && !w.list.empty())
       {
+        drawn = true;
         const glm::dvec3 o = 0.5 * (lo + hi);
         fillArraysFor(w, o);
         GroupView gv;
@@ -315,9 +337,9 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         gv.ng = w.list.size();
         gv.o = o;
         gv.counting = false;
-        w.keep.resize(gv.ng + kPad);
-        w.cand.resize(gv.ng + kPad);
-        w.box.resize(4 * (gv.ng + kPad));
+        Grow(w.keep, gv.ng + kPad);
+        Grow(w.cand, gv.ng + kPad);
+        Grow(w.box, 4 * (gv.ng + kPad));
         allFull = true;
         for (std::uint32_t q = 0; q < ns; ++q)
         {
@@ -335,8 +357,34 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         lap(cc.msLists);
         continue;
       }
-      // --- the cell's triangles: clusters, then triangles, against its shaft
+      // --- the cell's triangles: clusters, then triangles, against its
+      // shaft; clusters below every open sample's horizon (ssGearsCull.cxx)
       w.list.clear();
+      w.horizons.usable = false;
+      if (opt.horizonCulling)
+      {
+        CollectHorizons(w, nullptr, ns, w.horizons);
+      }
+      // the inner-occluder rule (ssGearsCull.cxx): only where the boxes'
+      // faces were drawn into every open mask (not when counting necessary
+      // pairs, nor for the assignment output, which lists every blocker)
+      const bool fusion = opt.occluderCulling && drawn && !assign && !w.drawnBoxes.empty();
+      std::size_t lastBox = 0;
+      auto BehindOccluder = [&](std::uint32_t cl) {
+        const std::size_t nb = w.drawnBoxes.size();
+        for (std::size_t e = 0; e < nb; ++e)
+        {
+          const std::size_t b = (lastBox + e) % nb;
+          const float* cb = &ft.cbox[6 * cl];
+          if (SegmentsThroughBox(ft, lo, hi, glm::dvec3(cb[0], cb[1], cb[2]) - glm::dvec3(m),
+                glm::dvec3(cb[3], cb[4], cb[5]) + glm::dvec3(m), &D.occBox[6 * w.drawnBoxes[b]], m))
+          {
+            lastBox = b;
+            return true;
+          }
+        }
+        return false;
+      };
       for (std::uint32_t a = a0; a < pairs.cellBegin[c + 1]; ++a)
       {
         const std::uint32_t cl = pairs.clusters[a];
@@ -344,6 +392,16 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         if (opt.shaftCulling && !BoxInShaft(shaft, &ft.cbox[6 * cl], mf))
         {
           ++cc.clustersCulled;
+          continue;
+        }
+        if (BoxBelowHorizons(w.horizons, &ft.cbox[6 * cl], 2.0 * m))
+        {
+          ++cc.clustersBelowHorizon;
+          continue;
+        }
+        if (fusion && BehindOccluder(cl))
+        {
+          ++cc.clustersBehindOccluders;
           continue;
         }
         for (std::uint32_t t = D.clusterFirst[cl]; t < D.clusterFirst[cl + 1]; ++t)
@@ -402,29 +460,53 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         {
           groupFull = groupFull && w.state[w.sampleOrder[q]].full;
         }
-        if (w.groupEnd.size() > 1 && !(groupFull && !opt.countNecessary && !assign))
+        const bool split = w.groupEnd.size() > 1;
+        if ((split || opt.horizonCulling) && !(groupFull && !opt.countNecessary && !assign))
         {
-          glm::dvec3 glo(1e300), ghi(-1e300);
-          for (std::uint32_t q = gbegin; q < gend; ++q)
+          Grow(w.glist, nl + kPad);
+          Grow(w.keep, nl + kPad);
+          std::size_t ng = nl;
+          if (split)
           {
-            glo = glm::min(glo, w.S[w.sampleOrder[q]]);
-            ghi = glm::max(ghi, w.S[w.sampleOrder[q]]);
-          }
-          const Shaft gshaft = RelativeShaft(glo, ghi, W, H, dir, m, o);
-          w.glist.resize(nl + kPad);
-          w.keep.resize(nl + kPad);
-          w.glist.resize(K.shaft(Arrays(w.f, nl), gshaft, w.keep.data(), w.glist.data()));
-          gv.ng = w.glist.size();
-          for (int q = 0; q < 15; ++q)
-          {
-            w.gf[q].resize(gv.ng + kPad);
-            for (std::size_t a = 0; a < gv.ng; ++a)
+            glm::dvec3 glo(1e300), ghi(-1e300);
+            for (std::uint32_t q = gbegin; q < gend; ++q)
             {
-              w.gf[q][a] = w.f[q][w.glist[a]];
+              glo = glm::min(glo, w.S[w.sampleOrder[q]]);
+              ghi = glm::max(ghi, w.S[w.sampleOrder[q]]);
             }
+            const Shaft gshaft = RelativeShaft(glo, ghi, W, H, dir, m, o);
+            ng = K.shaft(Arrays(w.f, nl), gshaft, w.keep.data(), w.glist.data());
           }
-          gv.ga = Arrays(w.gf, gv.ng);
-          gv.entry = w.glist.data();
+          else
+          {
+            std::iota(w.glist.begin(), w.glist.begin() + static_cast<std::ptrdiff_t>(nl), 0u);
+          }
+          if (opt.horizonCulling)
+          {
+            // triangles below every open sample's horizon in the group (ssGearsCull.cxx)
+            CollectHorizons(w, w.sampleOrder.data() + gbegin, gend - gbegin, w.horizons);
+            const std::size_t before = ng;
+            ng = HorizonFilter(Arrays(w.f, nl), w.horizons, o, 2.0 * m, w.glist.data(), ng);
+            cc.trianglesBelowHorizon += static_cast<double>(before - ng);
+          }
+          if (ng < nl)
+          {
+            gv.ng = ng;
+            for (int q = 0; q < 15; ++q)
+            {
+              Grow(w.gf[q], gv.ng + kPad);
+              for (std::size_t a = 0; a < gv.ng; ++a)
+              {
+                w.gf[q][a] = w.f[q][w.glist[a]];
+              }
+            }
+            gv.ga = Arrays(w.gf, gv.ng);
+            gv.entry = w.glist.data();
+          }
+          else
+          {
+            gv.ga = Arrays(w.f, nl);
+          }
         }
         else
         {
@@ -443,9 +525,9 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           }
           groupPixels[c].push_back(0xFFFFFFFFu);
         }
-        w.keep.resize(gv.ng + kPad);
-        w.cand.resize(gv.ng + kPad);
-        w.box.resize(4 * (gv.ng + kPad));
+        Grow(w.keep, gv.ng + kPad);
+        Grow(w.cand, gv.ng + kPad);
+        Grow(w.box, 4 * (gv.ng + kPad));
         lap(cc.msGroups);
         // --- per pixel
         for (std::uint32_t q = gbegin; q < gend; ++q)

@@ -5,6 +5,7 @@
 //   ssGearsSort.cxx    the counting sort of pairs on their cell [§4.2]
 //   ssGearsCells.cxx   per cell: shaft culling, split into sample groups,
 //                      per-pixel rejection, bitmasks, V
+//   ssGearsCull.cxx    culling rules beyond the shafts: horizon, inner occluders
 //   ssGearsRaster.cxx  the exact bitmask of one triangle (edge planes, LUT) [§4.2, §4.3]
 //   ssGearsSIMD*.cxx   the per-pixel rejection and row raster in AVX2 / AVX-512
 //   ssGEARS.cxx        GearsSolver: input, options, statistics
@@ -372,6 +373,9 @@ struct CellCounters
   double cellTriangles = 0; ///< sum over non-empty cells of their list's length after culling
   std::size_t cellTrianglesMax = 0;
   std::size_t clustersTested = 0, clustersCulled = 0, trianglesTested = 0, trianglesCulled = 0;
+  std::size_t clustersBelowHorizon = 0; ///< horizon rule, per cell
+  std::size_t clustersBehindOccluders = 0; ///< inner-occluder rule, per cell
+  double trianglesBelowHorizon = 0;     ///< horizon rule, per group
   std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0;
   // thread time (ms, summed over threads) of the parts of step 4: cell
   // lists (with the occluders' pre-pass), their arrays, the groups, and the
@@ -429,6 +433,14 @@ struct PixelState
   bool full = false, haveTrans = false;
 };
 
+/// ssGearsCull.cxx, the horizon rule: the tangent planes (light frame; xyz
+/// the unit normal, w = n . S) of the samples that can still change.
+struct HorizonPlanes
+{
+  std::vector<glm::dvec4> p;
+  bool usable = false; ///< every open sample has a normal, and one is open
+};
+
 /// A thread's buffers for the cells stage, kept between cells.
 struct CellScratch
 {
@@ -438,6 +450,7 @@ struct CellScratch
   std::vector<std::vector<float>> trans; ///< per sample: transmittance of translucent casters
   std::vector<std::uint32_t> sampleOrder, groupEnd;
   std::vector<std::uint32_t> list, occList; ///< the cell's triangles; its inner occluders' faces
+  std::vector<std::uint32_t> drawnBoxes;    ///< the inner occluders drawn into the cell's masks
   std::vector<double> d[16];            ///< the list in double (ExactColumns order)
   std::vector<float> f[15];             ///< the list in float relative to the cell's centre (GroupArrays order)
   std::vector<float> gf[15];            ///< one group's gathered arrays
@@ -447,6 +460,7 @@ struct CellScratch
   std::vector<std::uint32_t> cand;
   ExactBatch batch;
   CellCounters counters;
+  HorizonPlanes horizons; ///< the cell's or the group's (horizon rule)
 };
 
 /// One sample group's list: the kernel arrays, entry -> cell list index
@@ -459,6 +473,56 @@ struct GroupView
   glm::dvec3 o;
   bool counting; ///< false for the inner occluders' faces (not the scene's triangles)
 };
+
+/// The planes of samples ids[0..count) (null: 0..count-1) of w not full yet.
+void CollectHorizons(const CellScratch& w, const std::uint32_t* ids, std::size_t count, HorizonPlanes& h);
+/// Whether the light-frame box b (min xyz, max xyz) lies below every plane by more than margin.
+bool BoxBelowHorizons(const HorizonPlanes& h, const float* b, double margin);
+/// Entries list[0..n) of the arrays (relative to o) with a vertex not below
+/// every plane by more than margin, kept in order in list; returns their count.
+std::size_t HorizonFilter(
+  const GroupArrays& a, const HorizonPlanes& h, const glm::dvec3& o, double margin, std::uint32_t* list, std::size_t n);
+
+/// [t0, t1] narrowed to the t at which P + t d lies strictly inside box B
+/// (min xyz, max xyz) shrunk by m; false once that is empty.
+inline bool SlabClip(const glm::dvec3& P, const glm::dvec3& d, const double* B, double m, double& t0, double& t1)
+{
+  for (int ax = 0; ax < 3; ++ax)
+  {
+    const double lo = B[ax] + m, hi = B[3 + ax] - m;
+    if (!(lo < hi))
+    {
+      return false; // (a box thinner than 2 m holds nothing)
+    }
+    if (d[ax] == 0.0)
+    {
+      if (!(P[ax] > lo && P[ax] < hi))
+      {
+        return false;
+      }
+      continue;
+    }
+    double ta = (lo - P[ax]) / d[ax], tb = (hi - P[ax]) / d[ax];
+    if (ta > tb)
+    {
+      std::swap(ta, tb);
+    }
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (!(t0 < t1))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+/// ssGearsCull.cxx, the inner-occluder rule: whether every segment from the
+/// light-frame box [alo, ahi] to the light-frame box [clo, chi] passes
+/// through the interior of box B (solver frame, min xyz max xyz) shrunk by
+/// m: then what lies in [clo, chi] changes no mask that B's faces were drawn
+/// into, for start points in [alo, ahi].
+bool SegmentsThroughBox(const FaceTriangles& ft, const glm::dvec3& alo, const glm::dvec3& ahi, const glm::dvec3& clo,
+  const glm::dvec3& chi, const double* B, double m);
 
 /// ssGearsPixel.cxx: a sample's starting mask (horizon), the occluders'
 /// pre-pass of a cell's samples, a sample's list, and its V and mask.

@@ -49,29 +49,9 @@ bool UmbraBox(const CellJob& job, const glm::dvec3* from, int count, const doubl
     for (int p = 0; p < count; ++p)
     {
       const glm::dvec3 d = dir ? l : l - from[p];
-      for (int ax = 0; ax < 3; ++ax)
+      if (!SlabClip(from[p], d, box, 0.0, t0, t1))
       {
-        // slab of axis ax: t with box[ax] <= from + t d <= box[3 + ax]
-        const double o = from[p][ax];
-        if (d[ax] == 0.0)
-        {
-          if (o <= box[ax] || o >= box[3 + ax])
-          {
-            return false;
-          }
-          continue;
-        }
-        double ta = (box[ax] - o) / d[ax], tb = (box[3 + ax] - o) / d[ax];
-        if (ta > tb)
-        {
-          std::swap(ta, tb);
-        }
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
-        if (!(t0 < t1))
-        {
-          return false;
-        }
+        return false;
       }
     }
   }

@@ -34,6 +34,17 @@ glm::dvec2 BlockerSearchHalfExtent(const LightFrame& light, double zReceiver, do
 /// clamped to 10 so grazing receivers stay finite (cosTheta <= 1e-4 uses 10).
 double SlopeScaledBias(double texelWorld, double cosTheta, double constantTexels, double slopeTexels);
 
+/// Normal-offset distance (Holbert 2011; Filament, shaders/src/
+/// common_shadowing.fs, computeLightSpacePosition): how far a shadow-map
+/// lookup is moved along the receiver's geometric (facet) normal, in world
+/// units: offsetTexels texels of the view's world texel size at the receiver
+/// times sin(theta), theta the angle between that normal and the direction
+/// to the light (cosTheta clamped to [0, 1]). Zero at normal incidence, where
+/// the receiver's own texels are at its depth; one texel-scaled step at
+/// grazing light, where a texel spans the most depth. ssShadowCommon.glsl
+/// (selectReceiverView) computes the same.
+double NormalOffsetDistance(double texelWorld, double cosTheta, double offsetTexels);
+
 /// Receiver-plane depth: the depth, along the projection ray through X, of
 /// the plane through the receiver point pLS (light space) with normal nLS,
 /// clamped to pLS.z +- maxDelta (grazing planes are unbounded).
@@ -44,6 +55,18 @@ double ReceiverPlaneDepth(
 /// point p with normal nrm (light points below it cannot be seen from the
 /// surface): the rectangle clipped by a half-plane. Point lights give 0 or 1.
 double LightFractionAboveTangentPlane(const LightFrame& light, const glm::dvec3& p, const glm::dvec3& nrm);
+
+/// Fraction of a rect light's area above both the tangent plane of the
+/// shading normal `shading` and the plane of the surface's own triangle
+/// (`geometric`) at p: what the exact visibility of a faceted surface with
+/// interpolated normals sees of the light, before any other caster (a light
+/// point below the triangle's plane is hidden by the triangle or its
+/// neighbours; the shading normal's plane is the reference's clip). The
+/// rectangle is clipped by both half-planes in coordinates scaled by its
+/// half sizes, so the area stays finite for any light size (a 1e30 light
+/// overflowed float's w * h). Point lights give 0 or 1.
+double LightFractionAboveSurface(
+  const LightFrame& light, const glm::dvec3& p, const glm::dvec3& shading, const glm::dvec3& geometric);
 }
 
 #endif

@@ -55,6 +55,7 @@ struct ASMSolver::FrameStats
   int queryPasses = 0;
   double trianglesDrawn = 0.0;
   int roots = 0;
+  std::string clusters; ///< CasterSet::ClusterStatsJSON summed over the lights' top-level cells
 };
 
 namespace
@@ -99,16 +100,46 @@ ASMSolver::ASMSolver(Method method)
 
 ASMSolver::~ASMSolver() = default;
 
+const OptionList& ASMSolver::DeclaredOptions()
+{
+  // key, property (Python, ParaView), label, range, default, help
+  static const OptionList options = {
+    DoubleOption("asm_memory_mb", "ASMMemoryBudget", "ASM Memory Budget", 0.0625, 4096.0, 16.0,
+      "asm: memory budget of the page pool, megabytes (never exceeded)"),
+    IntOption("asm_page_size", "ASMPageSize", "ASM Page Size", 16, 4096, 128,
+      "asm: page texels a side (rounded up to a power of two)"),
+    IntOption("asm_cells", "ASMCells", "ASM Cells", 2, 8, 4,
+      "asm: cells a side a node splits into (rounded up to 2, 4 or 8)"),
+    IntOption("asm_max_depth", "ASMMaxDepth", "ASM Max Depth", 0, 20, 10,
+      "asm: deepest level of the hierarchy"),
+    DoubleOption("asm_time_budget_ms", "ASMTimeBudget", "ASM Time Budget", 0.0, 1.0e5, 20.0,
+      "asm: refinement time a frame, ms"),
+    IntOption("asm_stride", "ASMAnalysisStride", "ASM Analysis Stride", 1, 64, 8,
+      "asm: one pixel in N analysed a frame"),
+    DoubleOption("asm_quality", "ASMQuality", "ASM Quality", 0.125, 16.0, 1.0,
+      "asm: texels per pixel side"),
+    BoolOption("asm_id_test", "ASMIDTest", "ASM ID Test", true, "asm: the ID+depth test (section 4.2)"),
+    // shared with the AVSM build (ssTranslucentSolver reads it too); PVSM's
+    // tiles have pvsm_tile_culling
+    BoolOption("caster_culling", "CasterCulling", "Caster Culling", true,
+      "asm, avsm, vpcss: draw only the caster clusters whose bounds reach a cell or view (off: every triangle "
+      "everywhere, for measuring)"),
+  };
+  return options;
+}
+
 void ASMSolver::Configure(vtkSoftShadowPass* pass)
 {
-  this->Opt.MemoryMB = pass->GetASMMemoryBudget();
-  this->Opt.PageSize = pass->GetASMPageSize();
-  this->Opt.Cells = pass->GetASMCells();
-  this->Opt.MaxDepth = pass->GetASMMaxDepth();
-  this->Opt.TimeBudgetMs = pass->GetASMTimeBudget();
-  this->Opt.AnalysisStride = pass->GetASMAnalysisStride();
-  this->Opt.Quality = pass->GetASMQuality();
-  this->Opt.IDTest = pass->GetASMIDTest();
+  const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.Culling = opt("caster_culling") != 0;
+  this->Opt.MemoryMB = pass->GetSolverOption("asm_memory_mb");
+  this->Opt.PageSize = opt("asm_page_size");
+  this->Opt.Cells = opt("asm_cells");
+  this->Opt.MaxDepth = opt("asm_max_depth");
+  this->Opt.TimeBudgetMs = pass->GetSolverOption("asm_time_budget_ms");
+  this->Opt.AnalysisStride = opt("asm_stride");
+  this->Opt.Quality = pass->GetSolverOption("asm_quality");
+  this->Opt.IDTest = opt("asm_id_test") != 0;
   this->Opt.ConstantBias = pass->GetConstantBias();
   this->Opt.SlopeBias = pass->GetSlopeBias();
   // the tree's shape: powers of two (the properties clamp the ranges)
@@ -299,6 +330,7 @@ bool ASMSolver::BuildLight(SolverFrame& frame, LightState& ls, const LightFrame&
 {
   const CasterSet& casters = *frame.Casters;
   ls.Views = MakeASMViews(absolute, casters.Receivers, casters.Bounds);
+  ls.Clusters = ClusterCounts{};
   const int n = static_cast<int>(ls.Views.views.size());
   const int C = this->Settings.cells;
   ls.CellRanges.assign(static_cast<std::size_t>(n), {});
@@ -340,12 +372,13 @@ bool ASMSolver::BuildLight(SolverFrame& frame, LightState& ls, const LightFrame&
     const int root = this->Tree.Root(id);
     for (int cell = 0; cell < C * C; ++cell)
     {
-      ranges.push_back(casters.HasClusters()
-          ? VisibleTriangleRanges(casters.Clusters, view, casters.Origin, this->Tree.CellWindow(root, cell), 1e-3)
+      ranges.push_back(casters.HasClusters() && this->Opt.Culling
+          ? VisibleTriangleRanges(
+              casters.Clusters, view, casters.Origin, this->Tree.CellWindow(root, cell), 1e-3, &ls.Clusters)
           : TriangleRanges{ { 0, casters.NumberOfTriangles() } });
     }
-    ranges.push_back(casters.HasClusters()
-        ? VisibleTriangleRanges(casters.Clusters, view, casters.Origin, view.extent, 1e-3)
+    ranges.push_back(casters.HasClusters() && this->Opt.Culling
+        ? VisibleTriangleRanges(casters.Clusters, view, casters.Origin, view.extent, 1e-3, &ls.Clusters)
         : TriangleRanges{ { 0, casters.NumberOfTriangles() } });
   }
   if (!this->Cost.calibrated && n > 0)
@@ -552,12 +585,14 @@ void ASMSolver::QueryPass(SolverFrame& frame, LightState& ls, const std::string&
   GBuffer& g = *frame.GBuffer;
   g.Position->Activate();
   g.Normal->Activate();
+  g.GeometricNormal->Activate();
   const int idUnit = ASMTextures::Bind(win, GL_TEXTURE_2D, this->Tex.Ids);
   const int atlasUnit = ASMTextures::Bind(win, GL_TEXTURE_2D_ARRAY, this->Tex.Atlas);
   const int summaryUnit = ASMTextures::Bind(win, GL_TEXTURE_2D_ARRAY, this->Tex.Summary);
   const int nodeUnit = ASMTextures::Bind(win, GL_TEXTURE_2D, this->Tex.Nodes);
   prog->SetUniformi("gPosition", g.Position->GetTextureUnit());
   prog->SetUniformi("gNormal", g.Normal->GetTextureUnit());
+  prog->SetUniformi("gGeomNormal", g.GeometricNormal->GetTextureUnit());
   prog->SetUniformi("idImage", idUnit);
   prog->SetUniformi("atlas", atlasUnit);
   prog->SetUniformi("summary", summaryUnit);
@@ -626,6 +661,7 @@ void ASMSolver::QueryPass(SolverFrame& frame, LightState& ls, const std::string&
   ASMTextures::Unbind(win, GL_TEXTURE_2D_ARRAY, summaryUnit);
   ASMTextures::Unbind(win, GL_TEXTURE_2D_ARRAY, atlasUnit);
   ASMTextures::Unbind(win, GL_TEXTURE_2D, idUnit);
+  g.GeometricNormal->Deactivate();
   g.Normal->Deactivate();
   g.Position->Deactivate();
   TextureArray::Detach();
@@ -786,6 +822,13 @@ void ASMSolver::EndFrame(SolverFrame& frame)
   frame.Timings->Set("asm_analysis", st.msAnalysis);
   frame.Timings->Set("asm_node_creation", st.msCreation);
   frame.Timings->Set("asm_queries", st.msQueries);
+  ClusterCounts clusters;
+  for (const auto& ls : this->Lights)
+  {
+    clusters.drawn += ls->Clusters.drawn;
+    clusters.culled += ls->Clusters.culled;
+  }
+  st.clusters = frame.Casters->ClusterStatsJSON(clusters);
   *this->LastStats = st;
 }
 
@@ -834,6 +877,7 @@ std::string ASMSolver::GetStatsJSON() const
     << ", \"left_for_next_frame\": " << s.remaining << ", \"predicted_ms\": " << s.predictedMs
     << ", \"creation_ms\": " << s.creationMs << ", \"triangles_drawn\": " << s.trianglesDrawn
     << ", \"query_passes\": " << s.queryPasses << "}"
+    << ", \"cell_clusters\": " << (s.clusters.empty() ? "null" : s.clusters)
     << ", \"analysis\": {\"pixels\": " << a.pixels << ", \"sampled\": " << a.sampled << ", \"edges\": " << a.edges
     << ", \"mismatched\": " << a.mismatched << ", \"unresolvable\": " << a.unresolvable
     << ", \"leaves_used\": " << a.leavesUsed << ", \"leaf_cache_hit_rate\": " << (lookups > 0 ? a.cacheHits / lookups : 0.0)

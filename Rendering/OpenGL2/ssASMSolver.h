@@ -53,11 +53,15 @@ public:
     bool IDTest = false;
     double ConstantBias = 0.0;
     double SlopeBias = 0.0;
+    bool Culling = true; ///< vtkSoftShadowPass::CasterCulling (§4.3 frustum culling of the top-level cells)
   };
 
   explicit ASMSolver(Method method);
   ~ASMSolver() override;
 
+  /// Its typed options (the registry line points here; the pass, the CLI and
+  /// ParaView's view enumerate them). Configure reads their values.
+  static const OptionList& DeclaredOptions();
   void Configure(vtkSoftShadowPass* pass) override;
   void BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights) override;
   bool UsesShadowMaps() const override { return false; }
@@ -84,6 +88,7 @@ private:
     std::vector<int> TreeViews; ///< tree view id of each of its views
     std::vector<std::vector<TriangleRanges>> CellRanges; ///< per view: C*C cells, then the root
     std::vector<double> DepthScale; ///< per view: 1 / its largest depth
+    ClusterCounts Clusters; ///< caster clusters kept and culled for its top-level cells and roots (at its build)
     std::vector<ASMPixel> Pixels;
     std::vector<std::uint8_t> Edges;
     std::string EdgesKey; ///< the view and tree the edge flags belong to

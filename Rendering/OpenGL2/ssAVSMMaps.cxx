@@ -70,6 +70,7 @@ std::string AVSMBuildStats::ToJSON() const
     << ", \"longest_list\": " << longestList << ", \"bands\": " << bands << ", \"resolve_dispatches\": " << dispatches
     << ", \"fragment_capacity\": " << fragmentCapacity << ", \"unsorted_lists\": " << (unsortedLists ? "true" : "false")
     << ", \"truncated_rows\": " << (truncated ? "true" : "false") << ", \"triangles_drawn\": " << trianglesDrawn
+    << ", \"clusters_drawn\": " << clusters.drawn << ", \"clusters_culled\": " << clusters.culled
     << ", \"volumes\": " << volumes << ", \"map_bytes\": " << mapBytes << ", \"buffer_bytes\": " << bufferBytes
     << ", \"ms\": {\"opaque\": " << msOpaque << ", \"count\": " << msCount << ", \"store\": " << msStore
     << ", \"sort\": " << msSort << ", \"resolve\": " << msResolve << ", \"pyramid\": " << msPyramid << "}"
@@ -98,6 +99,7 @@ struct AVSMMaps::Impl
   std::vector<vtkSmartPointer<vtkTextureObject>> AlphaTex;
   unsigned long AlphaVersion = ~0ul;
   vtkSmartPointer<vtkTextureObject> Dummy3D;
+  vtkSmartPointer<vtkTextureObject> Dummy2D; // what alpha samplers without a texture read
 
   void Ensure(Binding b, std::size_t bytes)
   {
@@ -414,6 +416,13 @@ bool AVSMMaps::Begin(SolverFrame& frame, int views, const AVSMSettings& settings
     const float zero = 0.0f;
     p.Dummy3D->Create3DFromRaw(1, 1, 1, 1, VTK_FLOAT, const_cast<float*>(&zero));
   }
+  if (!p.Dummy2D)
+  {
+    p.Dummy2D = vtkSmartPointer<vtkTextureObject>::New();
+    p.Dummy2D->SetContext(frame.Window);
+    const unsigned char white[4] = { 255, 255, 255, 255 };
+    p.Dummy2D->Create2DFromRaw(1, 1, 4, VTK_UNSIGNED_CHAR, const_cast<unsigned char*>(white));
+  }
   p.Stats.mapSize = S;
   p.Stats.nodes = N;
   p.Stats.channels = C;
@@ -447,9 +456,9 @@ bool AVSMMaps::Impl::BuildView(
 
   // the clusters whose bounds reach the view (all triangles without clusters)
   TriangleRanges ranges;
-  if (casters.HasClusters())
+  if (casters.HasClusters() && this->Settings.Culling)
   {
-    ranges = VisibleTriangleRanges(casters.Clusters, view, offset, view.extent, 1e-3);
+    ranges = VisibleTriangleRanges(casters.Clusters, view, offset, view.extent, 1e-3, &this->Stats.clusters);
   }
   else if (casters.NumberOfTriangles() > 0)
   {
@@ -485,12 +494,43 @@ bool AVSMMaps::Impl::BuildView(
       casters.Draw(cp, this->VAO, view, view.extent, offset, &ranges);
     }
   };
+  // Every sampler of the caster program names a unit holding a texture of
+  // its type before the first draw. A freshly linked program's samplers all
+  // name unit 0, and samplers of different types on one unit (opaqueMap, a
+  // 2-D array; alphaTex*, 2-D) make GL refuse the draw with INVALID_OPERATION
+  // (GL 4.5 §11.1.3.11): the first build of a window drew no opaque caster
+  // (no shadow in ParaView's first avsm frame; issue 20).
+  int alphaUnits[4] = { -1, -1, -1, -1 };
+  for (int i = 0; i < 4; ++i)
+  {
+    vtkTextureObject* t = i < static_cast<int>(this->AlphaTex.size()) ? this->AlphaTex[i].Get() : nullptr;
+    if (t)
+    {
+      t->Activate();
+      alphaUnits[i] = t->GetTextureUnit();
+    }
+  }
+  if (alphaUnits[0] < 0)
+  {
+    this->Dummy2D->Activate();
+  }
+  // samplers that see no texture point at a 2-D one all the same
+  const int fallback2D = alphaUnits[0] >= 0 ? alphaUnits[0] : this->Dummy2D->GetTextureUnit();
+  for (int i = 0; i < 4; ++i)
+  {
+    cp->SetUniformi(("alphaTex" + std::to_string(i)).c_str(), alphaUnits[i] >= 0 ? alphaUnits[i] : fallback2D);
+  }
+  // pass 0 renders into the opaque map: its sampler names the AVSM array
+  // meanwhile (a 2-D array that is not a target of this pass, never read)
+  const int pass0Unit = this->Array.Bind(win);
+  cp->SetUniformi("opaqueMap", pass0Unit);
   ostate->vtkglEnable(GL_BLEND);
   ostate->vtkglBlendEquation(GL_MIN);
   ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
   draw(0);
   ostate->vtkglBlendEquation(GL_FUNC_ADD);
   ostate->vtkglDisable(GL_BLEND);
+  TextureArray::Unbind(win, pass0Unit);
   finish();
   auto t1 = Clock::now();
   this->Stats.msOpaque += Milliseconds(t0, t1);
@@ -505,41 +545,6 @@ bool AVSMMaps::Impl::BuildView(
   this->BindBuffers();
   const int opaqueUnit = this->Opaque.Bind(win);
   cp->SetUniformi("opaqueMap", opaqueUnit);
-  int alphaUnits[4] = { -1, -1, -1, -1 };
-  for (int i = 0; i < 4; ++i)
-  {
-    vtkTextureObject* t = i < static_cast<int>(this->AlphaTex.size()) ? this->AlphaTex[i].Get() : nullptr;
-    if (t)
-    {
-      t->Activate();
-      alphaUnits[i] = t->GetTextureUnit();
-    }
-  }
-  // samplers that see no texture point at a 2-D one all the same
-  const int fallback2D = alphaUnits[0] >= 0 ? alphaUnits[0] : -1;
-  for (int i = 0; i < 4; ++i)
-  {
-    const std::string name = "alphaTex" + std::to_string(i);
-    if (alphaUnits[i] >= 0 || fallback2D >= 0)
-    {
-      cp->SetUniformi(name.c_str(), alphaUnits[i] >= 0 ? alphaUnits[i] : fallback2D);
-    }
-  }
-  int dummy2DUnit = -1;
-  vtkSmartPointer<vtkTextureObject> dummy2D;
-  if (fallback2D < 0)
-  {
-    dummy2D = vtkSmartPointer<vtkTextureObject>::New();
-    dummy2D->SetContext(win);
-    const unsigned char white[4] = { 255, 255, 255, 255 };
-    dummy2D->Create2DFromRaw(1, 1, 4, VTK_UNSIGNED_CHAR, const_cast<unsigned char*>(white));
-    dummy2D->Activate();
-    dummy2DUnit = dummy2D->GetTextureUnit();
-    for (int i = 0; i < 4; ++i)
-    {
-      cp->SetUniformi(("alphaTex" + std::to_string(i)).c_str(), dummy2DUnit);
-    }
-  }
   draw(1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   finish();
@@ -747,10 +752,9 @@ bool AVSMMaps::Impl::BuildView(
       this->AlphaTex[i]->Deactivate();
     }
   }
-  if (dummy2D)
+  if (alphaUnits[0] < 0)
   {
-    dummy2D->Deactivate();
-    dummy2D->ReleaseGraphicsResources(win);
+    this->Dummy2D->Deactivate();
   }
 
   // --- 4. the pyramid of mean functions
@@ -815,7 +819,8 @@ long long AVSMMaps::Bytes() const
 
 int AVSMMaps::CountGraphicsResources() const
 {
-  int n = (P->Array.Handle ? 1 : 0) + (P->Opaque.Handle ? 1 : 0) + (P->FBO ? 1 : 0) + (P->Dummy3D ? 1 : 0);
+  int n = (P->Array.Handle ? 1 : 0) + (P->Opaque.Handle ? 1 : 0) + (P->FBO ? 1 : 0) + (P->Dummy3D ? 1 : 0) +
+    (P->Dummy2D ? 1 : 0);
   for (GLuint b : P->Buf)
   {
     n += b ? 1 : 0;
@@ -860,6 +865,11 @@ void AVSMMaps::ReleaseGraphicsResources(vtkWindow* w)
   {
     p.Dummy3D->ReleaseGraphicsResources(w);
     p.Dummy3D = nullptr;
+  }
+  if (p.Dummy2D)
+  {
+    p.Dummy2D->ReleaseGraphicsResources(w);
+    p.Dummy2D = nullptr;
   }
   if (p.VAO)
   {

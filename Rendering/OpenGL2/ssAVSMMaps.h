@@ -20,6 +20,7 @@
 #ifndef ssAVSMMaps_h
 #define ssAVSMMaps_h
 
+#include "ssCasterClusters.h"
 #include "ssTextureArray.h"
 
 #include <memory>
@@ -45,6 +46,7 @@ struct AVSMSettings
   bool Pyramid = false; ///< the mean-function pyramid (VPCSS's area filters)
   int VolumeSteps = 256; ///< the most march steps per texel ray
   int SortMax = 1024;    ///< longer lists are inserted unsorted (Salvi's unsorted resolve)
+  bool Culling = true;   ///< each view draws only the caster clusters that reach it (vtkSoftShadowPass::CasterCulling)
 };
 
 /// What the last frame's builds did (summed over the lights).
@@ -57,6 +59,7 @@ struct AVSMBuildStats
   bool truncated = false;     ///< some row had more fragments than the buffer holds (dropped)
   double msOpaque = 0, msCount = 0, msStore = 0, msSort = 0, msResolve = 0, msPyramid = 0;
   std::string note; ///< why the map is smaller than asked
+  ClusterCounts clusters; ///< caster clusters drawn and culled over the views
   std::string ToJSON() const;
 };
 

@@ -41,6 +41,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace ss
 {
@@ -278,6 +279,8 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
   bool translucent = false;
   Box translucentBounds;
   std::string translucentWhy;
+  std::vector<PreparedBlock> prepared;
+  std::string preparedNote;
   ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
     if (!vtkSoftShadowPass::GetCastsShadows(actor))
     {
@@ -298,8 +301,36 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
       }
     }
     const std::size_t first = tris.size();
-    ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0),
-      [&](vtkPolyData* pd) { AppendPolyData(pd, m, look, tris, attr, skipped); });
+    ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0), [&](vtkPolyData* pd) {
+      const std::size_t before = tris.size() / 3, skippedBefore = skipped;
+      AppendPolyData(pd, m, look, tris, attr, skipped);
+      if (HasClusterTable(pd))
+      {
+        // a vtkShadowCasterPreparation output: its cells must be the
+        // triangles just appended, one each, none skipped
+        PreparedBlock block;
+        std::string why;
+        const std::size_t count = tris.size() / 3 - before;
+        if (pd->GetNumberOfCells() != pd->GetNumberOfPolys() || pd->GetNumberOfStrips() != 0 ||
+          skipped != skippedBefore || count != static_cast<std::size_t>(pd->GetNumberOfCells()))
+        {
+          why = "its cells are not the triangles it draws (not one triangle per cell, or triangles skipped)";
+        }
+        else if (ReadClusterTable(pd, block.table, why, true))
+        {
+          block.first = before;
+          block.count = count;
+          std::copy_n(m->GetData(), 16, block.m);
+          block.det = m->Determinant();
+          prepared.push_back(std::move(block));
+          why.clear();
+        }
+        if (!why.empty() && preparedNote.empty())
+        {
+          preparedNote = "a caster's cluster table was not used: " + why;
+        }
+      }
+    });
     const bool textured = std::any_of(attr.texture.begin() + static_cast<std::ptrdiff_t>(first / 3),
       attr.texture.end(), [](int t) { return t >= 0; });
     if ((look.opacity < 1.0f || textured) && tris.size() > first)
@@ -345,8 +376,74 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
   this->TranslucentBounds = translucentBounds;
   this->TranslucentWhy = translucentWhy;
   this->Keys = keys;
+  if (!preparedNote.empty() && preparedNote != this->PreparedNote)
+  {
+    vtkWarningWithObjectMacro(reporter, "Caster set: " << preparedNote << "; its triangles get Morton clusters.");
+  }
+  this->PreparedNote = preparedNote;
+  this->SetPrepared(std::move(prepared));
   this->Uploaded = false;
   ++this->Version;
+}
+
+void CasterSet::SetPrepared(std::vector<PreparedBlock> prepared)
+{
+  this->Prepared = std::move(prepared);
+  this->PreparedTriangles = 0;
+  this->PreparedClusters = 0;
+  this->Piece.clear();
+  this->PieceOrientation.clear();
+  if (this->Prepared.empty())
+  {
+    return;
+  }
+  // GEARS' pieces: piece 0 holds every triangle that is not prepared (open);
+  // each block's pieces follow. A closed outward piece stays outward under a
+  // transform with a positive determinant and turns inward under a mirror
+  // (the vertex order is kept); a projective matrix leaves it open.
+  this->Piece.assign(this->NumberOfTriangles(), 0);
+  this->PieceOrientation.assign(1, 0);
+  for (const PreparedBlock& b : this->Prepared)
+  {
+    this->PreparedTriangles += b.count;
+    this->PreparedClusters += b.table.ranges.size();
+    if (b.table.piece.size() != b.count)
+    {
+      continue;
+    }
+    const std::uint32_t base = static_cast<std::uint32_t>(this->PieceOrientation.size());
+    const std::uint32_t pieces = 1 + *std::max_element(b.table.piece.begin(), b.table.piece.end());
+    const bool affine = b.m[12] == 0.0 && b.m[13] == 0.0 && b.m[14] == 0.0 && b.m[15] == 1.0;
+    const std::int8_t closed = !affine || !(b.det != 0.0) ? 0 : (b.det > 0.0 ? 1 : -1);
+    this->PieceOrientation.resize(base + pieces, closed);
+    for (std::size_t i = 0; i < b.count; ++i)
+    {
+      this->Piece[b.first + i] = base + b.table.piece[i];
+      if (!b.table.closedOutward[i])
+      {
+        this->PieceOrientation[base + b.table.piece[i]] = 0;
+      }
+    }
+  }
+}
+
+const char* CasterSet::ClusterSource() const
+{
+  if (!this->HasClusters())
+  {
+    return "none";
+  }
+  return this->Clusters.shapes.empty() ? "morton" : "prepared";
+}
+
+std::string CasterSet::ClusterStatsJSON(const ClusterCounts& counts) const
+{
+  std::ostringstream o;
+  o.precision(15);
+  o << "{\"source\": \"" << this->ClusterSource() << "\", \"clusters\": "
+    << (this->HasClusters() ? this->Clusters.Clusters() : 0) << ", \"prepared_clusters\": " << this->PreparedClusters
+    << ", \"drawn\": " << counts.drawn << ", \"culled\": " << counts.culled << "}";
+  return o.str();
 }
 
 std::string CasterSet::TranslucentInView(const LightFrame& light, const glm::dvec3& origin) const
@@ -432,7 +529,14 @@ void CasterSet::EnsureClusters()
   {
     v[i] = glm::dvec3(this->Triangles[3 * i], this->Triangles[3 * i + 1], this->Triangles[3 * i + 2]);
   }
-  this->Clusters = ClusterTriangles(v, 1024);
+  if (this->Prepared.empty())
+  {
+    this->Clusters = ClusterTriangles(v, 1024);
+  }
+  else
+  {
+    this->Clusters = this->PreparedClusterOrder(v);
+  }
   std::vector<float> tri(this->Triangles.size()), opacity(n, 1.0f), color(3 * n, 1.0f),
     tcoords(this->TCoords.empty() ? 0 : 6 * n);
   std::vector<int> texture(this->TextureIndex.empty() ? 0 : n);
@@ -451,6 +555,22 @@ void CasterSet::EnsureClusters()
       texture[t] = this->TextureIndex[from];
     }
   }
+  if (!this->Piece.empty())
+  {
+    std::vector<std::uint32_t> piece(n);
+    for (std::size_t t = 0; t < n; ++t)
+    {
+      piece[t] = this->Piece[this->Clusters.order[t]];
+    }
+    this->Piece = std::move(piece);
+  }
+  // the blocks' triangles now come first, in the order of Prepared
+  std::size_t next = 0;
+  for (PreparedBlock& b : this->Prepared)
+  {
+    b.first = next;
+    next += b.count;
+  }
   this->Triangles = std::move(tri);
   this->Opacity = std::move(opacity);
   this->Color = std::move(color);
@@ -458,6 +578,88 @@ void CasterSet::EnsureClusters()
   this->TextureIndex = std::move(texture);
   this->ClusterVersion = this->Version;
   this->Uploaded = false;
+}
+
+TriangleClusters CasterSet::PreparedClusterOrder(const std::vector<glm::dvec3>& v) const
+{
+  // the prepared blocks' clusters first (their triangles are already in
+  // cluster order), then Morton clusters of the other triangles
+  const std::size_t n = v.size() / 3;
+  TriangleClusters c;
+  c.order.reserve(n);
+  std::vector<char> taken(n, 0);
+  for (const PreparedBlock& b : this->Prepared)
+  {
+    const bool affine = b.m[12] == 0.0 && b.m[13] == 0.0 && b.m[14] == 0.0 && b.m[15] == 1.0;
+    const auto linear = [&](const glm::dvec3& a) {
+      return glm::dvec3(b.m[0] * a.x + b.m[1] * a.y + b.m[2] * a.z, b.m[4] * a.x + b.m[5] * a.y + b.m[6] * a.z,
+        b.m[8] * a.x + b.m[9] * a.y + b.m[10] * a.z);
+    };
+    const auto point = [&](const glm::dvec3& p) {
+      return linear(p) + glm::dvec3(b.m[3], b.m[7], b.m[11]) - this->Origin;
+    };
+    // the bounds of what is drawn (float, relative to Origin), with the
+    // table's box axes carried through the matrix (FitOrientedBox makes them
+    // orthonormal again and fits the extents to the points)
+    std::vector<std::pair<std::size_t, std::size_t>> ranges;
+    std::vector<std::array<glm::dvec3, 3>> axes;
+    for (std::size_t k = 0; k < b.table.ranges.size(); ++k)
+    {
+      ranges.emplace_back(b.first + b.table.ranges[k].first, b.table.ranges[k].second);
+      const OrientedBox& o = b.table.bounds[k].obb;
+      axes.push_back({ linear(o.axis[0]), linear(o.axis[1]), linear(o.axis[2]) });
+    }
+    std::vector<ClusterBounds> shapes = FitClusterBounds(v, ranges, axes);
+    for (std::size_t k = 0; k < shapes.size(); ++k)
+    {
+      const ClusterBounds& in = b.table.bounds[k];
+      ClusterBounds& out = shapes[k];
+      out.closedOutward = in.closedOutward && affine && b.det > 0.0;
+      if (!in.pieceBounds.Empty())
+      {
+        for (int q = 0; q < 8; ++q)
+        {
+          out.pieceBounds.Add(point(in.pieceBounds.Corner(q)));
+        }
+      }
+      c.bounds.push_back(out.aabb);
+      c.shapes.push_back(out);
+    }
+    for (const auto& [first, count] : b.table.ranges)
+    {
+      c.first.push_back(c.order.size());
+      for (std::size_t i = 0; i < count; ++i)
+      {
+        c.order.push_back(b.first + first + i);
+        taken[b.first + first + i] = 1;
+      }
+    }
+  }
+  std::vector<std::size_t> rest;
+  std::vector<glm::dvec3> restVertices;
+  for (std::size_t t = 0; t < n; ++t)
+  {
+    if (!taken[t])
+    {
+      rest.push_back(t);
+      restVertices.insert(restVertices.end(), { v[3 * t], v[3 * t + 1], v[3 * t + 2] });
+    }
+  }
+  const TriangleClusters morton = ClusterTriangles(restVertices, 1024);
+  for (std::size_t k = 0; k < morton.Clusters(); ++k)
+  {
+    c.first.push_back(c.order.size() + morton.first[k]);
+    c.bounds.push_back(morton.bounds[k]);
+    ClusterBounds shape; // the AABB only (an empty oriented box leaves it to the AABB)
+    shape.aabb = morton.bounds[k];
+    c.shapes.push_back(shape);
+  }
+  for (std::size_t i : morton.order)
+  {
+    c.order.push_back(rest[i]);
+  }
+  c.first.push_back(c.order.size());
+  return c;
 }
 
 vtkShaderProgram* CasterSet::ReadyProgram(vtkOpenGLRenderWindow* win, std::string& error)

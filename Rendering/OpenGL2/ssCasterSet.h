@@ -6,6 +6,7 @@
 #define ssCasterSet_h
 
 #include "ssCasterClusters.h"
+#include "ssClusterTable.h"
 #include "ssShadowView.h"
 
 #include "vtkSmartPointer.h"
@@ -92,10 +93,26 @@ public:
   /// The triangles' vertices in world coordinates (double), 3 per triangle.
   std::vector<glm::dvec3> WorldVertices() const;
 
+  // --- prepared casters: actors whose input is a vtkShadowCasterPreparation
+  // output (its cluster table in field data, PieceId and ClosedOutward cell
+  // arrays; ssClusterTable). Read when the caster set is rebuilt, i.e. when
+  // the input's MTime changed.
+  std::size_t PreparedTriangles = 0; ///< triangles of prepared casters
+  std::size_t PreparedClusters = 0;  ///< their clusters (from the tables)
+  std::string PreparedNote;          ///< why an input with a table was not used (empty: none)
+  /// GEARS' closed pieces (GearsSolver::SetPieces), per triangle in the
+  /// current order and per piece; empty without prepared casters. Triangles
+  /// that are not prepared share one open piece.
+  std::vector<std::uint32_t> Piece;
+  std::vector<std::int8_t> PieceOrientation;
+
   // --- clusters (tile culling, vtkSoftShadowPass::PVSMTileCulling)
-  /// Orders the triangles into clusters of at most 1024 (a few thousand on a
-  /// 5M-triangle set: the per-tile test stays well under a millisecond) when
-  /// the set changed since the last call. Only frames that cull need them, so
+  /// Orders the triangles into clusters when the set changed since the last
+  /// call: prepared casters keep their table's clusters (bounds refitted on
+  /// the drawn coordinates, with the table's box axes, closed flags and piece
+  /// bounds: Clusters.shapes); the other triangles are cut into Morton
+  /// clusters of at most 1024 (a few thousand on a 5M-triangle set: the
+  /// per-tile test stays well under a millisecond). Only frames that cull need them, so
   /// this runs on their first frame after a change, not on every rebuild. The
   /// bounds come from the float positions the GPU draws. No solver depends on
   /// the order (maps are min-blended, GEARS and the reference take unions),
@@ -104,6 +121,11 @@ public:
   /// Whether Clusters describe the current triangles.
   bool HasClusters() const { return this->ClusterVersion == this->Version; }
   TriangleClusters Clusters; ///< bounds relative to Origin
+  /// "prepared" (some clusters from cluster tables), "morton", or "none"
+  /// (EnsureClusters not run for the current set).
+  const char* ClusterSource() const;
+  /// {"source": ..., "clusters": n, "drawn": d, "culled": c} for a solver's stats.
+  std::string ClusterStatsJSON(const ClusterCounts& counts) const;
 
   // --- GPU copy
   /// Uploads the triangles when they changed since the last upload and binds
@@ -131,6 +153,19 @@ public:
 
 private:
   void UpdateVolumes(vtkRenderer* ren);
+  /// A prepared caster's triangles [first, first + count) (one per cell) and
+  /// its table; det: the determinant of its actor's matrix (a mirror turns
+  /// outward pieces inward); pieceBase: its first piece in Piece.
+  struct PreparedBlock
+  {
+    std::size_t first = 0, count = 0;
+    ClusterTable table;
+    double m[16];
+    double det = 1.0;
+  };
+  std::vector<PreparedBlock> Prepared;
+  void SetPrepared(std::vector<PreparedBlock> prepared);
+  TriangleClusters PreparedClusterOrder(const std::vector<glm::dvec3>& vertices) const;
   std::vector<CasterKey> VolumeKeys;
   unsigned long ClusterVersion = 0;
   vtkSmartPointer<vtkOpenGLBufferObject> VBO;

@@ -28,6 +28,7 @@ void GBuffer::Begin(vtkRenderer* ren, vtkOpenGLRenderWindow* win, vtkOpenGLFrame
 
   EnsureTexture2D(win, this->Position, w, h, 4);
   EnsureTexture2D(win, this->Normal, w, h, 4);
+  EnsureTexture2D(win, this->GeometricNormal, w, h, 4);
   if (!this->Depth)
   {
     this->Depth = vtkSmartPointer<vtkTextureObject>::New();
@@ -77,8 +78,9 @@ void GBuffer::Begin(vtkRenderer* ren, vtkOpenGLRenderWindow* win, vtkOpenGLFrame
   fbo->Bind();
   fbo->AddColorAttachment(0, this->Position);
   fbo->AddColorAttachment(1, this->Normal);
+  fbo->AddColorAttachment(2, this->GeometricNormal);
   fbo->AddDepthAttachment(this->Depth);
-  fbo->ActivateDrawBuffers(2);
+  fbo->ActivateDrawBuffers(NumberOfTargets);
   ostate->vtkglViewport(0, 0, w, h);
   ostate->vtkglScissor(0, 0, w, h);
   ostate->vtkglDisable(GL_BLEND);
@@ -91,7 +93,7 @@ void GBuffer::Begin(vtkRenderer* ren, vtkOpenGLRenderWindow* win, vtkOpenGLFrame
 
 void GBuffer::End(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo)
 {
-  fbo->RemoveColorAttachments(2);
+  fbo->RemoveColorAttachments(NumberOfTargets);
   fbo->RemoveDepthAttachment();
   win->GetState()->PopFramebufferBindings();
 }
@@ -113,8 +115,22 @@ void GBuffer::InjectOutputs(std::string& fragmentShader, std::size_t mainPos, st
             "    vec3 ssVC = ssVC4.xyz / ssVC4.w;\n";
   }
   impl += "    gl_FragData[0] = vec4(ssVCToWC * ssVC + ssVCToRelOffset, ssPropId);\n";
-  impl += haveN ? "    gl_FragData[1] = vec4(normalize(ssVCToWC * normalVCVSOutput), 1.0);\n"
-                : "    gl_FragData[1] = vec4(0.0);\n";
+  // The geometric normal: the plane of the triangle being drawn, from the
+  // screen derivatives of its view-space position (the 2x2 quad's helper
+  // invocations extrapolate the same triangle, so this is the facet's plane
+  // up to float rounding). It is oriented to the side of the shading normal
+  // (to the camera when there is none). The shadow-map solvers take the
+  // receiver's plane from it: a faceted surface with interpolated normals is
+  // the facet, not the smooth normal's tangent plane (issue 17).
+  impl += "    vec3 ssGN = cross(dFdx(ssVC), dFdy(ssVC));\n"
+          "    float ssGL = length(ssGN);\n"
+          "    ssGN = (ssGL > 0.0) ? ssGN / ssGL : vec3(0.0);\n";
+  impl += haveN ? "    vec3 ssSN = normalize(normalVCVSOutput);\n"
+                  "    ssGN = (dot(ssGN, ssSN) < 0.0) ? -ssGN : ssGN;\n"
+                  "    gl_FragData[1] = vec4(ssVCToWC * ssSN, 1.0);\n"
+                : "    ssGN = (dot(ssGN, ssVC) > 0.0) ? -ssGN : ssGN;\n"
+                  "    gl_FragData[1] = vec4(0.0);\n";
+  impl += "    gl_FragData[2] = vec4(ssVCToWC * ssGN, ssGL > 0.0 ? 1.0 : 0.0);\n";
   impl += "  }\n";
   fragmentShader.insert(endPos, impl);
   fragmentShader.insert(mainPos,
@@ -154,7 +170,8 @@ int GBuffer::FindPropId(vtkProp* prop) const
 bool GBuffer::Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int which, int w, int h,
   std::vector<float>& rgba) const
 {
-  vtkTextureObject* t = which == 0 ? this->Position.Get() : this->Normal.Get();
+  vtkTextureObject* t =
+    which == 0 ? this->Position.Get() : (which == 1 ? this->Normal.Get() : this->GeometricNormal.Get());
   return t && fbo && ReadTexture(win, fbo, t, 0, w, h, 4, rgba);
 }
 
@@ -188,13 +205,15 @@ bool GBuffer::ReadForCPU(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject*
 
 long long GBuffer::Bytes() const
 {
-  return TextureBytes(this->Position, 16) + TextureBytes(this->Normal, 16) + TextureBytes(this->Depth, 4);
+  return TextureBytes(this->Position, 16) + TextureBytes(this->Normal, 16) + TextureBytes(this->GeometricNormal, 16) +
+    TextureBytes(this->Depth, 4);
 }
 
 int GBuffer::CountGraphicsResources() const
 {
   int n = 0;
-  for (vtkTextureObject* t : { this->Position.Get(), this->Normal.Get(), this->Depth.Get() })
+  for (vtkTextureObject* t :
+    { this->Position.Get(), this->Normal.Get(), this->GeometricNormal.Get(), this->Depth.Get() })
   {
     n += (t && t->GetHandle() != 0) ? 1 : 0;
   }
@@ -203,7 +222,7 @@ int GBuffer::CountGraphicsResources() const
 
 void GBuffer::ReleaseGraphicsResources(vtkWindow* w)
 {
-  for (auto* t : { this->Position.Get(), this->Normal.Get(), this->Depth.Get() })
+  for (auto* t : { this->Position.Get(), this->Normal.Get(), this->GeometricNormal.Get(), this->Depth.Get() })
   {
     if (t)
     {
@@ -212,6 +231,7 @@ void GBuffer::ReleaseGraphicsResources(vtkWindow* w)
   }
   this->Position = nullptr;
   this->Normal = nullptr;
+  this->GeometricNormal = nullptr;
   this->Depth = nullptr;
   this->HaveCPUCopy = false;
   this->CPUPositions.clear();

@@ -28,7 +28,12 @@ class GBuffer
 {
 public:
   vtkSmartPointer<vtkTextureObject> Position; ///< RGBA32F: position - origin, prop id (0: background)
-  vtkSmartPointer<vtkTextureObject> Normal;   ///< RGBA32F: world normal, 1 where written
+  vtkSmartPointer<vtkTextureObject> Normal;   ///< RGBA32F: world (shading) normal, 1 where written
+  /// RGBA32F: the world normal of the drawn triangle's plane, on the side of
+  /// the shading normal; w 1 where the triangle had an area on screen.
+  vtkSmartPointer<vtkTextureObject> GeometricNormal;
+  /// Colour targets the G-buffer stage writes (position, normal, geometric normal).
+  static constexpr int NumberOfTargets = 3;
   vtkSmartPointer<vtkTextureObject> Depth;
 
   /// Sizes the targets to the frame, computes the camera transforms the
@@ -51,7 +56,7 @@ public:
   /// The id `prop` was drawn with into the G-buffer, 0 if it never was.
   int FindPropId(vtkProp* prop) const;
 
-  /// Level 0 of the position (which = 0) or normal (which = 1) target,
+  /// Level 0 of the position (which = 0), normal (1) or geometric normal (2) target,
   /// w x h x 4 floats, row 0 at the bottom.
   bool Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int which, int w, int h,
     std::vector<float>& rgba) const;

@@ -25,9 +25,18 @@ HardAverageSolver::HardAverageSolver(Method method)
 {
 }
 
+const OptionList& HardAverageSolver::DeclaredOptions()
+{
+  static const OptionList options = {
+    IntOption("average_samples", "AverageSamples", "Average Samples", 1, 32, 8,
+      "hardavg: k x k hard maps (8: PVSM section 6's 64)"),
+  };
+  return options;
+}
+
 void HardAverageSolver::Configure(vtkSoftShadowPass* pass)
 {
-  this->AverageSamples = pass->GetAverageSamples();
+  this->AverageSamples = static_cast<int>(pass->GetSolverOption("average_samples"));
   this->HardTest.Configure(pass);
 }
 

@@ -17,6 +17,9 @@ class HardAverageSolver : public VisibilitySolver
 public:
   explicit HardAverageSolver(Method method);
 
+  /// Its typed options (the registry line points here; the pass, the CLI and
+  /// ParaView's view enumerate them). Configure reads their values.
+  static const OptionList& DeclaredOptions();
   void Configure(vtkSoftShadowPass* pass) override;
   void BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights) override;
   int GetShadowMapSize() const override { return this->HardTest.GetShadowMapSize(); }

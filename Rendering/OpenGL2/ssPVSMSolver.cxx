@@ -51,17 +51,39 @@ PVSMSolver::PVSMSolver(Method method)
 
 PVSMSolver::~PVSMSolver() = default;
 
+const OptionList& PVSMSolver::DeclaredOptions()
+{
+  // key, property (Python, ParaView), label, range or names, default, help
+  static const OptionList options = {
+    DoubleOption("pvsm_quality", "PVSMQuality", "PVSM Quality", 0.05, 64.0, 1.0,
+      "pvsm: scale on the perceptual metric rho (section 5.1): 2 asks about twice the texels per "
+      "kernel (slower, finer penumbrae), 0.5 half"),
+    EnumOption("pvsm_metric", "PVSMMetric", "PVSM Metric", { "auto", "dynamic", "static" }, 0,
+      "pvsm: which metric of section 5.1 (auto: static when only the camera moved)"),
+    IntOption("pvsm_grid", "PVSMGridSize", "PVSM Grid Size", 4, 256, 64, "pvsm: shadow-map tile grid"),
+    IntOption("pvsm_max_tile", "PVSMMaxTileResolution", "PVSM Max Tile Resolution", 64, 16384, 4096,
+      "pvsm: largest tile, texels a side"),
+    IntOption("pvsm_low_resolution", "PVSMLowResolution", "PVSM Low Resolution", 64, 8192, 1024,
+      "pvsm: conservative low-resolution map"),
+    BoolOption("pvsm_tile_culling", "PVSMTileCulling", "PVSM Tile Culling", true,
+      "pvsm: draw only the caster clusters reaching a tile"),
+  };
+  return options;
+}
+
 void PVSMSolver::Configure(vtkSoftShadowPass* pass)
 {
-  this->Opt.LowResolution = pass->GetPVSMLowResolution();
-  this->Opt.GridSize = pass->GetPVSMGridSize();
-  this->Opt.MaxTileResolution = pass->GetPVSMMaxTileResolution();
-  this->Opt.Quality = pass->GetPVSMQuality();
-  this->Opt.Metric = pass->GetPVSMMetric();
-  this->Opt.TileCulling = pass->GetPVSMTileCulling();
-  this->Opt.BlockerSearchSamples = pass->GetBlockerSearchSamples();
-  this->Opt.FilterMaxQuads = pass->GetFilterMaxQuads();
+  const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.LowResolution = opt("pvsm_low_resolution");
+  this->Opt.GridSize = opt("pvsm_grid");
+  this->Opt.MaxTileResolution = opt("pvsm_max_tile");
+  this->Opt.Quality = pass->GetSolverOption("pvsm_quality");
+  this->Opt.Metric = opt("pvsm_metric");
+  this->Opt.TileCulling = opt("pvsm_tile_culling") != 0;
+  this->Opt.BlockerSearchSamples = opt("blocker_samples");
+  this->Opt.FilterMaxQuads = opt("filter_max_quads");
   this->Opt.ConstantBias = pass->GetConstantBias();
+  this->Opt.NormalOffset = pass->GetNormalOffset();
 }
 
 void PVSMSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights)
@@ -71,10 +93,12 @@ void PVSMSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLi
   if (!this->Active)
   {
     this->LastStats = PVSMStats{};
+    this->LastClustersJSON.clear();
     return;
   }
   this->Stats = PVSMStats{};
   this->Stats.quality = this->Opt.Quality;
+  this->TileClusters = ClusterCounts{};
   // §5.1: the static metric when only the camera moved since the last frame:
   // the same caster set and the same lights (a light that follows the camera
   // moves with it, so its transformed position is part of the key)
@@ -251,6 +275,8 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   auto commonUniforms = [&](vtkShaderProgram* p, int shadowUnit) {
     p->SetUniformi("gPosition", gbuf.Position->GetTextureUnit());
     p->SetUniformi("gNormal", gbuf.Normal->GetTextureUnit());
+    p->SetUniformi("gGeomNormal", gbuf.GeometricNormal->GetTextureUnit());
+    p->SetUniformf("normalOffset", static_cast<float>(this->Opt.NormalOffset));
     p->SetUniformi("shadowMaps", shadowUnit);
     p->SetUniformf("mapSize", static_cast<float>(maps.Size));
     p->SetUniformi("numLevels", maps.Levels);
@@ -276,6 +302,7 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   }
   gbuf.Position->Activate();
   gbuf.Normal->Activate();
+  gbuf.GeometricNormal->Activate();
   int shadowUnit = maps.Bind(win);
   commonUniforms(kp, shadowUnit);
   kp->SetUniformMatrix("clipToRel", clipToRel);
@@ -388,7 +415,7 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
         {
           // only the clusters whose light-space bounds reach the tile; the
           // pad (1e-3 of the tile) covers the GPU's float projection
-          const auto ranges = VisibleTriangleRanges(casters.Clusters, view, casterOffset, r, 1e-3);
+          const auto ranges = VisibleTriangleRanges(casters.Clusters, view, casterOffset, r, 1e-3, &this->TileClusters);
           for (const auto& range : ranges)
           {
             st.tileTrianglesDrawn += static_cast<double>(range.second);
@@ -478,6 +505,7 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   {
     vtkErrorWithObjectMacro(frame.Reporter, "Could not build the PVSM resolve program.");
   }
+  gbuf.GeometricNormal->Deactivate();
   gbuf.Normal->Deactivate();
   gbuf.Position->Deactivate();
   finish();
@@ -498,6 +526,7 @@ void PVSMSolver::EndFrame(SolverFrame& frame)
   st.shadowMemoryBytes = static_cast<double>(frame.Maps->Bytes() + this->Tile.Bytes()) + G * G * 8 + W * H * (3 * 16 + 8);
   st.msTotal = st.msGBuffer + st.msLowResSM + st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
   this->LastStats = st;
+  this->LastClustersJSON = frame.Casters->ClusterStatsJSON(this->TileClusters);
   frame.Timings->Set("pvsm", st.msKernel + st.msTiling + st.msTileSM + st.msFiltering);
 }
 
@@ -507,6 +536,7 @@ std::string PVSMSolver::GetStatsJSON() const
   o.precision(17);
   o << "{\"lights\": " << this->Lights << ", \"low_resolution\": " << this->Opt.LowResolution
     << ", \"grid\": " << this->Opt.GridSize << ", \"max_tile\": " << this->Opt.MaxTileResolution
+    << ", \"tile_clusters\": " << (this->LastClustersJSON.empty() ? "null" : this->LastClustersJSON)
     << ", \"stats\": " << PVSMStatsToJSON(this->LastStats) << "}";
   return o.str();
 }

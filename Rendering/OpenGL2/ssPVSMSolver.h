@@ -9,6 +9,7 @@
 #ifndef ssPVSMSolver_h
 #define ssPVSMSolver_h
 
+#include "ssCasterClusters.h"
 #include "ssPVSM.h"
 #include "ssTextureArray.h"
 #include "ssVisibilitySolver.h"
@@ -42,11 +43,15 @@ public:
     int BlockerSearchSamples = 0;
     int FilterMaxQuads = 0;
     double ConstantBias = 0.0;
+    double NormalOffset = 0.0;
   };
 
   explicit PVSMSolver(Method method);
   ~PVSMSolver() override;
 
+  /// Its typed options (the registry line points here; the pass, the CLI and
+  /// ParaView's view enumerate them). Configure reads their values.
+  static const OptionList& DeclaredOptions();
   void Configure(vtkSoftShadowPass* pass) override;
   void BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights) override;
   int GetShadowMapSize() const override { return this->Opt.LowResolution; }
@@ -71,6 +76,8 @@ private:
   bool Active = false; ///< the frame has PVSM lights
   int Lights = 0;
   PVSMStats Stats, LastStats;
+  ClusterCounts TileClusters;   ///< clusters drawn and culled over the frame's tiles
+  std::string LastClustersJSON; ///< CasterSet::ClusterStatsJSON of the last frame
   float RhoCoeffs[4] = { 0, 0, 0, 0 };
   double RhoEnd = 0.0;
   int GridSide = 4;

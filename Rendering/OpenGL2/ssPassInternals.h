@@ -16,6 +16,7 @@
 #include "ssGLLimits.h"
 #include "ssPassStats.h"
 #include "ssShadowMaps.h"
+#include "ssSolverOptions.h"
 #include "ssVisibilityLayers.h"
 #include "ssVisibilitySolver.h"
 
@@ -58,6 +59,8 @@ public:
 
   // --- one solver per registered method, in registry order
   std::vector<std::unique_ptr<ss::VisibilitySolver>> Solvers;
+  // --- the values of every registered solver option (ssPassOptions.cxx)
+  ss::OptionStore SolverOptions;
 
   // --- what the mappers' shaders carry, and whether the results are valid
   ss::PassStage CurrentStage = ss::PassStage::Idle;

@@ -255,36 +255,17 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Method: " << GetMethodName(this->Method) << "\n";
   os << indent << "ShadowMapSize: " << this->ShadowMapSize << "\n";
-  os << indent << "PCFRadius: " << this->PCFRadius << "\n";
-  os << indent << "BlockerSearchSamples: " << this->BlockerSearchSamples << "\n";
-  os << indent << "FilterMaxQuads: " << this->FilterMaxQuads << "\n";
   os << indent << "ConstantBias: " << this->ConstantBias << "\n";
   os << indent << "SlopeBias: " << this->SlopeBias << "\n";
-  os << indent << "ReferenceSamples: " << this->ReferenceSamples << "\n";
-  os << indent << "GearsSamples: " << this->GearsSamples << "\n";
-  os << indent << "GearsGrid: " << this->GearsGrid << "\n";
-  os << indent << "GearsRaster: " << (this->GearsRaster ? "lut" : "edge") << "\n";
-  os << indent << "GearsBackend: " << (this->GearsBackend == GEARS_BACKEND_GL ? "gl" : "cpu") << "\n";
-  os << indent << "PVSMLowResolution: " << this->PVSMLowResolution << "\n";
-  os << indent << "PVSMGridSize: " << this->PVSMGridSize << "\n";
-  os << indent << "PVSMMaxTileResolution: " << this->PVSMMaxTileResolution << "\n";
-  os << indent << "PVSMQuality: " << this->PVSMQuality << "\n";
-  os << indent << "PVSMMetric: " << this->PVSMMetric << "\n";
-  os << indent << "PVSMTileCulling: " << this->PVSMTileCulling << "\n";
-  os << indent << "AverageSamples: " << this->AverageSamples << "\n";
-  os << indent << "AVSMNodes: " << this->AVSMNodes << ", AVSMSize: " << this->AVSMSize
-     << ", AVSMMemory: " << this->AVSMMemory << " MB, ColoredShadows: " << this->ColoredShadows
-     << ", VolumeSteps: " << this->VolumeSteps << ", VPCSSFilterQuads: " << this->VPCSSFilterQuads << "\n";
-  os << indent << "ASMMemoryBudget: " << this->ASMMemoryBudget << " MB\n";
-  os << indent << "ASMPageSize: " << this->ASMPageSize << "\n";
-  os << indent << "ASMCells: " << this->ASMCells << "\n";
-  os << indent << "ASMMaxDepth: " << this->ASMMaxDepth << "\n";
-  os << indent << "ASMTimeBudget: " << this->ASMTimeBudget << " ms\n";
-  os << indent << "ASMAnalysisStride: " << this->ASMAnalysisStride << "\n";
-  os << indent << "ASMQuality: " << this->ASMQuality << "\n";
-  os << indent << "ASMIDTest: " << this->ASMIDTest << "\n";
+  // the solver options (their keys, as the CLI names them)
+  for (int i = 0; i < GetNumberOfSolverOptions(); ++i)
+  {
+    os << indent << GetSolverOptionKey(i) << ": " << this->GetSolverOptionAsString(GetSolverOptionKey(i)) << "\n";
+  }
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "AdaptToFrameBudget: " << this->AdaptToFrameBudget << "\n";
+  os << indent << "NormalOffset: " << this->NormalOffset << "\n";
+  os << indent << "KeepRequestedMethod: " << (this->KeepRequestedMethod ? "on" : "off") << "\n";
   os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";

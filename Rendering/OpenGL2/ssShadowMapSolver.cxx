@@ -30,14 +30,29 @@ ShadowMapSolver::ShadowMapSolver(Method method)
 
 ShadowMapSolver::~ShadowMapSolver() = default;
 
+const OptionList& ShadowMapSolver::DeclaredOptions()
+{
+  // key, property (Python, ParaView), label, range, default, help
+  static const OptionList options = {
+    DoubleOption("pcf_radius", "PCFRadius", "PCF Radius", 0.5, 64.0, 1.5,
+      "pcf filter radius, texels"),
+    IntOption("blocker_samples", "BlockerSearchSamples", "Blocker Search Samples", 2, 32, 8,
+      "PCSS blocker-search samples per axis (also pvsm, vpcss)"),
+    IntOption("filter_max_quads", "FilterMaxQuads", "Filter Max Quads", 2, 128, 24,
+      "coverage filter: texel quads per axis at most (pcss, pvsm)"),
+  };
+  return options;
+}
+
 void ShadowMapSolver::Configure(vtkSoftShadowPass* pass)
 {
   this->Opt.ShadowMapSize = pass->GetShadowMapSize();
-  this->Opt.PCFRadius = pass->GetPCFRadius();
-  this->Opt.BlockerSearchSamples = pass->GetBlockerSearchSamples();
-  this->Opt.FilterMaxQuads = pass->GetFilterMaxQuads();
+  this->Opt.PCFRadius = pass->GetSolverOption("pcf_radius");
+  this->Opt.BlockerSearchSamples = static_cast<int>(pass->GetSolverOption("blocker_samples"));
+  this->Opt.FilterMaxQuads = static_cast<int>(pass->GetSolverOption("filter_max_quads"));
   this->Opt.ConstantBias = pass->GetConstantBias();
   this->Opt.SlopeBias = pass->GetSlopeBias();
+  this->Opt.NormalOffset = pass->GetNormalOffset();
 }
 
 vtkShaderProgram* ShadowMapSolver::ReadyProgram(SolverFrame& frame, int& shadowUnit)
@@ -53,9 +68,12 @@ vtkShaderProgram* ShadowMapSolver::ReadyProgram(SolverFrame& frame, int& shadowU
   const TextureArray& maps = frame.Maps->GetArray();
   g.Position->Activate();
   g.Normal->Activate();
+  g.GeometricNormal->Activate();
   shadowUnit = maps.Bind(frame.Window);
   prog->SetUniformi("gPosition", g.Position->GetTextureUnit());
   prog->SetUniformi("gNormal", g.Normal->GetTextureUnit());
+  prog->SetUniformi("gGeomNormal", g.GeometricNormal->GetTextureUnit());
+  prog->SetUniformf("normalOffset", static_cast<float>(this->Opt.NormalOffset));
   prog->SetUniformi("shadowMaps", shadowUnit);
   prog->SetUniformf("mapSize", static_cast<float>(maps.Size));
   prog->SetUniformi("numLevels", maps.Levels);
@@ -77,6 +95,7 @@ void ShadowMapSolver::DrawVisibility(vtkShaderProgram* program, const ShadowLigh
 void ShadowMapSolver::ReleaseProgram(SolverFrame& frame, int shadowUnit)
 {
   TextureArray::Unbind(frame.Window, shadowUnit);
+  frame.GBuffer->GeometricNormal->Deactivate();
   frame.GBuffer->Normal->Deactivate();
   frame.GBuffer->Position->Deactivate();
 }

@@ -30,12 +30,16 @@ public:
     int FilterMaxQuads = 0;
     double ConstantBias = 0.0;
     double SlopeBias = 0.0;
+    double NormalOffset = 0.0;
   };
 
   /// `method`: Method::Hard, Method::PCF or Method::PCSS.
   explicit ShadowMapSolver(Method method);
   ~ShadowMapSolver() override;
 
+  /// Its typed options (the registry line points here; the pass, the CLI and
+  /// ParaView's view enumerate them). Configure reads their values.
+  static const OptionList& DeclaredOptions();
   void Configure(vtkSoftShadowPass* pass) override;
   int GetShadowMapSize() const override { return this->Opt.ShadowMapSize; }
   void Compute(SolverFrame& frame, const ShadowLight& light) override;

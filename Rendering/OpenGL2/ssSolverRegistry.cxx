@@ -8,6 +8,8 @@
 #include "ssTriangleSolver.h"
 #include "ssVPCSSSolver.h"
 
+#include <algorithm>
+
 namespace ss
 {
 namespace
@@ -25,21 +27,23 @@ const std::vector<SolverEntry>& SolverRegistry()
   // report them. The planner rule says when method auto picks it
   // (ssEffectPlanner.cxx, MakeEffectPlan): one method per rule; OnRequest
   // methods run only when asked for by name. auto and none are modes of the
-  // planner, not solvers.
+  // planner, not solvers. The options column points at the solver's typed
+  // options (its static DeclaredOptions()); the pass, the CLI and the ParaView view
+  // enumerate them from here.
   static const std::vector<SolverEntry> table = {
-    // name       method               solver factory           planner rule              translucent casters
-    { "auto",      Method::Auto,        nullptr,                 PlannerRule::OnRequest,   false },
-    { "hard",      Method::Hard,        Make<ShadowMapSolver>,   PlannerRule::HardLights,  false },
-    { "pcf",       Method::PCF,         Make<ShadowMapSolver>,   PlannerRule::OnRequest,   false },
-    { "pcss",      Method::PCSS,        Make<ShadowMapSolver>,   PlannerRule::SoftLights,  false },
-    { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,   false },
-    { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,   false },
-    { "asm",       Method::ASM,         Make<ASMSolver>,         PlannerRule::AdaptiveHardLights, false },
-    { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
-    { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,   true },
-    { "vpcss",     Method::VPCSS,       Make<VPCSSSolver>,       PlannerRule::TranslucentCasters, true },
-    { "avsm",      Method::AVSM,        Make<AVSMSolver>,        PlannerRule::OnRequest,   true },
-    { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,   false },
+    // name       method               solver factory           planner rule                     translucent  options
+    { "auto",      Method::Auto,        nullptr,                 PlannerRule::OnRequest,          false, nullptr },
+    { "hard",      Method::Hard,        Make<ShadowMapSolver>,   PlannerRule::HardLights,         false, ShadowMapSolver::DeclaredOptions },
+    { "pcf",       Method::PCF,         Make<ShadowMapSolver>,   PlannerRule::OnRequest,          false, ShadowMapSolver::DeclaredOptions },
+    { "pcss",      Method::PCSS,        Make<ShadowMapSolver>,   PlannerRule::SoftLights,         false, ShadowMapSolver::DeclaredOptions },
+    { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,          false, PVSMSolver::DeclaredOptions },
+    { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,          false, HardAverageSolver::DeclaredOptions },
+    { "asm",       Method::ASM,         Make<ASMSolver>,         PlannerRule::AdaptiveHardLights, false, ASMSolver::DeclaredOptions },
+    { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,          true,  TriangleSolver::DeclaredOptions },
+    { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,          true,  TriangleSolver::DeclaredOptions },
+    { "vpcss",     Method::VPCSS,       Make<VPCSSSolver>,       PlannerRule::TranslucentCasters, true,  TranslucentSolver::DeclaredOptions },
+    { "avsm",      Method::AVSM,        Make<AVSMSolver>,        PlannerRule::OnRequest,          true,  TranslucentSolver::DeclaredOptions },
+    { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,          false, nullptr },
   };
   return table;
 }
@@ -76,6 +80,43 @@ std::vector<MethodInfo> PlannerMethods()
     methods.push_back({ e.Method, e.Name, e.Rule, e.TranslucentCasters });
   }
   return methods;
+}
+
+const std::vector<RegisteredOption>& RegisteredOptions()
+{
+  static const std::vector<RegisteredOption> options = [] {
+    std::vector<RegisteredOption> all;
+    std::vector<SolverOptionsFunction> seen;
+    for (const auto& e : SolverRegistry())
+    {
+      if (!e.Options)
+      {
+        continue;
+      }
+      const OptionList& list = e.Options();
+      const bool first = std::find(seen.begin(), seen.end(), e.Options) == seen.end();
+      for (const auto& d : list)
+      {
+        if (first)
+        {
+          all.push_back({ &d, e.Name });
+        }
+        else
+        {
+          for (auto& r : all)
+          {
+            if (r.Descriptor == &d)
+            {
+              r.Methods += std::string(", ") + e.Name;
+            }
+          }
+        }
+      }
+      seen.push_back(e.Options);
+    }
+    return all;
+  }();
+  return options;
 }
 
 int MaxMethodNumber()

@@ -93,6 +93,7 @@ std::string TranslucentReceiverCode(const std::string& fs)
        "  avsmLayersPerView = int(ssFragAVSM[k].w);\n"
        "  avsmLevels = int(ssFragView[k].w);\n"
        "  avsmFilterQuads = int(ssFragFilter[k].y);\n"
+       "  avsmRefine = 0;\n"
        "  vec3 p = ssVCToWC * vertexVCVSOutput.xyz + ssVCToRelOffset;\n";
   if (haveN)
   {

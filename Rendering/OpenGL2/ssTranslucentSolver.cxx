@@ -37,18 +37,40 @@ TranslucentSolver::TranslucentSolver(Method method, bool hard)
 
 TranslucentSolver::~TranslucentSolver() = default;
 
+const OptionList& TranslucentSolver::DeclaredOptions()
+{
+  // key, property (Python, ParaView), label, range, default, help
+  static const OptionList options = {
+    IntOption("avsm_nodes", "AVSMNodes", "AVSM Nodes", 4, 16, 8,
+      "avsm, vpcss: nodes per texel of the adaptive volumetric shadow map (rounded up to a multiple of 4)"),
+    IntOption("avsm_size", "AVSMSize", "AVSM Size", 64, 8192, 512, "avsm, vpcss: map texels a side"),
+    IntOption("avsm_memory", "AVSMMemory", "AVSM Memory", 16, 65536, 256,
+      "avsm, vpcss: MB for the maps, their buffers and the fragment lists"),
+    BoolOption("colored_shadows", "ColoredShadows", "Colored Shadows", false,
+      "avsm, vpcss: coloured transmittance of tinted casters"),
+    IntOption("volume_steps", "VolumeSteps", "Volume Steps", 8, 4096, 256,
+      "avsm, vpcss: march steps through a volume"),
+    IntOption("vpcss_filter_quads", "VPCSSFilterQuads", "VPCSS Filter Quads", 2, 64, 8,
+      "vpcss: largest filter, quads a side"),
+  };
+  return options;
+}
+
 void TranslucentSolver::Configure(vtkSoftShadowPass* pass)
 {
-  this->Opt.AVSM.Nodes = pass->GetAVSMNodes();
-  this->Opt.AVSM.MapSize = pass->GetAVSMSize();
-  this->Opt.AVSM.MemoryMB = pass->GetAVSMMemory();
-  this->Opt.AVSM.Colored = pass->GetColoredShadows();
-  this->Opt.AVSM.VolumeSteps = pass->GetVolumeSteps();
+  const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.AVSM.Culling = opt("caster_culling") != 0;
+  this->Opt.AVSM.Nodes = opt("avsm_nodes");
+  this->Opt.AVSM.MapSize = opt("avsm_size");
+  this->Opt.AVSM.MemoryMB = opt("avsm_memory");
+  this->Opt.AVSM.Colored = opt("colored_shadows") != 0;
+  this->Opt.AVSM.VolumeSteps = opt("volume_steps");
   this->Opt.AVSM.Pyramid = !this->Hard;
-  this->Opt.BlockerSearchSamples = pass->GetBlockerSearchSamples();
-  this->Opt.FilterQuads = pass->GetVPCSSFilterQuads();
+  this->Opt.BlockerSearchSamples = opt("blocker_samples");
+  this->Opt.FilterQuads = opt("vpcss_filter_quads");
   this->Opt.ConstantBias = pass->GetConstantBias();
   this->Opt.SlopeBias = pass->GetSlopeBias();
+  this->Opt.NormalOffset = pass->GetNormalOffset();
 }
 
 void TranslucentSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights)
@@ -63,6 +85,7 @@ void TranslucentSolver::BeginFrame(SolverFrame& frame, const std::vector<const S
   if (!this->Active)
   {
     this->LastStats = AVSMBuildStats{};
+    this->LastClustersJSON.clear();
     return;
   }
   const auto t0 = Clock::now();
@@ -169,9 +192,12 @@ void TranslucentSolver::Compute(SolverFrame& frame, const ShadowLight& light)
   GBuffer& g = *frame.GBuffer;
   g.Position->Activate();
   g.Normal->Activate();
+  g.GeometricNormal->Activate();
   const int unit = this->Maps.GetArray().Bind(win);
   prog->SetUniformi("gPosition", g.Position->GetTextureUnit());
   prog->SetUniformi("gNormal", g.Normal->GetTextureUnit());
+  prog->SetUniformi("gGeomNormal", g.GeometricNormal->GetTextureUnit());
+  prog->SetUniformf("normalOffset", static_cast<float>(this->Opt.NormalOffset));
   prog->SetUniformi("avsmTex", unit);
   prog->SetUniformi("shadowMaps", unit); // declared by the shared code; a 2-D array on its unit
   prog->SetUniformf("mapSize", static_cast<float>(this->Maps.GetSize()));
@@ -201,6 +227,7 @@ void TranslucentSolver::Compute(SolverFrame& frame, const ShadowLight& light)
   this->Quad->Render();
   glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, 0, 0, 0);
   TextureArray::Unbind(win, unit);
+  g.GeometricNormal->Deactivate();
   g.Normal->Deactivate();
   g.Position->Deactivate();
   TextureArray::Detach();
@@ -218,6 +245,7 @@ void TranslucentSolver::EndFrame(SolverFrame& frame)
     return;
   }
   this->LastStats = this->Maps.GetStats();
+  this->LastClustersJSON = frame.Casters->ClusterStatsJSON(this->LastStats.clusters);
   frame.Timings->Set(this->Hard ? "avsm_build" : "vpcss_build", this->MsBuild);
   frame.Timings->Set(this->Hard ? "avsm_lookup" : "vpcss_filter", this->MsFilter);
 }
@@ -235,6 +263,7 @@ std::string TranslucentSolver::GetStatsJSON() const
   }
   o << ", \"ms_build\": " << this->MsBuild << ", \"ms_filter\": " << this->MsFilter
     << ", \"memory_bytes\": " << this->GetMemoryBytes() << ", \"avsm\": " << this->LastStats.ToJSON()
+    << ", \"view_clusters\": " << (this->LastClustersJSON.empty() ? "null" : this->LastClustersJSON)
     << ", \"error\": \"" << JSONEscape(this->LastError) << "\"}";
   return o.str();
 }
@@ -322,7 +351,7 @@ int TranslucentSolver::SetFragmentUniforms(vtkShaderProgram* p, const ShadowLigh
   // coarser VPCSS filter (at most kFragmentQuads quads a side, from coarser
   // pyramid levels, and kFragmentSearch blocker samples) bounds that cost;
   // the G-buffer pixels keep the full filter (Documentation/vpcss.md).
-  constexpr int kFragmentQuads = 2, kFragmentSearch = 4;
+  constexpr int kFragmentQuads = 1, kFragmentSearch = 1;
   const float filter[4] = { this->Hard ? 1.0f : 0.0f,
     static_cast<float>(std::min(this->Opt.FilterQuads, kFragmentQuads)),
     static_cast<float>(std::min(this->Opt.BlockerSearchSamples, kFragmentSearch)),

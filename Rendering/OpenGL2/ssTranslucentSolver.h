@@ -37,12 +37,16 @@ public:
     int FilterQuads = 0;
     double ConstantBias = 0.0;
     double SlopeBias = 0.0;
+    double NormalOffset = 0.0;
   };
 
   /// `hard`: one texel per pixel (hard AVSM); otherwise VPCSS's filter.
   TranslucentSolver(Method method, bool hard);
   ~TranslucentSolver() override;
 
+  /// Its typed options (the registry line points here; the pass, the CLI and
+  /// ParaView's view enumerate them). Configure reads their values.
+  static const OptionList& DeclaredOptions();
   void Configure(vtkSoftShadowPass* pass) override;
   void BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights) override;
   bool UsesShadowMaps() const override { return false; }
@@ -80,6 +84,7 @@ private:
   int LightCount = 0;
   double MsBuild = 0.0, MsFilter = 0.0;
   AVSMBuildStats LastStats;
+  std::string LastClustersJSON; ///< CasterSet::ClusterStatsJSON of the last frame's views
   std::string LastError;
   std::unique_ptr<vtkOpenGLQuadHelper> Quad;
   int ShadingUnit = -1;

@@ -27,16 +27,37 @@ TriangleSolver::TriangleSolver(Method method)
 
 TriangleSolver::~TriangleSolver() = default;
 
+const OptionList& TriangleSolver::DeclaredOptions()
+{
+  // key, property (Python, ParaView), label, range or names, default, help
+  static const OptionList options = {
+    IntOption("reference_samples", "ReferenceSamples", "Reference Samples", 1, 64, 32,
+      "reference: k x k light samples"),
+    EnumOption("reference_pattern", "ReferencePattern", "Reference Pattern", { "regular", "stratified" }, 0,
+      "reference: light sample pattern"),
+    IntOption("gears_samples", "GearsSamples", "Gears Samples", 1, 32, 16, "gears: k x k light samples"),
+    IntOption("gears_grid", "GearsGrid", "Gears Grid", 8, 1024, 128, "gears: grid cells a side"),
+    EnumOption("gears_raster", "GearsRaster", "Gears Raster", { "edge", "lut" }, 0,
+      "gears: exact edge planes or the lookup table"),
+    EnumOption("gears_backend", "GearsBackend", "Gears Backend", { "cpu", "gl" }, 0,
+      "gears: CPU (TBB) or GL 4.3 compute (without GL 4.3: the CPU, with one warning)"),
+    BoolOption("gears_necessary", "GearsCountNecessary", "Gears Count Necessary", false,
+      "gears: count Table 9's necessary assignments (slower)"),
+  };
+  return options;
+}
+
 void TriangleSolver::Configure(vtkSoftShadowPass* pass)
 {
-  this->Opt.Reference.k = pass->GetReferenceSamples();
+  const auto opt = [pass](const char* key) { return static_cast<int>(pass->GetSolverOption(key)); };
+  this->Opt.Reference.k = opt("reference_samples");
   this->Opt.Reference.pattern =
-    pass->GetReferencePattern() == 1 ? LightSamplePattern::Stratified : LightSamplePattern::Regular;
-  this->Opt.Gears.k = pass->GetGearsSamples();
-  this->Opt.Gears.grid = pass->GetGearsGrid();
-  this->Opt.Gears.raster = pass->GetGearsRaster() == 1 ? GearsRaster::LUT : GearsRaster::EdgePlane;
-  this->Opt.Gears.countNecessary = pass->GetGearsCountNecessary();
-  this->Opt.GearsOnGL = pass->GetGearsBackend() == vtkSoftShadowPass::GEARS_BACKEND_GL;
+    opt("reference_pattern") == 1 ? LightSamplePattern::Stratified : LightSamplePattern::Regular;
+  this->Opt.Gears.k = opt("gears_samples");
+  this->Opt.Gears.grid = opt("gears_grid");
+  this->Opt.Gears.raster = opt("gears_raster") == 1 ? GearsRaster::LUT : GearsRaster::EdgePlane;
+  this->Opt.Gears.countNecessary = opt("gears_necessary") != 0;
+  this->Opt.GearsOnGL = opt("gears_backend") == vtkSoftShadowPass::GEARS_BACKEND_GL;
 }
 
 void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLight*>& lights)
@@ -75,6 +96,15 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
         this->Gears.reset(new GearsSolver);
       }
       this->Gears->SetTriangles(casters.WorldVertices(), casters.Opacity);
+      if (!casters.Piece.empty())
+      {
+        // prepared casters (vtkShadowCasterPreparation upstream): their
+        // closed pieces, for the closed-mesh rule and the inner occluders
+        GearsPieces pieces;
+        pieces.piece = casters.Piece;
+        pieces.orientation = casters.PieceOrientation;
+        this->Gears->SetPieces(pieces);
+      }
       this->Version = casters.Version;
     }
     this->HaveTriangles = true;
@@ -177,6 +207,21 @@ void TriangleSolver::Accumulate(const GearsStats& st)
     st.assignmentsNecessary < 0 ? -1.0 : std::max(a.assignmentsNecessary, 0.0) + st.assignmentsNecessary;
   a.fullGridTriangles += st.fullGridTriangles;
   a.lutFallbacks += st.lutFallbacks;
+  // the culling's counts (gears.md, "Fewer assignments"): the closed pieces
+  // of prepared casters show in droppedTriangles and occluderBoxes
+  a.msPrepare += st.msPrepare;
+  a.clusters = st.clusters;
+  a.clusterPairs += st.clusterPairs;
+  a.droppedTriangles += st.droppedTriangles;
+  a.clustersCulled += st.clustersCulled;
+  a.trianglesCulled += st.trianglesCulled;
+  a.groups += st.groups;
+  a.assignmentsListed += st.assignmentsListed;
+  a.assignmentsRasterised += st.assignmentsRasterised;
+  a.coveredSkips += st.coveredSkips;
+  a.occluderBoxes = st.occluderBoxes;
+  a.simd = st.simd;
+  a.cellsInUmbra += st.cellsInUmbra;
   ++this->GearsLights;
   // averages over all non-empty cells of the frame's GEARS lights
   a.trianglesPerCellAvg = (a.trianglesPerCellAvg * (a.nonEmptyCells - st.nonEmptyCells) +

@@ -37,6 +37,9 @@ public:
   explicit TriangleSolver(Method method);
   ~TriangleSolver() override;
 
+  /// Its typed options (the registry line points here; the pass, the CLI and
+  /// ParaView's view enumerate them). Configure reads their values.
+  static const OptionList& DeclaredOptions();
   void Configure(vtkSoftShadowPass* pass) override;
   void BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights) override;
   bool UsesShadowMaps() const override { return false; }

@@ -23,6 +23,7 @@
 #define ssVisibilitySolver_h
 
 #include "ssEffectPlanner.h"
+#include "ssSolverOptions.h"
 
 #include <functional>
 #include <string>

@@ -75,6 +75,7 @@ vtkSoftShadowPass::vtkSoftShadowPass()
       this->Internals->Solvers.push_back(entry.Factory(entry.Method));
     }
   }
+  this->ResetSolverOptions();
 }
 
 vtkSoftShadowPass::~vtkSoftShadowPass()
@@ -302,6 +303,7 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudg
   auto& in = *this->Internals;
   ss::PlannerInput pin;
   pin.requested = static_cast<ss::Method>(this->Method);
+  pin.keepRequested = this->KeepRequestedMethod;
   pin.casterTriangles = in.Casters.NumberOfTriangles();
   pin.receiverProps = in.Casters.ReceiverProps;
   pin.translucentCasters = in.Casters.Translucent;
@@ -610,7 +612,7 @@ bool vtkSoftShadowPass::SetShaderParameters(
   const bool polyMapper = vtkOpenGLPolyDataMapper::SafeDownCast(mapper) != nullptr;
   if (in.CurrentStage == Stage::GBuffer)
   {
-    in.FBO->ActivateDrawBuffers(polyMapper ? 2 : 1);
+    in.FBO->ActivateDrawBuffers(polyMapper ? ss::GBuffer::NumberOfTargets : 1);
     if (polyMapper)
     {
       in.GBuf.SetShaderParameters(program, prop, in.Frame.Width, in.Frame.Height);

@@ -108,184 +108,151 @@ public:
 
   ///@{
   /**
-   * Reference solver: k x k light samples (1..64, default 32) and their
-   * pattern (0: regular grid centres, as GEARS uses; 1: stratified jitter
-   * with a fixed seed).
+   * Options of the solvers (issue 19), declared once in each solver's own
+   * files (its `DeclaredOptions()` list, pointed at by its registry line): key, type
+   * (int, double, bool or enum), range or value names, default, label and
+   * help. The CLI's `--option key=value` and the ParaView view's properties
+   * are made from the same descriptors. Keys are the CLI's: "pvsm_quality",
+   * "gears_backend", ... (`softshadows --help`, GetSolverOptionKey).
+   *
+   * SetSolverOption refuses a value outside the option's range (or a name
+   * that is not one of its enum names, or a non-integer for an int/bool/enum
+   * option) with an error naming the key, keeps the previous value and
+   * returns false; an unknown key is an error too. Enum options take their
+   * index (int) or their name (string).
    */
-  vtkSetClampMacro(ReferenceSamples, int, 1, 64);
-  vtkGetMacro(ReferenceSamples, int);
-  vtkSetClampMacro(ReferencePattern, int, 0, 1);
-  vtkGetMacro(ReferencePattern, int);
+  bool SetSolverOption(const char* key, double value);
+  bool SetSolverOption(const char* key, int value);
+  bool SetSolverOption(const char* key, const char* value);
+  /** The value (enum: its index; bool: 0 or 1); NaN and an error for an unknown key. */
+  double GetSolverOption(const char* key);
+  /** The value as text: the name of an enum option, the number otherwise ("" for an unknown key). */
+  std::string GetSolverOptionAsString(const char* key);
+  /** Back to every solver option's default. */
+  void ResetSolverOptions();
+  /** Enumeration, in the registry's order; out-of-range indices give null / NaN / 0. */
+  static int GetNumberOfSolverOptions();
+  static int FindSolverOption(const char* key); ///< its index, or -1
+  static const char* GetSolverOptionKey(int i);
+  static const char* GetSolverOptionPropertyName(int i); ///< "PVSMQuality": Set/Get<name> forwarders, ParaView
+  static const char* GetSolverOptionLabel(int i);
+  static const char* GetSolverOptionHelp(int i);
+  static const char* GetSolverOptionType(int i); ///< "int", "double", "bool" or "enum"
+  static double GetSolverOptionMinimum(int i);
+  static double GetSolverOptionMaximum(int i);
+  static double GetSolverOptionDefault(int i);
+  static int GetSolverOptionNumberOfNames(int i); ///< enum: its names (0 for other types)
+  static const char* GetSolverOptionName(int i, int value);
+  /** What its value may be, as usage lines say it: "1..32", "0.05..64", "0|1", "edge|lut". */
+  static std::string GetSolverOptionValues(int i);
+  /** Its default as text: the number, or the enum's name. */
+  static std::string GetSolverOptionDefaultAsString(int i);
+  /** The methods whose registry line declares it, comma-separated ("reference, gears"). */
+  static const char* GetSolverOptionMethods(int i);
   ///@}
 
   ///@{
   /**
-   * GEARS solver (CPU, all cores through TBB): k x k regular light samples
-   * (1..32, default 16; the same samples as the reference with
-   * ReferencePattern 0), grid resolution (default 128) and rasterisation
-   * (0: exact edge planes, 1: lookup table).
+   * Deprecated forwarders of the solver options (kept for Python scripts,
+   * ParaView state files and C++ callers; use SetSolverOption): each sets the
+   * option of the same property name (GetSolverOptionPropertyName), clamped
+   * to its range as before, e.g. SetPVSMQuality(q) is
+   * SetSolverOption("pvsm_quality", q). What each means: the solver's
+   * DeclaredOptions() list, `softshadows --help`, Documentation/methods.md.
    */
-  vtkSetClampMacro(GearsSamples, int, 1, 32);
-  vtkGetMacro(GearsSamples, int);
-  vtkSetClampMacro(GearsGrid, int, 8, 1024);
-  vtkGetMacro(GearsGrid, int);
-  vtkSetClampMacro(GearsRaster, int, 0, 1);
-  vtkGetMacro(GearsRaster, int);
-  /** Count the paper's "necessary" assignments (Table 9) in the stats; slower (no early exit). */
-  vtkSetMacro(GearsCountNecessary, bool);
-  vtkGetMacro(GearsCountNecessary, bool);
-  /**
-   * Where GEARS runs: GEARS_BACKEND_CPU (Rendering/Core, TBB; the default) or
-   * GEARS_BACKEND_GL (GL 4.3 compute shaders in this window's context; the
-   * same bitmasks). The GL backend runs edge-plane rasterisation only; with
-   * GearsRaster 1 (LUT), on a context older than 4.3, or beyond the context's
-   * buffer limits the frame uses the CPU and the stats say why
-   * (gears.backend, gears.backend_note), with one warning.
-   */
-  vtkSetClampMacro(GearsBackend, int, 0, 1);
-  vtkGetMacro(GearsBackend, int);
+  // reference and gears (ssTriangleSolver)
+  virtual void SetReferenceSamples(int v);
+  virtual int GetReferenceSamples();
+  virtual void SetReferencePattern(int v);
+  virtual int GetReferencePattern();
+  virtual void SetGearsSamples(int v);
+  virtual int GetGearsSamples();
+  virtual void SetGearsGrid(int v);
+  virtual int GetGearsGrid();
+  virtual void SetGearsRaster(int v);
+  virtual int GetGearsRaster();
+  virtual void SetGearsCountNecessary(bool v);
+  virtual bool GetGearsCountNecessary();
+  virtual void SetGearsBackend(int v);
+  virtual int GetGearsBackend();
+  // pvsm (ssPVSMSolver)
+  virtual void SetPVSMLowResolution(int v);
+  virtual int GetPVSMLowResolution();
+  virtual void SetPVSMGridSize(int v);
+  virtual int GetPVSMGridSize();
+  virtual void SetPVSMMaxTileResolution(int v);
+  virtual int GetPVSMMaxTileResolution();
+  virtual void SetPVSMQuality(double v);
+  virtual double GetPVSMQuality();
+  virtual void SetPVSMMetric(int v);
+  virtual int GetPVSMMetric();
+  virtual void SetPVSMTileCulling(bool v);
+  virtual bool GetPVSMTileCulling();
+  virtual void PVSMTileCullingOn();
+  virtual void PVSMTileCullingOff();
+  // asm, avsm, vpcss: caster clusters culled per cell or view (ssASMSolver)
+  virtual void SetCasterCulling(bool v);
+  virtual bool GetCasterCulling();
+  virtual void CasterCullingOn();
+  virtual void CasterCullingOff();
+  // hardavg (ssHardAverageSolver)
+  virtual void SetAverageSamples(int v);
+  virtual int GetAverageSamples();
+  // vpcss and avsm (ssTranslucentSolver)
+  virtual void SetAVSMNodes(int v);
+  virtual int GetAVSMNodes();
+  virtual void SetAVSMSize(int v);
+  virtual int GetAVSMSize();
+  virtual void SetAVSMMemory(int v);
+  virtual int GetAVSMMemory();
+  virtual void SetColoredShadows(bool v);
+  virtual bool GetColoredShadows();
+  virtual void ColoredShadowsOn();
+  virtual void ColoredShadowsOff();
+  virtual void SetVolumeSteps(int v);
+  virtual int GetVolumeSteps();
+  virtual void SetVPCSSFilterQuads(int v);
+  virtual int GetVPCSSFilterQuads();
+  // asm (ssASMSolver)
+  virtual void SetASMMemoryBudget(double v);
+  virtual double GetASMMemoryBudget();
+  virtual void SetASMPageSize(int v);
+  virtual int GetASMPageSize();
+  virtual void SetASMCells(int v);
+  virtual int GetASMCells();
+  virtual void SetASMMaxDepth(int v);
+  virtual int GetASMMaxDepth();
+  virtual void SetASMTimeBudget(double v);
+  virtual double GetASMTimeBudget();
+  virtual void SetASMAnalysisStride(int v);
+  virtual int GetASMAnalysisStride();
+  virtual void SetASMQuality(double v);
+  virtual double GetASMQuality();
+  virtual void SetASMIDTest(bool v);
+  virtual bool GetASMIDTest();
+  virtual void ASMIDTestOn();
+  virtual void ASMIDTestOff();
+  // hard, pcf and pcss (ssShadowMapSolver)
+  virtual void SetPCFRadius(double v);
+  virtual double GetPCFRadius();
+  virtual void SetBlockerSearchSamples(int v);
+  virtual int GetBlockerSearchSamples();
+  virtual void SetFilterMaxQuads(int v);
+  virtual int GetFilterMaxQuads();
+  ///@}
+
   /** The backend GEARS ran on in the last frame ("cpu" or "gl"; "cpu" before any GEARS frame). */
   const char* GetLastGearsBackend();
-  ///@}
-
-  ///@{
-  /**
-   * PVSM (Shen et al. 2011). PVSMLowResolution: the conservative low-resolution
-   * map for the blocker search (default 1024; when other lights use shadow maps
-   * in the same frame, ShadowMapSize is used for all). PVSMGridSize: the shadow
-   * map tile grid (64, a power of two). PVSMMaxTileResolution: the largest tile
-   * (4096, capped by the GL limit). PVSMQuality: scale on the perceptual metric
-   * rho (2 asks twice the texels per kernel). PVSMMetric: 0 automatic (static
-   * when only the camera moved since the last frame), 1 dynamic, 2 static.
-   */
-  vtkSetClampMacro(PVSMLowResolution, int, 64, 8192);
-  vtkGetMacro(PVSMLowResolution, int);
-  vtkSetClampMacro(PVSMGridSize, int, 4, 256);
-  vtkGetMacro(PVSMGridSize, int);
-  vtkSetClampMacro(PVSMMaxTileResolution, int, 64, 16384);
-  vtkGetMacro(PVSMMaxTileResolution, int);
-  vtkSetClampMacro(PVSMQuality, double, 0.05, 64.0);
-  vtkGetMacro(PVSMQuality, double);
-  vtkSetClampMacro(PVSMMetric, int, 0, 2);
-  vtkGetMacro(PVSMMetric, int);
-  /**
-   * PVSMTileCulling (default on): each tile draws only the caster clusters
-   * (at most 1024 triangles, ordered along a Morton curve) whose light-space
-   * bounds reach it, instead of the whole caster set. The maps are the same
-   * either way; off is for measuring what it saves (stats:
-   * pvsm.tile_triangles_drawn).
-   */
-  vtkSetMacro(PVSMTileCulling, bool);
-  vtkGetMacro(PVSMTileCulling, bool);
-  vtkBooleanMacro(PVSMTileCulling, bool);
-  ///@}
-
-  ///@{
-  /**
-   * HARDAVG: light samples per side (default 8: the 64 hard shadow maps PVSM
-   * §6 compares against). Each sample of the regular grid gets its own hard
-   * map of ShadowMapSize^2 and V is the mean of the hard tests.
-   */
-  vtkSetClampMacro(AverageSamples, int, 1, 32);
-  vtkGetMacro(AverageSamples, int);
-  ///@}
-
-  ///@{
-  /**
-   * VPCSS and AVSM (translucent casters and volumes). AVSMNodes: nodes of
-   * each texel's transmittance function (4..16, rounded up to a multiple of
-   * 4; default 8). AVSMSize: texels a side of the adaptive volumetric shadow
-   * map (a power of two, default 512). AVSMMemory: megabytes for the maps,
-   * their per-texel buffers and the fragment lists (default 256); the map is
-   * made smaller to fit, and the fragment lists are resolved in bands of
-   * rows that fit (stats: vpcss.avsm). ColoredShadows: RGB transmittance
-   * from each caster's colour and opacity (default off: one channel).
-   * VolumeSteps: the most march steps of a texel's ray through the volumes
-   * (default 256). VPCSSFilterQuads: texel quads per axis of VPCSS's filter
-   * at most (coarser pyramid levels for larger kernels; default 8).
-   */
-  vtkSetClampMacro(AVSMNodes, int, 4, 16);
-  vtkGetMacro(AVSMNodes, int);
-  vtkSetClampMacro(AVSMSize, int, 64, 8192);
-  vtkGetMacro(AVSMSize, int);
-  vtkSetClampMacro(AVSMMemory, int, 16, 65536);
-  vtkGetMacro(AVSMMemory, int);
-  vtkSetMacro(ColoredShadows, bool);
-  vtkGetMacro(ColoredShadows, bool);
-  vtkBooleanMacro(ColoredShadows, bool);
-  vtkSetClampMacro(VolumeSteps, int, 8, 4096);
-  vtkGetMacro(VolumeSteps, int);
-  vtkSetClampMacro(VPCSSFilterQuads, int, 2, 64);
-  vtkGetMacro(VPCSSFilterQuads, int);
-  ///@}
-
-  ///@{
-  /**
-   * ASM (Fernando et al. 2001, Documentation/asm.md): hard shadows of point,
-   * spot and directional lights from a tree of shadow-map pieces refined
-   * where the view needs them. Progressive: every frame refines within
-   * ASMTimeBudget (ms, default 20) until nothing is left to refine, so a
-   * still view re-rendered improves (the planner does not reuse it while the
-   * stats say "refining"). ASMMemoryBudget: megabytes of node pages (default
-   * 16; 8 bytes a texel: depth and triangle id), never exceeded; nodes unused
-   * in the last frame go least recently used first, others only for a larger
-   * benefit. ASMPageSize: texels a side of a node (rounded up to a power of
-   * two, default 128). ASMCells: cells a side of a node (2, 4 or 8, default
-   * 4). ASMMaxDepth: levels below the roots (default 10). ASMAnalysisStride:
-   * the cost-benefit analysis looks at one pixel in this many (default 8, as
-   * §4.3). ASMQuality: texels per pixel side asked for (default 1).
-   * ASMIDTest: the ID + depth test of §4.2 (default on; off: depth only).
-   */
-  vtkSetClampMacro(ASMMemoryBudget, double, 0.0625, 4096.0);
-  vtkGetMacro(ASMMemoryBudget, double);
-  vtkSetClampMacro(ASMPageSize, int, 16, 4096);
-  vtkGetMacro(ASMPageSize, int);
-  vtkSetClampMacro(ASMCells, int, 2, 8);
-  vtkGetMacro(ASMCells, int);
-  vtkSetClampMacro(ASMMaxDepth, int, 0, 20);
-  vtkGetMacro(ASMMaxDepth, int);
-  vtkSetClampMacro(ASMTimeBudget, double, 0.0, 1.0e5);
-  vtkGetMacro(ASMTimeBudget, double);
-  vtkSetClampMacro(ASMAnalysisStride, int, 1, 64);
-  vtkGetMacro(ASMAnalysisStride, int);
-  vtkSetClampMacro(ASMQuality, double, 0.125, 16.0);
-  vtkGetMacro(ASMQuality, double);
-  vtkSetMacro(ASMIDTest, bool);
-  vtkGetMacro(ASMIDTest, bool);
-  vtkBooleanMacro(ASMIDTest, bool);
   /**
    * Whether the last frame's ASM lights are still being refined (the view
    * is not final yet; render again to refine further). False for other methods.
    */
   bool GetASMRefining();
-  ///@}
 
   ///@{
   /** Shadow map resolution (texels per side, rounded up to a power of two), default 2048. */
   vtkSetClampMacro(ShadowMapSize, int, 64, 16384);
   vtkGetMacro(ShadowMapSize, int);
-  ///@}
-
-  ///@{
-  /** Filter radius of the pcf method, in texels (default 1.5). */
-  vtkSetClampMacro(PCFRadius, double, 0.5, 64.0);
-  vtkGetMacro(PCFRadius, double);
-  ///@}
-
-  ///@{
-  /** Blocker-search samples per axis of PCSS (default 8). */
-  vtkSetClampMacro(BlockerSearchSamples, int, 2, 32);
-  vtkGetMacro(BlockerSearchSamples, int);
-  ///@}
-
-  ///@{
-  /**
-   * Largest number of texel quads per axis the coverage filter visits
-   * (default 24). Larger kernels use coarser quads (same integral, less
-   * detail), so the cost per pixel is bounded.
-   */
-  vtkSetClampMacro(FilterMaxQuads, int, 2, 128);
-  vtkGetMacro(FilterMaxQuads, int);
   ///@}
 
   ///@{
@@ -296,6 +263,21 @@ public:
   vtkGetMacro(ConstantBias, double);
   vtkSetMacro(SlopeBias, double);
   vtkGetMacro(SlopeBias, double);
+  ///@}
+
+  ///@{
+  /**
+   * Normal-offset lookup of the shadow-map methods, in shadow-map texels
+   * (0..16, default 0: off): each receiver is looked up moved along its
+   * triangle's normal by this many of its view's texels at the receiver,
+   * times the sine of the angle between that normal and the light
+   * (Filament's normal bias). Measured on the real-mesh set it does not pay
+   * once the receiver plane is the triangle's own (Documentation/
+   * stability.md, "Acne on smooth-shaded meshes"); it remains for coarse
+   * maps and for users who want it.
+   */
+  vtkSetClampMacro(NormalOffset, double, 0.0, 16.0);
+  vtkGetMacro(NormalOffset, double);
   ///@}
 
   ///@{
@@ -336,6 +318,20 @@ public:
   vtkSetMacro(AdaptToFrameBudget, bool);
   vtkGetMacro(AdaptToFrameBudget, bool);
   vtkBooleanMacro(AdaptToFrameBudget, bool);
+  ///@}
+
+  ///@{
+  /**
+   * KeepRequestedMethod: every light gets the requested method as asked,
+   * also where the planner would give it an equivalent, cheaper one (off by
+   * default: a requested vpcss gives pcss to a light with no translucent
+   * caster in its view, where VPCSS's filter is PCSS's). For comparing a
+   * solver with that equivalent and for testing it (plan reason: "requested
+   * vpcss"). Frame-wide (a planner input), not a solver option.
+   */
+  vtkSetMacro(KeepRequestedMethod, bool);
+  vtkGetMacro(KeepRequestedMethod, bool);
+  vtkBooleanMacro(KeepRequestedMethod, bool);
   vtkSetClampMacro(InteractiveUpdateRate, double, 1e-6, 1e6);
   vtkGetMacro(InteractiveUpdateRate, double);
   ///@}
@@ -443,43 +439,14 @@ protected:
   int Method = AUTO;
   vtkRenderPass* DelegatePass = nullptr;
   int ShadowMapSize = 2048;
-  int ReferenceSamples = 32;
-  int ReferencePattern = 0;
-  int GearsSamples = 16;
-  int GearsGrid = 128;
-  int GearsRaster = 0;
-  bool GearsCountNecessary = false;
-  int GearsBackend = 0;
-  int PVSMLowResolution = 1024;
-  int PVSMGridSize = 64;
-  int PVSMMaxTileResolution = 4096;
-  double PVSMQuality = 1.0;
-  bool PVSMTileCulling = true;
-  int PVSMMetric = 0;
-  int AverageSamples = 8;
-  int AVSMNodes = 8;
-  int AVSMSize = 512;
-  int AVSMMemory = 256;
-  bool ColoredShadows = false;
-  int VolumeSteps = 256;
-  int VPCSSFilterQuads = 8;
-  double ASMMemoryBudget = 16.0;
-  int ASMPageSize = 128;
-  int ASMCells = 4;
-  int ASMMaxDepth = 10;
-  double ASMTimeBudget = 20.0;
-  int ASMAnalysisStride = 8;
-  double ASMQuality = 1.0;
-  bool ASMIDTest = true;
-  double PCFRadius = 1.5;
-  int BlockerSearchSamples = 8;
-  int FilterMaxQuads = 24;
   double ConstantBias = 1.0;
   double SlopeBias = 2.0;
+  double NormalOffset = 0.0;
   double PositionsOrigin[3] = { 0, 0, 0 };
   bool AutomaticPositionsOrigin = true;
   bool MeasureTimings = false;
   bool AdaptToFrameBudget = true;
+  bool KeepRequestedMethod = false;
   double InteractiveUpdateRate = 0.1;
 
 private:

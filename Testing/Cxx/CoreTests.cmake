@@ -19,7 +19,8 @@ add_executable(TestSoftShadowsCore
   TestSSVPCSS.cxx
   TestSSVolumeGrid.cxx
   TestSSSolveProgress.cxx
-  TestSSASM.cxx)
+  TestSSASM.cxx
+  TestSSSolverOptions.cxx)
 find_package(TBB REQUIRED)
 target_link_libraries(TestSoftShadowsCore PRIVATE SoftShadows::RenderingCore TBB::tbb GTest::gtest_main)
 target_compile_options(TestSoftShadowsCore PRIVATE ${SOFTSHADOWS_WARNINGS} -Wpedantic)

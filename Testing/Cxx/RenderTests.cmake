@@ -33,3 +33,12 @@ ss_render_test(TestBadLights stability)
 ss_render_test(TestTiledRendering render)
 ss_render_test(TestShadowViews render)
 target_link_libraries(TestShadowViews PRIVATE VTK::IOImage)
+ss_render_test(TestPreparedCasters render)
+target_link_libraries(TestPreparedCasters PRIVATE SoftShadows::Filters VTK::FiltersCore VTK::CommonTransforms)
+# The real-mesh image set (issue 17): smooth-shaded meshes, every method
+# against GEARS; label realmesh (Documentation/stability.md).
+ss_render_test(TestRealMeshes realmesh)
+target_link_libraries(TestRealMeshes PRIVATE SoftShadowsScene SoftShadows::IO
+  VTK::FiltersCore VTK::FiltersGeneral VTK::ImagingCore)
+target_compile_definitions(TestRealMeshes PRIVATE
+  "SS_MESH_DIR=\"${PROJECT_SOURCE_DIR}/Data/Meshes/generated\"")

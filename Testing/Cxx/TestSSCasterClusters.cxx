@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <stdexcept>
 
 using namespace ss;
 
@@ -239,4 +240,122 @@ TEST(CasterClusters, BehindTheLightAndBadInput)
   const TriangleClusters one = ClusterTriangles({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 5, 5, 5 } }, 0);
   EXPECT_EQ(one.Clusters(), 1u);
   EXPECT_EQ(one.order.size(), 1u);
+}
+
+// Clusters with shapes (the render pass's prepared casters: the table's box
+// axes carried through an actor's matrix, FitClusterBounds on the drawn
+// coordinates): every bound holds its triangles under any affine matrix
+// (shears and mirrors included), the visible set still misses no triangle
+// that can reach a window, and it is never larger than with the AABBs alone.
+TEST(CasterClusters, ShapedClustersMissNothingUnderAnyMatrix)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
+  for (int scene = 0; scene < 6; ++scene)
+  {
+    // an affine matrix: a shear/scale around the identity, a mirror in odd scenes
+    glm::dmat3 M(1.0);
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        M[i][j] += 0.4 * s(rng);
+      }
+    }
+    if (scene % 2)
+    {
+      M[0] = -M[0];
+    }
+    auto v = Soup(6000, 3.5, 6.5, 20 + scene);
+    for (auto& p : v)
+    {
+      p = glm::dvec3(0, 0, 5) + M * (p - glm::dvec3(0, 0, 5));
+    }
+    TriangleClusters c = ClusterTriangles(v, 32);
+    // the table's axes: random (as if from the preparation, then through M)
+    std::vector<std::pair<std::size_t, std::size_t>> ranges;
+    std::vector<std::array<glm::dvec3, 3>> axes;
+    std::vector<glm::dvec3> ordered;
+    for (std::size_t i : c.order)
+    {
+      ordered.insert(ordered.end(), { v[3 * i], v[3 * i + 1], v[3 * i + 2] });
+    }
+    for (std::size_t k = 0; k < c.Clusters(); ++k)
+    {
+      ranges.emplace_back(c.first[k], c.first[k + 1] - c.first[k]);
+      axes.push_back({ M * glm::dvec3(s(rng), s(rng), s(rng)), M * glm::dvec3(s(rng), s(rng), s(rng)),
+        M * glm::dvec3(s(rng), s(rng), s(rng)) });
+    }
+    c.shapes = FitClusterBounds(ordered, ranges, axes);
+    ASSERT_EQ(c.shapes.size(), c.Clusters());
+    for (std::size_t k = 0; k < c.Clusters(); ++k)
+    {
+      const ClusterBounds& b = c.shapes[k];
+      for (std::size_t i = c.first[k]; i < c.first[k + 1]; ++i)
+      {
+        const glm::dvec3* tri = &v[3 * c.order[i]];
+        const glm::dvec3 n = glm::normalize(glm::cross(tri[1] - tri[0], tri[2] - tri[0]));
+        ASSERT_GE(glm::dot(n, b.cone.axis), b.cone.cosAngle - 1e-12) << "scene " << scene << " cluster " << k;
+        for (int j = 0; j < 3; ++j)
+        {
+          ASSERT_TRUE(b.aabb.Contains(tri[j]));
+          ASSERT_TRUE(b.obb.Contains(tri[j])) << "scene " << scene << " cluster " << k;
+        }
+      }
+    }
+    TriangleClusters boxesOnly = c;
+    boxesOnly.shapes.clear();
+    const glm::dvec3 offset(0.05 * s(rng), 0.05 * s(rng), 0.05 * s(rng));
+    for (bool ortho : { false, true })
+    {
+      const ShadowView view = DownView(ortho);
+      std::size_t reached = 0;
+      double drawnShaped = 0, drawnBoxes = 0;
+      for (int w = 0; w < 12; ++w)
+      {
+        const Rect& e = view.extent;
+        const double sx = (e.x1 - e.x0) * std::pow(2.0, -1 - static_cast<int>(u(rng) * 4));
+        const double x0 = e.x0 + u(rng) * (e.x1 - e.x0 - sx), y0 = e.y0 + u(rng) * (e.y1 - e.y0 - sx);
+        const Rect r{ x0, y0, x0 + sx, y0 + sx };
+        ClusterCounts counts, countsBoxes;
+        std::vector<char> drawn(c.order.size(), 0);
+        for (const auto& range : VisibleTriangleRanges(c, view, offset, r, 0.0, &counts))
+        {
+          for (std::size_t i = range.first; i < range.first + range.second; ++i)
+          {
+            drawn[c.order[i]] = 1;
+          }
+        }
+        VisibleTriangleRanges(boxesOnly, view, offset, r, 0.0, &countsBoxes);
+        ASSERT_EQ(counts.drawn + counts.culled, static_cast<double>(c.Clusters()));
+        drawnShaped += counts.drawn;
+        drawnBoxes += countsBoxes.drawn;
+        for (std::size_t t = 0; t < v.size() / 3; ++t)
+        {
+          const glm::dvec3 tri[3] = { v[3 * t] + offset, v[3 * t + 1] + offset, v[3 * t + 2] + offset };
+          if (TriangleReaches(view, tri, r))
+          {
+            ++reached;
+            ASSERT_TRUE(drawn[t]) << "scene " << scene << ": triangle " << t << " reaches window " << w
+                                  << " but its cluster was culled";
+          }
+        }
+      }
+      EXPECT_GT(reached, 100u);
+      EXPECT_LE(drawnShaped, drawnBoxes); // the oriented box only ever culls more
+      EXPECT_GT(drawnShaped, 0.0);
+    }
+  }
+}
+
+TEST(CasterClusters, FitClusterBoundsRefusesBadRanges)
+{
+  const auto v = Soup(10, 0.0, 1.0, 9);
+  const std::array<glm::dvec3, 3> axes{ glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1) };
+  EXPECT_THROW(FitClusterBounds(v, { { 8, 3 } }, { axes }), std::invalid_argument);
+  EXPECT_THROW(FitClusterBounds(v, { { 0, 3 } }, {}), std::invalid_argument);
+  const auto b = FitClusterBounds(v, { { 0, 10 }, { 4, 0 } }, { axes, axes });
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_FALSE(b[0].aabb.Empty());
+  EXPECT_TRUE(b[1].aabb.Empty()); // no triangles: nothing to draw
 }

@@ -345,6 +345,12 @@ TEST(EffectPlanner, TranslucentCastersInViewGetVPCSS)
   EXPECT_EQ(p.lights[2].method, Method::PCSS);
   EXPECT_TRUE(Contains(p.lights[2].reason, "no translucent caster in this light's view")) << p.lights[2].reason;
   EXPECT_EQ(p.lights[2].name, "pcss");
+  // keepRequested: that light gets vpcss as asked
+  in.keepRequested = true;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[2].method, Method::VPCSS);
+  EXPECT_EQ(p.lights[2].reason, "requested vpcss");
+  in.keepRequested = false;
   // without a method for the rule, the soft and hard rules apply
   in.requested = Method::Auto;
   for (auto& m : in.methods)

@@ -1,15 +1,21 @@
 // GEARS culling (gears.md, "Fewer assignments"): no rule drops a pair that
 // blocks a light sample. Each rule is checked against brute force
 // (GearsSampleBlocked over every triangle, every sample):
-//  - cluster and triangle culling against the cell's and group's shafts, and
-//    the per-pixel rejection kernel: with "necessary" counting (every pair
-//    that survives is drawn), the pairs hiding a sample above the horizon are
-//    exactly the brute-force blocking pairs, rule by rule and together;
+//  - cluster and triangle culling against the cell's and group's shafts, the
+//    horizon rule (clusters and triangles below every open sample's tangent
+//    plane), and the per-pixel rejection kernel: with "necessary" counting
+//    (every pair that survives is drawn), the pairs hiding a sample above
+//    the horizon are exactly the brute-force blocking pairs, rule by rule and
+//    together;
 //  - the closed-mesh rule (faces of a closed piece facing away from the
 //    light, faces S is not behind) and the inner occluders of closed pieces:
 //    the masks equal the brute-force union over every face, dropped ones too;
+//  - the inner-occluder rule (clusters every segment to which passes through
+//    a drawn inner occluder): same masks, and the segment test itself
+//    against sampled segments;
 //  - the skip of candidates whose samples are hidden already: same masks.
 #include "ssGEARS.h"
+#include "ssGearsInternal.h"
 #include "ssGearsTestScenes.h"
 
 #include <gtest/gtest.h>
@@ -123,6 +129,7 @@ std::vector<glm::dvec3> BumpySphere(const glm::dvec3& c, double r, int levels)
 
 TEST(GEARSCulling, NoRuleDropsABlockingPair)
 {
+  double belowHorizon = 0.0; // what the horizon rule dropped, over every scene and light
   for (unsigned seed = 1; seed <= 3; ++seed)
   {
     std::mt19937 rng(100 + seed);
@@ -146,11 +153,12 @@ TEST(GEARSCulling, NoRuleDropsABlockingPair)
       // pixel of 500 gets one extra bit there, with every rule off too.
       const std::size_t grazing = offset == glm::dvec3(0.0) ? 0u : 2u;
       std::vector<GearsMask> noRules;
-      for (int rules = 0; rules < 4; ++rules)
+      for (int rules = 0; rules < 8; ++rules)
       {
         GearsOptions opt = base;
         opt.shaftCulling = rules & 1;
         opt.pairRejection = rules & 2;
+        opt.horizonCulling = rules & 4;
         std::vector<GearsMask> masks;
         GearsStats st;
         g.Solve(light, offset, s.pos.data(), s.nrm.data(), s.pos.size() / 3, opt, &st, &masks);
@@ -172,14 +180,19 @@ TEST(GEARSCulling, NoRuleDropsABlockingPair)
           << "seed " << seed << " light " << li << " rules " << rules;
         EXPECT_EQ(MaskMismatches(masks, noRules), 0u);
         EXPECT_LE(st.assignmentsNecessary, st.assignmentsTotal);
-        if (rules == 3)
+        if (rules == 3 || rules == 7)
         {
           EXPECT_LT(st.assignmentsTotal, st.assignmentsListed) << "seed " << seed << " light " << li; // the kernel rejects something
           EXPECT_GT(st.clustersCulled + st.trianglesCulled, 0u);
         }
+        if (rules == 7)
+        {
+          belowHorizon += st.trianglesBelowHorizon + static_cast<double>(st.clustersBelowHorizon);
+        }
       }
     }
   }
+  EXPECT_GT(belowHorizon, 0.0); // the horizon rule drops something in these scenes
 }
 
 TEST(GEARSCulling, ClosedMeshRuleAndInnerOccludersChangeNoBit)
@@ -237,6 +250,16 @@ TEST(GEARSCulling, ClosedMeshRuleAndInnerOccludersChangeNoBit)
         EXPECT_GT(son.droppedTriangles, 50u); // faces facing away from the whole light
         EXPECT_GT(son.occluderBoxes, 0u);
       }
+      // the inner-occluder rule off: the same masks
+      {
+        GearsOptions o2 = opt;
+        o2.occluderCulling = false;
+        std::vector<GearsMask> m2;
+        GearsStats s2;
+        g.Solve(light, offset, s.pos.data(), s.nrm.data(), s.pos.size() / 3, o2, &s2, &m2);
+        EXPECT_EQ(MaskMismatches(m2, bf.masks), 0u) << "inner-occluder rule off; light " << li;
+        EXPECT_EQ(s2.clustersBehindOccluders, 0u);
+      }
       opt.closedMeshRule = false;
       g.Solve(light, offset, s.pos.data(), s.nrm.data(), s.pos.size() / 3, opt, &soff, &off);
       EXPECT_EQ(MaskMismatches(off, bf.masks), 0u) << "light " << li;
@@ -254,4 +277,192 @@ TEST(GEARSCulling, ClosedMeshRuleAndInnerOccludersChangeNoBit)
       EXPECT_LT(son.assignmentsTotal, soff.assignmentsTotal) << "light " << li;
     }
   }
+}
+
+TEST(GEARSCulling, SegmentsThroughBoxHoldsForEverySegment)
+{
+  // The inner-occluder rule's test (ssGearsCull.cxx): when it says that every
+  // segment from box A to box C (light frame) passes through box B (solver
+  // frame) shrunk by m, sampled segments, the boxes' corners included, all
+  // do. Random light frames, boxes of every size.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> U(-1.0, 1.0), P(0.0, 1.0);
+  std::size_t accepted = 0, checked = 0, bad = 0;
+  for (int trial = 0; trial < 20000; ++trial)
+  {
+    gears::FaceTriangles ft;
+    ft.Lc = glm::dvec3(U(rng), U(rng), U(rng)) * 3.0;
+    ft.n = glm::normalize(glm::dvec3(U(rng), U(rng), U(rng)));
+    ft.u = glm::normalize(glm::cross(ft.n, glm::dvec3(U(rng), U(rng), U(rng))));
+    ft.v = glm::cross(ft.n, ft.u);
+    auto box = [&](double size, glm::dvec3& lo, glm::dvec3& hi) {
+      const glm::dvec3 c(2.0 * U(rng), 2.0 * U(rng), 2.0 * U(rng));
+      const glm::dvec3 e(size * P(rng), size * P(rng), size * P(rng));
+      lo = c - e;
+      hi = c + e;
+    };
+    glm::dvec3 alo, ahi, clo, chi, blo, bhi;
+    box(0.3, alo, ahi);
+    box(0.3, clo, chi);
+    // B: a box around a point between A and C (solver frame), often large
+    const glm::dvec3 mid = 0.5 * (alo + ahi + clo + chi);
+    const glm::dvec3 midS = ft.Lc + mid.x * ft.u + mid.y * ft.v + mid.z * ft.n;
+    const glm::dvec3 e(1.5 * P(rng), 1.5 * P(rng), 1.5 * P(rng));
+    blo = midS - e;
+    bhi = midS + e;
+    const double B[6] = { blo.x, blo.y, blo.z, bhi.x, bhi.y, bhi.z };
+    const double m = 1e-3;
+    if (!gears::SegmentsThroughBox(ft, alo, ahi, clo, chi, B, m))
+    {
+      continue;
+    }
+    ++accepted;
+    auto toSolver = [&](const glm::dvec3& x) { return ft.Lc + x.x * ft.u + x.y * ft.v + x.z * ft.n; };
+    for (int q = 0; q < 40; ++q)
+    {
+      // corners of A and C for the first 8 x 8 draws of each kind, else inside points
+      auto pick = [&](const glm::dvec3& lo, const glm::dvec3& hi, bool corner) {
+        return corner ? glm::dvec3(P(rng) < 0.5 ? lo.x : hi.x, P(rng) < 0.5 ? lo.y : hi.y, P(rng) < 0.5 ? lo.z : hi.z)
+                      : lo + glm::dvec3(P(rng), P(rng), P(rng)) * (hi - lo);
+      };
+      const glm::dvec3 S = toSolver(pick(alo, ahi, q < 20));
+      const glm::dvec3 X = toSolver(pick(clo, chi, q % 2 == 0));
+      // does [S, X] meet B shrunk by m?
+      double t0 = 0.0, t1 = 1.0;
+      for (int ax = 0; ax < 3; ++ax)
+      {
+        const double lo = B[ax] + m, hi = B[3 + ax] - m, d = X[ax] - S[ax];
+        if (d == 0.0)
+        {
+          t1 = (S[ax] > lo && S[ax] < hi) ? t1 : -1.0;
+          continue;
+        }
+        double ta = (lo - S[ax]) / d, tb = (hi - S[ax]) / d;
+        if (ta > tb)
+        {
+          std::swap(ta, tb);
+        }
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+      }
+      ++checked;
+      bad += !(t0 < t1);
+    }
+  }
+  EXPECT_GT(accepted, 200u); // the test says yes often enough to mean something
+  EXPECT_EQ(bad, 0u) << "of " << checked << " sampled segments";
+}
+
+TEST(GEARSCulling, InnerOccluderRuleChangesNoBit)
+{
+  // A dense closed bumpy surface (8192 triangles, so that its clusters are
+  // small) over a floor, pixels on the floor in and around its shadow: there
+  // many clusters lie behind an inner occluder. Masks with the rule equal
+  // those without it and, for every fourth pixel, brute force over every face.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (const glm::dvec3 offset : { glm::dvec3(0.0), glm::dvec3(3e5, -1e5, 2e5) })
+  {
+    Scene s;
+    s.tris = BumpySphere(offset + glm::dvec3(0.0, 0.0, 0.9), 0.45, 5);
+    for (int i = 0; i < 600; ++i)
+    {
+      const glm::dvec3 p(0.8 * U(rng), 0.8 * U(rng), 0.0);
+      s.pos.insert(s.pos.end(), { float(p.x), float(p.y), float(p.z) });
+      s.nrm.insert(s.nrm.end(), { 0.0f, 0.0f, 1.0f });
+    }
+    GearsPieces pieces;
+    pieces.piece.assign(s.tris.size() / 3, 0u);
+    pieces.orientation = { 1 };
+    GearsSolver g;
+    g.SetTriangles(s.tris, {});
+    g.SetPieces(pieces);
+    const LightFrame light =
+      MakeRectLightFrame(offset + glm::dvec3(0.2, -0.1, 3.0), { -0.05, 0.03, -1 }, { 0, 1, 0 }, { 1.0, 0.8 });
+    GearsOptions opt;
+    opt.k = 8;
+    opt.grid = 48;
+    std::vector<GearsMask> on, off;
+    GearsStats son, soff;
+    const std::size_t n = s.pos.size() / 3;
+    g.Solve(light, offset, s.pos.data(), s.nrm.data(), n, opt, &son, &on);
+    opt.occluderCulling = false;
+    g.Solve(light, offset, s.pos.data(), s.nrm.data(), n, opt, &soff, &off);
+    EXPECT_GT(son.occluderBoxes, 0u);
+    EXPECT_GT(son.clustersBehindOccluders, 20u); // the rule drops clusters here
+    EXPECT_EQ(soff.clustersBehindOccluders, 0u);
+    EXPECT_EQ(MaskMismatches(on, off), 0u) << "offset " << offset.x;
+    // brute force on a quarter of the pixels
+    std::size_t bad = 0;
+    for (std::size_t p = 0; p < n; p += 4)
+    {
+      const glm::dvec3 P = offset + glm::dvec3(s.pos[3 * p], s.pos[3 * p + 1], s.pos[3 * p + 2]);
+      const glm::dvec3 S = g.RayStart(P, glm::dvec3(0, 0, 1));
+      GearsMask m = off[p];
+      for (std::size_t t = 0; t < g.NumberOfTriangles(); ++t)
+      {
+        const auto tri = g.Triangle(t);
+        for (int j = 0; j < opt.k; ++j)
+        {
+          for (int i = 0; i < opt.k; ++i)
+          {
+            if (!((m[j] >> i) & 1u) && GearsSampleBlocked(light, S, tri, opt.k, i, j))
+            {
+              m[j] |= 1u << i;
+            }
+          }
+        }
+      }
+      // every sample a face blocks is in the mask the solver gave with the rule
+      bad += m != on[p];
+    }
+    EXPECT_EQ(bad, 0u) << "offset " << offset.x;
+  }
+}
+
+TEST(GEARSCulling, PreparedCastersAreReusedOnlyWhileCastersAndLightStay)
+{
+  // A solve reuses the previous solve's prepared casters (light-frame
+  // vertices, closed-mesh flags, cluster boxes) only for the same casters,
+  // light and options; the result is the same as a fresh solver's.
+  std::mt19937 rng(11);
+  const glm::dvec3 offset(0.0);
+  Scene s = RandomScene(rng, 150, 400, offset);
+  Scene other = RandomScene(rng, 150, 0, offset);
+  const auto lights = Lights(offset);
+  const std::size_t n = s.pos.size() / 3;
+  GearsOptions opt;
+  opt.k = 8;
+  GearsSolver g;
+  g.SetTriangles(s.tris, {});
+  GearsStats st;
+  const std::vector<float> v1 = g.Solve(lights[0], offset, s.pos.data(), s.nrm.data(), n, opt, &st);
+  EXPECT_EQ(st.prepareReused, 0u);
+  const std::vector<float> v2 = g.Solve(lights[0], offset, s.pos.data(), s.nrm.data(), n, opt, &st);
+  EXPECT_EQ(st.prepareReused, 1u); // same casters, same light
+  EXPECT_EQ(v1, v2);
+  g.Solve(lights[1], offset, s.pos.data(), s.nrm.data(), n, opt, &st);
+  EXPECT_EQ(st.prepareReused, 0u); // another light
+  opt.closedMeshRule = false;
+  g.Solve(lights[1], offset, s.pos.data(), s.nrm.data(), n, opt, &st);
+  EXPECT_EQ(st.prepareReused, 0u); // another option the preparation depends on
+  opt.closedMeshRule = true;
+  // new casters: the result is a fresh solver's
+  g.SetTriangles(other.tris, {});
+  const std::vector<float> v3 = g.Solve(lights[0], offset, s.pos.data(), s.nrm.data(), n, opt, &st);
+  EXPECT_EQ(st.prepareReused, 0u);
+  GearsSolver fresh;
+  fresh.SetTriangles(other.tris, {});
+  const std::vector<float> v4 = fresh.Solve(lights[0], offset, s.pos.data(), s.nrm.data(), n, opt, nullptr);
+  EXPECT_EQ(v3, v4);
+  EXPECT_NE(v3, v1);
+  // pieces change the closed-mesh flags: no reuse
+  g.Solve(lights[0], offset, s.pos.data(), s.nrm.data(), n, opt, &st);
+  EXPECT_EQ(st.prepareReused, 1u);
+  GearsPieces pieces;
+  pieces.piece.assign(other.tris.size() / 3, 0u);
+  pieces.orientation = { 0 };
+  g.SetPieces(pieces);
+  g.Solve(lights[0], offset, s.pos.data(), s.nrm.data(), n, opt, &st);
+  EXPECT_EQ(st.prepareReused, 0u);
 }

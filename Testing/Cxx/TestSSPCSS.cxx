@@ -197,3 +197,52 @@ TEST(PCSS, LightAboveTangentPlaneMatchesSampling)
   EXPECT_EQ(LightFractionAboveTangentPlane(MakePointLightFrame({ 0, 0, 3 }), { 0, 0, 0 }, { 0, 0, 1 }), 1.0);
   EXPECT_EQ(LightFractionAboveTangentPlane(MakePointLightFrame({ 0, 0, 3 }), { 0, 0, 0 }, { 0, 0, -1 }), 0.0);
 }
+
+TEST(PCSS, LightAboveSurfaceMatchesSampling)
+{
+  // both planes (shading and geometric normal) against k x k light samples
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const LightFrame l = MakeRectLightFrame({ 0, 0, 3 }, { 0.2, 0, -1 }, { 0, 1, 0 }, { 1.5, 0.8 });
+  for (int trial = 0; trial < 50; ++trial)
+  {
+    const glm::dvec3 p(U(rng) * 4 - 2, U(rng) * 4 - 2, U(rng));
+    const glm::dvec3 ns = glm::normalize(glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng)));
+    // a facet normal up to ~40 degrees from the shading normal
+    const glm::dvec3 ng = glm::normalize(ns + 0.7 * glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5));
+    const int k = 256;
+    int above = 0;
+    for (int j = 0; j < k; ++j)
+    {
+      for (int i = 0; i < k; ++i)
+      {
+        const glm::dvec3 q = RegularLightSample(l, i, j, k) - p;
+        above += (glm::dot(ns, q) > 0 && glm::dot(ng, q) > 0) ? 1 : 0;
+      }
+    }
+    EXPECT_NEAR(LightFractionAboveSurface(l, p, ns, ng), above / double(k * k), 2.0 / k) << "trial " << trial;
+    // equal normals: the one-plane fraction
+    EXPECT_NEAR(LightFractionAboveSurface(l, p, ns, ns), LightFractionAboveTangentPlane(l, p, ns), 1e-12);
+  }
+  // point lights: above both planes or not
+  const LightFrame pt = MakePointLightFrame({ 0, 0, 3 });
+  EXPECT_EQ(LightFractionAboveSurface(pt, { 0, 0, 0 }, { 0, 0, 1 }, { 0, 0.3, 1 }), 1.0);
+  EXPECT_EQ(LightFractionAboveSurface(pt, { 0, 0, 0 }, { 0, 0, 1 }, { 0, 1, -0.2 }), 0.0);
+  // a light of size 1e30 (float's w * h overflows): finite, and the fraction
+  // of a huge square above a plane through its centre's normal line is 1/2
+  const LightFrame huge = MakeRectLightFrame({ 0, 0, 3 }, { 0, 0, -1 }, { 0, 1, 0 }, { 1e30, 1e30 });
+  const double f = LightFractionAboveSurface(huge, { 0, 0, 0 }, { 1, 0, 1 }, { 1, 0, 1 });
+  EXPECT_TRUE(std::isfinite(f));
+  EXPECT_NEAR(f, 0.5, 1e-9);
+}
+
+TEST(PCSS, NormalOffsetDistance)
+{
+  // zero at normal incidence, the full texel-scaled step at grazing light,
+  // sin(theta) in between; light behind the facet counts as grazing
+  EXPECT_DOUBLE_EQ(NormalOffsetDistance(0.01, 1.0, 1.0), 0.0);
+  EXPECT_DOUBLE_EQ(NormalOffsetDistance(0.01, 0.0, 1.0), 0.01);
+  EXPECT_NEAR(NormalOffsetDistance(0.01, std::cos(M_PI / 6), 2.0), 2.0 * 0.01 * 0.5, 1e-15);
+  EXPECT_DOUBLE_EQ(NormalOffsetDistance(0.01, -0.3, 1.0), 0.01);
+  EXPECT_DOUBLE_EQ(NormalOffsetDistance(0.01, 0.5, 0.0), 0.0);
+}

@@ -396,9 +396,11 @@ namespace
 // than a hemisphere.
 void CheckClusters(vtkPolyData* out, int maxTriangles)
 {
-  ssf::ClusterTable table;
+  ss::ClusterTable table;
   std::string why;
-  ASSERT_TRUE(ssf::ReadClusterTable(out, table, why)) << why;
+  ASSERT_TRUE(ss::ReadClusterTable(out, table, why, true)) << why; // the ranges partition the cells
+  ASSERT_EQ(table.piece.size(), static_cast<std::size_t>(out->GetNumberOfCells()));
+  ASSERT_EQ(table.closedOutward.size(), table.piece.size());
   vtkDataArray* normals = out->GetCellData()->GetNormals();
   vtkDataArray* cellClosed = out->GetCellData()->GetArray("ClosedOutward");
   vtkDataArray* clusterId = out->GetCellData()->GetArray("ClusterId");
@@ -422,6 +424,7 @@ void CheckClusters(vtkPolyData* out, int maxTriangles)
       const vtkIdType id = static_cast<vtkIdType>(cell);
       ASSERT_EQ(clusterId->GetComponent(id, 0), c);
       ASSERT_EQ(cellClosed->GetComponent(id, 0) == 1, b.closedOutward) << "cluster " << c << " mixes pieces";
+      ASSERT_EQ(table.closedOutward[cell] == 1, b.closedOutward);
       out->GetCellPoints(id, ids);
       for (vtkIdType k = 0; k < 3; ++k)
       {
@@ -567,11 +570,11 @@ TEST(ShadowCasterPreparation, EmptyAndDegenerateInput)
   vtkSmartPointer<vtkPolyData> out = Prepare(empty);
   EXPECT_EQ(out->GetNumberOfCells(), 0);
   EXPECT_EQ(Count(out, "Clusters"), 0);
-  ssf::ClusterTable table;
+  ss::ClusterTable table;
   std::string why;
-  EXPECT_TRUE(ssf::ReadClusterTable(out, table, why)) << why;
+  EXPECT_TRUE(ss::ReadClusterTable(out, table, why)) << why;
   EXPECT_TRUE(table.ranges.empty());
-  EXPECT_FALSE(ssf::ReadClusterTable(empty, table, why)); // not a preparation output
+  EXPECT_FALSE(ss::ReadClusterTable(empty, table, why)); // not a preparation output
   EXPECT_NE(why.find("ClusterRange"), std::string::npos);
   // only NaN points and collapsed triangles: an empty surface, counted
   vtkNew<vtkPoints> pts;

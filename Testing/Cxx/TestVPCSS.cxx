@@ -12,6 +12,8 @@
 
 #include "vtkGPUVolumeRayCastMapper.h"
 #include "vtkImageData.h"
+#include "vtkObjectFactory.h"
+#include "vtkOutputWindow.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkVolume.h"
@@ -97,9 +99,23 @@ struct LayerScene
   }
 };
 
-void Report(const char* what, const Errors& e)
+// Compare(a, b), printed as `what`.
+Errors CompareAndReport(const char* what, const Frame& a, const Frame& b)
 {
+  const Errors e = Compare(a, b);
   std::cout << what << ": MAE " << e.mae << ", max " << e.max << " over " << e.n << " px\n";
+  return e;
+}
+
+// Foreground pixels with V < 0.01.
+int UmbraPixels(const Frame& f)
+{
+  int umbra = 0;
+  for (float v : f.V)
+  {
+    umbra += (!std::isnan(v) && v < 0.01f) ? 1 : 0;
+  }
+  return umbra;
 }
 }
 
@@ -120,10 +136,8 @@ TEST(VPCSS, TranslucentLayersMatchReference)
     const Frame vp = ls.Render(vtkSoftShadowPass::VPCSS);
     const Frame hard = ls.Render(vtkSoftShadowPass::AVSM);
     const Frame pcss = ls.Render(vtkSoftShadowPass::PCSS);
-    const Errors ev = Compare(vp, ref), eh = Compare(hard, ref), ep = Compare(pcss, ref);
-    Report("vpcss", ev);
-    Report("avsm", eh);
-    Report("pcss", ep);
+    const Errors ev = CompareAndReport("vpcss", vp, ref), eh = CompareAndReport("avsm", hard, ref),
+                 ep = CompareAndReport("pcss", pcss, ref);
     EXPECT_GT(ev.n, 20000);
     EXPECT_EQ(ev.nonFinite, 0);
     EXPECT_EQ(eh.nonFinite, 0);
@@ -147,25 +161,43 @@ TEST(VPCSS, TranslucentLayersMatchReference)
 
 // With alpha = 1 every caster is opaque: VPCSS requested gives PCSS's shadow.
 // The planner gives such a light PCSS (no translucent caster in its view,
-// where VPCSS's eqs. 6-8 are PCSS's). The VPCSS solver itself, run with no
-// translucent caster, found no blocker in this harness (ground unshadowed,
-// MAE 0.08): the fallback keeps that case from reaching it (issue 20 note).
+// where VPCSS's eqs. 6-8 are PCSS's); VPCSS.OpaqueCastersThroughTheSolver
+// runs the VPCSS solver itself on that case.
 TEST(VPCSS, OpaqueCastersGivePCSS)
 {
   LayerScene ls({ { 1.0, 1.2, 1.0 } });
   ls.s.renderer->AddActor(Sphere(1.3, 0.6, 0.8, 0.4));
   const Frame pcss = ls.Render(vtkSoftShadowPass::PCSS);
   const Frame vp = ls.Render(vtkSoftShadowPass::VPCSS);
-  const Errors e = Compare(vp, pcss);
-  Report("vpcss vs pcss (alpha 1)", e);
+  const Errors e = CompareAndReport("vpcss vs pcss (alpha 1)", vp, pcss);
   EXPECT_EQ(e.nonFinite, 0);
   EXPECT_LT(e.mae, 0.012);
-  int umbra = 0;
-  for (float v : vp.V)
-  {
-    umbra += (!std::isnan(v) && v < 0.01f) ? 1 : 0;
-  }
-  EXPECT_GT(umbra, 500) << "an opaque caster is a step to 0";
+  EXPECT_GT(UmbraPixels(vp), 500) << "an opaque caster is a step to 0";
+}
+
+// The VPCSS solver itself on casters that are all opaque (KeepRequestedMethod:
+// no planner fallback to PCSS), in a fresh window's first frame: against the
+// reference within the bound, and PCSS's shadow. Before the fix of the AVSM
+// build's first opaque pass (ssAVSMMaps: the caster program's samplers) it
+// found no blocker here: ground unshadowed, MAE 0.08 against PCSS.
+TEST(VPCSS, OpaqueCastersThroughTheSolver)
+{
+  LayerScene ls({ { 1.0, 1.2, 1.0 } });
+  ls.s.renderer->AddActor(Sphere(1.3, 0.6, 0.8, 0.4));
+  ls.s.pass->KeepRequestedMethodOn();
+  const Frame vp = ls.Render(vtkSoftShadowPass::VPCSS);
+  const std::string plan = ls.s.pass->GetPlanSummary();
+  EXPECT_NE(plan.find("vpcss"), std::string::npos) << plan;
+  const Frame ref = ls.Render(vtkSoftShadowPass::REFERENCE);
+  const Frame pcss = ls.Render(vtkSoftShadowPass::PCSS);
+  const Errors ev = CompareAndReport("vpcss solver (alpha 1) vs reference", vp, ref);
+  CompareAndReport("pcss vs reference", pcss, ref);
+  const Errors evp = CompareAndReport("vpcss solver vs pcss", vp, pcss);
+  EXPECT_GT(ev.n, 20000);
+  EXPECT_EQ(ev.nonFinite, 0);
+  EXPECT_LT(ev.mae, 0.012);
+  EXPECT_LT(evp.mae, 0.012);
+  EXPECT_GT(UmbraPixels(vp), 500) << "an opaque caster is a step to 0";
 }
 
 // A uniform-density box volume over a plane: the transmittance to a (nearly)
@@ -448,9 +480,57 @@ TEST(VPCSS, StabilityThinFaintAndTouchingLayers)
     LayerScene thin(many);
     const Frame ref = thin.Render(vtkSoftShadowPass::REFERENCE);
     const Frame vp = thin.Render(vtkSoftShadowPass::VPCSS);
-    const Errors e = Compare(vp, ref);
-    Report("vpcss, 16 layers of alpha 0.1", e);
+    const Errors e = CompareAndReport("vpcss, 16 layers of alpha 0.1", vp, ref);
     EXPECT_EQ(e.nonFinite, 0);
     EXPECT_LT(e.mae, 0.01);
   }
+}
+
+namespace
+{
+// What VTK writes to its output window (warnings, the GL errors its state
+// checks report) while an instance is alive.
+class CapturedOutput : public vtkOutputWindow
+{
+public:
+  static CapturedOutput* New();
+  vtkTypeMacro(CapturedOutput, vtkOutputWindow);
+  void DisplayText(const char* text) override { this->Text += text ? text : ""; }
+  std::string Text;
+};
+vtkStandardNewMacro(CapturedOutput);
+}
+
+// The first AVSM build of a fresh window draws the opaque casters (issue 20:
+// its first frame in ParaView showed no shadow at all, and VTK logged a GL
+// "invalid operation" at glBlendEquationSeparate: the caster program's
+// samplers of different types all pointed at texture unit 0 in that build's
+// opaque pass, so GL refused the draw). One frame, no warm-up, against the
+// `hard` shadow map of the same light; no GL error in VTK's output.
+TEST(AVSM, FirstFrameInAFreshWindowShadowsOpaqueCasters)
+{
+  vtkNew<CapturedOutput> out;
+  vtkSmartPointer<vtkOutputWindow> previous = vtkOutputWindow::GetInstance();
+  vtkOutputWindow::SetInstance(out);
+  Scene s(240, 180);
+  auto ground = Ground();
+  vtkSoftShadowPass::SetCastsShadows(ground, false);
+  s.renderer->AddActor(ground);
+  s.renderer->AddActor(Sphere(0.2, 0.1, 1.2, 0.6));
+  s.renderer->AddActor(Box(-1.2, 0.8, 0.5, 0.5, 0.5, 1.0));
+  s.renderer->AddLight(RectLight(0.5, -0.5, 5, 0, 0, 0, 0.01, 0.01));
+  s.Camera(0, -6, 5, 0, 0, 0.5);
+  s.pass->SetMethod(vtkSoftShadowPass::AVSM);
+  const Frame first = s.Render();
+  s.pass->SetMethod(vtkSoftShadowPass::HARD);
+  const Frame hard = s.Render();
+  vtkOutputWindow::SetInstance(previous);
+  ASSERT_FALSE(first.V.empty());
+  const int umbra = UmbraPixels(first);
+  const Errors e = CompareAndReport("first avsm frame vs hard", first, hard);
+  std::cout << umbra << " umbra px\n";
+  EXPECT_GT(umbra, 1000) << "the opaque casters' shadow";
+  EXPECT_EQ(e.nonFinite, 0);
+  EXPECT_LT(e.mae, 0.01);
+  EXPECT_EQ(out->Text.find("Error"), std::string::npos) << out->Text;
 }

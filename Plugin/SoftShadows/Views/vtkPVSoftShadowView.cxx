@@ -130,6 +130,13 @@ const char* vtkPVSoftShadowView::GetGearsBackendInUse()
   return this->ShadowPass->GetLastGearsBackend();
 }
 
+bool vtkPVSoftShadowView::SetSolverOption(const char* key, double value)
+{
+  const bool ok = this->ShadowPass->SetSolverOption(key, value);
+  this->Modified();
+  return ok;
+}
+
 void vtkPVSoftShadowView::SetPVSMQuality(double quality)
 {
   this->ShadowPass->SetPVSMQuality(quality);

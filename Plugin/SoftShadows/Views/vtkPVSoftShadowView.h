@@ -84,6 +84,13 @@ public:
   /** The backend GEARS ran on in the last frame: "cpu" or "gl". */
   const char* GetGearsBackendInUse();
 
+  /**
+   * A solver option (vtkSoftShadowPass::SetSolverOption): the view's
+   * per-method properties, generated from the solver registry, reach the
+   * pass through this (vtkSISoftShadowProperty). False when refused.
+   */
+  bool SetSolverOption(const char* key, double value);
+
   /** PVSM's quality: scale on the perceptual metric rho (vtkSoftShadowPass::SetPVSMQuality). */
   void SetPVSMQuality(double quality);
   /** Interactive renders fit the method to the frame budget (vtkSoftShadowPass::SetAdaptToFrameBudget). */

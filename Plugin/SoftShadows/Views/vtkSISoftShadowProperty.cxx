@@ -39,6 +39,12 @@ bool vtkSISoftShadowProperty::Apply(vtkObjectBase* object, const char* command, 
     vtkPVSoftShadowView::ApplyRepresentationFlags(rep);
     return true;
   }
+  if (auto* view = vtkPVSoftShadowView::SafeDownCast(object))
+  {
+    // the view's solver options: the command is the option's key
+    // (SoftShadowView.xml's generated section, from the solver registry)
+    return view->SetSolverOption(cmd.c_str(), value);
+  }
   auto* light = vtkLight::SafeDownCast(object);
   if (cmd == "LightSize" && light)
   {

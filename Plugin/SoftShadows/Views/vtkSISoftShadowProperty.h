@@ -18,6 +18,10 @@
  *   View's light-size units (vtkPVSoftShadowView::LIGHT_SIZE).
  * - `AngularDiameter` (lights): a directional light's angular diameter in
  *   degrees (vtkSoftShadowLight::SetAngularDiameter).
+ * - any other command on the Soft Shadow View: a solver option's key
+ *   (`pvsm_quality`, ...; vtkPVSoftShadowView::SetSolverOption). These
+ *   properties are generated from the solver registry at build time
+ *   (ssGenerateViewXML), so a method's options need no view method.
  *
  * A value the target refuses (negative size, angle outside [0, 30]) gives
  * one error and leaves the target unchanged. The XML default is applied when

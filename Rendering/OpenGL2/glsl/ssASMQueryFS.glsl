@@ -11,6 +11,7 @@
 // caster thinner than a texel that no texel centre sampled).
 uniform sampler2D gPosition; // xyz: world position - frame origin, w: prop id (0 = background)
 uniform sampler2D gNormal;
+uniform sampler2D gGeomNormal; // the drawn triangle's normal, w: 1 where valid (ssGBuffer)
 uniform usampler2D idImage;       // camera view of the caster set: (triangle id + 1, depth)
 uniform usampler2DArray atlas;    // node pages: (depth fixed point, triangle id + 1)
 uniform sampler2DArray summary;   // per page and block of summaryBlock^2 texels: the nearest caster depth
@@ -151,7 +152,11 @@ void main()
   // slope-scaled bias in the leaf's texels (the bias problem persists with
   // the ID test, §4.2; it matters only where the ID test fails)
   vec3 toLight = (orthographic != 0) ? -viewN[v] : normalize(-d);
-  vec3 nl = hasNormal ? normalize(nrm) : toLight;
+  // the receiver's plane is its facet's (ssShadowCommon, receiverNormal):
+  // the smooth normal's tangent plane cuts through the facet (issue 17)
+  vec4 gn = texelFetch(gGeomNormal, pix, 0);
+  bool hasFacet = gn.w > 0.5;
+  vec3 nl = hasFacet ? gn.xyz : (hasNormal ? normalize(nrm) : toLight);
   float cosTheta = dot(nl, toLight);
   float tanTheta = (cosTheta > 1e-4) ? min(sqrt(max(0.0, 1.0 - cosTheta * cosTheta)) / cosTheta, 10.0) : 10.0;
   float bias = texelWorld * (constantBias + slopeBias * tanTheta);
@@ -194,7 +199,9 @@ void main()
     edge = p.z - float(summaryBlock) * bias > zc;
   }
   // no light reaches a surface facing away from it (as the other methods)
-  float facingLight = (!hasNormal || cosTheta > 0.0) ? 1.0 : 0.0;
+  // and the shadow terminator: the light's centre above the shading normal's
+  // plane and the facet's (ssShadowCommon, centreAboveSurface)
+  float facingLight = ((!hasNormal || dot(normalize(nrm), toLight) > 0.0) && (!hasFacet || cosTheta > 0.0)) ? 1.0 : 0.0;
   edge = edge && facingLight > 0.0;
   gl_FragData[0] = vec4((lit ? 1.0 : 0.0) * facingLight, 0.0, 0.0, 1.0);
   gl_FragData[1] = vec4(edge ? 1.0 : 0.0);

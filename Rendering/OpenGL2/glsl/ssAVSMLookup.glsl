@@ -14,6 +14,12 @@ uniform int avsmFilterQuads;  // VPCSS: texel quads per axis of the filter, at m
 
 #define AVSM_MAXN 16
 
+// 1: a pyramid quad whose function changes across it reads its four
+// children (G-buffer pixels); 0: its mean function alone, a mip-mapped
+// lookup (translucent receivers, ssTranslucentReceivers: every fragment of
+// every depth peel runs the filter, so it reads a fixed handful of texels).
+int avsmRefine = 1;
+
 // The nodes of the texel loaded last (globals: GLSL copies array arguments).
 float avD[AVSM_MAXN];
 vec3 avT[AVSM_MAXN];
@@ -202,7 +208,7 @@ vec3 avsmQuad(View w, int level, ivec2 q, float bias, float maxDelta)
   vec2 zr = planeRange(w, vec2(q) * s, s, maxDelta) - bias * s;
   vec3 near = avsmEval(zr.x, false);
   vec3 far = avsmEval(zr.y, false);
-  if (all(lessThan(abs(near - far), vec3(1e-3))))
+  if (avsmRefine == 0 || all(lessThan(abs(near - far), vec3(1e-3))))
   {
     return 0.5 * (near + far);
   }

@@ -25,8 +25,10 @@ void main()
     return;
   }
   vec3 nrm = texelFetch(gNormal, pix, 0).xyz;
+  vec3 ng = receiverNormal(pix, nrm); // the receiver's facet (ssShadowCommon)
   vec3 d = g.xyz - lightCenter;
-  View w = selectView(d, nrm);
+  vec3 dLookup = d; // moved along ng by the normal offset
+  View w = selectReceiverView(dLookup, ng);
   vec3 T;
   if (w.index < 0)
   {
@@ -34,7 +36,9 @@ void main()
   }
   else
   {
-    T = avsmVisibility(w, nrm, d, hardAVSM) * lightAboveTangent(normalize(nrm), d);
+    // the terminator (ssShadowCommon): hard AVSM from the light's centre
+    float above = (hardAVSM != 0) ? centreAboveSurface(normalize(nrm), ng, d) : lightAboveSurface(normalize(nrm), ng, d);
+    T = avsmVisibility(w, (dot(ng, ng) > 0.5) ? ng : nrm, dLookup, hardAVSM) * above;
   }
   T = clamp(T, 0.0, 1.0);
   float V = (avsmColored != 0) ? (T.x + T.y + T.z) / 3.0 : T.x;

@@ -207,13 +207,23 @@ void main()
     discard;
   }
   vec4 g = texelFetch(gPosition, pix, 0);
-  vec3 nrm = texelFetch(gNormal, pix, 0).xyz;
+  vec3 nrm = receiverNormal(pix, texelFetch(gNormal, pix, 0).xyz); // the facet's plane
   vec3 d = g.xyz - lightCenter;
   View w;
   w.index = view;
   w.p = vec3(dot(d, viewU[view]), dot(d, viewV[view]), dot(d, viewN[view]));
   w.n = vec3(dot(nrm, viewU[view]), dot(nrm, viewV[view]), dot(nrm, viewN[view]));
   tilePerUnit = tileRes / (tileRect.zw - tileRect.xy);
+  if (normalOffset > 0.0 && dot(nrm, nrm) > 0.5)
+  {
+    // the normal-offset lookup of ssShadowCommon (selectReceiverView) in
+    // this tile's texels: the receiver's plane moved along its facet normal
+    vec3 toLight = (orthographic != 0) ? -viewN[view] : normalize(-d);
+    float cosL = clamp(dot(nrm, toLight), 0.0, 1.0);
+    float texelW = max(1.0 / tilePerUnit.x, 1.0 / tilePerUnit.y) * ((orthographic != 0) ? 1.0 : w.p.z);
+    d += nrm * (normalOffset * texelW * sqrt(1.0 - cosL * cosL));
+    w.p = vec3(dot(d, viewU[view]), dot(d, viewV[view]), dot(d, viewN[view]));
+  }
   float unitWorld = (orthographic != 0) ? 1.0 : w.p.z;
   unitWorldG = unitWorld;
   kernelCentre = c;

@@ -65,8 +65,10 @@ void main()
     return;
   }
   vec3 nrm = texelFetch(gNormal, pix, 0).xyz;
+  vec3 ng = receiverNormal(pix, nrm); // the receiver's facet (ssShadowCommon)
   vec3 d = g.xyz - lightCenter;
-  View w = selectView(d, nrm);
+  vec3 dLookup = d; // the normal-offset lookup, in the low-resolution map's texels
+  View w = selectReceiverView(dLookup, ng);
   if (w.index < 0)
   {
     gl_FragData[0] = vec4(0.0);
@@ -74,7 +76,7 @@ void main()
     gl_FragData[2] = vec4(0.0);
     return;
   }
-  float tangent = lightAboveTangent(normalize(nrm), d);
+  float tangent = lightAboveSurface(normalize(nrm), ng, d);
   vec2 X = project(w.p);
   float bias = w.texelWorld * constantBias;
   float zAvg = blockerSearch(w, bias);
@@ -91,7 +93,7 @@ void main()
   // pixel each way; a ray that misses the plane (grazing) falls back to the
   // other direction's step, then to a tenth of the view.
   vec2 ndc = 2.0 * (vec2(pix) + 0.5) / screenSize - 1.0;
-  vec3 n = normalize(nrm);
+  vec3 n = (dot(ng, ng) > 0.5) ? ng : normalize(nrm); // the footprint on the receiver's facet
   vec3 hx, hy;
   vec2 e = viewExtent[w.index].zw - viewExtent[w.index].xy;
   vec2 uPhi = vec2(0.1 * e.x, 0.0);

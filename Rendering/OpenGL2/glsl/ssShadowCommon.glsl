@@ -3,7 +3,8 @@
 // the light above the tangent plane, view selection and the blocker search.
 // The math mirrors Rendering/Core (ssPCSS.h, ssCoverage.h), where it is unit-tested.
 uniform sampler2D gPosition; // xyz: world position - frame origin, w: prop id (0 = background)
-uniform sampler2D gNormal;   // xyz: world normal
+uniform sampler2D gNormal;   // xyz: world (shading) normal
+uniform sampler2D gGeomNormal; // xyz: world normal of the drawn triangle, w: 1 where valid
 uniform sampler2DArray shadowMaps; // one layer per view, linear light-space depth (RG);
                                   // mip level l holds (min, max) of the level below
 uniform int firstLayer;
@@ -23,6 +24,7 @@ uniform int numLevels;
 uniform float searchDepth;  // nearest caster depth: PCSS blocker-search plane
 uniform int searchSamples;
 uniform float constantBias;
+uniform float normalOffset; // texels (ss::NormalOffsetDistance)
 
 struct View
 {
@@ -108,57 +110,109 @@ vec2 planeRange(View w, vec2 a, float s, float maxDelta)
   return vec2(min(min(z00, z10), min(z01, z11)), max(max(z00, z10), max(z01, z11)));
 }
 
-// Fraction of the light above the receiver's tangent plane: light points
-// below it cannot be seen from the surface (the reference counts them as
-// hidden too). Rect light: the rectangle [-w/2,w/2]x[-h/2,h/2] (in u,v) clipped
-// by the half-plane a + b*s + c*t > 0 (Sutherland-Hodgman, then the shoelace
-// area). Same as ss::LightFractionAboveTangentPlane.
-float lightAboveTangent(vec3 nrm, vec3 d)
+// Fraction of the light above both the tangent plane of the shading normal
+// `ns` and the plane of the receiver's own triangle `ng`: light points below
+// either cannot be seen from the surface (below the triangle's plane the
+// triangle or, on a closed mesh, the mesh behind it hides them; the
+// reference and GEARS clip by the shading normal's plane). This is the
+// shadow-terminator rule for coarse meshes with interpolated normals (issue
+// 17; Chiang et al. 2019 "Taming the shadow terminator" make the same
+// observation): the lit/unlit decision at a facet the light grazes comes from
+// the facet, not from a shadow-map texel the facet shares with its
+// neighbours. Rect light: the square [-1,1]^2 (the light in units of its half
+// sizes, so that a 1e30 light's area stays finite in float) clipped by both
+// half-planes (Sutherland-Hodgman), then the shoelace area. Point and
+// two-sided lights: the light centre's side of both planes. Same as
+// ss::LightFractionAboveSurface.
+float lightAboveSurface(vec3 ns, vec3 ng, vec3 d)
 {
-  if (dot(nrm, nrm) < 0.5)
+  // (written !(x > 0.5): normalize(0) is NaN, and a NaN normal is none)
+  if (!(dot(ns, ns) > 0.5))
   {
-    return 1.0; // no normal (unlit prop): no clipping
+    ns = ng; // no shading normal (unlit prop): the triangle's plane alone
+  }
+  if (!(dot(ng, ng) > 0.5))
+  {
+    ng = ns;
+  }
+  if (!(dot(ns, ns) > 0.5))
+  {
+    return 1.0; // no normal at all: no clipping
   }
   if (orthographic != 0)
   {
-    return dot(nrm, -viewN[0]) > 0.0 ? 1.0 : 0.0;
+    return (dot(ns, -viewN[0]) > 0.0 && dot(ng, -viewN[0]) > 0.0) ? 1.0 : 0.0;
   }
-  float a = dot(nrm, -d);
   if (oneSided == 0 || lightHalfSize.x <= 0.0 || lightHalfSize.y <= 0.0)
   {
-    return a > 0.0 ? 1.0 : 0.0;
+    return (dot(ns, -d) > 0.0 && dot(ng, -d) > 0.0) ? 1.0 : 0.0;
   }
-  // The rectangle in units of its half sizes, [-1,1]^2 (area 4): a light of
-  // size 1e30 overflowed float in 4 * h.x * h.y and gave V = 0 everywhere
-  // (issue 17). Same as ss::LightFractionAboveTangentPlane.
-  float b = lightHalfSize.x * dot(nrm, lightU);
-  float c = lightHalfSize.y * dot(nrm, lightV);
-  vec2 q[4] = vec2[4](vec2(-1.0, -1.0), vec2(1.0, -1.0), vec2(1.0, 1.0), vec2(-1.0, 1.0));
-  vec2 outp[8];
-  int n = 0;
-  for (int i = 0; i < 4; ++i)
+  vec2 poly[8];
+  poly[0] = vec2(-1.0, -1.0);
+  poly[1] = vec2(1.0, -1.0);
+  poly[2] = vec2(1.0, 1.0);
+  poly[3] = vec2(-1.0, 1.0);
+  int n = 4;
+  for (int k = 0; k < 2; ++k)
   {
-    vec2 p0 = q[i];
-    vec2 p1 = q[(i + 1) % 4];
-    float f0 = a + b * p0.x + c * p0.y;
-    float f1 = a + b * p1.x + c * p1.y;
-    if (f0 > 0.0)
+    vec3 nrm = (k == 0) ? ns : ng;
+    float a = dot(nrm, -d);
+    float b = lightHalfSize.x * dot(nrm, lightU);
+    float c = lightHalfSize.y * dot(nrm, lightV);
+    vec2 outp[8];
+    int m = 0;
+    for (int i = 0; i < n; ++i)
     {
-      outp[n++] = p0;
+      vec2 p0 = poly[i];
+      vec2 p1 = poly[(i + 1) % n];
+      float f0 = a + b * p0.x + c * p0.y;
+      float f1 = a + b * p1.x + c * p1.y;
+      if (f0 > 0.0 && m < 8)
+      {
+        outp[m++] = p0;
+      }
+      if ((f0 > 0.0) != (f1 > 0.0) && m < 8)
+      {
+        outp[m++] = mix(p0, p1, f0 / (f0 - f1));
+      }
     }
-    if ((f0 > 0.0) != (f1 > 0.0))
+    for (int i = 0; i < m; ++i)
     {
-      outp[n++] = mix(p0, p1, f0 / (f0 - f1));
+      poly[i] = outp[i];
     }
+    n = m;
   }
   float area = 0.0;
   for (int i = 0; i < n; ++i)
   {
-    vec2 p0 = outp[i];
-    vec2 p1 = outp[(i + 1) % n];
+    vec2 p0 = poly[i];
+    vec2 p1 = poly[(i + 1) % n];
     area += p0.x * p1.y - p1.x * p0.y;
   }
   return clamp(0.125 * abs(area), 0.0, 1.0);
+}
+
+// 1 when the light's centre is above both planes (lightAboveSurface), else
+// 0: the terminator of the methods that shadow from the centre (hard, PCF,
+// each sample of the hard average), as GEARS at one sample.
+float centreAboveSurface(vec3 ns, vec3 ng, vec3 d)
+{
+  ns = (dot(ns, ns) > 0.5) ? ns : ng;
+  ng = (dot(ng, ng) > 0.5) ? ng : ns;
+  if (!(dot(ns, ns) > 0.5))
+  {
+    return 1.0; // no normal at all
+  }
+  vec3 toCentre = (orthographic != 0) ? -viewN[0] : -d;
+  return (dot(ns, toCentre) > 0.0 && dot(ng, toCentre) > 0.0) ? 1.0 : 0.0;
+}
+
+// Fraction of the light above the tangent plane of `nrm` alone (receivers
+// without a triangle of their own: translucent volumes' samples). Same as
+// ss::LightFractionAboveTangentPlane.
+float lightAboveTangent(vec3 nrm, vec3 d)
+{
+  return lightAboveSurface(nrm, nrm, d);
 }
 
 // The view of the light that holds the light-space direction d (from the
@@ -187,6 +241,48 @@ View selectView(vec3 d, vec3 nrm)
       w.texelWorld = (orthographic != 0) ? unitTexel : unitTexel * p.z;
       break;
     }
+  }
+  return w;
+}
+
+// The normal of the receiver's plane: the drawn triangle's own (geometric)
+// normal from the G-buffer, the shading normal where there is none. A
+// faceted surface with interpolated normals is its facets: the smooth
+// normal's tangent plane cuts through the receiver's own facet (half of it
+// above the plane), which then shadows the receiver: cross-hatched bands on
+// a lit isosurface, speckles along a coarse sphere's terminator (issue 17).
+// The receiver-plane depth test (planeDepth) and the slope-scaled bias take
+// this plane; the facet is then exactly at the plane's depth, and on a
+// convex piece its neighbours lie behind it.
+vec3 receiverNormal(ivec2 pix, vec3 shading)
+{
+  vec4 gn = texelFetch(gGeomNormal, pix, 0);
+  return (gn.w > 0.5) ? gn.xyz : ((dot(shading, shading) > 0.5) ? normalize(shading) : vec3(0.0));
+}
+
+// Normal-offset lookup (Holbert 2011; Filament's computeLightSpacePosition,
+// shaders/src/common_shadowing.fs): the point is moved along its geometric
+// normal `ng` by normalOffset texels of its view's world texel size at the
+// receiver times sin(theta) between `ng` and the light
+// (ss::NormalOffsetDistance), and its view is selected again. The lookup
+// then happens where the surface is clear of the texels its own facet and
+// its neighbours rasterised into; at normal incidence nothing moves, so
+// contact shadows keep their place.
+View selectReceiverView(inout vec3 d, vec3 ng)
+{
+  View w = selectView(d, ng);
+  if (w.index < 0 || normalOffset <= 0.0 || dot(ng, ng) < 0.5)
+  {
+    return w;
+  }
+  vec3 toLight = (orthographic != 0) ? -viewN[w.index] : normalize(-d);
+  float c = clamp(dot(ng, toLight), 0.0, 1.0);
+  vec3 d2 = d + ng * (normalOffset * w.texelWorld * sqrt(1.0 - c * c));
+  View w2 = selectView(d2, ng);
+  if (w2.index >= 0)
+  {
+    d = d2;
+    return w2;
   }
   return w;
 }

@@ -92,18 +92,20 @@ void main()
     return;
   }
   vec3 nrm = texelFetch(gNormal, pix, 0).xyz;
+  vec3 ng = receiverNormal(pix, nrm); // the receiver's facet (ssShadowCommon)
   vec3 d = g.xyz - lightCenter;
+  vec3 dLookup = d; // moved along ng by the normal offset
 
-  View w = selectView(d, nrm);
+  View w = selectReceiverView(dLookup, ng);
   if (w.index < 0)
   {
     gl_FragData[0] = vec4(outsideViewsVisibility(d));
     return;
   }
 
-  // Direction to the light and the slope of the receiver (ss::SlopeScaledBias).
-  vec3 toLight = (orthographic != 0) ? -viewN[w.index] : normalize(-d);
-  float cosTheta = dot(normalize(nrm), toLight);
+  // Direction to the light and the slope of the receiver's facet (ss::SlopeScaledBias).
+  vec3 toLight = (orthographic != 0) ? -viewN[w.index] : normalize(-dLookup);
+  float cosTheta = (dot(ng, ng) > 0.5) ? dot(ng, toLight) : 1.0;
   float tanTheta = (cosTheta > 1e-4) ? min(sqrt(max(0.0, 1.0 - cosTheta * cosTheta)) / cosTheta, 10.0) : 10.0;
   float slopeScaled = w.texelWorld * (constantBias + slopeBias * tanTheta);
 
@@ -143,6 +145,10 @@ void main()
       }
     }
   }
-  V *= lightAboveTangent(normalize(nrm), d);
+  // The shadow terminator: the light above both the shading normal's and
+  // the facet's plane (ssShadowCommon, lightAboveSurface). Hard and PCF
+  // shadow the light's centre (a hard map): its side of both planes; PCSS
+  // the fraction of the light above them.
+  V *= (method == 3) ? lightAboveSurface(normalize(nrm), ng, d) : centreAboveSurface(normalize(nrm), ng, d);
   gl_FragData[0] = vec4(V, 0.0, 0.0, 1.0);
 }

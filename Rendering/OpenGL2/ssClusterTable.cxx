@@ -2,11 +2,17 @@
 
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
+#include "vtkCellData.h"
 #include "vtkPolyData.h"
 
-namespace ssf
+namespace ss
 {
-bool ReadClusterTable(vtkPolyData* pd, ClusterTable& table, std::string& why)
+bool HasClusterTable(vtkPolyData* pd)
+{
+  return pd && pd->GetFieldData() && pd->GetFieldData()->GetArray("ClusterRange");
+}
+
+bool ReadClusterTable(vtkPolyData* pd, ClusterTable& table, std::string& why, bool partition)
 {
   table = ClusterTable();
   if (!pd)
@@ -51,8 +57,13 @@ bool ReadClusterTable(vtkPolyData* pd, ClusterTable& table, std::string& why)
       why = "ClusterRange " + std::to_string(c) + " is outside the cells";
       return false;
     }
+    if (partition && static_cast<std::size_t>(first) != (c == 0 ? 0 : table.ranges.back().first + table.ranges.back().second))
+    {
+      why = "ClusterRange " + std::to_string(c) + " does not follow the previous cluster";
+      return false;
+    }
     table.ranges.emplace_back(static_cast<std::size_t>(first), static_cast<std::size_t>(count));
-    ss::ClusterBounds b;
+    ClusterBounds b;
     double v[15];
     aabb->GetTuple(c, v);
     b.aabb.min = { v[0], v[2], v[4] };
@@ -69,6 +80,34 @@ bool ReadClusterTable(vtkPolyData* pd, ClusterTable& table, std::string& why)
     b.cone.cosAngle = v[3];
     b.closedOutward = closed->GetComponent(c, 0) != 0;
     table.bounds.push_back(b);
+  }
+  const std::size_t cells = static_cast<std::size_t>(pd->GetNumberOfCells());
+  if (partition && (table.ranges.empty() ? 0 : table.ranges.back().first + table.ranges.back().second) != cells)
+  {
+    why = "ClusterRange does not cover every cell";
+    return false;
+  }
+  vtkDataArray* piece = pd->GetCellData()->GetArray("PieceId");
+  vtkDataArray* closedCells = pd->GetCellData()->GetArray("ClosedOutward");
+  if (piece && closedCells && piece->GetNumberOfTuples() == static_cast<vtkIdType>(cells) &&
+    closedCells->GetNumberOfTuples() == static_cast<vtkIdType>(cells) && piece->GetNumberOfComponents() == 1 &&
+    closedCells->GetNumberOfComponents() == 1)
+  {
+    table.piece.resize(cells);
+    table.closedOutward.resize(cells);
+    for (std::size_t i = 0; i < cells; ++i)
+    {
+      const double p = piece->GetComponent(static_cast<vtkIdType>(i), 0);
+      if (!(p >= 0 && p < 4294967295.0))
+      {
+        why = "cell array PieceId has a value out of range at cell " + std::to_string(i);
+        table.piece.clear();
+        table.closedOutward.clear();
+        return false;
+      }
+      table.piece[i] = static_cast<std::uint32_t>(p);
+      table.closedOutward[i] = closedCells->GetComponent(static_cast<vtkIdType>(i), 0) != 0 ? 1 : 0;
+    }
   }
   return true;
 }

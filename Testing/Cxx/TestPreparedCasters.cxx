@@ -1,0 +1,272 @@
+// The render pass with prepared casters (vtkShadowCasterPreparation upstream,
+// Documentation/filters.md): the caster set takes its clusters from the
+// preparation's cluster table and GEARS its closed pieces, and neither the
+// culling nor the pieces change what any pixel sees.
+#include "ssRenderTestUtilities.h"
+
+#include "vtkAppendPolyData.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkShadowCasterPreparation.h"
+#include "vtkTransform.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <string>
+
+using namespace sstest;
+
+namespace
+{
+// A field of closed spheres and boxes (25 pieces), prepared, with clusters of
+// at most 64 triangles so that tiles and cells have many to choose from.
+vtkSmartPointer<vtkPolyData> PreparedField()
+{
+  vtkNew<vtkAppendPolyData> append;
+  for (int j = 0; j < 5; ++j)
+  {
+    for (int i = 0; i < 5; ++i)
+    {
+      if ((i + j) % 2)
+      {
+        vtkNew<vtkSphereSource> s;
+        s->SetCenter(-4 + 2 * i, -4 + 2 * j, 0.6 + 0.1 * ((i + j) % 3));
+        s->SetRadius(0.45);
+        s->SetThetaResolution(32);
+        s->SetPhiResolution(16);
+        append->AddInputConnection(s->GetOutputPort());
+      }
+      else
+      {
+        vtkNew<vtkCubeSource> c;
+        c->SetCenter(-4 + 2 * i, -4 + 2 * j, 0.7);
+        c->SetXLength(0.7);
+        c->SetYLength(0.5);
+        c->SetZLength(0.9);
+        append->AddInputConnection(c->GetOutputPort());
+      }
+    }
+  }
+  vtkNew<vtkShadowCasterPreparation> prep;
+  prep->SetInputConnection(append->GetOutputPort());
+  prep->SetMaximumClusterTriangles(64);
+  prep->Update();
+  return prep->GetOutput();
+}
+
+// The same triangles without the cluster table (what a user who did not run
+// the filter would give): the pass falls back to Morton clusters, no pieces.
+vtkSmartPointer<vtkPolyData> Stripped(vtkPolyData* prepared)
+{
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->ShallowCopy(prepared);
+  pd->SetFieldData(vtkSmartPointer<vtkFieldData>::New());
+  return pd;
+}
+
+double Number(const std::string& js, const std::string& key, std::size_t from = 0)
+{
+  const std::size_t at = js.find("\"" + key + "\": ", from);
+  return at == std::string::npos ? -1.0 : std::stod(js.substr(at + key.size() + 4));
+}
+
+std::string Text(const std::string& js, const std::string& key, std::size_t from = 0)
+{
+  const std::size_t at = js.find("\"" + key + "\": \"", from);
+  if (at == std::string::npos)
+  {
+    return {};
+  }
+  const std::size_t b = at + key.size() + 5;
+  return js.substr(b, js.find('"', b) - b);
+}
+
+struct Result
+{
+  Frame frame;
+  std::string stats;
+};
+
+// Ground + the field (rotated, scaled and moved by the actor's matrix), a
+// rect light, a close-up camera; `setup` picks the method and its options.
+Result RenderField(vtkPolyData* casters, const std::function<void(vtkSoftShadowPass*)>& setup, double opacity = 1.0,
+  int w = 240, int h = 180)
+{
+  Scene s(w, h);
+  s.renderer->AddActor(Ground(7.0));
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(casters);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetOpacity(opacity);
+  vtkNew<vtkTransform> t;
+  t->Translate(0.2, -0.1, 0.05);
+  t->RotateZ(17.0);
+  t->Scale(1.1, 1.1, 1.1);
+  actor->SetUserTransform(t);
+  s.renderer->AddActor(actor);
+  s.renderer->AddLight(RectLight(0.5, -0.5, 6, 0, 0, 0, 2.5, 2.5));
+  s.Camera(0, -6.5, 3.2, 0, -1.5, 0, 40.0);
+  setup(s.pass);
+  Result r;
+  r.frame = s.Render();
+  r.stats = s.pass->GetStatsJSON();
+  return r;
+}
+
+// Equal V on every pixel; the number of shadowed pixels.
+std::size_t ExpectSameV(const Frame& a, const Frame& b, const std::string& what, double tolerance = 0.0)
+{
+  EXPECT_EQ(a.V.size(), b.V.size()) << what;
+  std::size_t shadowed = 0, differ = 0;
+  double maxDiff = 0.0;
+  for (std::size_t i = 0; i < std::min(a.V.size(), b.V.size()); ++i)
+  {
+    EXPECT_EQ(std::isnan(a.V[i]), std::isnan(b.V[i])) << what << " pixel " << i;
+    if (!std::isnan(a.V[i]))
+    {
+      shadowed += a.V[i] < 0.5f;
+      const double d = std::abs(double(a.V[i]) - b.V[i]);
+      maxDiff = std::max(maxDiff, d);
+      differ += d > 0.0;
+    }
+  }
+  std::cout << what << ": max |dV| " << maxDiff << ", " << differ << " pixels differ, " << shadowed
+            << " shadowed\n";
+  EXPECT_LE(maxDiff, tolerance) << what;
+  EXPECT_GT(shadowed, 500u) << what;
+  return shadowed;
+}
+}
+
+// The caster set reads the table: PVSM's tiles report prepared clusters,
+// their number is the table's, and some are culled; without the table the
+// same triangles get Morton clusters.
+TEST(PreparedCasters, ClustersComeFromTheTable)
+{
+  const auto prepared = PreparedField();
+  const double tableClusters = prepared->GetFieldData()->GetArray("ClusterRange")->GetNumberOfTuples();
+  ASSERT_GT(tableClusters, 25.0);
+  const auto pvsm = [](vtkSoftShadowPass* p) { p->SetMethod(vtkSoftShadowPass::PVSM); };
+  const Result a = RenderField(prepared, pvsm);
+  const std::size_t at = a.stats.find("\"tile_clusters\"");
+  ASSERT_NE(at, std::string::npos) << a.stats;
+  EXPECT_EQ(Text(a.stats, "source", at), "prepared");
+  EXPECT_EQ(Number(a.stats, "prepared_clusters", at), tableClusters);
+  // the table's clusters and one Morton cluster of the ground
+  EXPECT_EQ(Number(a.stats, "clusters", at), tableClusters + 1);
+  EXPECT_GT(Number(a.stats, "culled", at), 0.0);
+  EXPECT_GT(Number(a.stats, "drawn", at), 0.0);
+  const Result b = RenderField(Stripped(prepared), pvsm);
+  const std::size_t bt = b.stats.find("\"tile_clusters\"");
+  EXPECT_EQ(Text(b.stats, "source", bt), "morton");
+  EXPECT_EQ(Number(b.stats, "prepared_clusters", bt), 0.0);
+  ExpectSameV(a.frame, b.frame, "pvsm prepared vs morton clusters");
+}
+
+// The culling changes no pixel, for each method that culls: PVSM tiles
+// (PVSMTileCulling), ASM cells and the AVSM build's views (CasterCulling).
+TEST(PreparedCasters, CullingKeepsVForEachMethod)
+{
+  const auto prepared = PreparedField();
+  struct Case
+  {
+    const char* method;
+    double opacity;
+    std::function<void(vtkSoftShadowPass*, bool)> culling;
+    const char* key;  // the stats object with the counts
+    bool expectCulls; // the AVSM views are fitted to every caster: nothing to cull in this scene
+  };
+  const Case cases[] = {
+    { "pvsm", 1.0, [](vtkSoftShadowPass* p, bool on) { p->SetPVSMTileCulling(on); }, "tile_clusters", true },
+    { "asm", 1.0,
+      [](vtkSoftShadowPass* p, bool on) {
+        p->SetCasterCulling(on);
+        p->SetASMTimeBudget(1e5); // every node the analysis asks for, whatever the clock says
+      },
+      "cell_clusters", true },
+    { "avsm", 0.6, [](vtkSoftShadowPass* p, bool on) { p->SetCasterCulling(on); }, "view_clusters", false },
+  };
+  for (const Case& c : cases)
+  {
+    Result r[2];
+    for (int on = 0; on < 2; ++on)
+    {
+      r[on] = RenderField(
+        prepared,
+        [&](vtkSoftShadowPass* p) {
+          ASSERT_TRUE(p->SetMethodByName(c.method));
+          c.culling(p, on != 0);
+        },
+        c.opacity);
+    }
+    ExpectSameV(r[0].frame, r[1].frame, std::string(c.method) + " culling off vs on");
+    const std::size_t at = r[1].stats.find(std::string("\"") + c.key + "\"");
+    ASSERT_NE(at, std::string::npos) << c.method << ": " << r[1].stats;
+    EXPECT_EQ(Text(r[1].stats, "source", at), "prepared") << c.method;
+    if (c.expectCulls)
+    {
+      EXPECT_GT(Number(r[1].stats, "culled", at), 0.0) << c.method << ": " << r[1].stats.substr(at, 200);
+    }
+    EXPECT_GT(Number(r[1].stats, "drawn", at), 0.0) << c.method << ": " << r[1].stats.substr(at, 200);
+    const std::size_t off = r[0].stats.find(std::string("\"") + c.key + "\"");
+    EXPECT_EQ(Number(r[0].stats, "culled", off), 0.0) << c.method << " without culling";
+  }
+}
+
+// GEARS with the closed pieces of prepared casters (the closed-mesh rule and
+// inner occluders) sees exactly what it sees without them, and has no more
+// (triangle, cell) pairs to do.
+TEST(PreparedCasters, GearsPiecesKeepVAndDropPairs)
+{
+  const auto prepared = PreparedField();
+  const auto gears = [](vtkSoftShadowPass* p) {
+    p->SetMethod(vtkSoftShadowPass::GEARS);
+    p->SetGearsSamples(8);
+  };
+  const Result with = RenderField(prepared, gears);
+  const Result without = RenderField(Stripped(prepared), gears);
+  ExpectSameV(with.frame, without.frame, "gears with vs without closed pieces");
+  const double pairsWith = Number(with.stats, "pairs"), pairsWithout = Number(without.stats, "pairs");
+  const double droppedWith = Number(with.stats, "dropped_triangles");
+  std::cout << "gears pairs with pieces " << pairsWith << ", without " << pairsWithout << "; dropped "
+            << droppedWith << "\n";
+  EXPECT_GT(droppedWith, 0.0);
+  EXPECT_EQ(Number(without.stats, "dropped_triangles"), 0.0);
+  EXPECT_GT(pairsWithout, 0.0);
+  EXPECT_LT(pairsWith, pairsWithout);
+}
+
+// A mirrored actor turns the outward pieces inward: the pass must not cull
+// or drop on the table's word then, and V stays that of the plain triangles.
+TEST(PreparedCasters, MirroredActorKeepsV)
+{
+  const auto prepared = PreparedField();
+  const auto mirrored = [](vtkPolyData* pd, const std::function<void(vtkSoftShadowPass*)>& setup) {
+    Scene s(200, 150);
+    s.renderer->AddActor(Ground(7.0));
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(pd);
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    actor->SetScale(-1.0, 1.0, 1.0);
+    s.renderer->AddActor(actor);
+    s.renderer->AddLight(RectLight(0.5, -0.5, 6, 0, 0, 0, 2.5, 2.5));
+    s.Camera(0, -6.5, 3.2, 0, -1.5, 0, 40.0);
+    setup(s.pass);
+    return s.Render();
+  };
+  for (const char* method : { "gears", "pvsm" })
+  {
+    const auto setup = [&](vtkSoftShadowPass* p) {
+      ASSERT_TRUE(p->SetMethodByName(method));
+      p->SetGearsSamples(8);
+    };
+    ExpectSameV(mirrored(prepared, setup), mirrored(Stripped(prepared), setup),
+      std::string(method) + " mirrored, prepared vs plain");
+  }
+}
