@@ -265,6 +265,7 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "AdaptToFrameBudget: " << this->AdaptToFrameBudget << "\n";
   os << indent << "NormalOffset: " << this->NormalOffset << "\n";
+  os << indent << "FitViewsToVisibleReceivers: " << (this->FitViewsToVisibleReceivers ? "on" : "off") << "\n";
   os << indent << "KeepRequestedMethod: " << (this->KeepRequestedMethod ? "on" : "off") << "\n";
   os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";

@@ -390,12 +390,13 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   ss::SolverFrame frame = in.MakeSolverFrame(ren, win, this);
 
   // The receiver points the camera sees: the shadow views are fitted to them
-  // (and to what can shadow them), when a light's solver fits views.
+  // (and to what can shadow them), when a light's solver fits views and
+  // FitViewsToVisibleReceivers is on (off: unknown, the views cover the bounds).
   const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   in.Visible = ss::VisibleReceivers{};
   for (const auto& l : in.Frame.Lights)
   {
-    if (l.Layer >= 0 && in.SolverFor(l.Method)->FitsShadowViews())
+    if (this->FitViewsToVisibleReceivers && l.Layer >= 0 && in.SolverFor(l.Method)->FitsShadowViews())
     {
       const auto t0 = Clock::now();
       in.Visible = ss::CollectFrameReceivers(frame, receivers);
