@@ -63,30 +63,6 @@ struct ActorTriangles
   bool casts = true;
 };
 
-template <typename F>
-void ForEachVisibleActor(vtkRenderer* ren, F&& f)
-{
-  vtkPropCollection* props = ren->GetViewProps();
-  vtkCollectionSimpleIterator pit;
-  props->InitTraversal(pit);
-  while (vtkProp* prop = props->GetNextProp(pit))
-  {
-    if (!prop->GetVisibility())
-    {
-      continue;
-    }
-    prop->InitPathTraversal();
-    while (vtkAssemblyPath* path = prop->GetNextPath())
-    {
-      vtkAssemblyNode* node = path->GetLastNode();
-      vtkActor* actor = vtkActor::SafeDownCast(node->GetViewProp());
-      if (actor && actor->GetVisibility() && actor->GetMapper())
-      {
-        f(actor, node->GetMatrix() ? node->GetMatrix() : actor->GetMatrix());
-      }
-    }
-  }
-}
 
 ActorTriangles Gather(vtkActor* actor, vtkMatrix4x4* m)
 {
@@ -298,7 +274,7 @@ GearsFrame CaptureGearsFrame(vtkRenderWindow* win, vtkRenderer* ren)
   // every visible actor into one Embree scene (receivers too), the casters
   // into the frame
   std::vector<ActorTriangles> actors;
-  ForEachVisibleActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) { actors.push_back(Gather(actor, m)); });
+  vtkSoftShadowPass::ForEachVisibleActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) { actors.push_back(Gather(actor, m)); });
   RTCDevice device = rtcNewDevice(nullptr);
   RTCScene scene = rtcNewScene(device);
   for (std::size_t ai = 0; ai < actors.size(); ++ai)

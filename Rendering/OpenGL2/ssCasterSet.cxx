@@ -188,28 +188,7 @@ void AppendPolyData(vtkPolyData* pd, vtkMatrix4x4* m, const Appearance& look, st
 template <typename F>
 void ForEachActor(vtkRenderer* ren, F&& f)
 {
-  vtkPropCollection* props = ren->GetViewProps();
-  vtkCollectionSimpleIterator pit;
-  props->InitTraversal(pit);
-  while (vtkProp* prop = props->GetNextProp(pit))
-  {
-    if (!prop->GetVisibility())
-    {
-      continue;
-    }
-    prop->InitPathTraversal();
-    while (vtkAssemblyPath* path = prop->GetNextPath())
-    {
-      vtkAssemblyNode* node = path->GetLastNode();
-      vtkActor* actor = vtkActor::SafeDownCast(node->GetViewProp());
-      if (!actor || !actor->GetVisibility() || !actor->GetMapper())
-      {
-        continue;
-      }
-      vtkMatrix4x4* m = node->GetMatrix() ? node->GetMatrix() : actor->GetMatrix();
-      f(actor, m);
-    }
-  }
+  vtkSoftShadowPass::ForEachVisibleActor(ren, f);
 }
 
 template <typename F>

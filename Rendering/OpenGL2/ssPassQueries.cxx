@@ -6,9 +6,14 @@
 #include "ssPVSMSolver.h"
 #include "ssTriangleSolver.h"
 
+#include "vtkActor.h"
+#include "vtkAssemblyNode.h"
+#include "vtkAssemblyPath.h"
 #include "vtkFloatArray.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkPropCollection.h"
 #include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
 #include "vtkTextureObject.h"
 
 #include <algorithm>
@@ -270,4 +275,29 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";
+}
+
+void vtkSoftShadowPass::ForEachVisibleActor(
+  vtkRenderer* ren, const std::function<void(vtkActor*, vtkMatrix4x4*)>& f)
+{
+  vtkPropCollection* props = ren->GetViewProps();
+  vtkCollectionSimpleIterator pit;
+  props->InitTraversal(pit);
+  while (vtkProp* prop = props->GetNextProp(pit))
+  {
+    if (!prop->GetVisibility())
+    {
+      continue;
+    }
+    prop->InitPathTraversal();
+    while (vtkAssemblyPath* path = prop->GetNextPath())
+    {
+      vtkAssemblyNode* node = path->GetLastNode();
+      vtkActor* actor = vtkActor::SafeDownCast(node->GetViewProp());
+      if (actor && actor->GetVisibility() && actor->GetMapper())
+      {
+        f(actor, node->GetMatrix() ? node->GetMatrix() : actor->GetMatrix());
+      }
+    }
+  }
 }
