@@ -290,7 +290,7 @@ public:
    * light's perspective views are cut to the receiver points the camera sees
    * (the G-buffer) and the reach of what can shadow them, and a rect light
    * gets side views only when a visible receiver lies beyond its main view
-   * (Documentation/methods.md, "Shadow views"). Off: every view covers the
+   * (Documentation/methods.md, "Shadow maps"). Off: every view covers the
    * receivers' bounds, as a conventional shadow map does; the maps then do
    * not change with the camera (a tiled frame always uses the bounds).
    */
