@@ -349,15 +349,16 @@ std::vector<int> RegisteredMethods()
 // the silhouettes. GEARS and the reference use the same samples: no
 // allowance. What remains off the silhouettes is each method's own
 // approximation: PCSS's one average blocker depth per pixel under the large
-// lights, PVSM's penumbrae and the bunny's concave creases (stability.md).
+// lights, PVSM's penumbrae (stability.md).
 // Measured with the views fitted to the visible receivers and AVSM's
-// first-frame sampler fixed (issue 20).
+// first-frame sampler fixed (issue 20); pvsm re-measured after its filter's
+// bias got the pixel footprint as a floor (the bunny's crease curves).
 using Measured = std::map<std::string, int>;
 int Allow(int measured)
 {
   return measured + measured / 5 + 10;
 }
-const Measured kSilhouettes = { { "hard", 32 }, { "pcf", 101 }, { "pcss", 507 }, { "pvsm", 130 },
+const Measured kSilhouettes = { { "hard", 32 }, { "pcf", 101 }, { "pcss", 507 }, { "pvsm", 128 },
   { "hardavg", 20 }, { "asm", 47 }, { "vpcss", 507 }, { "avsm", 77 } };
 int SilhouetteAllowance(const std::string& method)
 {
@@ -429,7 +430,7 @@ void RunMesh(const std::string& meshName, vtkPolyData* mesh, const Measured& mea
 TEST(RealMeshes, WaveletIsosurface)
 {
   RunMesh("wavelet", WaveletIsosurface(),
-    { { "hard", 0 }, { "pcf", 61 }, { "pcss", 632 }, { "pvsm", 264 }, { "hardavg", 2 }, { "asm", 4 },
+    { { "hard", 0 }, { "pcf", 61 }, { "pcss", 632 }, { "pvsm", 123 }, { "hardavg", 2 }, { "asm", 4 },
       { "vpcss", 632 }, { "avsm", 15 } });
 }
 
@@ -443,14 +444,14 @@ TEST(RealMeshes, CoarseSphere)
 TEST(RealMeshes, Bunny)
 {
   RunMesh("bunny", MeshFile("bunny00.off"),
-    { { "hard", 2 }, { "pcf", 107 }, { "pcss", 419 }, { "pvsm", 169 }, { "hardavg", 1 }, { "asm", 4 },
+    { { "hard", 2 }, { "pcf", 107 }, { "pcss", 419 }, { "pvsm", 30 }, { "hardavg", 1 }, { "asm", 4 },
       { "vpcss", 419 }, { "avsm", 26 } });
 }
 
 TEST(RealMeshes, Fandisk)
 {
   RunMesh("fandisk", MeshFile("fandisk.off"),
-    { { "hard", 0 }, { "pcf", 6 }, { "pcss", 728 }, { "pvsm", 137 }, { "hardavg", 0 }, { "asm", 0 },
+    { { "hard", 0 }, { "pcf", 6 }, { "pcss", 728 }, { "pvsm", 136 }, { "hardavg", 0 }, { "asm", 0 },
       { "vpcss", 728 }, { "avsm", 11 } });
 }
 

@@ -127,6 +127,15 @@ void addBlocked(vec2 t0, vec2 t1, float zb, float zLow, float o, bool sampled)
   backProj += sampled ? 0.0 : o * f / (tilePerUnit.x * tilePerUnit.y * areaMap);
 }
 
+// The depth bias of a test on a quad of s tile texels: s texels (ssQuadLit.glsl:
+// a quad samples the map as a map s times coarser would), and never less than
+// the pixel footprint (receiverBiasFloor, set in main).
+float receiverBiasFloor;
+float quadBias(float texelBias, float s)
+{
+  return max(texelBias * s, receiverBiasFloor);
+}
+
 bool texelBlocked(View w, ivec2 t, float bias, float maxDelta, out float zb)
 {
   t = min(t, ivec2(tileRes) - 1);
@@ -155,14 +164,14 @@ void quadBlocked(View w, int level, ivec2 q, float bias, float maxDelta, float o
   float zb;
   if (level == 0)
   {
-    if (texelBlocked(w, q, bias, maxDelta, zb))
+    if (texelBlocked(w, q, quadBias(bias, 1.0), maxDelta, zb))
     {
       addBlocked(vec2(q), vec2(q) + 1.0, zb, zb, o, false);
     }
     return;
   }
   float s = exp2(float(level));
-  vec2 z = planeRangeTile(w, vec2(q) * s, s, maxDelta) - bias * s;
+  vec2 z = planeRangeTile(w, vec2(q) * s, s, maxDelta) - quadBias(bias, s);
   vec2 mm = texelFetch(tileMap, ivec3(q, 0), level).rg;
   if (z.y <= mm.x)
   {
@@ -175,14 +184,14 @@ void quadBlocked(View w, int level, ivec2 q, float bias, float maxDelta, float o
     ivec2 child = whole ? q : 2 * q + ivec2(c & 1, c >> 1);
     vec2 b = vec2(child) * h;
     vec2 cm = whole ? mm : texelFetch(tileMap, ivec3(child, 0), level - 1).rg;
-    vec2 cz = whole ? z : planeRangeTile(w, b, h, maxDelta) - bias * h;
+    vec2 cz = whole ? z : planeRangeTile(w, b, h, maxDelta) - quadBias(bias, h);
     if (cz.y <= cm.x)
     {
       continue;
     }
     bool decided = cz.x > cm.y;
     zb = 0.5 * (cm.x + cm.y);
-    if (decided || texelBlocked(w, ivec2(b + 0.5 * h), bias * h, maxDelta, zb))
+    if (decided || texelBlocked(w, ivec2(b + 0.5 * h), quadBias(bias, h), maxDelta, zb))
     {
       addBlocked(b, b + h, zb, cm.y, whole ? o : 0.25 * o, !decided);
     }
@@ -241,7 +250,19 @@ void main()
       max(k0.y * k0.y + k0.z * k0.z - k.y * k.y, 0.0));
   }
   float texelWorld = max(1.0 / tilePerUnit.x, 1.0 / tilePerUnit.y) * unitWorld;
+  // The depth bias: constantBias tile texels, but never less than constantBias
+  // times the pixel footprint's larger half axis (world, at the receiver).
+  // The filter integrates V over the pixel's footprint (§4.2), and within it
+  // the receiver's own surface departs from its facet's plane: across a
+  // concave crease the neighbouring facet rises above that plane by about
+  // its distance from the crease times the crease's slope, and counted as a
+  // blocker (it is within every reach, which the footprint widens). A bias of
+  // one tile texel shrank as the tiles got finer (views fitted to the visible
+  // receivers) and the bunny showed thin dark curves along its creases on lit
+  // surfaces (stability.md, real-mesh set: pvsm 169 -> 30 px off silhouettes
+  // on the bunny, 264 -> 123 on the wavelet isosurface).
   float bias = texelWorld * constantBias;
+  receiverBiasFloor = sqrt(max(footprint[0][0], footprint[1][1])) * unitWorld * constantBias;
   float maxDelta = 10.0 * (max(hw, hh) * unitWorld + texelWorld);
   // the kernel in tile texels
   vec2 T = (c - tileRect.xy) * tilePerUnit;
