@@ -205,6 +205,8 @@ bool GearsSilhouetteMask(const LightFrame& light, const glm::dvec3& start, const
     {
       return decline("a straddling silhouette edge is parallel to the rows");
     }
+    ++st.stripEdges;
+    bool inRect = false;
     for (int j = j0; j <= j1; ++j)
     {
       ++st.rowCrossings;
@@ -226,7 +228,9 @@ bool GearsSilhouetteMask(const LightFrame& light, const glm::dvec3& start, const
       }
       diff[j][c] += right ? 1 : -1;
       balance[j] += right ? 1 : -1;
+      inRect = inRect || (c > 0 && c < k);
     }
+    st.rectEdges += inRect ? 1 : 0;
   }
   std::uint32_t out[32] = {};
   for (int j = 0; j < k; ++j)

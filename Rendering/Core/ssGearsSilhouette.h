@@ -62,6 +62,8 @@ struct GearsSilhouettePiece
 struct GearsSilhouetteStats
 {
   std::size_t silhouetteEdges = 0; ///< edges between a face facing S and one facing away
+  std::size_t stripEdges = 0;      ///< silhouette edges crossing at least one sample row
+  std::size_t rectEdges = 0;       ///< ... and crossing one between two samples of a row (inside the light's samples)
   std::size_t rowCrossings = 0;    ///< (edge, row) crossings counted
   const char* declined = nullptr;  ///< why the piece was declined (null: mask written)
 };
