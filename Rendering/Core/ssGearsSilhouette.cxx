@@ -124,24 +124,18 @@ bool GearsSilhouetteMask(const LightFrame& light, const glm::dvec3& start, const
   }
   const LightSpace l = MakeLightSpace(ToLight(light, start), W, H, dir, k);
   const glm::dvec3 S = l.S;
-  // Every vertex strictly between S and the light (the raster's `projected`
-  // test, SetupBatch / RasterizeTriangle): then every face's bits are its
-  // three edge planes', and S lies outside the piece. Per vertex its row in
-  // sample-index units (the projection from S onto the light, as the LUT
-  // path projects it).
+  // Every vertex in front of a finite light (then a ray through a face
+  // reaches it before the light, so the raster's plane test adds nothing).
   std::vector<glm::dvec3> B(piece.vertices.size());
-  std::vector<double> row(piece.vertices.size());
+  bool behind = false; // a vertex at or beyond the start's depth
   for (std::size_t v = 0; v < B.size(); ++v)
   {
     B[v] = ToLight(light, piece.vertices[v]);
-    if (!(S.z - B[v].z > 0.0 && (dir || B[v].z > 0.0)))
+    if (!(dir || B[v].z > 0.0))
     {
-      return decline("a vertex is not strictly between the start and the light");
+      return decline("a vertex is not in front of the light");
     }
-    const double den = S.z - B[v].z;
-    const double g = dir ? 1.0 / den : S.z / den;
-    const double sv = ((dir ? 0.0 : S.y) + (B[v].y - S.y) * g) / H;
-    row[v] = ClampRange((sv + 0.5) * k - 0.5, k);
+    behind = behind || !(S.z - B[v].z > 0.0);
   }
   // Per face: which side S is on (SetupTriangle's det, same operations), and
   // the start rule's test (SetupBatch: |sigma| < eps |nT|).
@@ -163,12 +157,90 @@ bool GearsSilhouetteMask(const LightFrame& light, const glm::dvec3& start, const
       const double sigma = ((S.x - Bf.x) * n.x + (S.y - Bf.y) * n.y) + (S.z - Bf.z) * n.z;
       if (std::abs(sigma) < eps * glm::length(n))
       {
-        return decline("a face's plane passes within eps of the start (the start rule)");
+        // The raster applies the reference's start rule to this face (hits
+        // closer than eps to S do not count). A face farther than 4 eps from
+        // S has no such hit, and its bits are its edge planes' again.
+        const glm::dvec3 lo = glm::min(glm::min(Bf, B[piece.faces[f][1]]), B[piece.faces[f][2]]);
+        const glm::dvec3 hi = glm::max(glm::max(Bf, B[piece.faces[f][1]]), B[piece.faces[f][2]]);
+        const glm::dvec3 gap = glm::max(glm::max(lo - S, S - hi), glm::dvec3(0.0));
+        if (!(glm::length(gap) > 4.0 * eps))
+        {
+          return decline("a face within 4 eps of the start has its plane within eps of it (the start rule)");
+        }
       }
     }
   }
+  // The reference counts: the rays from S along -u and +u (the limits of
+  // every row's sample directions) cross the piece 2 L and 2 R times (S
+  // outside: each entry has its exit). A piece wholly nearer the light than
+  // S lies below that plane: L = R = 0. Otherwise a 2-D test in (y, z) per
+  // face that reaches the start's depth; a ray within 1e-9 of an edge, or a
+  // hit within 1e-9 of S, is declined (the count would depend on rounding).
+  int hitsL = 0, hitsR = 0;
+  if (behind)
+  {
+    for (const auto& f : piece.faces)
+    {
+      const glm::dvec3 V[3] = { B[f[0]], B[f[1]], B[f[2]] };
+      const double zmin = std::min({ V[0].z, V[1].z, V[2].z }), zmax = std::max({ V[0].z, V[1].z, V[2].z });
+      if (zmax < S.z || zmin > S.z)
+      {
+        continue;
+      }
+      double w[3], sum = 0.0, scale = 0.0;
+      for (int m = 0; m < 3; ++m)
+      {
+        const glm::dvec3& P = V[(m + 1) % 3];
+        const glm::dvec3& Q = V[(m + 2) % 3];
+        // twice the signed area of (P, Q, S) in the (y, z) plane: vertex m's weight
+        w[m] = (Q.y - P.y) * (S.z - P.z) - (Q.z - P.z) * (S.y - P.y);
+        sum += w[m];
+        scale = std::max(scale, std::abs((Q.y - P.y) * (S.z - P.z)) + std::abs((Q.z - P.z) * (S.y - P.y)));
+      }
+      const double tol = 1e-9 * scale;
+      if (std::abs(w[0]) <= tol || std::abs(w[1]) <= tol || std::abs(w[2]) <= tol)
+      {
+        const bool outside = (w[0] < -tol || w[1] < -tol || w[2] < -tol) && (w[0] > tol || w[1] > tol || w[2] > tol);
+        if (!outside)
+        {
+          return decline("a reference ray grazes an edge or vertex");
+        }
+        continue;
+      }
+      if (!((w[0] > 0.0 && w[1] > 0.0 && w[2] > 0.0) || (w[0] < 0.0 && w[1] < 0.0 && w[2] < 0.0)))
+      {
+        continue; // (S.y, S.z) outside the face's projection
+      }
+      const double x = (w[0] * V[0].x + w[1] * V[1].x + w[2] * V[2].x) / sum;
+      const double xs = 1e-9 * (std::abs(V[0].x) + std::abs(V[1].x) + std::abs(V[2].x) + std::abs(S.x));
+      if (std::abs(x - S.x) <= xs)
+      {
+        return decline("the start lies on the piece");
+      }
+      (x < S.x ? hitsL : hitsR) += 1;
+    }
+    st.referenceHits = static_cast<std::size_t>(hitsL + hitsR);
+    if (hitsL % 2 != 0 || hitsR % 2 != 0)
+    {
+      return decline("the start is inside the piece");
+    }
+  }
+  // Row j's sample directions lie in the plane through S spanned by u and
+  // d(0, j); its normal m_j = u x d(0, j) = (0, -D0.z, D0.y + sv_j Dv.y).
+  // A silhouette edge crosses the row where its vertices lie on opposite
+  // sides of that plane (half-open per vertex, so every closed silhouette
+  // loop crosses it as often one way as the other) and the crossing point
+  // lies nearer the light than S (else the rays towards the light do not
+  // pass it; its edge function changes sign at the opposite direction).
+  double rowA[32], rowB[32];
+  for (int j = 0; j < k; ++j)
+  {
+    const double sv = (j + 0.5) / k - 0.5;
+    rowA[j] = -l.s.D0.z;
+    rowB[j] = l.s.D0.y + sv * l.s.Dv.y;
+  }
   // Per row: +-1 from the first sample on the crossing's far side on
-  // (a difference array over i = 0..k), and the balance of the crossings.
+  // (a difference array over i = 0..k), and the rows' totals.
   int diff[32][33] = {};
   int balance[32] = {};
   for (const auto& e : piece.edges)
@@ -178,37 +250,41 @@ bool GearsSilhouetteMask(const LightFrame& light, const glm::dvec3& start, const
       continue; // interior edge: its two faces' contributions cancel
     }
     ++st.silhouetteEdges;
-    // A silhouette vertex exactly on a sample row: the half-open rule below
-    // would treat that row as lying just above the vertex, while the raster's
-    // closed triangles hide samples on a horizontal silhouette edge too.
-    for (const double y : { row[e.a], row[e.b] })
-    {
-      if (y >= 0.0 && y <= k - 1.0 && y == FloorSmall(y))
-      {
-        return decline("a silhouette vertex projects exactly onto a sample row");
-      }
-    }
-    const double ylo = std::min(row[e.a], row[e.b]), yhi = std::max(row[e.a], row[e.b]);
-    // rows j with ylo <= j < yhi (half-open per vertex: every closed
-    // silhouette loop crosses each row as often upwards as downwards)
-    const int j0 = std::max(0, static_cast<int>(CeilSmall(ylo)));
-    const int j1 = std::min(k - 1, static_cast<int>(CeilSmall(yhi)) - 1);
-    if (j0 > j1)
-    {
-      continue;
-    }
+    const glm::dvec3 P = B[e.a] - S, Q = B[e.b] - S;
     // The edge's function as SetupTriangle gives it in face f0 (a -> b is
     // one of f0's edges; f1 gives the same values on a silhouette edge).
     const double sg = side[e.f0] > 0 ? 1.0 : -1.0;
-    const Affine F = MakeAffine(l.s, sg * Cross3(B[e.a] - S, B[e.b] - S));
-    if (F.B == 0.0)
+    const Affine F = MakeAffine(l.s, sg * Cross3(P, Q));
+    bool inRect = false, inStrip = false;
+    for (int j = 0; j < k; ++j)
     {
-      return decline("a straddling silhouette edge is parallel to the rows");
-    }
-    ++st.stripEdges;
-    bool inRect = false;
-    for (int j = j0; j <= j1; ++j)
-    {
+      const double sP = rowA[j] * P.y + rowB[j] * P.z, sQ = rowA[j] * Q.y + rowB[j] * Q.z;
+      // A silhouette vertex exactly in a row's plane: the half-open rule
+      // would treat the row as lying on one side of it, while the raster's
+      // closed triangles also hide samples on an edge along the row.
+      if (sP == 0.0 || sQ == 0.0)
+      {
+        return decline("a silhouette vertex lies exactly in a sample row's plane");
+      }
+      if ((sP > 0.0) == (sQ > 0.0))
+      {
+        continue;
+      }
+      const double t = sP / (sP - sQ);
+      const double dz = P.z + t * (Q.z - P.z);
+      if (std::abs(dz) <= 1e-9 * (std::abs(P.z) + std::abs(Q.z)))
+      {
+        return decline("a silhouette edge crosses a row's plane level with the start");
+      }
+      if (dz > 0.0)
+      {
+        continue; // beyond the start: not on a ray towards the light
+      }
+      if (F.B == 0.0)
+      {
+        return decline("a crossing silhouette edge is parallel to the rows");
+      }
+      inStrip = true;
       ++st.rowCrossings;
       const double ej = RowValue(F, j);
       // inside (F >= 0, the raster's tie rule) to the right (B > 0): +1 from
@@ -230,19 +306,26 @@ bool GearsSilhouetteMask(const LightFrame& light, const glm::dvec3& start, const
       balance[j] += right ? 1 : -1;
       inRect = inRect || (c > 0 && c < k);
     }
+    st.stripEdges += inStrip ? 1 : 0;
     st.rectEdges += inRect ? 1 : 0;
   }
+  // W = L + the crossings left of the sample; past the last sample it must
+  // reach R (the count along +u), and it never goes below 0.
   std::uint32_t out[32] = {};
   for (int j = 0; j < k; ++j)
   {
-    if (balance[j] != 0)
+    if (hitsL / 2 + balance[j] != hitsR / 2)
     {
-      return decline("a row's silhouette crossings do not balance");
+      return decline("a row's silhouette crossings do not match the reference rays");
     }
-    int w = 0;
+    int w = hitsL / 2;
     for (int i = 0; i < k; ++i)
     {
       w += diff[j][i];
+      if (w < 0)
+      {
+        return decline("a negative layer count");
+      }
       if (w > 0)
       {
         out[j] |= 1u << i;

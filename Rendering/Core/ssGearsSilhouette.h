@@ -4,27 +4,33 @@
 // §3: the depth complexity of a light sample changes only across silhouette
 // edges), instead of rasterising every triangle (GEARS §4.2).
 //
-// Seen from S, the projections onto the light of the triangles that face S
-// form a 2-chain whose boundary is the projected silhouette edges (edges
-// between a triangle facing S and one facing away); interior edges cancel.
-// So the number of front layers at light sample s is the winding number of
-// the projected silhouette edges around s, and s is hidden by the piece iff
-// that number is positive (S outside the piece).
+// Seen from S, the faces that face S cover each ray from S once per layer of
+// the piece it crosses (S outside); interior edges cancel, so along a row of
+// light samples the layer count changes only where a silhouette edge (between
+// a face S is in front of and one S is behind) crosses the plane through S
+// and the row, nearer the light than S. Starting from the count along the
+// row's limit direction -u (a reference ray from S, the same for every row;
+// 0 when the whole piece is nearer the light than S), the count at each
+// sample is that plus the signed crossings left of it, and the sample is
+// hidden iff it is positive. The count along +u checks every row.
 //
 // Bit-identical to the triangle raster: each silhouette edge's function is
 // the one SetupTriangle gives that edge in either adjacent triangle (the two
 // agree exactly on a silhouette edge: sg (a x b) = (-sg) (b x a) bit for bit),
 // evaluated per sample as the raster does, F = (A + C j) + B i, with the
-// raster's tie rule (F >= 0 is inside). Where the winding count could not
-// give the raster's bits the piece is declined (the caller keeps the
-// triangle raster): a vertex of the piece not strictly between S and the
-// light (S inside or among the piece: the raster tests the triangles' planes
-// too), S in a face's plane, a face whose plane passes within eps of S (the
-// reference's start rule), a silhouette vertex projected exactly onto a
-// sample row (rows are crossed half-open per vertex; the raster's triangles
-// are closed), a straddling edge parallel to the rows, or a row whose
-// crossings do not balance. Not covered: a sample within rounding of a
-// projected vertex, where the triangle raster itself is not watertight.
+// raster's tie rule (F >= 0 is inside). Where the count could depend on
+// rounding, or the raster's bits on more than the faces' edge planes, the
+// piece is declined (the caller keeps the triangle raster): a vertex not in
+// front of a finite light (the raster tests the faces' planes too), S in a
+// face's plane, a face within 4 eps of S whose plane passes within eps of it
+// (the reference's start rule), a reference ray within 1e-9 (relative) of an
+// edge or vertex or hitting the piece at S, S inside the piece (odd reference
+// count), a silhouette vertex exactly in a row's plane (rows are crossed
+// half-open per vertex; the raster's triangles are closed), a crossing level
+// with S (relative 1e-9), a crossing edge parallel to the rows, a row whose
+// crossings do not lead from the -u count to the +u count, or a negative
+// count. Not covered: a sample within rounding of a projected vertex, where
+// the triangle raster itself is not watertight.
 //
 // Plain C++17 + GLM (Rendering/Core): no VTK, no GL.
 #ifndef ssGearsSilhouette_h
@@ -65,6 +71,7 @@ struct GearsSilhouetteStats
   std::size_t stripEdges = 0;      ///< silhouette edges crossing at least one sample row
   std::size_t rectEdges = 0;       ///< ... and crossing one between two samples of a row (inside the light's samples)
   std::size_t rowCrossings = 0;    ///< (edge, row) crossings counted
+  std::size_t referenceHits = 0;   ///< crossings of the reference rays along -u and +u
   const char* declined = nullptr;  ///< why the piece was declined (null: mask written)
 };
 

@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
@@ -134,7 +135,7 @@ std::vector<LightFrame> AreaLights()
 
 struct Counts
 {
-  std::size_t solved = 0, declined = 0, otherDeclines = 0, rasterMismatch = 0, bruteMismatch = 0, partial = 0, deepRows = 0;
+  std::size_t solved = 0, declined = 0, otherDeclines = 0, withReference = 0, rasterMismatch = 0, bruteMismatch = 0, partial = 0, deepRows = 0;
 };
 
 // Start points under the pieces (on a floor around z = 0), each light, k:
@@ -160,15 +161,19 @@ Counts Compare(const std::vector<std::vector<glm::dvec3>>& pieces, int starts, s
     {
       for (int s = 0; s < starts; ++s)
       {
-        const glm::dvec3 S(U(rng), U(rng), 0.05 * U(rng));
+        // on a floor (every vertex nearer the light for the overhead lights)
+        // and, one in four, level with the pieces (the reference rays cross
+        // them; starts inside a piece are declined)
+        const glm::dvec3 S(U(rng), U(rng), s % 4 == 3 ? 1.0 + 0.4 * U(rng) : 0.05 * U(rng));
         GearsMask m{};
-        bool ok = true;
+        bool ok = true, ref = false;
         for (const auto& bp : built)
         {
           GearsSilhouetteStats st;
           ok = GearsSilhouetteMask(L, S, bp, k, 0.0, m, &st) && ok;
           c.deepRows += st.rowCrossings;
-          if (st.declined && std::string(st.declined).find("strictly between") == std::string::npos)
+          ref = ref || st.referenceHits > 0;
+          if (st.declined && std::string(st.declined).find("inside") == std::string::npos)
           {
             ++c.otherDeclines;
           }
@@ -183,6 +188,7 @@ Counts Compare(const std::vector<std::vector<glm::dvec3>>& pieces, int starts, s
           continue;
         }
         ++c.solved;
+        c.withReference += ref ? 1 : 0;
         const GearsMask r = RasterMask(L, S, all, k);
         c.rasterMismatch += m != r;
         if (k <= 16 || s % 4 == 0) // (brute force at k = 32 is slow: a quarter of the starts)
@@ -211,10 +217,10 @@ TEST(GEARSSilhouette, SphereAndBumpySurfaceEqualTheTriangleRaster)
     const Counts c = Compare({ Sphere({ 0.1, 0.0, 1.0 }, 0.5, 4, bumps) }, 40, 7);
     EXPECT_EQ(c.rasterMismatch, 0u) << "bumps " << bumps;
     EXPECT_EQ(c.bruteMismatch, 0u) << "bumps " << bumps;
-    // only where the piece is not wholly between the start and the light
-    // (the side light sees some starts level with the surface)
+    // declined only for starts inside the piece
     EXPECT_EQ(c.otherDeclines, 0u);
     EXPECT_GT(c.solved, 4 * c.declined);
+    EXPECT_GT(c.withReference, c.solved / 25) << "the reference rays must be exercised";
     EXPECT_GT(c.partial, c.solved / 4) << "most masks must be penumbrae (else the test decides little)";
   }
 }
@@ -227,6 +233,7 @@ TEST(GEARSSilhouette, TorusAndInterpenetratingPiecesEqualTheTriangleRaster)
   EXPECT_EQ(t.bruteMismatch, 0u);
   EXPECT_EQ(t.otherDeclines, 0u);
   EXPECT_GT(t.solved, 4 * t.declined);
+  EXPECT_GT(t.withReference, t.solved / 25);
   EXPECT_GT(t.partial, t.solved / 4);
   // two closed pieces cutting through each other: each piece's mask alone,
   // ORed, equals the raster over both
@@ -236,6 +243,7 @@ TEST(GEARSSilhouette, TorusAndInterpenetratingPiecesEqualTheTriangleRaster)
   EXPECT_EQ(two.bruteMismatch, 0u);
   EXPECT_EQ(two.otherDeclines, 0u);
   EXPECT_GT(two.solved, 4 * two.declined);
+  EXPECT_GT(two.withReference, two.solved / 25);
   EXPECT_GT(two.partial, two.solved / 4);
 }
 
@@ -298,13 +306,15 @@ TEST(GEARSSilhouette, SamplesOnProjectedEdgesFollowTheRasterTieRule)
   EXPECT_NE(std::string(st.declined ? st.declined : "").find("sample row"), std::string::npos);
 }
 
-TEST(GEARSSilhouette, StartInsideOrAmongThePieceIsDeclined)
+TEST(GEARSSilhouette, StartInsideIsDeclinedAndBesideIsSolved)
 {
   const auto sphere = Sphere({ 0.0, 0.0, 1.0 }, 0.5, 3, 0.2);
   GearsSilhouettePiece piece;
   ASSERT_TRUE(piece.Build(sphere));
   const LightFrame L = AreaLights()[0];
-  for (const glm::dvec3 S : { glm::dvec3(0, 0, 1.0), glm::dvec3(0.02, -0.03, 0.9), glm::dvec3(0.9, 0.0, 1.0) })
+  // inside (the reference rays cross the surface an odd number of times, or
+  // graze the octahedron's symmetric vertices): declined
+  for (const glm::dvec3 S : { glm::dvec3(0, 0, 1.0), glm::dvec3(0.02, -0.03, 0.9), glm::dvec3(-0.05, 0.04, 1.1) })
   {
     GearsMask m{};
     GearsSilhouetteStats st;
@@ -312,23 +322,43 @@ TEST(GEARSSilhouette, StartInsideOrAmongThePieceIsDeclined)
     EXPECT_NE(st.declined, nullptr);
     EXPECT_EQ(m, GearsMask{}) << "a declined piece leaves the mask alone";
   }
+  // beside the piece, level with it (its vertices on both sides of the
+  // start's depth): solved, through the reference rays, as the raster
+  std::size_t withReference = 0;
+  long bits = 0;
+  for (const glm::dvec3 S : { glm::dvec3(0.93, 0.05, 1.02), glm::dvec3(-0.93, 0.05, 0.98), glm::dvec3(-0.6, -0.1, 0.65),
+         glm::dvec3(-0.6, -0.1, 0.75), glm::dvec3(-0.75, -0.1, 0.65), glm::dvec3(-0.9, 0.1, 0.65) })
+  {
+    GearsMask m{};
+    GearsSilhouetteStats st;
+    EXPECT_TRUE(GearsSilhouetteMask(L, S, piece, 16, 0.0, m, &st)) << st.declined;
+    EXPECT_EQ(m, RasterMask(L, S, sphere, 16));
+    EXPECT_EQ(m, BruteMask(L, S, sphere, 16));
+    withReference += st.referenceHits > 0 ? 1 : 0;
+    bits += std::count_if(m.begin(), m.end(), [](std::uint32_t r) { return r != 0u; });
+  }
+  EXPECT_GT(bits, 0) << "and the piece must hide some samples from them";
+  EXPECT_GE(withReference, 4u) << "these starts' reference rays must cross the piece";
   // inside: the triangle raster (which the caller keeps) hides every sample
   const GearsMask r = RasterMask(L, { 0, 0, 1.0 }, sphere, 16);
   for (int j = 0; j < 16; ++j)
   {
     EXPECT_EQ(r[j], 0xFFFFu);
   }
-  // the start rule: a face plane within eps of the start
-  GearsMask m{};
-  EXPECT_TRUE(GearsSilhouetteMask(L, { 0.0, 0.0, 0.0 }, piece, 16, 1e-5, m));
-  const auto& f = piece.faces[0];
-  const glm::dvec3 P = piece.vertices[f[0]];
-  const glm::dvec3 n = glm::normalize(glm::cross(piece.vertices[f[1]] - P, piece.vertices[f[2]] - P));
-  const glm::dvec3 onPlane = P + 2.0 * glm::normalize(glm::cross(n, glm::dvec3(0.3, 0.1, 1.0))) + 1e-7 * n;
-  GearsSilhouetteStats st;
-  if (onPlane.z < 0.4)
+  // the start rule (eps = 1e-5): a start 3e-6 off a face is declined; one
+  // 1e-7 off a face's plane but 2 away from the face is solved as the raster
   {
-    EXPECT_FALSE(GearsSilhouetteMask(L, onPlane, piece, 16, 1e-5, m, &st));
+    const auto& f = piece.faces[0];
+    const glm::dvec3 P = piece.vertices[f[0]];
+    const glm::dvec3 n = glm::normalize(glm::cross(piece.vertices[f[1]] - P, piece.vertices[f[2]] - P));
+    const glm::dvec3 C = (P + piece.vertices[f[1]] + piece.vertices[f[2]]) / 3.0;
+    GearsMask m{};
+    GearsSilhouetteStats st;
+    EXPECT_FALSE(GearsSilhouetteMask(L, C + 3e-6 * n, piece, 16, 1e-5, m, &st));
+    EXPECT_NE(std::string(st.declined ? st.declined : "").find("start rule"), std::string::npos);
+    const glm::dvec3 far = C + 2.0 * glm::normalize(glm::cross(n, glm::dvec3(0.3, 0.1, 1.0))) + 1e-7 * n;
+    EXPECT_TRUE(GearsSilhouetteMask(L, far, piece, 16, 1e-5, m, &st)) << st.declined;
+    EXPECT_EQ(m, RasterMask(L, far, sphere, 16));
   }
   // not closed
   std::vector<glm::dvec3> open(sphere.begin(), sphere.end() - 3);
