@@ -13,6 +13,7 @@
 #include "ssGEARS.h"
 #include "ssGearsInternal.h"
 #include "ssGearsSilhouette.h"
+#include "ssGearsTestScenes.h"
 
 #include <gtest/gtest.h>
 
@@ -26,42 +27,10 @@ using namespace ss;
 
 namespace
 {
-// An octahedron subdivided `levels` times, pushed out to radius r * bump(u)
-// around c; counter-clockwise seen from outside, shared vertices bit-identical.
+// A sphere (bumps 0) or a bumpy closed surface that shadows itself.
 std::vector<glm::dvec3> Sphere(const glm::dvec3& c, double r, int levels, double bumps)
 {
-  std::vector<glm::dvec3> tris;
-  for (int f = 0; f < 8; ++f)
-  {
-    const double sx = (f & 1) ? -1 : 1, sy = (f & 2) ? -1 : 1, sz = (f & 4) ? -1 : 1;
-    const glm::dvec3 a(sx, 0, 0), b(0, sy, 0), d(0, 0, sz);
-    if (sx * sy * sz > 0)
-    {
-      tris.insert(tris.end(), { a, b, d });
-    }
-    else
-    {
-      tris.insert(tris.end(), { a, d, b });
-    }
-  }
-  for (int l = 0; l < levels; ++l)
-  {
-    std::vector<glm::dvec3> next;
-    for (std::size_t t = 0; t < tris.size(); t += 3)
-    {
-      const glm::dvec3 a = tris[t], b = tris[t + 1], d = tris[t + 2];
-      const glm::dvec3 ab = 0.5 * (a + b), bd = 0.5 * (b + d), da = 0.5 * (d + a);
-      next.insert(next.end(), { a, ab, da, ab, b, bd, da, bd, d, ab, bd, da });
-    }
-    tris.swap(next);
-  }
-  for (auto& v : tris)
-  {
-    const glm::dvec3 u = glm::normalize(v);
-    const double bump = 1.0 + bumps * (std::sin(6.0 * u.x) * std::cos(5.0 * u.y) + 0.5 * std::sin(7.0 * u.z));
-    v = c + r * bump * u;
-  }
-  return tris;
+  return sstest::BumpySphere(c, r, levels, bumps, 0.5 * bumps);
 }
 
 // A torus around c in the plane spanned by x and y (tilted by `tilt` about
