@@ -5,7 +5,9 @@
 // of the piece's faces (both unculled: bit identity and the cost per item),
 // how many silhouette edges cross the sample rows and how many cross the
 // light's samples (what a per-cell edge list with a reference count, Laine
-// et al. 2005, would have to hold), against the length of the pixel's GEARS
+// et al. 2005, would have to hold), how many edges the per-cell candidate
+// rule keeps for the box of the pixel's cell's start points, against the
+// length of the pixel's GEARS
 // list (its sample group's triangles after every culling rule), summed
 // separately over the pixels the winding raster declined (per reason) and
 // those it solved: the share of GEARS's per-pixel work it could take.
@@ -66,6 +68,22 @@ nlohmann::json SilhouetteProbe(const GearsFrame& f, const ss::GearsSolver& gears
   std::map<std::string, std::size_t> declined;
   std::map<std::string, double> listedDeclined; // their pixels' GEARS list lengths, summed
   std::size_t lit = 0;
+  // per (face, cell): the box of its pixels' start points (the per-cell
+  // candidate rule's input)
+  std::map<std::pair<std::int32_t, std::int32_t>, std::pair<glm::dvec3, glm::dvec3>> cellBox;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (std::isnan(f.pos[3 * i]) || as.pixelFace[i] < 0)
+    {
+      continue;
+    }
+    const glm::dvec3 P = f.origin + glm::dvec3(f.pos[3 * i], f.pos[3 * i + 1], f.pos[3 * i + 2]);
+    const glm::dvec3 S = gears.RayStart(P, glm::dvec3(f.nrm[3 * i], f.nrm[3 * i + 1], f.nrm[3 * i + 2]));
+    auto it = cellBox.emplace(std::make_pair(as.pixelFace[i], as.pixelCell[i]), std::make_pair(S, S)).first;
+    it->second.first = glm::min(it->second.first, S);
+    it->second.second = glm::max(it->second.second, S);
+  }
+  double cellCandidates = 0;
   for (const auto& p : pieces)
   {
     edgesTotal += p.edges.size();
@@ -112,6 +130,12 @@ nlohmann::json SilhouetteProbe(const GearsFrame& f, const ss::GearsSolver& gears
       rect += double(st.rectEdges);
       crossings += double(st.rowCrossings);
       listed += list;
+      // the per-cell candidate rule over the pixel's cell's box of starts
+      const auto& box = cellBox.at(std::make_pair(as.pixelFace[i], as.pixelCell[i]));
+      for (std::size_t e = 0; e < pieces[q].edges.size(); ++e)
+      {
+        cellCandidates += ss::GearsEdgeMaySilhouette(pieces[q], e, box.first, box.second) ? 1.0 : 0.0;
+      }
     }
   }
   auto per = [&](double x) { return solved ? x / double(solved) : 0.0; };
@@ -128,6 +152,7 @@ nlohmann::json SilhouetteProbe(const GearsFrame& f, const ss::GearsSolver& gears
   out["rect_edges_per_pixel"] = per(rect);
   out["row_crossings_per_pixel"] = per(crossings);
   out["gears_listed_per_pixel"] = per(listed);
+  out["cell_candidate_edges_per_pixel"] = per(cellCandidates);
   out["ms_silhouette_all_edges_per_pixel"] = per(msSil);
   out["ms_triangle_raster_all_faces_per_pixel"] = per(msTri);
   return out;
