@@ -98,6 +98,8 @@ int BenchGEARS(const std::vector<std::string>& args)
   std::string out = "Documentation", dump;
   int frames = 3;
   bool gl = true, lut = true;
+  int probe = 0; // --silhouette-probe STRIDE: only the probe (gears-silhouette-probe.json)
+  json probes = json::array();
   for (std::size_t i = 0; i < args.size(); ++i)
   {
     const std::string& a = args[i];
@@ -149,6 +151,14 @@ int BenchGEARS(const std::vector<std::string>& args)
     else if (a == "--dump")
     {
       dump = value();
+    }
+    else if (a == "--silhouette-probe")
+    {
+      probe = std::stoi(value());
+      if (probe < 1)
+      {
+        throw UsageError("bench --gears: --silhouette-probe needs a stride >= 1");
+      }
     }
     else if (a == "--no-gl")
     {
@@ -211,6 +221,21 @@ int BenchGEARS(const std::vector<std::string>& args)
       gears.SetPieces(f.pieces);
       const double msSetup = std::chrono::duration<double, std::milli>(Clock::now() - tSet).count();
       ss::GearsGL gearsGL;
+      if (probe > 0)
+      {
+        for (int k : ks)
+        {
+          std::cerr << "\r" << name << " " << size.first << "x" << size.second << " k=" << k << ": silhouette probe"
+                    << std::flush;
+          json p = SilhouetteProbe(f, gears, k, probe);
+          p["scene"] = name;
+          p["width"] = size.first;
+          p["height"] = size.second;
+          std::cout << p.dump() << "\n";
+          probes.push_back(p);
+        }
+        continue;
+      }
       for (int k : ks)
       {
         std::cerr << "\r" << name << " " << size.first << "x" << size.second << " k=" << k << std::string(20, ' ')
@@ -314,6 +339,16 @@ int BenchGEARS(const std::vector<std::string>& args)
     }
   }
   std::cerr << "\n";
+  if (probe > 0)
+  {
+    std::ifstream la("/proc/loadavg");
+    std::string loadAfter;
+    std::getline(la, loadAfter);
+    WriteReport(fs::path(out) / "gears-silhouette-probe.json",
+      json{ { "loadavg_before", loadBefore }, { "loadavg_after", loadAfter }, { "rows", probes } }.dump(2) + "\n");
+    std::cout << "softshadows: bench --gears wrote " << (fs::path(out) / "gears-silhouette-probe.json").string() << "\n";
+    return 0;
+  }
   std::string loadAfter;
   {
     std::ifstream la("/proc/loadavg");

@@ -54,6 +54,12 @@ GearsFrame CaptureGearsFrame(vtkRenderWindow* win, vtkRenderer* ren);
 /// Returns V (NaN background); rays counts the rays traced.
 std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, double& rays);
 
+/// bench --gears --silhouette-probe: on every stride-th lit pixel, the
+/// silhouette winding raster of each closed piece against its triangle
+/// raster (identity, time per pixel, edge counts) and the pixel's GEARS list
+/// length (ssBenchGearsSilhouette.cxx).
+nlohmann::json SilhouetteProbe(const GearsFrame& f, const ss::GearsSolver& gears, int k, int stride);
+
 /// gears-bench.md from the rows bench --gears measured (ssBenchGearsReport.cxx).
 void WriteGearsBenchReport(const nlohmann::json& meta, const nlohmann::json& rows, const std::filesystem::path& md);
 }

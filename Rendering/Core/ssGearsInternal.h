@@ -8,6 +8,7 @@
 //   ssGearsCull.cxx    culling rules beyond the shafts: horizon, inner occluders
 //   ssGearsRaster.cxx  the exact bitmask of one triangle (edge planes, LUT) [§4.2, §4.3]
 //   ssGearsSIMD*.cxx   the per-pixel rejection and row raster in AVX2 / AVX-512
+//   ssGearsSilhouette.cxx  a closed piece's mask from its silhouette edges (own header; not called by Solve yet)
 //   ssGEARS.cxx        GearsSolver: input, options, statistics
 // Not installed; not part of the API.
 #ifndef ssGearsInternal_h

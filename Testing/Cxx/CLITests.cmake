@@ -203,6 +203,17 @@ add_test(NAME cli.bench.gears_smoke_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_gears_bench.py" "${_ss_out}/bench_gears_smoke")
 set_tests_properties(cli.bench.gears_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_gears_smoke)
 set_tests_properties(cli.bench.gears_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_gears_smoke)
+# the silhouette winding raster's probe: identical to the triangle raster where it applies
+add_test(NAME cli.bench.gears_silhouette_probe
+  COMMAND env -u DISPLAY ${_ss_cli} bench --gears --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/torus.json"
+    --sizes 160x120 --samples 8,16 --silhouette-probe 7 --out "${_ss_out}/bench_gears_silhouette_probe")
+add_test(NAME cli.bench.gears_silhouette_probe_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_gears_silhouette_probe.py"
+    "${_ss_out}/bench_gears_silhouette_probe")
+set_tests_properties(cli.bench.gears_silhouette_probe PROPERTIES LABELS "cli;bench" TIMEOUT 300
+  FIXTURES_SETUP bench_gears_silhouette_probe)
+set_tests_properties(cli.bench.gears_silhouette_probe_check PROPERTIES LABELS "cli;bench"
+  FIXTURES_REQUIRED bench_gears_silhouette_probe)
 add_test(NAME cli.bench.pvsm_smoke
   COMMAND env -u DISPLAY ${_ss_cli} bench --pvsm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/sphere_plane.json"
     --size 160x120 --frames 1 --reference-samples 4 --out "${_ss_out}/bench_pvsm_smoke")

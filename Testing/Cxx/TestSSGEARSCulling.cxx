@@ -86,45 +86,6 @@ std::size_t MaskMismatches(const std::vector<GearsMask>& a, const std::vector<Ge
   return bad;
 }
 
-// A closed, star-shaped, bumpy surface around c (radius about r): an
-// octahedron subdivided `levels` times, its vertices pushed out to a radius
-// that varies with direction, so it shadows itself. Counter-clockwise seen
-// from outside; vertices of shared edges are bit-identical.
-std::vector<glm::dvec3> BumpySphere(const glm::dvec3& c, double r, int levels)
-{
-  std::vector<glm::dvec3> tris;
-  for (int f = 0; f < 8; ++f)
-  {
-    const double sx = (f & 1) ? -1 : 1, sy = (f & 2) ? -1 : 1, sz = (f & 4) ? -1 : 1;
-    const glm::dvec3 a(sx, 0, 0), b(0, sy, 0), d(0, 0, sz);
-    if (sx * sy * sz > 0)
-    {
-      tris.insert(tris.end(), { a, b, d });
-    }
-    else
-    {
-      tris.insert(tris.end(), { a, d, b });
-    }
-  }
-  for (int l = 0; l < levels; ++l)
-  {
-    std::vector<glm::dvec3> next;
-    for (std::size_t t = 0; t < tris.size(); t += 3)
-    {
-      const glm::dvec3 a = tris[t], b = tris[t + 1], d = tris[t + 2];
-      const glm::dvec3 ab = 0.5 * (a + b), bd = 0.5 * (b + d), da = 0.5 * (d + a);
-      next.insert(next.end(), { a, ab, da, ab, b, bd, da, bd, d, ab, bd, da });
-    }
-    tris.swap(next);
-  }
-  for (auto& v : tris)
-  {
-    const glm::dvec3 u = glm::normalize(v);
-    const double bump = 1.0 + 0.25 * std::sin(6.0 * u.x) * std::cos(5.0 * u.y) + 0.12 * std::sin(7.0 * u.z);
-    v = c + r * bump * u;
-  }
-  return tris;
-}
 }
 
 TEST(GEARSCulling, NoRuleDropsABlockingPair)
@@ -204,7 +165,7 @@ TEST(GEARSCulling, ClosedMeshRuleAndInnerOccludersChangeNoBit)
     // a closed bumpy surface (512 triangles: inner occluders are built for
     // it) and a few open triangles, over a floor
     Scene s;
-    s.tris = BumpySphere(offset + glm::dvec3(0.1, 0.0, 0.9), 0.45, 3);
+    s.tris = sstest::BumpySphere(offset + glm::dvec3(0.1, 0.0, 0.9), 0.45, 3);
     const std::size_t closedTris = s.tris.size() / 3;
     Scene open = RandomScene(rng, 40, 0, offset);
     s.tris.insert(s.tris.end(), open.tris.begin(), open.tris.end());
@@ -364,7 +325,7 @@ TEST(GEARSCulling, InnerOccluderRuleChangesNoBit)
   for (const glm::dvec3 offset : { glm::dvec3(0.0), glm::dvec3(3e5, -1e5, 2e5) })
   {
     Scene s;
-    s.tris = BumpySphere(offset + glm::dvec3(0.0, 0.0, 0.9), 0.45, 5);
+    s.tris = sstest::BumpySphere(offset + glm::dvec3(0.0, 0.0, 0.9), 0.45, 5);
     for (int i = 0; i < 600; ++i)
     {
       const glm::dvec3 p(0.8 * U(rng), 0.8 * U(rng), 0.0);

@@ -1,12 +1,14 @@
 // Random GEARS test scenes shared by the CPU solver's tests (TestSSGEARS) and
 // the GL compute backend's (TestGearsGL): triangles in a slab over a
 // receiver, pixel samples on the receiver and on tilted patches, and five
-// lights covering every light type and every cube face of a point light.
+// lights covering every light type and every cube face of a point light;
+// and a closed bumpy surface (the culling and silhouette tests).
 #ifndef ssGearsTestScenes_h
 #define ssGearsTestScenes_h
 
 #include "ssLightFrame.h"
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -42,6 +44,48 @@ inline Scene RandomScene(std::mt19937& rng, int ntri, int npix, const glm::dvec3
     s.nrm.insert(s.nrm.end(), { float(n.x), float(n.y), float(n.z) });
   }
   return s;
+}
+
+// A closed, star-shaped, bumpy surface around c (radius about r): an
+// octahedron subdivided `levels` times, its vertices pushed out to a radius
+// that varies with direction (amplitudes amp1, amp2; 0: a sphere), so it
+// shadows itself. Counter-clockwise seen from outside; vertices of shared
+// edges are bit-identical.
+inline std::vector<glm::dvec3> BumpySphere(
+  const glm::dvec3& c, double r, int levels, double amp1 = 0.25, double amp2 = 0.12)
+{
+  std::vector<glm::dvec3> tris;
+  for (int f = 0; f < 8; ++f)
+  {
+    const double sx = (f & 1) ? -1 : 1, sy = (f & 2) ? -1 : 1, sz = (f & 4) ? -1 : 1;
+    const glm::dvec3 a(sx, 0, 0), b(0, sy, 0), d(0, 0, sz);
+    if (sx * sy * sz > 0)
+    {
+      tris.insert(tris.end(), { a, b, d });
+    }
+    else
+    {
+      tris.insert(tris.end(), { a, d, b });
+    }
+  }
+  for (int l = 0; l < levels; ++l)
+  {
+    std::vector<glm::dvec3> next;
+    for (std::size_t t = 0; t < tris.size(); t += 3)
+    {
+      const glm::dvec3 a = tris[t], b = tris[t + 1], d = tris[t + 2];
+      const glm::dvec3 ab = 0.5 * (a + b), bd = 0.5 * (b + d), da = 0.5 * (d + a);
+      next.insert(next.end(), { a, ab, da, ab, b, bd, da, bd, d, ab, bd, da });
+    }
+    tris.swap(next);
+  }
+  for (auto& v : tris)
+  {
+    const glm::dvec3 u = glm::normalize(v);
+    const double bump = 1.0 + amp1 * std::sin(6.0 * u.x) * std::cos(5.0 * u.y) + amp2 * std::sin(7.0 * u.z);
+    v = c + r * bump * u;
+  }
+  return tris;
 }
 
 inline std::vector<ss::LightFrame> Lights(const glm::dvec3& offset)
