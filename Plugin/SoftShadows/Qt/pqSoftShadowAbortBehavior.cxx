@@ -199,9 +199,11 @@ void pqSoftShadowAbortBehavior::OnAbortCheck(vtkObject* caller, unsigned long, v
     this->Rendering = view;
     this->SetAbortEnabled(true);
   }
+  // the pump paints: Qt may make another context current and bind a
+  // QOpenGLWidget's framebuffer in the view's
+  const bool saved = view->SaveGLContext();
   this->Pump();
-  // the pump may have made another context current (Qt's own painting)
-  static_cast<vtkRenderWindow*>(caller)->MakeCurrent();
+  view->RestoreGLContext(saved);
 }
 
 void pqSoftShadowAbortBehavior::OnRenderEnd(vtkObject* caller, unsigned long, void*)
