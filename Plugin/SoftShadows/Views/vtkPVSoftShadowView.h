@@ -27,6 +27,8 @@
  * Progress: the pass's progress reaches ParaView's progress bar through a
  * vtkAlgorithm registered with the session's progress handler; AbortRender()
  * stops a long render (vtkRenderWindow::SetAbortRender, polled by the pass).
+ * In the GUI, the plugin's pqSoftShadowAbortBehavior calls it from the
+ * progress bar's abort button (built-in session).
  * The plan and stats are information properties; ShowPlanAnnotation adds a line
  * of text with the plan and the time to the view.
  */
