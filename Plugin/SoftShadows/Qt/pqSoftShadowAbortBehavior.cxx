@@ -85,6 +85,10 @@ pqSoftShadowAbortBehavior::pqSoftShadowAbortBehavior(QObject* parent)
 pqSoftShadowAbortBehavior::~pqSoftShadowAbortBehavior()
 {
   this->shutdown();
+  for (auto& held : this->Held)
+  {
+    delete held.second;
+  }
 }
 
 void pqSoftShadowAbortBehavior::startup()
@@ -162,8 +166,11 @@ void pqSoftShadowAbortBehavior::Unwatch(pqView* view)
   {
     return;
   }
-  it->second.Window->RemoveObserver(it->second.CheckTag);
-  it->second.Window->RemoveObserver(it->second.EndTag);
+  if (vtkRenderWindow* window = it->second.Window)
+  {
+    window->RemoveObserver(it->second.CheckTag);
+    window->RemoveObserver(it->second.EndTag);
+  }
   if (this->Rendering == it->second.View)
   {
     this->SetAbortEnabled(false);
@@ -185,7 +192,7 @@ void pqSoftShadowAbortBehavior::OnAbortCheck(vtkObject* caller, unsigned long, v
   vtkPVSoftShadowView* view = nullptr;
   for (const auto& entry : this->Views)
   {
-    if (entry.second.Window == caller)
+    if (entry.second.Window.GetPointer() == caller)
     {
       view = entry.second.View;
     }
@@ -210,7 +217,7 @@ void pqSoftShadowAbortBehavior::OnRenderEnd(vtkObject* caller, unsigned long, vo
 {
   for (const auto& entry : this->Views)
   {
-    if (entry.second.Window == caller && entry.second.View == this->Rendering)
+    if (entry.second.Window.GetPointer() == caller && entry.second.View == this->Rendering)
     {
       if (this->AbortRequested)
       {

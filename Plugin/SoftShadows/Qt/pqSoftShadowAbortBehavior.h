@@ -50,6 +50,10 @@
 #include <QPointer>
 #include <QTimer>
 
+#include "vtkPVSoftShadowView.h" // for vtkWeakPointer<vtkPVSoftShadowView>
+#include "vtkRenderWindow.h"     // for vtkWeakPointer<vtkRenderWindow>
+#include "vtkWeakPointer.h"
+
 #include <map>
 #include <utility>
 #include <vector>
@@ -58,8 +62,6 @@ class pqView;
 class QAbstractButton;
 class QEvent;
 class vtkObject;
-class vtkPVSoftShadowView;
-class vtkRenderWindow;
 
 class pqSoftShadowAbortBehavior : public QObject
 {
@@ -83,8 +85,8 @@ private Q_SLOTS:
 private:
   struct Watched
   {
-    vtkRenderWindow* Window = nullptr;
-    vtkPVSoftShadowView* View = nullptr;
+    vtkWeakPointer<vtkRenderWindow> Window; ///< weak: ParaView may delete the view first at exit
+    vtkWeakPointer<vtkPVSoftShadowView> View;
     unsigned long CheckTag = 0;
     unsigned long EndTag = 0;
   };
@@ -99,7 +101,7 @@ private:
   bool AllowedInput(QObject* object, QEvent* event);
 
   std::map<pqView*, Watched> Views;
-  vtkPVSoftShadowView* Rendering = nullptr; ///< the view whose render the abort button stops
+  vtkWeakPointer<vtkPVSoftShadowView> Rendering; ///< the view whose render the abort button stops
   bool Pumping = false;
   bool AbortEnabled = false;
   bool AbortRequested = false; ///< the abort button was pressed during this render
