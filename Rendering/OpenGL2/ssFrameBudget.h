@@ -56,7 +56,15 @@ class FrameProgress
 public:
   FrameProgress(vtkObject* reporter, vtkRenderWindow* win, int lights);
   bool Report(double fractionOfLight);
-  void LightDone() { ++this->Solved; }
+  /// A light's solve returned; it counts as solved unless the render was
+  /// aborted during it (the plan said "1 of 1 solved" for a stopped solve).
+  void LightDone()
+  {
+    if (!this->Aborted)
+    {
+      ++this->Solved;
+    }
+  }
   /// Progress 1, or (aborted) the plan says so; returns whether aborted.
   bool Finish(EffectPlan& plan);
 

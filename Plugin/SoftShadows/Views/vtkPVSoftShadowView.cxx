@@ -15,6 +15,8 @@
 #include "vtkLightCollection.h"
 #include "vtkLightKit.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
 #include "vtkPVLODActor.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVProgressHandler.h"
@@ -442,7 +444,35 @@ void vtkPVSoftShadowView::BalanceLightKit(bool shadowLightsOn)
 void vtkPVSoftShadowView::OnPassProgress(vtkObject*, unsigned long, void* callData)
 {
   const double p = *static_cast<double*>(callData);
+  // in the GUI the progress bar repaints at once (pqProgressWidget::updateUI)
+  const bool saved = this->SaveGLContext();
   this->ProgressReporter->UpdateProgress(p);
+  this->RestoreGLContext(saved);
+}
+
+bool vtkPVSoftShadowView::SaveGLContext()
+{
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(this->GetRenderWindow());
+  if (!win || !win->IsCurrent())
+  {
+    return false;
+  }
+  win->GetState()->PushFramebufferBindings();
+  return true;
+}
+
+void vtkPVSoftShadowView::RestoreGLContext(bool saved)
+{
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(this->GetRenderWindow());
+  if (!win || !saved)
+  {
+    return;
+  }
+  if (!win->IsCurrent())
+  {
+    win->MakeCurrent();
+  }
+  win->GetState()->PopFramebufferBindings();
 }
 
 void vtkPVSoftShadowView::OnRendered(vtkObject*, unsigned long, void*)

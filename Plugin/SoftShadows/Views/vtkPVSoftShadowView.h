@@ -27,6 +27,8 @@
  * Progress: the pass's progress reaches ParaView's progress bar through a
  * vtkAlgorithm registered with the session's progress handler; AbortRender()
  * stops a long render (vtkRenderWindow::SetAbortRender, polled by the pass).
+ * In the GUI, the plugin's pqSoftShadowAbortBehavior calls it from the
+ * progress bar's abort button (built-in session).
  * The plan and stats are information properties; ShowPlanAnnotation adds a line
  * of text with the plan and the time to the view.
  */
@@ -124,6 +126,22 @@ public:
 
   /** Stops the render in progress (vtkRenderWindow::SetAbortRender); the frame shows no shadows. */
   void AbortRender();
+
+  ///@{
+  /**
+   * Around code that lets Qt handle events in the middle of this view's
+   * render (the GUI's progress bar repaint, the abort button's event pump):
+   * Qt composes a window that holds a QOpenGLWidget with its own context and
+   * binds the widget's framebuffer in the view's context (QOpenGLWidget::
+   * makeCurrent), behind VTK's state cache. Save keeps the framebuffer
+   * bindings (when the view's context is current); Restore makes the context
+   * current again and re-binds them. Without it, the pass went on in the
+   * wrong context after a long solve in the GUI ("Error in cache state"
+   * warnings, GL errors).
+   */
+  bool SaveGLContext();
+  void RestoreGLContext(bool saved);
+  ///@}
 
   vtkSoftShadowPass* GetShadowPass();
   vtkLight* GetShadowLightObject();
