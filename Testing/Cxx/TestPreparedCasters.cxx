@@ -261,7 +261,7 @@ TEST(PreparedCasters, MapCullingKeepsVOnCloseUps)
     const double drawn = Number(r[1].stats, "drawn", at), culled = Number(r[1].stats, "culled", at);
     std::cout << c.what << ": map clusters drawn " << drawn << ", culled " << culled << "\n";
     EXPECT_GT(drawn, 0.0) << c.what;
-    EXPECT_GT(culled, drawn) << c.what;
+    EXPECT_GT(culled, 0.3 * (drawn + culled)) << c.what;
     const std::size_t off = r[0].stats.find("\"map_clusters\"");
     EXPECT_EQ(Number(r[0].stats, "culled", off), 0.0) << c.what << " without map culling";
   }
