@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -94,8 +95,10 @@ struct Result
 
 // Ground + the field (rotated, scaled and moved by the actor's matrix), a
 // rect light, a close-up camera; `setup` picks the method and its options.
+// camera: position, focal point, view angle
+const std::vector<double> kFieldCamera = { 0, -6.5, 3.2, 0, -1.5, 0, 40.0 };
 Result RenderField(vtkPolyData* casters, const std::function<void(vtkSoftShadowPass*)>& setup, double opacity = 1.0,
-  int w = 240, int h = 180, const std::vector<double>& camera = { 0, -6.5, 3.2, 0, -1.5, 0, 40.0 })
+  int w = 240, int h = 180, const std::vector<double>& camera = kFieldCamera)
 {
   Scene s(w, h);
   s.renderer->AddActor(Ground(7.0));
@@ -116,6 +119,19 @@ Result RenderField(vtkPolyData* casters, const std::function<void(vtkSoftShadowP
   Result r;
   r.frame = s.Render();
   r.stats = s.pass->GetStatsJSON();
+  return r;
+}
+
+// The field at 240 x 180 with a culling off (r[0]) and on (r[1]).
+std::array<Result, 2> OffAndOn(vtkPolyData* casters, const std::function<void(vtkSoftShadowPass*, bool)>& setup,
+  double opacity = 1.0, const std::vector<double>& camera = kFieldCamera)
+{
+  std::array<Result, 2> r;
+  for (int on = 0; on < 2; ++on)
+  {
+    r[on] = RenderField(
+      casters, [&](vtkSoftShadowPass* p) { setup(p, on != 0); }, opacity, 240, 180, camera);
+  }
   return r;
 }
 
@@ -194,17 +210,13 @@ TEST(PreparedCasters, CullingKeepsVForEachMethod)
   };
   for (const Case& c : cases)
   {
-    Result r[2];
-    for (int on = 0; on < 2; ++on)
-    {
-      r[on] = RenderField(
-        prepared,
-        [&](vtkSoftShadowPass* p) {
-          ASSERT_TRUE(p->SetMethodByName(c.method));
-          c.culling(p, on != 0);
-        },
-        c.opacity);
-    }
+    const auto r = OffAndOn(
+      prepared,
+      [&](vtkSoftShadowPass* p, bool on) {
+        ASSERT_TRUE(p->SetMethodByName(c.method));
+        c.culling(p, on);
+      },
+      c.opacity);
     ExpectSameV(r[0].frame, r[1].frame, std::string(c.method) + " culling off vs on");
     const std::size_t at = r[1].stats.find(std::string("\"") + c.key + "\"");
     ASSERT_NE(at, std::string::npos) << c.method << ": " << r[1].stats;
@@ -242,19 +254,15 @@ TEST(PreparedCasters, MapCullingKeepsVOnCloseUps)
   };
   for (const Case& c : cases)
   {
-    Result r[2];
-    for (int on = 0; on < 2; ++on)
-    {
-      r[on] = RenderField(
-        prepared,
-        [&](vtkSoftShadowPass* p) {
-          p->SetMethod(vtkSoftShadowPass::PVSM);
-          p->SetSolverOption("pvsm_map_culling", on);
-          p->SetSolverOption("pvsm_low_resolution", c.lowResolution);
-          p->SetNormalOffset(c.normalOffset);
-        },
-        1.0, 240, 180, c.camera);
-    }
+    const auto r = OffAndOn(
+      prepared,
+      [&](vtkSoftShadowPass* p, bool on) {
+        p->SetMethod(vtkSoftShadowPass::PVSM);
+        p->SetSolverOption("pvsm_map_culling", on ? 1 : 0);
+        p->SetSolverOption("pvsm_low_resolution", c.lowResolution);
+        p->SetNormalOffset(c.normalOffset);
+      },
+      1.0, c.camera);
     ExpectSameV(r[0].frame, r[1].frame, std::string("pvsm map culling off vs on, ") + c.what);
     const std::size_t at = r[1].stats.find("\"map_clusters\"");
     ASSERT_NE(at, std::string::npos) << r[1].stats;
