@@ -198,14 +198,35 @@ void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
   }
   // Only what a visible receiver's blocker search reads matters (step 3):
   // the clusters that may reach those texels of each view
-  // (ss::BlockerSearchWindows, from the G-buffer's positions), so the map
-  // has the same texels there, and z_avg, the fully-lit test and V are the
-  // same, whatever else is left out.
+  // (ss::BlockerSearchWindows), so the map has the same texels there, and
+  // z_avg, the fully-lit test and V are the same, whatever else is left out.
+  // The receivers are the frame's visible ones (the points the views were
+  // fitted to: the G-buffer's pixels inside the receivers' bounds; pixels of
+  // props that receive no shadow are not shaded with V); without them (a
+  // tiled frame, fit_views_to_visible off), every G-buffer pixel.
   const CasterSet& casters = *frame.Casters;
   std::vector<TriangleRanges> ranges;
-  const std::vector<float>*positions = nullptr, *normals = nullptr;
-  if (this->Opt.MapCulling && casters.HasClusters() && !casters.Triangles.empty() &&
-    frame.GBuffer->ReadForCPU(frame.Window, frame.FBO, frame.State->Width, frame.State->Height, positions, normals))
+  const float* points = nullptr;
+  std::size_t numPoints = 0;
+  bool haveReceivers = false;
+  if (this->Opt.MapCulling && casters.HasClusters() && !casters.Triangles.empty())
+  {
+    const std::vector<float>*positions = nullptr, *normals = nullptr;
+    if (frame.Visible && frame.Visible->known)
+    {
+      points = frame.Visible->xyz.data();
+      numPoints = frame.Visible->Count();
+      haveReceivers = true;
+    }
+    else if (frame.GBuffer->ReadForCPU(
+               frame.Window, frame.FBO, frame.State->Width, frame.State->Height, positions, normals))
+    {
+      points = positions->data();
+      numPoints = positions->size() / 3;
+      haveReceivers = true;
+    }
+  }
+  if (haveReceivers)
   {
     BlockerSearchParams bp;
     bp.mapSize = frame.Maps->GetArray().Size;
@@ -221,8 +242,7 @@ void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
     {
       bp.lightHalfSize = glm::dvec2(std::tan(0.5 * light.Frame.angularDiameter));
     }
-    const std::vector<Rect> windows =
-      BlockerSearchWindows(light.Views, bp, positions->data(), positions->size() / 3);
+    const std::vector<Rect> windows = BlockerSearchWindows(light.Views, bp, points, numPoints);
     const glm::dvec3 offset = casters.Origin - frame.State->Origin;
     for (std::size_t vi = 0; vi < light.Views.size(); ++vi)
     {
