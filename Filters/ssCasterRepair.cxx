@@ -21,8 +21,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <ctime>
 #include <numeric>
+#include <thread>
 
 namespace ssf
 {
@@ -616,56 +618,88 @@ RepairedMesh RepairMesh(const RepairInput& in, const RepairOptions& options, Rep
   }
   pieces.clear();
 
-  // --- units in parallel, in batches so that progress is reported (and an
-  // abort honoured) on the calling thread
+  // --- units in parallel in one loop, the largest first (a loop per batch
+  // left a core idle behind each batch's last unit). Progress is reported,
+  // and an abort honoured, on the calling thread only (VTK's progress events
+  // are not thread-safe), after each unit it ran.
   std::vector<UnitResult> results(units.size());
   std::vector<std::int64_t> localOf(in.points.size(), -1);
+  std::vector<char> finished(units.size(), 0);
+  std::vector<std::size_t> largestFirst(units.size());
+  std::iota(largestFirst.begin(), largestFirst.end(), std::size_t(0));
+  std::stable_sort(largestFirst.begin(), largestFirst.end(),
+    [&](std::size_t a, std::size_t b) { return units[a].size() > units[b].size(); });
   const std::size_t total = std::max<std::size_t>(kept.size(), 1);
-  std::size_t done = 0, next = 0;
-  while (next < units.size())
+  std::atomic<std::size_t> done{ 0 };
+  std::atomic<bool> stop{ false };
+  const std::thread::id caller = std::this_thread::get_id();
+  tbb::parallel_for(std::size_t(0), units.size(), [&](std::size_t i) {
+    const std::size_t u = largestFirst[i];
+    if (stop.load())
+    {
+      return;
+    }
+    results[u] = ProcessUnit(in, units[u], localOf, options);
+    finished[u] = 1;
+    const std::size_t d = done.fetch_add(units[u].size()) + units[u].size();
+    if (progress && std::this_thread::get_id() == caller &&
+      !progress(static_cast<double>(d) / static_cast<double>(total)))
+    {
+      stop = true;
+    }
+  });
+  std::size_t next = 0;
+  while (next < units.size() && finished[next])
   {
-    std::size_t end = next, batch = 0;
-    while (end < units.size() && (batch == 0 || batch < total / 50))
+    ++next;
+  }
+  if (next < units.size())
+  {
+    if (aborted)
     {
-      batch += units[end].size();
-      ++end;
+      *aborted = true;
     }
-    tbb::parallel_for(next, end, [&](std::size_t u) { results[u] = ProcessUnit(in, units[u], localOf, options); });
-    done += batch;
-    next = end;
-    if (progress && !progress(static_cast<double>(done) / static_cast<double>(total)) && next < units.size())
-    {
-      if (aborted)
-      {
-        *aborted = true;
-      }
-      break;
-    }
+  }
+  else if (progress && !stop.load())
+  {
+    progress(1.0);
   }
 
-  // --- concatenate in unit order
+  // --- concatenate in unit order: offsets first, then the units' copies in parallel
+  std::vector<std::size_t> pointBase(next + 1, 0), triBase(next + 1, 0), pieceBase(next + 1, 0);
   for (std::size_t u = 0; u < next; ++u)
   {
-    UnitResult& r = results[u];
-    const std::int64_t pointBase = static_cast<std::int64_t>(out.points.size());
-    const std::int64_t pieceBase = static_cast<std::int64_t>(out.pieces.size());
-    out.points.insert(out.points.end(), r.points.begin(), r.points.end());
-    out.sourcePoint.insert(out.sourcePoint.end(), r.sourcePoint.begin(), r.sourcePoint.end());
-    out.pointNormals.insert(out.pointNormals.end(), r.pointNormals.begin(), r.pointNormals.end());
-    for (const auto& t : r.triangles)
-    {
-      out.triangles.push_back({ t[0] + pointBase, t[1] + pointBase, t[2] + pointBase });
-    }
-    out.sourceCell.insert(out.sourceCell.end(), r.sourceCell.begin(), r.sourceCell.end());
-    out.faceNormals.insert(out.faceNormals.end(), r.faceNormals.begin(), r.faceNormals.end());
-    for (std::int64_t p : r.piece)
-    {
-      out.piece.push_back(p + pieceBase);
-    }
-    out.pieces.insert(out.pieces.end(), r.pieces.begin(), r.pieces.end());
-    Add(stats, r.stats);
-    r = UnitResult();
+    pointBase[u + 1] = pointBase[u] + results[u].points.size();
+    triBase[u + 1] = triBase[u] + results[u].triangles.size();
+    pieceBase[u + 1] = pieceBase[u] + results[u].pieces.size();
+    Add(stats, results[u].stats);
   }
+  out.points.resize(pointBase[next]);
+  out.sourcePoint.resize(pointBase[next]);
+  out.pointNormals.resize(pointBase[next]);
+  out.triangles.resize(triBase[next]);
+  out.sourceCell.resize(triBase[next]);
+  out.faceNormals.resize(triBase[next]);
+  out.piece.resize(triBase[next]);
+  out.pieces.resize(pieceBase[next]);
+  tbb::parallel_for(std::size_t(0), next, [&](std::size_t u) {
+    UnitResult& r = results[u];
+    const std::int64_t pb = static_cast<std::int64_t>(pointBase[u]);
+    const std::int64_t qb = static_cast<std::int64_t>(pieceBase[u]);
+    std::copy(r.points.begin(), r.points.end(), out.points.begin() + pointBase[u]);
+    std::copy(r.sourcePoint.begin(), r.sourcePoint.end(), out.sourcePoint.begin() + pointBase[u]);
+    std::copy(r.pointNormals.begin(), r.pointNormals.end(), out.pointNormals.begin() + pointBase[u]);
+    for (std::size_t t = 0; t < r.triangles.size(); ++t)
+    {
+      const auto& tr = r.triangles[t];
+      out.triangles[triBase[u] + t] = { tr[0] + pb, tr[1] + pb, tr[2] + pb };
+      out.piece[triBase[u] + t] = r.piece[t] + qb;
+    }
+    std::copy(r.sourceCell.begin(), r.sourceCell.end(), out.sourceCell.begin() + triBase[u]);
+    std::copy(r.faceNormals.begin(), r.faceNormals.end(), out.faceNormals.begin() + triBase[u]);
+    std::copy(r.pieces.begin(), r.pieces.end(), out.pieces.begin() + pieceBase[u]);
+    r = UnitResult();
+  });
   return out;
 }
 }

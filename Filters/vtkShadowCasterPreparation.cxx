@@ -4,6 +4,7 @@
 #include "ssCasterRepair.h"
 #include "ssOrientedBoxes.h"
 #include "ssPolyDataTriangles.h"
+#include "ssWeld.h"
 #include "ssClusterBounds.h"
 
 #include "vtkCellArray.h"
@@ -20,10 +21,9 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkSMPTools.h"
-#include "vtkStaticPointLocator.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -115,14 +115,17 @@ int vtkShadowCasterPreparation::RequestData(
 
   // --- 1. non-finite points, triangles
   std::vector<char> finite(static_cast<std::size_t>(nIn), 0);
-  std::size_t nonFinitePoints = 0;
-  for (vtkIdType i = 0; i < nIn; ++i)
-  {
-    double p[3];
-    input->GetPoint(i, p);
-    finite[i] = Finite(p) ? 1 : 0;
-    nonFinitePoints += finite[i] ? 0 : 1;
-  }
+  vtkPoints* inPoints = input->GetPoints();
+  tbb::parallel_for(tbb::blocked_range<vtkIdType>(0, nIn, 16384), [&](const tbb::blocked_range<vtkIdType>& r) {
+    for (vtkIdType i = r.begin(); i != r.end(); ++i)
+    {
+      double p[3];
+      inPoints->GetPoint(i, p);
+      finite[i] = Finite(p) ? 1 : 0;
+    }
+  });
+  const std::size_t nonFinitePoints =
+    static_cast<std::size_t>(std::count(finite.begin(), finite.end(), static_cast<char>(0)));
   ssf::PolyTriangles tri = ssf::Triangulate(input, finite);
   report.Count("InputCells", static_cast<double>(input->GetNumberOfCells()));
   report.Count("InputPoints", static_cast<double>(nIn));
@@ -148,42 +151,35 @@ int vtkShadowCasterPreparation::RequestData(
       }
     }
   }
-  vtkNew<vtkPoints> used;
-  used->SetDataTypeToDouble();
-  used->SetNumberOfPoints(static_cast<vtkIdType>(usedPoints.size()));
+  // the used points in double, their bounds, the tolerance from the diagonal
+  std::vector<glm::dvec3> used(usedPoints.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, usedPoints.size(), 16384),
+    [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+      {
+        double p[3];
+        inPoints->GetPoint(usedPoints[i], p);
+        used[i] = glm::dvec3(p[0], p[1], p[2]);
+      }
+    });
   double bounds[6] = { 0, 0, 0, 0, 0, 0 };
-  for (std::size_t i = 0; i < usedPoints.size(); ++i)
+  if (!used.empty())
   {
-    used->SetPoint(static_cast<vtkIdType>(i), input->GetPoint(usedPoints[i]));
-  }
-  if (!usedPoints.empty())
-  {
-    used->GetBounds(bounds);
+    glm::dvec3 lo = used[0], hi = used[0];
+    for (const glm::dvec3& p : used)
+    {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    const double b[6] = { lo.x, hi.x, lo.y, hi.y, lo.z, hi.z };
+    std::copy(b, b + 6, bounds);
   }
   const double diagonal =
     std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) + (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
       (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
   const double tolerance = this->WeldTolerance * diagonal;
-  std::vector<vtkIdType> mergeMap(usedPoints.size());
-  if (!usedPoints.empty())
-  {
-    vtkNew<vtkPolyData> cloud;
-    cloud->SetPoints(used);
-    vtkNew<vtkStaticPointLocator> locator;
-    locator->SetDataSet(cloud);
-    // The locator merges in parallel through vtkSMPTools; Debian's VTK
-    // defaults to its Sequential backend, so this one step asks for threads
-    // (the caller's choice of a parallel backend is kept).
-    vtkSMPTools::Config smp;
-    if (smp.Backend == "Sequential")
-    {
-      smp.Backend = "STDThread";
-    }
-    vtkSMPTools::LocalScope(smp, [&]() {
-      locator->BuildLocator();
-      locator->MergePoints(tolerance, mergeMap.data());
-    });
-  }
+  // each point to the lowest-id point within the tolerance of it (ssWeld.h)
+  const std::vector<std::int64_t> mergeMap = ssf::WeldPoints(used, tolerance);
   ssf::RepairInput repairIn;
   std::vector<vtkIdType> welded(usedPoints.size(), -1);
   for (std::size_t i = 0; i < usedPoints.size(); ++i)
@@ -192,9 +188,7 @@ int vtkShadowCasterPreparation::RequestData(
     if (welded[rep] < 0)
     {
       welded[rep] = static_cast<vtkIdType>(repairIn.points.size());
-      double p[3];
-      used->GetPoint(rep, p);
-      repairIn.points.emplace_back(p[0], p[1], p[2]);
+      repairIn.points.push_back(used[rep]);
       repairIn.sourcePoint.push_back(usedPoints[rep]);
     }
     welded[i] = welded[rep];
@@ -261,30 +255,35 @@ int vtkShadowCasterPreparation::RequestData(
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataType(input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT);
   outPoints->SetNumberOfPoints(static_cast<vtkIdType>(mesh.points.size()));
-  for (std::size_t i = 0; i < mesh.points.size(); ++i)
-  {
-    const glm::dvec3& p = mesh.points[i];
-    outPoints->SetPoint(static_cast<vtkIdType>(i), p.x, p.y, p.z);
-    double q[3];
-    outPoints->GetPoint(static_cast<vtkIdType>(i), q);
-    mesh.points[i] = glm::dvec3(q[0], q[1], q[2]);
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.points.size(), 16384),
+    [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+      {
+        const glm::dvec3& p = mesh.points[i];
+        outPoints->SetPoint(static_cast<vtkIdType>(i), p.x, p.y, p.z);
+        double q[3];
+        outPoints->GetPoint(static_cast<vtkIdType>(i), q);
+        mesh.points[i] = glm::dvec3(q[0], q[1], q[2]);
+      }
+    });
 
   // --- 5. clusters: closed outward pieces by normal bucket (groups 1..6), the rest group 0
   const std::size_t nTri = mesh.triangles.size();
   std::vector<glm::dvec3> corners(3 * nTri);
   std::vector<std::uint8_t> groups(nTri, 0);
-  for (std::size_t t = 0; t < nTri; ++t)
-  {
-    for (int k = 0; k < 3; ++k)
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nTri, 16384), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t t = r.begin(); t != r.end(); ++t)
     {
-      corners[3 * t + k] = mesh.points[mesh.triangles[t][k]];
+      for (int k = 0; k < 3; ++k)
+      {
+        corners[3 * t + k] = mesh.points[mesh.triangles[t][k]];
+      }
+      if (mesh.pieces[mesh.piece[t]].closedOutward)
+      {
+        groups[t] = static_cast<std::uint8_t>(1 + ss::NormalBucket(mesh.faceNormals[t]));
+      }
     }
-    if (mesh.pieces[mesh.piece[t]].closedOutward)
-    {
-      groups[t] = static_cast<std::uint8_t>(1 + ss::NormalBucket(mesh.faceNormals[t]));
-    }
-  }
+  });
   const ss::TriangleClusters clusters =
     ss::ClusterTriangles(corners, groups, static_cast<std::size_t>(this->MaximumClusterTriangles));
   corners.clear();

@@ -5,6 +5,7 @@
 
 #include "ssClusterBounds.h"
 #include "ssClusterTable.h"
+#include "ssWeld.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -591,4 +592,177 @@ TEST(ShadowCasterPreparation, EmptyAndDegenerateInput)
   EXPECT_EQ(out->GetNumberOfCells(), 0);
   EXPECT_EQ(Count(out, "NonFiniteCells"), 1);
   EXPECT_EQ(Count(out, "CollapsedTriangles"), 1);
+}
+
+// The weld (ssWeld.h) against the O(n^2) greedy merge in point order on the
+// hard cases: points on axis-aligned planes and lines (a CAD model's grid,
+// where an axis sweep would see thousands of equal keys), near-copies that
+// chain (a - b and b - c within the tolerance, a - c not), exact copies, far
+// coordinates, and the tolerance 0.
+TEST(ShadowCasterPreparation, WeldIsTheGreedyMergeInPointOrder)
+{
+  const auto bruteForce = [](const std::vector<glm::dvec3>& p, double tol) {
+    std::vector<std::int64_t> map(p.size(), -1);
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+      if (map[i] >= 0)
+      {
+        continue;
+      }
+      map[i] = static_cast<std::int64_t>(i);
+      for (std::size_t j = i + 1; j < p.size(); ++j)
+      {
+        const glm::dvec3 e = p[j] - p[i];
+        if (map[j] < 0 && glm::dot(e, e) <= tol * tol)
+        {
+          map[j] = static_cast<std::int64_t>(i);
+        }
+      }
+    }
+    return map;
+  };
+  std::mt19937 rng(11);
+  for (const glm::dvec3 offset : { glm::dvec3(0.0), glm::dvec3(3e5, -2e5, 1e5) })
+  {
+    for (const double tol : { 0.0, 0.01, 0.3 })
+    {
+      std::vector<glm::dvec3> p;
+      for (int i = 0; i < 12; ++i)
+      {
+        for (int j = 0; j < 12; ++j)
+        {
+          for (int k = 0; k < 12; ++k)
+          {
+            p.push_back(offset + glm::dvec3(i, j, 0.5 * k)); // sheets and lines of equal coordinates
+          }
+        }
+      }
+      std::uniform_int_distribution<std::size_t> pick(0, p.size() - 1);
+      std::uniform_real_distribution<double> jitter(-0.7, 0.7);
+      const std::size_t grid = p.size();
+      for (int c = 0; c < 1500; ++c)
+      {
+        const glm::dvec3 base = p[pick(rng)];
+        switch (c % 3)
+        {
+          case 0: // an exact copy
+            p.push_back(base);
+            break;
+          case 1: // a near copy, up to 1.2 tolerances away: chains form
+            p.push_back(base + tol * glm::dvec3(jitter(rng), jitter(rng), jitter(rng)));
+            break;
+          default: // just outside along an axis, and just inside
+            p.push_back(base + glm::dvec3(tol * (1.0 + 1e-9) + 1e-12, 0.0, 0.0));
+            p.push_back(base + glm::dvec3(0.0, tol * (1.0 - 1e-9), 0.0));
+            break;
+        }
+      }
+      // the copies come before and after their originals in id order
+      std::shuffle(p.begin() + static_cast<std::ptrdiff_t>(grid / 2), p.end(), rng);
+      const std::vector<std::int64_t> expected = bruteForce(p, tol);
+      const std::vector<std::int64_t> got = ssf::WeldPoints(p, tol);
+      ASSERT_EQ(got.size(), p.size());
+      std::size_t welded = 0, differ = 0;
+      for (std::size_t i = 0; i < p.size(); ++i)
+      {
+        welded += expected[i] != static_cast<std::int64_t>(i) ? 1 : 0;
+        differ += got[i] != expected[i] ? 1 : 0;
+      }
+      EXPECT_EQ(differ, 0u) << "tolerance " << tol << ", offset " << offset.x;
+      EXPECT_GT(welded, 500u); // the exact copies at least
+    }
+  }
+  EXPECT_TRUE(ssf::WeldPoints({}, 1.0).empty());
+  // a pile of 300,000 copies of one point (a collapsed export) next to a
+  // small grid: all go to the first copy, in linear time (every pair of the
+  // pile would be 4.5e10 distance tests)
+  std::vector<glm::dvec3> pile(300000, glm::dvec3(0.25, 0.5, 0.75));
+  for (int i = 0; i < 1000; ++i)
+  {
+    pile.push_back(glm::dvec3(i % 10, (i / 10) % 10, i / 100));
+  }
+  const std::vector<std::int64_t> piled = ssf::WeldPoints(pile, 1e-3);
+  EXPECT_EQ(std::count(piled.begin(), piled.begin() + 300000, 0), 300000);
+  for (std::size_t i = 300000; i < pile.size(); ++i)
+  {
+    ASSERT_EQ(piled[i], static_cast<std::int64_t>(i));
+  }
+}
+
+namespace
+{
+// Asks the filter to abort at the first progress the repair reports.
+class AbortInRepair : public vtkCommand
+{
+public:
+  static AbortInRepair* New() { return new AbortInRepair; }
+  void Execute(vtkObject* caller, unsigned long, void* data) override
+  {
+    const double v = *static_cast<double*>(data);
+    values.push_back(v);
+    if (armed && v > 0.1 && v <= 0.6)
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+    }
+  }
+  bool armed = true;
+  std::vector<double> values;
+};
+}
+
+// The pieces run in one parallel loop; an abort asked for during it stops it
+// at once (units not started are skipped) and leaves an empty output, and the
+// same filter then runs to the end.
+TEST(ShadowCasterPreparation, AbortStopsTheRepairLoop)
+{
+  vtkNew<vtkPoints> pts;
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(12);
+  sphere->SetPhiResolution(12);
+  sphere->Update();
+  vtkPolyData* s = sphere->GetOutput();
+  vtkNew<vtkIdList> ids;
+  for (int i = 0; i < 300; ++i)
+  {
+    const vtkIdType base = pts->GetNumberOfPoints();
+    for (vtkIdType p = 0; p < s->GetNumberOfPoints(); ++p)
+    {
+      double x[3];
+      s->GetPoint(p, x);
+      pts->InsertNextPoint(x[0] + 2.0 * (i % 20), x[1] + 2.0 * (i / 20), x[2]);
+    }
+    for (vtkIdType c = 0; c < s->GetNumberOfCells(); ++c)
+    {
+      s->GetCellPoints(c, ids);
+      vtkIdType tri[3] = { base + ids->GetId(0), base + ids->GetId(1), base + ids->GetId(2) };
+      polys->InsertNextCell(3, tri);
+    }
+  }
+  vtkNew<vtkPolyData> in;
+  in->SetPoints(pts);
+  in->SetPolys(polys);
+  vtkNew<vtkShadowCasterPreparation> f;
+  vtkNew<AbortInRepair> observer;
+  f->AddObserver(vtkCommand::ProgressEvent, observer);
+  f->SetInputData(in);
+  f->Update();
+  EXPECT_EQ(f->GetOutput()->GetNumberOfCells(), 0);
+  const auto inRepair = std::count_if(
+    observer->values.begin(), observer->values.end(), [](double v) { return v > 0.1 && v <= 0.6; });
+  EXPECT_EQ(inRepair, 1); // nothing reported after the abort
+  // no cluster was bounded (that stage reports from 0.6 up; the pipeline
+  // itself reports 1 at the end)
+  EXPECT_EQ(std::count_if(observer->values.begin(), observer->values.end(),
+              [](double v) { return v > 0.6 && v < 1.0; }),
+    0);
+
+  observer->armed = false;
+  observer->values.clear();
+  f->SetAbortExecute(0);
+  f->Modified();
+  f->Update();
+  EXPECT_EQ(f->GetOutput()->GetNumberOfCells(), 300 * s->GetNumberOfCells());
+  EXPECT_EQ(Count(f->GetOutput(), "ClosedOutwardPieces"), 300);
+  EXPECT_DOUBLE_EQ(observer->values.back(), 1.0);
 }
