@@ -79,7 +79,7 @@ std::string Usage()
          "        (ASM at 8 and 16 MB vs one 2048^2 map over a walkthrough; error vs the exact hard shadow)\n"
          "  softshadows bench --filters --mesh M [--points N] [--runs R] [--samples K] [--out DIR]\n"
          "        (caster preparation per million triangles, baking an N-point surface; --smoke: tiny)\n"
-         "  softshadows bench --culling --mesh M [--frames N] [--out DIR]\n"
+         "  softshadows bench --culling --mesh M [--frames N] [--out DIR] [--only pvsm|gears]\n"
          "        (PVSM and GEARS with and without the prepared caster set's culling; --smoke: tiny)\n"
          "  softshadows bake SCENE.json --object I --output baked.vtp [--samples K]\n"
          "        [--method gears|reference]   (visible fraction of each light per point, CPU)\n"

@@ -57,7 +57,7 @@ struct Variant
 int BenchCulling(const std::vector<std::string>& args)
 {
   bool smoke = false;
-  std::string mesh, out = ".";
+  std::string mesh, out = ".", only;
   int frames = 3;
   for (std::size_t i = 0; i < args.size(); ++i)
   {
@@ -81,6 +81,14 @@ int BenchCulling(const std::vector<std::string>& args)
     else if (a == "--out")
     {
       out = FlagValue(args, i);
+    }
+    else if (a == "--only")
+    {
+      only = FlagValue(args, i);
+      if (only != "pvsm" && only != "gears")
+      {
+        throw UsageError("bench --culling: --only takes pvsm or gears, not '" + only + "'");
+      }
     }
     else
     {
@@ -174,20 +182,26 @@ int BenchCulling(const std::vector<std::string>& args)
   ren->AddLight(light);
 
   const std::vector<Variant> variants = {
-    { "pvsm, no culling", "pvsm", false, { "pvsm_tile_culling=0" } },
+    { "pvsm, no culling", "pvsm", false, { "pvsm_tile_culling=0", "pvsm_map_culling=0" } },
     { "pvsm, Morton clusters", "pvsm", false, {} },
+    { "pvsm, prepared clusters, tiles only", "pvsm", true, { "pvsm_map_culling=0" } },
     { "pvsm, prepared clusters", "pvsm", true, {} },
     { "gears, plain", "gears", false, {} },
     { "gears, prepared (closed pieces)", "gears", true, {} },
   };
   std::ostringstream md;
-  md << "| camera | configuration | frame ms (median) | solver stage ms | drawn / culled clusters | tile triangles "
-        "| GEARS pairs | dropped triangles |\n|---|---|---|---|---|---|---|---|\n";
+  md << "| camera | configuration | frame ms (median) | solver stage ms | shadow_maps ms | drawn / culled clusters "
+        "(tiles) | drawn / culled clusters (low-resolution map) | tile triangles | GEARS pairs | dropped triangles "
+        "|\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const double dolly : { 1.0, 4.0 })
   {
     const char* cam = dolly > 1 ? "close-up" : "overview";
     for (const Variant& v : variants)
     {
+      if (!only.empty() && only != v.method)
+      {
+        continue;
+      }
       vtkCamera* c = ren->GetActiveCamera();
       c->SetPosition(8, -16, 12);
       c->SetFocalPoint(0, 0, 0);
@@ -201,9 +215,10 @@ int BenchCulling(const std::vector<std::string>& args)
       const json st = json::parse(pass->GetStatsJSON());
       const std::string solver = v.method;
       const double stage = st["timings_ms"].value(solver, 0.0);
+      const double maps = st["timings_ms"].value("shadow_maps", 0.0);
       json row = { { "camera", cam }, { "configuration", v.label }, { "frame_ms", ms }, { "stage_ms", stage },
         { "timings_ms", st["timings_ms"] } };
-      std::string clusters = "-", tileTris = "-", pairs = "-", dropped = "-";
+      std::string clusters = "-", mapClusters = "-", tileTris = "-", pairs = "-", dropped = "-";
       if (solver == "pvsm" && st.contains("pvsm"))
       {
         const json& p = st["pvsm"];
@@ -218,6 +233,12 @@ int BenchCulling(const std::vector<std::string>& args)
             bench::Fmt(p["tile_clusters"]["culled"].get<double>(), 6) + " (" +
             p["tile_clusters"]["source"].get<std::string>() + ")";
         }
+        row["map_clusters"] = p["map_clusters"];
+        if (!p["map_clusters"].is_null() && p["map_clusters"]["drawn"].get<double>() + p["map_clusters"]["culled"].get<double>() > 0)
+        {
+          mapClusters = bench::Fmt(p["map_clusters"]["drawn"].get<double>(), 6) + " / " +
+            bench::Fmt(p["map_clusters"]["culled"].get<double>(), 6);
+        }
       }
       if (solver == "gears" && st.contains("gears"))
       {
@@ -228,8 +249,9 @@ int BenchCulling(const std::vector<std::string>& args)
       }
       report["rows"].push_back(row);
       md << "| " << cam << " | " << v.label << " | " << bench::Fmt(ms, 4) << " | " << bench::Fmt(stage, 4) << " | "
-         << clusters << " | " << tileTris << " | " << pairs << " | " << dropped << " |\n";
-      std::cout << cam << " / " << v.label << ": " << ms << " ms (stage " << stage << " ms)" << std::endl;
+         << bench::Fmt(maps, 4) << " | " << clusters << " | " << mapClusters << " | " << tileTris << " | " << pairs << " | " << dropped << " |\n";
+      std::cout << cam << " / " << v.label << ": " << ms << " ms (stage " << stage << " ms, shadow_maps " << maps
+                << " ms)" << std::endl;
       ren->SetPass(nullptr);
       pass->ReleaseGraphicsResources(win);
     }

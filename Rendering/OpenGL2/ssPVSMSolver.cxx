@@ -2,6 +2,7 @@
 
 #include "vtkSoftShadowPass.h"
 
+#include "ssBlockerSearchWindow.h"
 #include "ssCasterSet.h"
 #include "ssFrameState.h"
 #include "ssFullScreenQuad.h"
@@ -40,6 +41,7 @@
 #include "vtk_glew.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace ss
@@ -67,6 +69,9 @@ const OptionList& PVSMSolver::DeclaredOptions()
       "pvsm: conservative low-resolution map"),
     BoolOption("pvsm_tile_culling", "PVSMTileCulling", "PVSM Tile Culling", true,
       "pvsm: draw only the caster clusters reaching a tile"),
+    BoolOption("pvsm_map_culling", "PVSMMapCulling", "PVSM Map Culling", true,
+      "pvsm: draw into the conservative low-resolution map only the caster clusters reaching the texels "
+      "the visible receivers' blocker searches read"),
   };
   return options;
 }
@@ -80,6 +85,7 @@ void PVSMSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.Quality = pass->GetSolverOption("pvsm_quality");
   this->Opt.Metric = opt("pvsm_metric");
   this->Opt.TileCulling = opt("pvsm_tile_culling") != 0;
+  this->Opt.MapCulling = opt("pvsm_map_culling") != 0;
   this->Opt.BlockerSearchSamples = opt("blocker_samples");
   this->Opt.FilterMaxQuads = opt("filter_max_quads");
   this->Opt.ConstantBias = pass->GetConstantBias();
@@ -94,11 +100,13 @@ void PVSMSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLi
   {
     this->LastStats = PVSMStats{};
     this->LastClustersJSON.clear();
+    this->LastMapClustersJSON.clear();
     return;
   }
   this->Stats = PVSMStats{};
   this->Stats.quality = this->Opt.Quality;
   this->TileClusters = ClusterCounts{};
+  this->MapClusters = ClusterCounts{};
   // §5.1: the static metric when only the camera moved since the last frame:
   // the same caster set and the same lights (a light that follows the camera
   // moves with it, so its transformed position is part of the key)
@@ -130,7 +138,7 @@ void PVSMSolver::BeginFrame(SolverFrame& frame, const std::vector<const ShadowLi
 
 void PVSMSolver::PrepareCasters(CasterSet& casters)
 {
-  if (this->Opt.TileCulling)
+  if (this->Opt.TileCulling || this->Opt.MapCulling)
   {
     casters.EnsureClusters();
   }
@@ -188,7 +196,68 @@ void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
     const float vp[2] = { S, S };
     p->SetUniform2f("viewportSize", vp);
   }
-  frame.Maps->DrawViews(frame, light, p, vao);
+  // Only what a visible receiver's blocker search reads matters (step 3):
+  // the clusters that may reach those texels of each view
+  // (ss::BlockerSearchWindows), so the map has the same texels there, and
+  // z_avg, the fully-lit test and V are the same, whatever else is left out.
+  // The receivers are the frame's visible ones (the points the views were
+  // fitted to: the G-buffer's pixels inside the receivers' bounds; pixels of
+  // props that receive no shadow are not shaded with V); without them (a
+  // tiled frame, fit_views_to_visible off), every G-buffer pixel.
+  const CasterSet& casters = *frame.Casters;
+  std::vector<TriangleRanges> ranges;
+  const float* points = nullptr;
+  std::size_t numPoints = 0;
+  bool haveReceivers = false;
+  if (this->Opt.MapCulling && casters.HasClusters() && !casters.Triangles.empty())
+  {
+    const std::vector<float>*positions = nullptr, *normals = nullptr;
+    if (frame.Visible && frame.Visible->known)
+    {
+      points = frame.Visible->xyz.data();
+      numPoints = frame.Visible->Count();
+      haveReceivers = true;
+    }
+    else if (frame.GBuffer->ReadForCPU(
+               frame.Window, frame.FBO, frame.State->Width, frame.State->Height, positions, normals))
+    {
+      points = positions->data();
+      numPoints = positions->size() / 3;
+      haveReceivers = true;
+    }
+  }
+  if (haveReceivers)
+  {
+    BlockerSearchParams bp;
+    bp.mapSize = frame.Maps->GetArray().Size;
+    bp.levels = frame.Maps->GetArray().Levels;
+    bp.searchSamples = this->Opt.BlockerSearchSamples;
+    bp.normalOffset = this->Opt.NormalOffset;
+    bp.searchDepth = light.SearchDepth;
+    if (light.Frame.type == LightType::Rect)
+    {
+      bp.lightHalfSize = glm::dvec2(0.5 * light.Frame.width, 0.5 * light.Frame.height);
+    }
+    else if (light.Frame.type == LightType::Directional)
+    {
+      bp.lightHalfSize = glm::dvec2(std::tan(0.5 * light.Frame.angularDiameter));
+    }
+    const std::vector<Rect> windows = BlockerSearchWindows(light.Views, bp, points, numPoints);
+    const glm::dvec3 offset = casters.Origin - frame.State->Origin;
+    for (std::size_t vi = 0; vi < light.Views.size(); ++vi)
+    {
+      const Rect& w = windows[vi];
+      if (w.x0 > w.x1 || w.y0 > w.y1)
+      {
+        ranges.emplace_back(); // no receiver reads this view
+        this->MapClusters.culled += static_cast<double>(casters.Clusters.Clusters());
+        continue;
+      }
+      // the pad (1e-3 of the window) covers the GPU's float projection, as for tiles
+      ranges.push_back(VisibleTriangleRanges(casters.Clusters, light.Views[vi], offset, w, 1e-3, &this->MapClusters));
+    }
+  }
+  frame.Maps->DrawViews(frame, light, p, vao, ranges.empty() ? nullptr : &ranges);
 }
 
 void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
@@ -527,6 +596,7 @@ void PVSMSolver::EndFrame(SolverFrame& frame)
   st.msTotal = st.msGBuffer + st.msLowResSM + st.msKernel + st.msTiling + st.msTileSM + st.msFiltering;
   this->LastStats = st;
   this->LastClustersJSON = frame.Casters->ClusterStatsJSON(this->TileClusters);
+  this->LastMapClustersJSON = frame.Casters->ClusterStatsJSON(this->MapClusters);
   frame.Timings->Set("pvsm", st.msKernel + st.msTiling + st.msTileSM + st.msFiltering);
 }
 
@@ -537,6 +607,7 @@ std::string PVSMSolver::GetStatsJSON() const
   o << "{\"lights\": " << this->Lights << ", \"low_resolution\": " << this->Opt.LowResolution
     << ", \"grid\": " << this->Opt.GridSize << ", \"max_tile\": " << this->Opt.MaxTileResolution
     << ", \"tile_clusters\": " << (this->LastClustersJSON.empty() ? "null" : this->LastClustersJSON)
+    << ", \"map_clusters\": " << (this->LastMapClustersJSON.empty() ? "null" : this->LastMapClustersJSON)
     << ", \"stats\": " << PVSMStatsToJSON(this->LastStats) << "}";
   return o.str();
 }

@@ -40,6 +40,7 @@ public:
     double Quality = 0.0;
     int Metric = 0; ///< 0 automatic, 1 dynamic, 2 static
     bool TileCulling = false;
+    bool MapCulling = false; ///< pvsm_map_culling: the conservative map draws only what the blocker search reads
     int BlockerSearchSamples = 0;
     int FilterMaxQuads = 0;
     double ConstantBias = 0.0;
@@ -78,6 +79,8 @@ private:
   PVSMStats Stats, LastStats;
   ClusterCounts TileClusters;   ///< clusters drawn and culled over the frame's tiles
   std::string LastClustersJSON; ///< CasterSet::ClusterStatsJSON of the last frame
+  ClusterCounts MapClusters;    ///< the same over the conservative maps' views
+  std::string LastMapClustersJSON;
   float RhoCoeffs[4] = { 0, 0, 0, 0 };
   double RhoEnd = 0.0;
   int GridSide = 4;

@@ -76,7 +76,7 @@ void ShadowMaps::BeginDrawing(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferOb
 }
 
 void ShadowMaps::DrawViews(const SolverFrame& frame, const ShadowLight& light, vtkShaderProgram* program,
-  vtkOpenGLVertexArrayObject* vao) const
+  vtkOpenGLVertexArrayObject* vao, const std::vector<TriangleRanges>* ranges) const
 {
   const CasterSet& casters = *frame.Casters;
   const glm::dvec3 offset = casters.Origin - frame.State->Origin;
@@ -87,7 +87,8 @@ void ShadowMaps::DrawViews(const SolverFrame& frame, const ShadowLight& light, v
     frame.Window->GetState()->vtkglClear(GL_COLOR_BUFFER_BIT);
     if (!casters.Triangles.empty())
     {
-      casters.Draw(program, vao, v, v.extent, offset);
+      const std::size_t vi = static_cast<std::size_t>(layer - light.FirstLayer);
+      casters.Draw(program, vao, v, v.extent, offset, (ranges && vi < ranges->size()) ? &(*ranges)[vi] : nullptr);
     }
     ++layer;
   }

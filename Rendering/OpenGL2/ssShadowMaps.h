@@ -8,6 +8,7 @@
 #ifndef ssShadowMaps_h
 #define ssShadowMaps_h
 
+#include "ssCasterSet.h"
 #include "ssGLLimits.h"
 #include "ssTextureArray.h"
 
@@ -52,9 +53,10 @@ public:
   /// far-away clear colour.
   void BeginDrawing(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo) const;
   /// Clears `light`'s layers (from light.FirstLayer, one per view) and draws
-  /// the caster set into each with `program` (vertex array `vao`).
+  /// the caster set into each with `program` (vertex array `vao`); with
+  /// `ranges` (one per view), only those triangles into each view.
   void DrawViews(const SolverFrame& frame, const ShadowLight& light, vtkShaderProgram* program,
-    vtkOpenGLVertexArrayObject* vao) const;
+    vtkOpenGLVertexArrayObject* vao, const std::vector<TriangleRanges>* ranges = nullptr) const;
   /// Ends blending, builds every layer's (min, max) pyramid and pops the
   /// bindings; false when the reduction program does not build.
   bool EndDrawing(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo);

@@ -16,6 +16,7 @@ add_executable(TestSoftShadowsCore
   TestSSMetrics.cxx
   TestSSCasterClusters.cxx
   TestSSClusterBounds.cxx
+  TestSSBlockerSearchWindow.cxx
   TestSSAVSM.cxx
   TestSSVPCSS.cxx
   TestSSVolumeGrid.cxx

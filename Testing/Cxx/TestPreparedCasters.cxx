@@ -14,9 +14,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 using namespace sstest;
 
@@ -93,8 +95,10 @@ struct Result
 
 // Ground + the field (rotated, scaled and moved by the actor's matrix), a
 // rect light, a close-up camera; `setup` picks the method and its options.
+// camera: position, focal point, view angle
+const std::vector<double> kFieldCamera = { 0, -6.5, 3.2, 0, -1.5, 0, 40.0 };
 Result RenderField(vtkPolyData* casters, const std::function<void(vtkSoftShadowPass*)>& setup, double opacity = 1.0,
-  int w = 240, int h = 180)
+  int w = 240, int h = 180, const std::vector<double>& camera = kFieldCamera)
 {
   Scene s(w, h);
   s.renderer->AddActor(Ground(7.0));
@@ -110,11 +114,24 @@ Result RenderField(vtkPolyData* casters, const std::function<void(vtkSoftShadowP
   actor->SetUserTransform(t);
   s.renderer->AddActor(actor);
   s.renderer->AddLight(RectLight(0.5, -0.5, 6, 0, 0, 0, 2.5, 2.5));
-  s.Camera(0, -6.5, 3.2, 0, -1.5, 0, 40.0);
+  s.Camera(camera[0], camera[1], camera[2], camera[3], camera[4], camera[5], camera[6]);
   setup(s.pass);
   Result r;
   r.frame = s.Render();
   r.stats = s.pass->GetStatsJSON();
+  return r;
+}
+
+// The field at 240 x 180 with a culling off (r[0]) and on (r[1]).
+std::array<Result, 2> OffAndOn(vtkPolyData* casters, const std::function<void(vtkSoftShadowPass*, bool)>& setup,
+  double opacity = 1.0, const std::vector<double>& camera = kFieldCamera)
+{
+  std::array<Result, 2> r;
+  for (int on = 0; on < 2; ++on)
+  {
+    r[on] = RenderField(
+      casters, [&](vtkSoftShadowPass* p) { setup(p, on != 0); }, opacity, 240, 180, camera);
+  }
   return r;
 }
 
@@ -193,17 +210,13 @@ TEST(PreparedCasters, CullingKeepsVForEachMethod)
   };
   for (const Case& c : cases)
   {
-    Result r[2];
-    for (int on = 0; on < 2; ++on)
-    {
-      r[on] = RenderField(
-        prepared,
-        [&](vtkSoftShadowPass* p) {
-          ASSERT_TRUE(p->SetMethodByName(c.method));
-          c.culling(p, on != 0);
-        },
-        c.opacity);
-    }
+    const auto r = OffAndOn(
+      prepared,
+      [&](vtkSoftShadowPass* p, bool on) {
+        ASSERT_TRUE(p->SetMethodByName(c.method));
+        c.culling(p, on);
+      },
+      c.opacity);
     ExpectSameV(r[0].frame, r[1].frame, std::string(c.method) + " culling off vs on");
     const std::size_t at = r[1].stats.find(std::string("\"") + c.key + "\"");
     ASSERT_NE(at, std::string::npos) << c.method << ": " << r[1].stats;
@@ -215,6 +228,50 @@ TEST(PreparedCasters, CullingKeepsVForEachMethod)
     EXPECT_GT(Number(r[1].stats, "drawn", at), 0.0) << c.method << ": " << r[1].stats.substr(at, 200);
     const std::size_t off = r[0].stats.find(std::string("\"") + c.key + "\"");
     EXPECT_EQ(Number(r[0].stats, "culled", off), 0.0) << c.method << " without culling";
+  }
+}
+
+// PVSM's conservative low-resolution map drawn with only the clusters that
+// may reach the texels the visible receivers' blocker searches read
+// (pvsm_map_culling, ss::BlockerSearchWindows): on close-ups, whose visible
+// receivers are a small part of the light's view, V is the same on every
+// pixel with and without it, and most clusters are left out of the map. Also
+// with a coarse map (large texels, coarse search cells) and a large normal
+// offset, which widen what the search reads.
+TEST(PreparedCasters, MapCullingKeepsVOnCloseUps)
+{
+  const auto prepared = PreparedField();
+  struct Case
+  {
+    const char* what;
+    int lowResolution;
+    double normalOffset;
+    std::vector<double> camera;
+  };
+  const Case cases[] = {
+    { "close-up", 1024, 0.0, { 0.6, -3.4, 2.0, 0.2, -0.6, 0.2, 35.0 } },
+    { "close-up, 256 map, normal offset 4", 256, 4.0, { -1.5, -3.0, 1.8, -1.8, 0.2, 0.3, 30.0 } },
+  };
+  for (const Case& c : cases)
+  {
+    const auto r = OffAndOn(
+      prepared,
+      [&](vtkSoftShadowPass* p, bool on) {
+        p->SetMethod(vtkSoftShadowPass::PVSM);
+        p->SetSolverOption("pvsm_map_culling", on ? 1 : 0);
+        p->SetSolverOption("pvsm_low_resolution", c.lowResolution);
+        p->SetNormalOffset(c.normalOffset);
+      },
+      1.0, c.camera);
+    ExpectSameV(r[0].frame, r[1].frame, std::string("pvsm map culling off vs on, ") + c.what);
+    const std::size_t at = r[1].stats.find("\"map_clusters\"");
+    ASSERT_NE(at, std::string::npos) << r[1].stats;
+    const double drawn = Number(r[1].stats, "drawn", at), culled = Number(r[1].stats, "culled", at);
+    std::cout << c.what << ": map clusters drawn " << drawn << ", culled " << culled << "\n";
+    EXPECT_GT(drawn, 0.0) << c.what;
+    EXPECT_GT(culled, 0.3 * (drawn + culled)) << c.what;
+    const std::size_t off = r[0].stats.find("\"map_clusters\"");
+    EXPECT_EQ(Number(r[0].stats, "culled", off), 0.0) << c.what << " without map culling";
   }
 }
 
