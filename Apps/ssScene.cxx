@@ -206,19 +206,8 @@ vtkSmartPointer<vtkPolyData> Primitive(const json& o, const Ctx& c)
 
 vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::path& sceneDir)
 {
-  if (!o["mesh"].is_string())
-  {
-    (c / "mesh").Fail("expected a file name (relative to the scene file)");
-  }
-  const fs::path rel = o["mesh"].get<std::string>();
-  const fs::path path = rel.is_absolute() ? rel : sceneDir / rel;
-  // the non-throwing overload: a name too long for the file system is an
-  // error of this key, not an exception from std::filesystem
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-  {
-    (c / "mesh").Fail("mesh file not found: '" + path.string() + "'" + (ec ? " (" + ec.message() + ")" : ""));
-  }
+  const fs::path path =
+    SceneFile(o, "mesh", c, sceneDir, "mesh", "expected a file name (relative to the scene file)");
   if (!vtkShadowMeshReader::IsSupportedFileName(path.string().c_str()))
   {
     (c / "mesh").Fail("unsupported mesh format '" + path.extension().string() +

@@ -107,6 +107,25 @@ std::array<double, 3> Color(const json& parent, const char* key, const Ctx& c, s
   return v;
 }
 
+std::filesystem::path SceneFile(const json& parent, const char* key, const Ctx& c,
+  const std::filesystem::path& sceneDir, const std::string& kind, const std::string& expected)
+{
+  if (!parent[key].is_string())
+  {
+    (c / key).Fail(expected);
+  }
+  const std::filesystem::path rel = parent[key].get<std::string>();
+  const std::filesystem::path path = rel.is_absolute() ? rel : sceneDir / rel;
+  // the non-throwing overload: a name too long for the file system is an
+  // error of this key, not an exception from std::filesystem
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+  {
+    (c / key).Fail(kind + " file not found: '" + path.string() + "'" + (ec ? " (" + ec.message() + ")" : ""));
+  }
+  return path;
+}
+
 void ApplyTransform(vtkProp3D* prop, const json& o, const Ctx& c)
 {
   if (!o.contains("transform"))

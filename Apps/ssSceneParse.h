@@ -54,6 +54,11 @@ bool Bool(const json& parent, const char* key, const Ctx& c, bool def);
 std::array<double, 3> NonZero(std::array<double, 3> v, const Ctx& c);
 /// 3 numbers in [0, 1].
 std::array<double, 3> Color(const json& parent, const char* key, const Ctx& c, std::array<double, 3> def);
+/// The file named by parent[key], relative to `sceneDir` unless absolute;
+/// fails naming the key when it is not a string (`expected` says what it
+/// should be) or not a regular file ("<kind> file not found: ...").
+std::filesystem::path SceneFile(const json& parent, const char* key, const Ctx& c,
+  const std::filesystem::path& sceneDir, const std::string& kind, const std::string& expected);
 /// The object's "transform" (scale, rotate, translate) as the prop's user transform.
 void ApplyTransform(vtkProp3D* prop, const json& o, const Ctx& c);
 

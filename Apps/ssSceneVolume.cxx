@@ -121,17 +121,8 @@ vtkSmartPointer<vtkImageData> Field(const json& v, const Ctx& c)
 vtkSmartPointer<vtkImageData> File(const json& v, const Ctx& c, const fs::path& sceneDir, std::string& arrayName)
 {
   CheckKeys(v, c, { "file", "array" });
-  if (!v["file"].is_string())
-  {
-    (c / "file").Fail("expected a .vti file name (relative to the scene file)");
-  }
-  const fs::path rel = v["file"].get<std::string>();
-  const fs::path path = rel.is_absolute() ? rel : sceneDir / rel;
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-  {
-    (c / "file").Fail("volume file not found: '" + path.string() + "'" + (ec ? " (" + ec.message() + ")" : ""));
-  }
+  const fs::path path =
+    SceneFile(v, "file", c, sceneDir, "volume", "expected a .vti file name (relative to the scene file)");
   if (path.extension() != ".vti")
   {
     (c / "file").Fail("unsupported volume format '" + path.extension().string() + "' (expected .vti)");
