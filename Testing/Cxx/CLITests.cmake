@@ -228,7 +228,7 @@ add_test(NAME cli.bench.smoke_check
 set_tests_properties(cli.bench.smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_smoke)
 set_tests_properties(cli.bench.smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_smoke)
 add_test(NAME cli.bench.vpcss_smoke
-  COMMAND env -u DISPLAY ${_ss_cli} bench --vpcss --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/translucent.json"
+  COMMAND env -u DISPLAY ${_ss_cli} bench --vpcss --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/translucent.json,${PROJECT_SOURCE_DIR}/Data/Scenes/volume.json"
     --size 160x120 --frames 1 --reference-samples 4 --out "${_ss_out}/bench_vpcss_smoke")
 add_test(NAME cli.bench.vpcss_smoke_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_vpcss_bench.py" "${_ss_out}/bench_vpcss_smoke")
