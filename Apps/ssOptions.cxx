@@ -74,6 +74,8 @@ const std::vector<PassOption>& PassOptions()
         [](P* p, S v, S w) { p->SetSlopeBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
       { "normal_offset", "0..16", "normal-offset lookup, texels along the triangle's normal (0: off)", false,
         [](P* p, S v, S w) { p->SetNormalOffset(ParseDouble(v, w, 0.0, 16.0)); } },
+      { "fit_views_to_visible", "0|1", "shadow-map views cut to the receivers the camera sees (0: the bounds)",
+        false, [](P* p, S v, S w) { p->SetFitViewsToVisibleReceivers(ParseInt(v, w, 0, 1) != 0); } },
       { "frame_budget", "0|1", "interactive frames (DesiredUpdateRate >= 0.1/s) fit the method to the budget",
         false, [](P* p, S v, S w) { p->SetAdaptToFrameBudget(ParseInt(v, w, 0, 1) != 0); } },
       { "keep_requested_method", "0|1", "no equivalent stand-in for the requested method (vpcss, opaque casters: pcss)",

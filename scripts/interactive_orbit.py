@@ -11,7 +11,16 @@ then FRAMES interactive frames orbiting 3 degrees each at DesiredUpdateRate 5
 (ParaView's interactive render: a 200 ms budget), then one still frame. Prints
 each frame's wall time (glFinish included, as Render returns after the
 swap) and the plan's summary. Not a ctest: a measurement.
+
+    ... python3 scripts/interactive_orbit.py MESH METHOD --first-frames N
+
+times the first N still frames instead, with no warm-up (the camera turns
+1 degree between them, so none reuses the last): each frame's wall time and
+its largest stage timings (MeasureTimings: glFinish after each stage), and
+for the first the solver's stats and the light's views (issue 24: PVSM's
+first frame).
 """
+import json
 import sys
 import time
 
@@ -24,6 +33,7 @@ from softshadows import vtkShadowMeshReader, vtkSoftShadowLight, vtkSoftShadowPa
 mesh, method = sys.argv[1], sys.argv[2]
 frames = int(sys.argv[3]) if len(sys.argv) > 3 and not sys.argv[3].startswith("--") else 10
 adapt = "--no-adapt" not in sys.argv
+first = int(sys.argv[sys.argv.index("--first-frames") + 1]) if "--first-frames" in sys.argv else 0
 
 renderer = vtkRenderer()
 renderer.AutomaticLightCreationOff()
@@ -72,6 +82,25 @@ def frame(rate, label):
     print("%-12s %8.0f ms  %s" % (label, ms, shadows.GetPlanSummary()))
     return ms
 
+
+if first:
+    t0 = time.perf_counter()
+    reader.Update()
+    print("read %.0f ms (%d triangles)" % (1000 * (time.perf_counter() - t0), reader.GetOutput().GetNumberOfCells()))
+    shadows.SetMeasureTimings(True)
+    for f in range(first):
+        t0 = time.perf_counter()
+        window.Render()
+        ms = 1000 * (time.perf_counter() - t0)
+        st = json.loads(shadows.GetStatsJSON())
+        tm = st.get("timings_ms", {})
+        top = sorted(tm, key=lambda k: -tm[k])[:8]
+        print("frame %d: %.0f ms | %s" % (f, ms, ", ".join("%s %.0f" % (k, tm[k]) for k in top)))
+        if f == 0:
+            print("  %s: %s" % (method, json.dumps(st.get(method, {}))[:600]))
+            print("  lights: %s" % json.dumps(st.get("lights")))
+        cam.Azimuth(1)
+    sys.exit(0)
 
 window.Render()  # warm-up: reading the mesh, shader compilation (not counted)
 print("mesh: %s (%d triangles), method %s, adapt to frame budget %s" %

@@ -21,6 +21,17 @@ void ExpandRect(Rect& r, double margin, double pad)
   r.y1 += my;
 }
 
+// Clamps r to |X| <= tMax; true when that cut it.
+bool ClampExtent(Rect& r, double tMax)
+{
+  const bool cut = r.x0 < -tMax || r.y0 < -tMax || r.x1 > tMax || r.y1 > tMax;
+  r.x0 = std::max(r.x0, -tMax);
+  r.y0 = std::max(r.y0, -tMax);
+  r.x1 = std::min(r.x1, tMax);
+  r.y1 = std::min(r.y1, tMax);
+  return cut;
+}
+
 void MakeNonDegenerate(Rect& r)
 {
   // A view must have a positive size even for a flat or point-like box.
@@ -94,14 +105,7 @@ bool FitPerspectiveExtent(
     return false;
   }
   ExpandRect(r, margin, 0.0);
-  if (r.x0 < -tMax || r.y0 < -tMax || r.x1 > tMax || r.y1 > tMax)
-  {
-    clamped = true;
-    r.x0 = std::max(r.x0, -tMax);
-    r.y0 = std::max(r.y0, -tMax);
-    r.x1 = std::min(r.x1, tMax);
-    r.y1 = std::min(r.y1, tMax);
-  }
+  clamped = ClampExtent(r, tMax);
   MakeNonDegenerate(r);
   out = r;
   return true;
@@ -123,6 +127,95 @@ Rect FitOrthographicExtent(const ShadowView& view, const Box& box, double margin
   return r;
 }
 
+VisibleReceivers CollectVisibleReceivers(
+  const float* positions, std::size_t pixels, std::size_t stride, const Box& receivers)
+{
+  VisibleReceivers r;
+  r.known = true;
+  if (receivers.Empty() || !positions)
+  {
+    return r;
+  }
+  const glm::dvec3 tol(1e-5 * receivers.Diagonal() + 1e-30);
+  const glm::dvec3 lo = receivers.min - tol, hi = receivers.max + tol;
+  for (std::size_t i = 0; i < pixels; ++i)
+  {
+    const float* p = positions + stride * i;
+    if (stride >= 4 && !(p[3] > 0.0f))
+    {
+      continue; // background
+    }
+    // NaN fails every comparison
+    if (p[0] >= lo.x && p[0] <= hi.x && p[1] >= lo.y && p[1] <= hi.y && p[2] >= lo.z && p[2] <= hi.z)
+    {
+      r.xyz.insert(r.xyz.end(), p, p + 3);
+    }
+  }
+  return r;
+}
+
+bool FitPerspectiveExtentToPoints(const ShadowView& view, const VisibleReceivers& points, double zMin,
+  double tMax, const glm::dvec2& halfSize, double nearest, double margin, Rect& out, bool& beyond)
+{
+  beyond = false;
+  Rect r{ 1e300, 1e300, -1e300, -1e300 };
+  glm::dvec2 maxReach(0.0);
+  bool any = false;
+  const std::size_t n = points.Count();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const float* p = points.xyz.data() + 3 * i;
+    const glm::dvec3 q = view.ToLightSpace(glm::dvec3(p[0], p[1], p[2]));
+    if (!(q.z > zMin))
+    {
+      continue;
+    }
+    const glm::dvec2 X(q.x / q.z, q.y / q.z);
+    if (std::abs(X.x) > tMax || std::abs(X.y) > tMax)
+    {
+      beyond = true;
+    }
+    // PVSM §4 eq. 1: blockers between zb >= nearest and the receiver
+    const double reach = (nearest > 0.0 && nearest < q.z) ? 1.0 / nearest - 1.0 / q.z : 0.0;
+    maxReach = glm::max(maxReach, halfSize * reach);
+    r.x0 = std::min(r.x0, X.x - halfSize.x * reach);
+    r.x1 = std::max(r.x1, X.x + halfSize.x * reach);
+    r.y0 = std::min(r.y0, X.y - halfSize.y * reach);
+    r.y1 = std::max(r.y1, X.y + halfSize.y * reach);
+    any = true;
+  }
+  if (!any)
+  {
+    return false;
+  }
+  ExpandRect(r, margin, 0.0);
+  // The blocker search reads at most a quarter of the map on each side of a
+  // receiver (ssShadowCommon.glsl, blockerSearch): the extent is at least 4
+  // reaches wide, so a close-up of a small area under a large light does not
+  // cut the search short.
+  for (int axis = 0; axis < 2; ++axis)
+  {
+    double& lo = axis == 0 ? r.x0 : r.y0;
+    double& hi = axis == 0 ? r.x1 : r.y1;
+    const double need = 4.0 * (axis == 0 ? maxReach.x : maxReach.y) - (hi - lo);
+    if (need > 0.0)
+    {
+      lo -= 0.5 * need;
+      hi += 0.5 * need;
+    }
+  }
+  ClampExtent(r, tMax);
+  MakeNonDegenerate(r);
+  out = r;
+  return true;
+}
+
+Rect IntersectExtent(const Rect& a, const Rect& b)
+{
+  const Rect r{ std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1) };
+  return (r.x0 < r.x1 && r.y0 < r.y1) ? r : a;
+}
+
 std::vector<ShadowView> MakeCubeViews(const glm::dvec3& origin)
 {
   const glm::dvec3 axes[6] = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 },
@@ -141,14 +234,15 @@ std::vector<ShadowView> MakeCubeViews(const glm::dvec3& origin)
   return views;
 }
 
-std::vector<ShadowView> MakeLightViews(
-  const LightFrame& light, const Box& receivers, const Box& casters, LightViewInfo& info)
+std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& receivers, const Box& casters,
+  LightViewInfo& info, const VisibleReceivers* visible, double nearestCaster)
 {
   info = LightViewInfo{};
   std::vector<ShadowView> views;
   Box all = receivers;
   all.Add(casters);
   const double diag = std::max(all.Diagonal(), 1e-12);
+  const bool fit = visible && visible->known;
 
   if (light.type == LightType::Directional)
   {
@@ -160,6 +254,9 @@ std::vector<ShadowView> MakeLightViews(
     v.origin = all.Center() - light.n * diag;
     // Kernels reach at most diag * tan(angle/2) beyond a receiver.
     const double pad = diag * std::tan(0.5 * light.angularDiameter);
+    // Fitted to the receivers' bounds only: cut to the visible receivers, the
+    // wide PCSS kernels of a large angular size outgrew the quarter of the
+    // map the search reads (ParaView's SoftShadowViewLights lost penumbra).
     v.extent = FitOrthographicExtent(v, receivers.Empty() ? all : receivers, 0.02, pad);
     views.push_back(v);
     return views;
@@ -200,6 +297,32 @@ std::vector<ShadowView> MakeLightViews(
     info.cube = true;
     return MakeCubeViews(light.center);
   }
+  if (fit)
+  {
+    // the box's extent cut to the visible receivers and what can shadow them;
+    // the clamp is decided on the points themselves, not on the box's corners
+    // (none visible: nothing needs more than the box's extent)
+    const glm::dvec2 half = light.type == LightType::Rect ? 0.5 * glm::dvec2(light.width, light.height)
+                                                          : glm::dvec2(0.0);
+    Rect p;
+    bool beyond = false;
+    if (FitPerspectiveExtentToPoints(v, *visible, zMin, kMaxTan, half, nearestCaster, 0.05, p, beyond))
+    {
+      r = IntersectExtent(r, p);
+      info.fitted = true;
+    }
+    // a point light with a visible receiver behind its view or beyond it
+    bool behind = false;
+    if (light.type == LightType::Point)
+    {
+      for (std::size_t i = 0; i < visible->Count() && !behind; ++i)
+      {
+        const float* q = visible->xyz.data() + 3 * i;
+        behind = !(v.ToLightSpace(glm::dvec3(q[0], q[1], q[2])).z > zMin);
+      }
+    }
+    clamped = beyond || behind;
+  }
   if (clamped && light.type == LightType::Point)
   {
     info.cube = true;
@@ -208,6 +331,25 @@ std::vector<ShadowView> MakeLightViews(
   info.clamped = clamped;
   v.extent = r;
   views.push_back(v);
+  if (clamped && light.type == LightType::Rect)
+  {
+    // Receivers beyond the widest angle the light's view covers: four side
+    // views, half cube faces along +-u and +-v of the light in front of its
+    // plane, hold them (the view above is selected first where both hold a
+    // point). Before, those receivers were left unshadowed: a light inside a
+    // closed sphere lit 1,623 ground pixels GEARS has dark (issue 17).
+    for (const glm::dvec3& side : { light.u, -light.u, light.v, -light.v })
+    {
+      ShadowView s;
+      s.origin = light.center;
+      s.n = side;
+      s.v = light.n; // y: height above the light's plane
+      s.u = glm::normalize(glm::cross(s.v, s.n));
+      s.extent = Rect{ -1.02, 0.0, 1.02, 1.02 };
+      views.push_back(s);
+    }
+    info.sideViews = true;
+  }
   return views;
 }
 

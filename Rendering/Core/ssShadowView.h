@@ -84,8 +84,43 @@ struct LightViewInfo
 {
   bool cube = false;     // a point light needed six faces
   bool clamped = false;  // receivers beyond the widest angle a view covers
+  bool sideViews = false; // a rect light got four side views for them
   bool nothingInFront = false; // every receiver is behind a one-sided light
+  bool fitted = false;   // the extent was fitted to the visible receivers
 };
+
+/// The receiver points the frame's camera sees: the G-buffer's pixels, which
+/// are the points every solver evaluates, kept when inside the receivers'
+/// bounds (relative coordinates, x y z per point). Views fitted to them hold
+/// every point a solver looks up; `known` false (a tiled frame, whose tile
+/// must not change the light-space data, or no G-buffer) fits to the boxes.
+struct VisibleReceivers
+{
+  bool known = false;
+  std::vector<float> xyz;
+  std::size_t Count() const { return xyz.size() / 3; }
+};
+
+/// The points of `positions` (`stride` floats a pixel: x y z, and with
+/// stride 4 the G-buffer's prop id, 0 for the background; NaN positions are
+/// dropped too) inside `receivers` (relative coordinates; widened by 1e-5 of
+/// its diagonal for the float positions).
+VisibleReceivers CollectVisibleReceivers(
+  const float* positions, std::size_t pixels, std::size_t stride, const Box& receivers);
+
+/// Fits a perspective view's extent to visible receiver points: each point in
+/// front of z = zMin, widened by the reach of what can shadow it. A caster or
+/// kernel texel that shadows a receiver at depth zr from a rect light of half
+/// sizes `halfSize` lies, seen from the light's centre, within
+/// halfSize * (1/zb - 1/zr) of the receiver's projection (PVSM §4 eq. 1, the
+/// PCSS kernel), zb >= `nearest` (the nearest caster's depth). Expanded by
+/// `margin` (fraction) and clamped to |X| <= tMax. `beyond`: some point lies
+/// outside |X| <= tMax. False when no point is in front.
+bool FitPerspectiveExtentToPoints(const ShadowView& view, const VisibleReceivers& points, double zMin,
+  double tMax, const glm::dvec2& halfSize, double nearest, double margin, Rect& out, bool& beyond);
+
+/// `a` cut to `b`; `a` unchanged when they do not overlap.
+Rect IntersectExtent(const Rect& a, const Rect& b);
 
 /// The shadow-map views of a light, fitted to the receivers. The light frame
 /// and the boxes must be in the same (relative) coordinates.
@@ -94,8 +129,17 @@ struct LightViewInfo
 /// - point light: one perspective view towards the receivers when they fit in
 ///   a cone of about 76 degrees half-angle, else six cube faces;
 /// - directional light: one orthographic view placed behind casters and receivers.
-std::vector<ShadowView> MakeLightViews(
-  const LightFrame& light, const Box& receivers, const Box& casters, LightViewInfo& info);
+/// With `visible` known, a perspective extent is the box-fitted one cut to the
+/// visible receivers and the reach of what can shadow them
+/// (FitPerspectiveExtentToPoints, `nearestCaster`: the nearest caster's depth
+/// along a rect light's normal; at least 4 reaches wide, the blocker search's
+/// cap); a directional light's view stays fitted to the bounds;
+/// and a rect light gets four side views (half cube faces in front of its
+/// plane) only when a visible receiver lies beyond the widest angle its main
+/// view covers (issue 17: a light inside a closed sphere). Without it, the
+/// side views are decided on the receivers' box corners.
+std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& receivers, const Box& casters,
+  LightViewInfo& info, const VisibleReceivers* visible = nullptr, double nearestCaster = 0.0);
 
 /// The plane PCSS searches for blockers on (a light-space depth of `view`):
 /// the nearest caster vertex in front of the view (z > 0), at least

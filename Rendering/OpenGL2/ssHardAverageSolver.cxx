@@ -89,7 +89,7 @@ void HardAverageSolver::Compute(SolverFrame& frame, const ShadowLight& l)
       ShadowLight sl = l;
       sl.Frame = LightSampleFrame(l.Frame, i, j, k);
       LightViewInfo info;
-      sl.Views = MakeLightViews(sl.Frame, receivers, casters, info);
+      sl.Views = MakeLightViews(sl.Frame, receivers, casters, info, frame.Visible);
       if (sl.Views.size() > l.Views.size())
       {
         vtkErrorWithObjectMacro(

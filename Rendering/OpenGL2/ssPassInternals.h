@@ -50,6 +50,7 @@ public:
   ss::CasterSet Casters;
   ss::EffectPlan Plan;
   ss::GBuffer GBuf;
+  ss::VisibleReceivers Visible; ///< the receiver points the camera sees (views are fitted to them)
   ss::ShadowMaps Maps;
   ss::VisibilityLayers Visibility;
   ss::StageTimings Timings;

@@ -239,7 +239,16 @@ std::string vtkSoftShadowPass::GetStatsJSON()
     std::ostringstream o;
     o << "{\"shader_index\": " << l.ShaderIndex << ", \"method\": \"" << GetMethodName(static_cast<int>(l.Method))
       << "\", \"views\": " << l.Views.size() << ", \"cube\": " << (l.ViewInfo.cube ? "true" : "false")
-      << ", \"clamped\": " << (l.ViewInfo.clamped ? "true" : "false") << "}";
+      << ", \"clamped\": " << (l.ViewInfo.clamped ? "true" : "false")
+      << ", \"side_views\": " << (l.ViewInfo.sideViews ? "true" : "false")
+      << ", \"fitted_to_visible\": " << (l.ViewInfo.fitted ? "true" : "false");
+    if (!l.Views.empty())
+    {
+      // the main view's window (unit-plane or orthographic units): its texel density
+      const ss::Rect& e = l.Views.front().extent;
+      o << ", \"extent\": [" << e.x0 << ", " << e.y0 << ", " << e.x1 << ", " << e.y1 << "]";
+    }
+    o << "}";
     st.Lights.push_back(o.str());
   }
   return ss::StatsToJSON(st);
@@ -261,6 +270,7 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AutomaticPositionsOrigin: " << this->AutomaticPositionsOrigin << "\n";
   os << indent << "AdaptToFrameBudget: " << this->AdaptToFrameBudget << "\n";
   os << indent << "NormalOffset: " << this->NormalOffset << "\n";
+  os << indent << "FitViewsToVisibleReceivers: " << (this->FitViewsToVisibleReceivers ? "on" : "off") << "\n";
   os << indent << "KeepRequestedMethod: " << (this->KeepRequestedMethod ? "on" : "off") << "\n";
   os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";

@@ -2,6 +2,8 @@
 
 #include "ssCasterSet.h"
 #include "ssFrameState.h"
+#include "ssGBuffer.h"
+#include "ssVisibilitySolver.h"
 
 #include "vtkShaderProgram.h"
 
@@ -13,12 +15,48 @@
 namespace ss
 {
 void FitShadowViews(ShadowLight& l, const Box& receivers, const Box& casters, const CasterSet& set,
-  const glm::dvec3& origin)
+  const glm::dvec3& origin, const VisibleReceivers* visible)
 {
-  l.Views = MakeLightViews(l.Frame, receivers, casters, l.ViewInfo);
   const double diag = std::max(casters.Diagonal(), receivers.Diagonal());
-  l.SearchDepth =
-    BlockerSearchDepth(l.Views.front(), set.Triangles.data(), set.Triangles.size(), set.Origin - origin, diag);
+  const glm::dvec3 offset = set.Origin - origin;
+  auto searchDepth = [&](const ShadowView& v) {
+    return BlockerSearchDepth(v, set.Triangles.data(), set.Triangles.size(), offset, diag);
+  };
+  // A rect light's main view looks along its normal: the nearest caster
+  // there is its search depth and bounds the reach of what can shadow a
+  // visible receiver (the views' fit).
+  double nearest = 0.0;
+  if (l.Frame.type == LightType::Rect)
+  {
+    ShadowView axis;
+    axis.origin = l.Frame.center;
+    axis.n = l.Frame.n;
+    nearest = searchDepth(axis);
+  }
+  l.Views = MakeLightViews(l.Frame, receivers, casters, l.ViewInfo, visible, nearest);
+  l.SearchDepth = l.Frame.type == LightType::Rect ? nearest : searchDepth(l.Views.front());
+  if (l.ViewInfo.sideViews)
+  {
+    // side views measure depth along their own axes: the nearest over all
+    for (std::size_t i = 1; i < l.Views.size(); ++i)
+    {
+      l.SearchDepth = std::min(l.SearchDepth, searchDepth(l.Views[i]));
+    }
+  }
+}
+
+VisibleReceivers CollectFrameReceivers(SolverFrame& frame, const Box& receivers)
+{
+  const FrameState& s = *frame.State;
+  const bool tiled = s.FrameSize[0] != s.Width || s.FrameSize[1] != s.Height;
+  // the position target alone (xyz, prop id): the CPU solvers' copy
+  // (ReadForCPU) also reads the normals
+  std::vector<float> rgba;
+  if (tiled || !frame.GBuffer || !frame.GBuffer->Read(frame.Window, frame.FBO, 0, s.Width, s.Height, rgba))
+  {
+    return VisibleReceivers{};
+  }
+  return CollectVisibleReceivers(rgba.data(), rgba.size() / 4, 4, receivers);
 }
 
 Box RelativeBox(const Box& absolute, const glm::dvec3& origin)

@@ -109,7 +109,7 @@ void TranslucentSolver::BeginFrame(SolverFrame& frame, const std::vector<const S
   for (const ShadowLight* l : lights)
   {
     ShadowLight mine = *l;
-    FitShadowViews(mine, receivers, castersBox, casters, origin);
+    FitShadowViews(mine, receivers, castersBox, casters, origin, frame.Visible);
     // the blocker search starts at the nearest caster: a volume may be nearer
     for (const VolumeGrid& g : this->Volumes.Grids())
     {

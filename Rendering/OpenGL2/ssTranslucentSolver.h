@@ -50,6 +50,7 @@ public:
   void Configure(vtkSoftShadowPass* pass) override;
   void BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights) override;
   bool UsesShadowMaps() const override { return false; }
+  bool FitsShadowViews() const override { return true; } // its own maps, fitted in BeginFrame
   bool WritesColor() const override { return this->Opt.AVSM.Colored; }
   void Compute(SolverFrame& frame, const ShadowLight& light) override;
   void EndFrame(SolverFrame& frame) override;

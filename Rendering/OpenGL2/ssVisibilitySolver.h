@@ -46,6 +46,7 @@ class StageTimings;
 class VisibilityLayers;
 struct FrameState;
 struct ShadowLight;
+struct VisibleReceivers;
 
 /// The frame as a solver sees it. The pass owns every piece; a solver reads
 /// them and writes only its own lights' visibility layers (and, for solvers
@@ -62,6 +63,9 @@ struct SolverFrame
   ss::CasterSet* Casters = nullptr;
   ss::ShadowMaps* Maps = nullptr;
   ss::VisibilityLayers* Visibility = nullptr;
+  /// The receiver points the camera sees, for fitting views (ssShadowViews);
+  /// unknown on a tiled frame or when no light fits views.
+  const VisibleReceivers* Visible = nullptr;
   StageTimings* Timings = nullptr; ///< add the solver's stages here (timings_ms)
   vtkObject* Reporter = nullptr;   ///< errors and warnings go out as the pass's
   /// A long Compute calls it between chunks of its work with the fraction of
@@ -98,6 +102,10 @@ public:
   /// DrawShadowMaps, their min/max pyramid built). False for solvers that
   /// work on the caster triangles.
   virtual bool UsesShadowMaps() const { return true; }
+  /// Whether it fits shadow views to the receivers (ssShadowViews): the pass
+  /// then collects the frame's visible receivers (SolverFrame::Visible)
+  /// before BeginFrame.
+  virtual bool FitsShadowViews() const { return this->UsesShadowMaps(); }
   /// The map size (texels a side) the solver asks the shared array for; the
   /// array takes it when every light agrees, else the pass's ShadowMapSize.
   virtual int GetShadowMapSize() const { return 0; }

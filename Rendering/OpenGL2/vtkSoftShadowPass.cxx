@@ -389,6 +389,23 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
   ss::SolverFrame frame = in.MakeSolverFrame(ren, win, this);
 
+  // The receiver points the camera sees: the shadow views are fitted to them
+  // (and to what can shadow them), when a light's solver fits views and
+  // FitViewsToVisibleReceivers is on (off: unknown, the views cover the bounds).
+  const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
+  in.Visible = ss::VisibleReceivers{};
+  for (const auto& l : in.Frame.Lights)
+  {
+    if (this->FitViewsToVisibleReceivers && l.Layer >= 0 && in.SolverFor(l.Method)->FitsShadowViews())
+    {
+      const auto t0 = Clock::now();
+      in.Visible = ss::CollectFrameReceivers(frame, receivers);
+      in.Timings.Set("visible_receivers", ss::Milliseconds(t0, Clock::now()));
+      break;
+    }
+  }
+  frame.Visible = &in.Visible;
+
   // Each solver reads its options and learns its lights of the frame (maybe none).
   std::vector<std::vector<const ShadowLight*>> lightsOf(in.Solvers.size());
   for (std::size_t i = 0; i < in.Solvers.size(); ++i)
@@ -406,7 +423,6 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 
   // --- whole-view shadow maps, one shared array: views fitted to the
   // receivers (relative coordinates), the size the lights agree on
-  const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
   const ss::Box casters = ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin);
   int totalViews = 0, numShadowLights = 0;
   std::vector<int> asked;
@@ -423,7 +439,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       l.Views.clear();
       continue;
     }
-    ss::FitShadowViews(l, receivers, casters, in.Casters, in.Frame.Origin);
+    ss::FitShadowViews(l, receivers, casters, in.Casters, in.Frame.Origin, &in.Visible);
     totalViews += static_cast<int>(l.Views.size());
     asked.push_back(solver->GetShadowMapSize());
   }

@@ -286,6 +286,21 @@ public:
 
   ///@{
   /**
+   * Fit the shadow-map views to the visible receivers (default on): each
+   * light's perspective views are cut to the receiver points the camera sees
+   * (the G-buffer) and the reach of what can shadow them, and a rect light
+   * gets side views only when a visible receiver lies beyond its main view
+   * (Documentation/methods.md, "Shadow maps"). Off: every view covers the
+   * receivers' bounds, as a conventional shadow map does; the maps then do
+   * not change with the camera (a tiled frame always uses the bounds).
+   */
+  vtkSetMacro(FitViewsToVisibleReceivers, bool);
+  vtkGetMacro(FitViewsToVisibleReceivers, bool);
+  vtkBooleanMacro(FitViewsToVisibleReceivers, bool);
+  ///@}
+
+  ///@{
+  /**
    * Origin of the positions buffer and of all float computations. By default
    * (AutomaticPositionsOrigin on) the camera focal point of each frame.
    */
@@ -455,6 +470,7 @@ protected:
   double ConstantBias = 1.0;
   double SlopeBias = 2.0;
   double NormalOffset = 0.0;
+  bool FitViewsToVisibleReceivers = true;
   double PositionsOrigin[3] = { 0, 0, 0 };
   bool AutomaticPositionsOrigin = true;
   bool MeasureTimings = false;

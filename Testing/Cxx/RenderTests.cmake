@@ -31,6 +31,8 @@ ss_render_test(TestSoftShadowPassControls render)
 ss_render_test(TestASMPass render)
 ss_render_test(TestBadLights stability)
 ss_render_test(TestTiledRendering render)
+ss_render_test(TestShadowViews render)
+target_link_libraries(TestShadowViews PRIVATE VTK::IOImage)
 ss_render_test(TestPreparedCasters render)
 target_link_libraries(TestPreparedCasters PRIVATE SoftShadows::Filters VTK::FiltersCore VTK::CommonTransforms)
 # The real-mesh image set (issue 17): smooth-shaded meshes, every method

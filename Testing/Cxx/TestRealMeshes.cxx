@@ -31,6 +31,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -162,6 +163,12 @@ void Build(Scene& s, vtkPolyData* mesh, const LightSetup& l)
   s.renderer->AddLight(RectLight(6.0 * std::cos(e) * std::cos(a), 6.0 * std::cos(e) * std::sin(a),
     0.5 + 6.0 * std::sin(e), 0, 0, 0.5, l.size, l.size));
   s.Camera(1.5, -5.5, 3.2, 0, 0, 0.45);
+}
+
+// Wall time of a render, printed next to its counts (what the label spends).
+long MillisecondsSince(std::chrono::steady_clock::time_point t0)
+{
+  return static_cast<long>(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
 }
 
 // The methods that shadow from the light's centre (compared with GEARS at
@@ -342,15 +349,16 @@ std::vector<int> RegisteredMethods()
 // the silhouettes. GEARS and the reference use the same samples: no
 // allowance. What remains off the silhouettes is each method's own
 // approximation: PCSS's one average blocker depth per pixel under the large
-// lights, PVSM's penumbrae; avsm with opaque casters only is an open bug
-// (the ground is left unshadowed; vpcss.md, "Known problems").
+// lights, PVSM's penumbrae and the bunny's concave creases (stability.md).
+// Measured with the views fitted to the visible receivers and AVSM's
+// first-frame sampler fixed (issue 20).
 using Measured = std::map<std::string, int>;
 int Allow(int measured)
 {
   return measured + measured / 5 + 10;
 }
-const Measured kSilhouettes = { { "hard", 32 }, { "pcf", 125 }, { "pcss", 500 }, { "pvsm", 138 },
-  { "hardavg", 25 }, { "asm", 47 }, { "vpcss", 500 }, { "avsm", 821 } };
+const Measured kSilhouettes = { { "hard", 32 }, { "pcf", 101 }, { "pcss", 507 }, { "pvsm", 130 },
+  { "hardavg", 20 }, { "asm", 47 }, { "vpcss", 507 }, { "avsm", 77 } };
 int SilhouetteAllowance(const std::string& method)
 {
   const auto it = kSilhouettes.find(method);
@@ -368,8 +376,10 @@ void RunMesh(const std::string& meshName, vtkPolyData* mesh, const Measured& mea
   {
     Scene scene(W, H);
     Build(scene, mesh, l);
+    const auto g0 = std::chrono::steady_clock::now();
     const Frame gearsHard = RenderWith(scene, vtkSoftShadowPass::GEARS, 1);
     const Frame gearsArea = RenderWith(scene, vtkSoftShadowPass::GEARS, kArea);
+    const long gearsMs = MillisecondsSince(g0);
     ASSERT_EQ(gearsHard.V.size(), static_cast<std::size_t>(W * H));
     ASSERT_EQ(gearsArea.V.size(), static_cast<std::size_t>(W * H));
     const std::vector<char> edgeHard = Silhouettes(gearsHard, gearsHard, eye);
@@ -379,16 +389,20 @@ void RunMesh(const std::string& meshName, vtkPolyData* mesh, const Measured& mea
     AppendPanel(rgb, 0, panels, gearsHard, {});
     AppendPanel(rgb, 1, panels, gearsArea, {});
     std::ostringstream line;
-    line << "realmesh " << meshName << " " << l.name << ": failing px (dark/light/silhouette)";
+    line << "realmesh " << meshName << " " << l.name << ": GEARS references " << gearsMs
+         << " ms; failing px (dark/light/silhouette)";
     int panel = 2;
     for (int m : methods)
     {
       const Frame& ref = ShadowsFromCentre(m) ? gearsHard : gearsArea;
+      const auto t0 = std::chrono::steady_clock::now();
       const Frame f = RenderWith(scene, m, ShadowsFromCentre(m) ? 1 : kArea);
+      const long ms = MillisecondsSince(t0);
       ASSERT_EQ(f.V.size(), ref.V.size()) << vtkSoftShadowPass::GetMethodName(m);
       const Failures r = Check(f, ref, ShadowsFromCentre(m) ? edgeHard : edgeArea);
       AppendPanel(rgb, panel++, panels, f, r.map);
-      line << " " << vtkSoftShadowPass::GetMethodName(m) << " " << r.dark << "/" << r.light << "/" << r.silhouette;
+      line << " " << vtkSoftShadowPass::GetMethodName(m) << " " << r.dark << "/" << r.light << "/" << r.silhouette
+           << " (" << ms << " ms)";
       EXPECT_EQ(r.nonFinite, 0) << vtkSoftShadowPass::GetMethodName(m);
       EXPECT_GT(r.compared, W * H / 3) << vtkSoftShadowPass::GetMethodName(m);
       EXPECT_LE(r.silhouette, SilhouetteAllowance(vtkSoftShadowPass::GetMethodName(m)))
@@ -415,34 +429,34 @@ void RunMesh(const std::string& meshName, vtkPolyData* mesh, const Measured& mea
 TEST(RealMeshes, WaveletIsosurface)
 {
   RunMesh("wavelet", WaveletIsosurface(),
-    { { "hard", 0 }, { "pcf", 96 }, { "pcss", 548 }, { "pvsm", 258 }, { "hardavg", 2 }, { "asm", 4 },
-      { "vpcss", 548 }, { "avsm", 6460 } });
+    { { "hard", 0 }, { "pcf", 61 }, { "pcss", 632 }, { "pvsm", 264 }, { "hardavg", 2 }, { "asm", 4 },
+      { "vpcss", 632 }, { "avsm", 15 } });
 }
 
 TEST(RealMeshes, CoarseSphere)
 {
   RunMesh("sphere16x8", CoarseSphere(),
-    { { "hard", 0 }, { "pcf", 0 }, { "pcss", 73 }, { "pvsm", 1 }, { "hardavg", 0 }, { "asm", 0 }, { "vpcss", 73 },
-      { "avsm", 4806 } });
+    { { "hard", 0 }, { "pcf", 0 }, { "pcss", 48 }, { "pvsm", 5 }, { "hardavg", 0 }, { "asm", 0 }, { "vpcss", 48 },
+      { "avsm", 0 } });
 }
 
 TEST(RealMeshes, Bunny)
 {
   RunMesh("bunny", MeshFile("bunny00.off"),
-    { { "hard", 2 }, { "pcf", 114 }, { "pcss", 367 }, { "pvsm", 129 }, { "hardavg", 1 }, { "asm", 4 },
-      { "vpcss", 367 }, { "avsm", 3922 } });
+    { { "hard", 2 }, { "pcf", 107 }, { "pcss", 419 }, { "pvsm", 169 }, { "hardavg", 1 }, { "asm", 4 },
+      { "vpcss", 419 }, { "avsm", 26 } });
 }
 
 TEST(RealMeshes, Fandisk)
 {
   RunMesh("fandisk", MeshFile("fandisk.off"),
-    { { "hard", 0 }, { "pcf", 12 }, { "pcss", 898 }, { "pvsm", 131 }, { "hardavg", 0 }, { "asm", 0 },
-      { "vpcss", 898 }, { "avsm", 3650 } });
+    { { "hard", 0 }, { "pcf", 6 }, { "pcss", 728 }, { "pvsm", 137 }, { "hardavg", 0 }, { "asm", 0 },
+      { "vpcss", 728 }, { "avsm", 11 } });
 }
 
 TEST(RealMeshes, MachinedCylinder)
 {
   RunMesh("cylinder", MachinedCylinder(),
     { { "hard", 0 }, { "pcf", 0 }, { "pcss", 4 }, { "pvsm", 4 }, { "hardavg", 0 }, { "asm", 0 }, { "vpcss", 4 },
-      { "avsm", 3060 } });
+      { "avsm", 0 } });
 }
