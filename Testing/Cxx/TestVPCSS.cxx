@@ -113,6 +113,23 @@ Errors CompareAndReport(const char* what, const Frame& a, const Frame& b)
   return e;
 }
 
+// The rendered picture, R + G + B per pixel (0..765).
+std::vector<double> Luminance(Scene& s)
+{
+  s.window->Render();
+  vtkNew<vtkWindowToImageFilter> w2i;
+  w2i->SetInput(s.window);
+  w2i->ReadFrontBufferOff();
+  w2i->Update();
+  std::vector<double> lum;
+  auto* sc = w2i->GetOutput()->GetPointData()->GetScalars();
+  for (vtkIdType i = 0; i < sc->GetNumberOfTuples(); ++i)
+  {
+    lum.push_back(sc->GetComponent(i, 0) + sc->GetComponent(i, 1) + sc->GetComponent(i, 2));
+  }
+  return lum;
+}
+
 // Foreground pixels with V < 0.01.
 int UmbraPixels(const Frame& f)
 {
@@ -451,20 +468,7 @@ TEST(VPCSS, TranslucentPropsReceiveShadows)
     s.renderer->AddLight(RectLight(0, 0, 5, 0, 0, 0, 0.5, 0.5));
     s.Camera(0, -5, 6, 0, 0, 0.5);
     s.pass->SetMethod(vtkSoftShadowPass::VPCSS);
-    auto grab = [&]() {
-      s.window->Render();
-      vtkNew<vtkWindowToImageFilter> w2i;
-      w2i->SetInput(s.window);
-      w2i->ReadFrontBufferOff();
-      w2i->Update();
-      std::vector<double> lum;
-      auto* sc = w2i->GetOutput()->GetPointData()->GetScalars();
-      for (vtkIdType i = 0; i < sc->GetNumberOfTuples(); ++i)
-      {
-        lum.push_back(sc->GetComponent(i, 0) + sc->GetComponent(i, 1) + sc->GetComponent(i, 2));
-      }
-      return lum;
-    };
+    auto grab = [&]() { return Luminance(s); };
     const std::vector<double> on = grab();
     if (peeling)
     {
@@ -539,20 +543,7 @@ TEST(VPCSS, TranslucentReceiverUsesItsFacetPlane)
     s.Camera(0, -4, 5, 0, 0, 1);
     s.pass->SetMethod(method);
     s.pass->KeepRequestedMethodOn();
-    auto grab = [&]() {
-      s.window->Render();
-      vtkNew<vtkWindowToImageFilter> w2i;
-      w2i->SetInput(s.window);
-      w2i->ReadFrontBufferOff();
-      w2i->Update();
-      std::vector<double> lum;
-      auto* sc = w2i->GetOutput()->GetPointData()->GetScalars();
-      for (vtkIdType i = 0; i < sc->GetNumberOfTuples(); ++i)
-      {
-        lum.push_back(sc->GetComponent(i, 0) + sc->GetComponent(i, 1) + sc->GetComponent(i, 2));
-      }
-      return lum;
-    };
+    auto grab = [&]() { return Luminance(s); };
     // pixels darker with receiving on than off
     auto darkerWhenReceiving = [&](int& covered) {
       vtkSoftShadowPass::SetReceivesShadows(sheet, true);
