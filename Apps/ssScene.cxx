@@ -1,4 +1,5 @@
 #include "ssScene.h"
+#include "ssSceneParse.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
@@ -58,138 +59,8 @@ void ErrorCapture::Execute(vtkObject*, unsigned long, void* data)
 
 namespace
 {
-using json = nlohmann::json;
+using namespace scene;
 namespace fs = std::filesystem;
-
-// Where we are in the file, for one-line error messages.
-struct Ctx
-{
-  std::string file;
-  std::string key;
-
-  Ctx operator/(const std::string& k) const { return { file, key.empty() ? k : key + "." + k }; }
-  Ctx operator[](std::size_t i) const { return { file, key + "[" + std::to_string(i) + "]" }; }
-  [[noreturn]] void Fail(const std::string& what) const
-  {
-    throw SceneError(file + ": " + (key.empty() ? "(top level)" : key) + ": " + what);
-  }
-};
-
-void CheckKeys(const json& j, const Ctx& c, const std::set<std::string>& allowed)
-{
-  if (!j.is_object())
-  {
-    c.Fail("expected an object");
-  }
-  for (auto it = j.begin(); it != j.end(); ++it)
-  {
-    if (!allowed.count(it.key()))
-    {
-      std::string list;
-      for (const auto& a : allowed)
-      {
-        list += (list.empty() ? "" : ", ") + a;
-      }
-      (c / it.key()).Fail("unknown key (expected one of: " + list + ")");
-    }
-  }
-}
-
-double Number(const json& j, const Ctx& c)
-{
-  if (!j.is_number())
-  {
-    c.Fail("expected a number, got " + std::string(j.type_name()));
-  }
-  const double v = j.get<double>();
-  if (!std::isfinite(v))
-  {
-    c.Fail("expected a finite number");
-  }
-  return v;
-}
-
-double NumberOr(const json& parent, const char* key, const Ctx& c, double def)
-{
-  return parent.contains(key) ? Number(parent[key], c / key) : def;
-}
-
-double Positive(const json& parent, const char* key, const Ctx& c, double def)
-{
-  const double v = NumberOr(parent, key, c, def);
-  if (!(v > 0.0))
-  {
-    (c / key).Fail("expected a positive number, got " + std::to_string(v));
-  }
-  return v;
-}
-
-int Int(const json& parent, const char* key, const Ctx& c, int def, int lo, int hi)
-{
-  if (!parent.contains(key))
-  {
-    return def;
-  }
-  const json& j = parent[key];
-  if (!j.is_number_integer() || j.get<long long>() < lo || j.get<long long>() > hi)
-  {
-    (c / key).Fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  }
-  return j.get<int>();
-}
-
-bool Bool(const json& parent, const char* key, const Ctx& c, bool def)
-{
-  if (!parent.contains(key))
-  {
-    return def;
-  }
-  if (!parent[key].is_boolean())
-  {
-    (c / key).Fail("expected true or false");
-  }
-  return parent[key].get<bool>();
-}
-
-template <std::size_t N>
-std::array<double, N> Vec(const json& j, const Ctx& c)
-{
-  if (!j.is_array() || j.size() != N)
-  {
-    c.Fail("expected an array of " + std::to_string(N) + " numbers");
-  }
-  std::array<double, N> v{};
-  for (std::size_t i = 0; i < N; ++i)
-  {
-    v[i] = Number(j[i], c[i]);
-  }
-  return v;
-}
-
-template <std::size_t N>
-std::array<double, N> VecOr(const json& parent, const char* key, const Ctx& c, std::array<double, N> def)
-{
-  return parent.contains(key) ? Vec<N>(parent[key], c / key) : def;
-}
-
-template <std::size_t N>
-std::array<double, N> Required(const json& parent, const char* key, const Ctx& c)
-{
-  if (!parent.contains(key))
-  {
-    (c / key).Fail("missing (expected an array of " + std::to_string(N) + " numbers)");
-  }
-  return Vec<N>(parent[key], c / key);
-}
-
-std::array<double, 3> NonZero(std::array<double, 3> v, const Ctx& c)
-{
-  if (std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) <= 0.0)
-  {
-    c.Fail("expected a non-zero vector");
-  }
-  return v;
-}
 
 // A light position VTK can shade: its shaders take the light's direction as
 // normalize(light - vertex) in float, whose length overflows once |x|^2
@@ -210,18 +81,6 @@ void CheckLightPosition(const std::array<double, 3>& p, const Ctx& c)
   }
 }
 
-std::array<double, 3> Color(const json& parent, const char* key, const Ctx& c, std::array<double, 3> def)
-{
-  auto v = VecOr<3>(parent, key, c, def);
-  for (double x : v)
-  {
-    if (x < 0.0 || x > 1.0)
-    {
-      (c / key).Fail("expected 3 numbers in [0, 1]");
-    }
-  }
-  return v;
-}
 
 // A rotation taking +z to `n` (for planes and disks) or +y to `n` (cylinders).
 void AlignAxis(vtkTransform* t, const double from[3], std::array<double, 3> n)
@@ -344,72 +203,11 @@ vtkSmartPointer<vtkPolyData> Primitive(const json& o, const Ctx& c)
   (c / "primitive").Fail("unknown primitive '" + kind + "' (expected plane, box, sphere, cylinder, disk)");
 }
 
-// While a reader runs, VTK messages from objects without observers (the XML
-// parser inside vtkXMLPolyDataReader, vtkDataObjectTypes, ...) are kept here
-// instead of being printed, so bad input still gives exactly one error line.
-class CaptureOutputWindow : public vtkOutputWindow
-{
-public:
-  static CaptureOutputWindow* New() { return new CaptureOutputWindow; }
-  void DisplayText(const char* t) override { this->Keep(t); }
-  void DisplayErrorText(const char* t) override { this->Keep(t); }
-  void DisplayWarningText(const char* t) override { this->Keep(t); }
-  void DisplayGenericWarningText(const char* t) override { this->Keep(t); }
-  void DisplayDebugText(const char*) override {}
-  std::string First;
-
-private:
-  void Keep(const char* t)
-  {
-    if (this->First.empty() && t)
-    {
-      this->First = OneLine(t);
-    }
-  }
-};
-
-class ScopedOutputCapture
-{
-public:
-  // VTK logs errors to stderr through vtkLogger before the output window
-  // sees them: that stream is silenced too, and restored afterwards.
-  ScopedOutputCapture()
-    : Previous(vtkOutputWindow::GetInstance())
-    , Verbosity(vtkLogger::GetCurrentVerbosityCutoff())
-  {
-    vtkOutputWindow::SetInstance(this->Capture);
-    vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
-  }
-  ~ScopedOutputCapture()
-  {
-    vtkLogger::SetStderrVerbosity(this->Verbosity);
-    vtkOutputWindow::SetInstance(this->Previous);
-  }
-  ScopedOutputCapture(const ScopedOutputCapture&) = delete;
-  ScopedOutputCapture& operator=(const ScopedOutputCapture&) = delete;
-  const std::string& First() const { return this->Capture->First; }
-
-private:
-  vtkSmartPointer<vtkOutputWindow> Previous;
-  vtkLogger::Verbosity Verbosity;
-  vtkNew<CaptureOutputWindow> Capture;
-};
 
 vtkSmartPointer<vtkPolyData> ReadMesh(const json& o, const Ctx& c, const fs::path& sceneDir)
 {
-  if (!o["mesh"].is_string())
-  {
-    (c / "mesh").Fail("expected a file name (relative to the scene file)");
-  }
-  const fs::path rel = o["mesh"].get<std::string>();
-  const fs::path path = rel.is_absolute() ? rel : sceneDir / rel;
-  // the non-throwing overload: a name too long for the file system is an
-  // error of this key, not an exception from std::filesystem
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-  {
-    (c / "mesh").Fail("mesh file not found: '" + path.string() + "'" + (ec ? " (" + ec.message() + ")" : ""));
-  }
+  const fs::path path =
+    SceneFile(o, "mesh", c, sceneDir, "mesh", "expected a file name (relative to the scene file)");
   if (!vtkShadowMeshReader::IsSupportedFileName(path.string().c_str()))
   {
     (c / "mesh").Fail("unsupported mesh format '" + path.extension().string() +
@@ -522,48 +320,6 @@ vtkSmartPointer<vtkPolyData> Inline(const json& o, const Ctx& c)
   return pd;
 }
 
-void ApplyTransform(vtkActor* actor, const json& o, const Ctx& c)
-{
-  if (!o.contains("transform"))
-  {
-    return;
-  }
-  const json& t = o["transform"];
-  const Ctx ct = c / "transform";
-  CheckKeys(t, ct, { "scale", "rotate", "translate" });
-  vtkNew<vtkTransform> xf;
-  xf->PostMultiply();
-  if (t.contains("scale"))
-  {
-    std::array<double, 3> s{};
-    if (t["scale"].is_number())
-    {
-      const double v = Number(t["scale"], ct / "scale");
-      s = { v, v, v };
-    }
-    else
-    {
-      s = Vec<3>(t["scale"], ct / "scale");
-    }
-    if (!(s[0] != 0 && s[1] != 0 && s[2] != 0))
-    {
-      (ct / "scale").Fail("expected non-zero scale factors");
-    }
-    xf->Scale(s.data());
-  }
-  if (t.contains("rotate"))
-  {
-    const auto r = Vec<4>(t["rotate"], ct / "rotate");
-    NonZero({ r[1], r[2], r[3] }, ct / "rotate");
-    xf->RotateWXYZ(r[0], r[1], r[2], r[3]);
-  }
-  if (t.contains("translate"))
-  {
-    const auto tr = Vec<3>(t["translate"], ct / "translate");
-    xf->Translate(tr.data());
-  }
-  actor->SetUserTransform(xf);
-}
 }
 
 SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
@@ -615,15 +371,26 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
   {
     const json& o = objects[i];
     const Ctx c = (top / "objects")[i];
+    if (o.is_object() && o.contains("volume"))
+    {
+      if (o.contains("mesh") || o.contains("vertices") || o.contains("primitive"))
+      {
+        c.Fail("expected exactly one of \"mesh\", \"vertices\" (+\"triangles\"), \"primitive\" or \"volume\"");
+      }
+      AddVolumeObject(o, c, sceneDir, renderer);
+      ++info.objects;
+      ++info.volumes;
+      continue;
+    }
     CheckKeys(o, c,
-      { "mesh", "vertices", "triangles", "primitive", "center", "normal", "size", "radius", "height",
+      { "mesh", "vertices", "triangles", "primitive", "volume", "center", "normal", "size", "radius", "height",
         "axis", "resolution", "transform", "color", "opacity", "casts_shadows", "receives_shadows",
         "pbr" });
     const int sources = (o.contains("mesh") ? 1 : 0) + (o.contains("vertices") ? 1 : 0) +
       (o.contains("primitive") ? 1 : 0);
     if (sources != 1)
     {
-      c.Fail("expected exactly one of \"mesh\", \"vertices\" (+\"triangles\") or \"primitive\"");
+      c.Fail("expected exactly one of \"mesh\", \"vertices\" (+\"triangles\"), \"primitive\" or \"volume\"");
     }
     if (!o.contains("primitive"))
     {

@@ -28,6 +28,7 @@ struct SceneInfo
   std::array<double, 3> background{ 1, 1, 1 };
   int lights = 0;
   int objects = 0;
+  int volumes = 0; // objects with a "volume" (vtkVolume props)
   std::size_t meshTriangles = 0; // triangles read from mesh files and inline data
   std::size_t skippedTriangles = 0; // degenerate or non-finite, dropped with a warning
 };

@@ -20,6 +20,13 @@ add_test(NAME doc.scene_format
     sh -c "cp \"$1\" Data/Scenes/example.json && build/bin/softshadows render Data/Scenes/example.json --size 160x120 --output example.png && test -s example.png" sh
   WORKING_DIRECTORY "${_ss_docroot}")
 set_tests_properties(doc.scene_format PROPERTIES LABELS "doc;cli" TIMEOUT 120)
+# its volume example (issue 20): a vtkVolume that the planner gives vpcss and that
+# casts a shadow (the stats count it)
+add_test(NAME doc.scene_format_volume
+  COMMAND "${_ss_doc}" "${_ss_docs}/scene-format.md" json 2 --
+    sh -c "build/bin/softshadows render \"$2\" --size 160x120 --output \"$1/doc_volume.png\" --stats \"$1/doc_volume.json\" && grep -q '\"volumes\": 1' \"$1/doc_volume.json\" && grep -q '\"vpcss\"' \"$1/doc_volume.json\"" sh "${SOFTSHADOWS_TEST_OUTPUT_DIR}"
+  WORKING_DIRECTORY "${_ss_docroot}")
+set_tests_properties(doc.scene_format_volume PROPERTIES LABELS "doc;cli" TIMEOUT 120)
 
 if (SOFTSHADOWS_SYSTEM_PYTHON AND TARGET SoftShadowsRenderingOpenGL2Python)
   add_test(NAME doc.python_pass

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """check_vpcss_bench.py DIR: the `bench --vpcss` report in DIR has every
 method per scene, finite errors, and VPCSS's error below hard AVSM's and PCSS's
-(the issue 20 target that holds on every scene measured)."""
+(the issue 20 target that holds on every scene measured; the smoke run has
+the translucent and the volume scene)."""
 import json
 import os
 import sys
@@ -17,7 +18,8 @@ for s in scenes:
     for m in ("vpcss", "avsm", "pcss"):
         assert by[m]["nonfinite"] == 0, (s, m)
     for m in ("vpcss", "avsm"):
-        assert by[m]["avsm_bytes"] > 0 and by[m]["fragments"] > 0, (s, m)
+        # a scene's translucency is its triangles' fragments or its volumes
+        assert by[m]["avsm_bytes"] > 0 and (by[m]["fragments"] > 0 or by[m].get("volumes", 0) > 0), (s, m)
     assert by["vpcss"]["mae"] < by["avsm"]["mae"], (s, by["vpcss"]["mae"], by["avsm"]["mae"])
     assert by["vpcss"]["mae"] < by["pcss"]["mae"], (s, by["vpcss"]["mae"], by["pcss"]["mae"])
 print("vpcss bench ok:", ", ".join(sorted(scenes)))

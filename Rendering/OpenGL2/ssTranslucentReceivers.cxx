@@ -104,13 +104,26 @@ std::string TranslucentReceiverCode(const std::string& fs)
   }
   else
   {
-    o << "  vec3 nrm = vec3(0.0); // no normal: no tangent-plane clipping, no slope bias\n";
+    o << "  vec3 nrm = vec3(0.0); // no shading normal: the facet's plane alone\n";
   }
-  o << "  vec3 d = p - lightCenter;\n"
-       "  View w = selectView(d, nrm);\n"
+  // The receiver's plane is its facet, as for the G-buffer's pixels (issue
+  // 17, ssShadowCommon's receiverNormal): the shading normal's tangent plane
+  // cuts through the fragment's own triangle, which then shadows itself.
+  // Translucent props are not in the G-buffer, so the facet's normal comes
+  // from the screen derivatives of the position (one triangle per quad of
+  // fragments), turned towards the camera as VTK turns a back face's normal.
+  // The receiver-plane depth and slope bias take the facet; the light is
+  // clipped by both planes (lightAboveSurface; hard AVSM: the centre's side).
+  o << "  vec3 ng = cross(dFdx(p), dFdy(p));\n"
+       "  ng = (dot(ng, ng) > 1e-30) ? normalize(ng) : vec3(0.0);\n"
+       "  if (dot(ng, ssVCToRelOffset - p) < 0.0) { ng = -ng; }\n"
+       "  vec3 nPlane = (dot(ng, ng) > 0.5) ? ng : nrm;\n"
+       "  vec3 d = p - lightCenter;\n"
+       "  View w = selectView(d, nPlane);\n"
        "  if (w.index < 0) { return vec3(outsideViewsVisibility(d)); }\n"
-       "  vec3 T = avsmVisibility(w, nrm, d, int(ssFragFilter[k].x));\n"
-       "  if (dot(nrm, nrm) > 0.5) { T *= lightAboveTangent(nrm, d); }\n"
+       "  int hard = int(ssFragFilter[k].x);\n"
+       "  vec3 T = avsmVisibility(w, nPlane, d, hard);\n"
+       "  T *= (hard != 0) ? centreAboveSurface(nrm, ng, d) : lightAboveSurface(nrm, ng, d);\n"
        "  return clamp(T, 0.0, 1.0);\n"
        "}\n";
   return o.str();

@@ -8,6 +8,7 @@
 #include "ssGearsGL.h"
 #include "ssPassStats.h"
 #include "ssVisibilityLayers.h"
+#include "ssVolumeCasters.h"
 
 #include "vtkObject.h"
 #include "vtkOpenGLError.h"
@@ -88,6 +89,19 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
       }
       this->Reference->SetTriangles(casters.WorldVertices(), casters.Opacity);
       this->Version = casters.Version;
+    }
+    if (reference)
+    {
+      // the volumes attenuate the rays as in the AVSM march: exp(-integral
+      // of sigma) of the same grids (ssVolumeCasters; issue 20), so the
+      // reference's error against vpcss/avsm is meaningful for volumes
+      if (!this->HaveVolumes || this->VolumeGridsVersion != casters.VolumeVersion)
+      {
+        this->Volumes.Update(casters, frame.Reporter);
+        this->Reference->SetVolumes(this->Volumes.Grids());
+        this->VolumeGridsVersion = casters.VolumeVersion;
+        this->HaveVolumes = true;
+      }
     }
     if (!reference && (!this->Gears || this->Version != casters.Version))
     {

@@ -3,7 +3,8 @@
 // the light's visibility layer, so shading and readback are the same as for
 // the shadow-map solvers:
 // - reference: the ground truth, k x k shadow rays per pixel (Embree, CPU;
-//   Rendering/Core ssReference);
+//   Rendering/Core ssReference), attenuated by the caster set's volumes
+//   (ssVolumeCasters) as the AVSM march is;
 // - gears: exact soft shadows, triangles assigned to pixels by a grid, k x k
 //   bitmasks (Rendering/Core ssGEARS on the CPU, or its GL 4.3 compute
 //   backend ssGearsGL in this window's context, falling back to the CPU with
@@ -14,6 +15,7 @@
 #include "ssGEARS.h"
 #include "ssReference.h"
 #include "ssVisibilitySolver.h"
+#include "ssVolumeCasters.h"
 
 #include <memory>
 #include <string>
@@ -63,6 +65,11 @@ private:
   std::unique_ptr<GearsSolver> Gears;
   unsigned long Version = 0;
   bool HaveTriangles = false;
+  // reference: the caster set's volumes as grids, given to Reference when
+  // the caster set's VolumeVersion changes
+  VolumeCasters Volumes;
+  unsigned long VolumeGridsVersion = 0;
+  bool HaveVolumes = false;
   ReferenceStats LastReferenceStats;
   // GEARS' GL compute backend: the backend the last frame used, and why it
   // was not the one asked for (warned once per reason)

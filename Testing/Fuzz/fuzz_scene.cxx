@@ -1,8 +1,9 @@
 // libFuzzer target: the scene loader (JSON -> renderer) on any bytes. Bad
 // input must end in a SceneError (one line naming the file), never a crash.
 // Two small meshes sit beside the scene file (m.off, m.stl) so that inputs
-// can reach the mesh path; primitive resolutions above 256 are skipped (they
-// are valid, only slow: a 4096 x 4096 plane is 33M triangles).
+// can reach the mesh path; primitive resolutions above 256 and volume
+// resolutions above 64 are skipped (they are valid, only slow: a 4096 x 4096
+// plane is 33M triangles, a 512^3 volume 134M points).
 #include "ssScene.h"
 
 #include "vtkNew.h"
@@ -37,6 +38,25 @@ bool TooSlow(const nlohmann::json& j)
       if (it.key() == "resolution" && it.value().is_number() && it.value().get<double>() > 256)
       {
         return true;
+      }
+      // a volume's grid is resolution^3 points (or the product of 3)
+      if (it.key() == "volume" && it.value().is_object() && it.value().contains("resolution"))
+      {
+        const auto& r = it.value()["resolution"];
+        if (r.is_number() && r.get<double>() > 64)
+        {
+          return true;
+        }
+        if (r.is_array())
+        {
+          for (const auto& e : r)
+          {
+            if (e.is_number() && e.get<double>() > 64)
+            {
+              return true;
+            }
+          }
+        }
       }
       if (TooSlow(it.value()))
       {

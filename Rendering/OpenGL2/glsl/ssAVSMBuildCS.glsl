@@ -157,6 +157,40 @@ void main()
 #if defined(K_RESOLVE) || defined(K_PYRAMID)
 layout(rgba32f, binding = 0) uniform image2DArray uOut;
 
+// Layer `layer` of texel q in the map the kernel reads nodes from: uOut
+// (resolve: its own nodes, kept between dispatches) or uIn (pyramid: level
+// L-1). Each kernel defines it.
+vec4 nodeLayer(ivec2 q, int layer);
+
+// The nodes of texel q (the layout storeNodes writes): the depths below 3e38
+// with their transmittance, into d and t; returns how many. The one reader
+// of that layout for both kernels (the resolve's nodes between dispatches,
+// the pyramid's four children).
+int loadNodes(ivec2 q, inout float d[AVSM_N + 2], inout vec3 t[AVSM_N + 2])
+{
+  int n = 0;
+  for (int b = 0; b < NB; ++b)
+  {
+    vec4 dd = nodeLayer(q, uLayer0 + b);
+    vec4 t0 = nodeLayer(q, uLayer0 + NB + b);
+#if AVSM_C == 3
+    vec4 t1 = nodeLayer(q, uLayer0 + 2 * NB + b);
+    vec4 t2 = nodeLayer(q, uLayer0 + 3 * NB + b);
+#else
+    vec4 t1 = t0, t2 = t0;
+#endif
+    for (int j = 0; j < 4; ++j)
+    {
+      if (dd[j] < 1.0e38)
+      {
+        d[n] = dd[j];
+        t[n++] = vec3(t0[j], t1[j], t2[j]);
+      }
+    }
+  }
+  return n;
+}
+
 void storeNodes(ivec2 q)
 {
   vec3 last = nn > 0 ? nt[nn - 1] : vec3(1.0);
@@ -205,28 +239,9 @@ uniform sampler3D uVol3;
 uniform float uStep;   // march step (world units)
 uniform int uMaxSteps;
 
-void loadNodes(ivec2 q)
+vec4 nodeLayer(ivec2 q, int layer)
 {
-  nn = 0;
-  for (int b = 0; b < NB; ++b)
-  {
-    vec4 d = imageLoad(uOut, ivec3(q, uLayer0 + b));
-    vec4 t0 = imageLoad(uOut, ivec3(q, uLayer0 + NB + b));
-#if AVSM_C == 3
-    vec4 t1 = imageLoad(uOut, ivec3(q, uLayer0 + 2 * NB + b));
-    vec4 t2 = imageLoad(uOut, ivec3(q, uLayer0 + 3 * NB + b));
-#else
-    vec4 t1 = t0, t2 = t0;
-#endif
-    for (int j = 0; j < 4; ++j)
-    {
-      if (d[j] < 1.0e38)
-      {
-        nd[nn] = d[j];
-        nt[nn++] = vec3(t0[j], t1[j], t2[j]);
-      }
-    }
-  }
+  return imageLoad(uOut, ivec3(q, layer));
 }
 
 float sigmaOf(int v, vec3 p)
@@ -299,7 +314,7 @@ void main()
   }
   else
   {
-    loadNodes(q);
+    nn = loadNodes(q, nd, nt);
   }
   uint base = rowStart[y] + local[idx];
   uint count = listLength(idx, base);
@@ -389,36 +404,17 @@ void main()
 layout(rgba32f, binding = 1) uniform readonly image2DArray uIn; // level L-1
 uniform int uSize;  // texels a side at level L
 
-// the four children's nodes, and the mean's breakpoints
-float cd[4][AVSM_N];
-vec3 ct[4][AVSM_N];
+// the four children's nodes (sized as nd, nt for loadNodes), and the mean's breakpoints
+float cd[4][AVSM_N + 2];
+vec3 ct[4][AVSM_N + 2];
 int cn[4];
 float bp[4 * AVSM_N];
 float md[8 * AVSM_N];
 vec3 mt[8 * AVSM_N];
 
-void loadChild(int k, ivec2 q)
+vec4 nodeLayer(ivec2 q, int layer)
 {
-  cn[k] = 0;
-  for (int b = 0; b < NB; ++b)
-  {
-    vec4 d = imageLoad(uIn, ivec3(q, uLayer0 + b));
-    vec4 t0 = imageLoad(uIn, ivec3(q, uLayer0 + NB + b));
-#if AVSM_C == 3
-    vec4 t1 = imageLoad(uIn, ivec3(q, uLayer0 + 2 * NB + b));
-    vec4 t2 = imageLoad(uIn, ivec3(q, uLayer0 + 3 * NB + b));
-#else
-    vec4 t1 = t0, t2 = t0;
-#endif
-    for (int j = 0; j < 4; ++j)
-    {
-      if (d[j] < 1.0e38)
-      {
-        cd[k][cn[k]] = d[j];
-        ct[k][cn[k]++] = vec3(t0[j], t1[j], t2[j]);
-      }
-    }
-  }
+  return imageLoad(uIn, ivec3(q, layer));
 }
 
 vec3 childEval(int k, float z, bool front)
@@ -464,7 +460,7 @@ void main()
   bool same = true;
   for (int k = 0; k < 4; ++k)
   {
-    loadChild(k, 2 * q + ivec2(k & 1, k >> 1));
+    cn[k] = loadNodes(2 * q + ivec2(k & 1, k >> 1), cd[k], ct[k]);
     same = same && cn[k] == cn[0];
     for (int j = 0; j < cn[k]; ++j)
     {
