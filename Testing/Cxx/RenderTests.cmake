@@ -18,6 +18,10 @@ function(ss_render_test name label)
   gtest_discover_tests(${name}
     TEST_PREFIX "${label}."
     DISCOVERY_MODE PRE_TEST
+    # listing the tests starts a private Xvfb (headless.sh) and a python
+    # probe of its socket: more than GoogleTest's default 5 s on a loaded
+    # machine, where the whole label then failed to be listed
+    DISCOVERY_TIMEOUT 120
     PROPERTIES LABELS "${label}" TIMEOUT ${_ss_render_timeout})
 endfunction()
 ss_render_test(TestSoftShadowPass render)
