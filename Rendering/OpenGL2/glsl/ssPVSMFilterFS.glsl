@@ -179,9 +179,17 @@ void quadBlocked(View w, int level, ivec2 q, float bias, float maxDelta, float o
   }
   bool whole = z.x > mm.y; // the whole quad is blocked
   float h = whole ? s : 0.5 * s;
+  // the level below as the pyramid built it (ceil(tileRes / 2^(level-1))):
+  // a child beyond it lies outside the tile, where the texture holds
+  // whatever an earlier tile left (ss::FilterKernelInTile: nothing drawn)
+  ivec2 below = (ivec2(tileRes) + (1 << (level - 1)) - 1) >> (level - 1);
   for (int c = 0; c < (whole ? 1 : 4); ++c)
   {
     ivec2 child = whole ? q : 2 * q + ivec2(c & 1, c >> 1);
+    if (!whole && (child.x >= below.x || child.y >= below.y))
+    {
+      continue;
+    }
     vec2 b = vec2(child) * h;
     vec2 cm = whole ? mm : texelFetch(tileMap, ivec3(child, 0), level - 1).rg;
     vec2 cz = whole ? z : planeRangeTile(w, b, h, maxDelta) - quadBias(bias, h);
