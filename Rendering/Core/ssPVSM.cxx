@@ -579,7 +579,9 @@ std::string PVSMStatsToJSON(const PVSMStats& s)
   {
     o << (i ? ", " : "") << "[" << s.tileResolutions[i].first << ", " << s.tileResolutions[i].second << "]";
   }
-  o << "], \"texels_rendered\": " << s.texelsRendered << ", \"tile_triangles_drawn\": " << s.tileTrianglesDrawn
+  o << "], \"texels_rendered\": " << s.texelsRendered << ", \"tile_texels\": " << s.tileTexels
+    << ", \"tiles_skipped\": " << s.tilesSkipped << ", \"filter_pixels\": " << s.filterPixels
+    << ", \"tile_triangles_drawn\": " << s.tileTrianglesDrawn
     << ", \"shadow_memory_bytes\": " << s.shadowMemoryBytes
     << ", \"metric\": \"" << s.metric << "\", \"quality\": " << s.quality << "}";
   return o.str();
