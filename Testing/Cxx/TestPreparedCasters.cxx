@@ -97,6 +97,9 @@ struct Result
 // rect light, a close-up camera; `setup` picks the method and its options.
 // camera: position, focal point, view angle
 const std::vector<double> kFieldCamera = { 0, -6.5, 3.2, 0, -1.5, 0, 40.0 };
+// two close-ups of the field: its visible receivers are a small part of the light's view
+const std::vector<double> kCloseUp = { 0.6, -3.4, 2.0, 0.2, -0.6, 0.2, 35.0 };
+const std::vector<double> kCloseUpLow = { -1.5, -3.0, 1.8, -1.8, 0.2, 0.3, 30.0 };
 Result RenderField(vtkPolyData* casters, const std::function<void(vtkSoftShadowPass*)>& setup, double opacity = 1.0,
   int w = 240, int h = 180, const std::vector<double>& camera = kFieldCamera)
 {
@@ -249,8 +252,8 @@ TEST(PreparedCasters, MapCullingKeepsVOnCloseUps)
     std::vector<double> camera;
   };
   const Case cases[] = {
-    { "close-up", 1024, 0.0, { 0.6, -3.4, 2.0, 0.2, -0.6, 0.2, 35.0 } },
-    { "close-up, 256 map, normal offset 4", 256, 4.0, { -1.5, -3.0, 1.8, -1.8, 0.2, 0.3, 30.0 } },
+    { "close-up", 1024, 0.0, kCloseUp },
+    { "close-up, 256 map, normal offset 4", 256, 4.0, kCloseUpLow },
   };
   for (const Case& c : cases)
   {
@@ -292,8 +295,8 @@ TEST(PreparedCasters, TileRegionsKeepV)
   };
   const Case cases[] = {
     { "field camera", 4096, 24, kFieldCamera },
-    { "close-up", 4096, 24, { 0.6, -3.4, 2.0, 0.2, -0.6, 0.2, 35.0 } },
-    { "close-up, tiles of 256, 4 quads", 256, 4, { -1.5, -3.0, 1.8, -1.8, 0.2, 0.3, 30.0 } },
+    { "close-up", 4096, 24, kCloseUp },
+    { "close-up, tiles of 256, 4 quads", 256, 4, kCloseUpLow },
     { "field camera, tiles of 128, 6 quads", 128, 6, kFieldCamera },
   };
   for (const Case& c : cases)
