@@ -90,7 +90,7 @@ private:
   TextureArray Tile; ///< one virtual shadow-map tile at a time (a single layer)
   TextureArray Grid; ///< RG32F SMTG and its pyramid (one layer, all levels)
   std::vector<std::vector<float>> LastGridLevels;
-  std::vector<float> HostKernel[2]; ///< kernel0, kernel1 read back (pvsm_tile_regions)
+  std::vector<float> HostKernel[2]; ///< kernel0, kernel1 read back (pvsm_tile_regions), during Compute only
   vtkSmartPointer<vtkTextureObject> Kernel[3]; ///< RGBA32F, screen size
   vtkSmartPointer<vtkTextureObject> Accum; ///< RGBA32F (V·A within reach, A, back-projection, unused)
   vtkShaderProgram* ConservativeProgram = nullptr; ///< owned by the shader cache
