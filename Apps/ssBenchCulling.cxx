@@ -2,11 +2,15 @@
 // (Documentation/filters.md, "Culling benchmark"). The mesh is prepared once
 // (vtkShadowCasterPreparation, timed); then, side by side in one run, on the
 // overview and a close-up camera: PVSM with every tile drawing the whole
-// caster set, with Morton clusters culled per tile (the plain mesh), and with
-// the preparation's clusters culled per tile; GEARS on the plain mesh and on
+// caster set (whole tiles, whole map), with Morton clusters culled per tile
+// (the plain mesh), and with the preparation's clusters culled per tile,
+// without and with the map culling and the tiles' read regions; GEARS on the
+// plain mesh and on
 // the prepared one (its closed pieces: closed-mesh rule, inner occluders).
 // Medians of --frames frames after a warm-up, the stage times and counts of
-// the last frame, and the load average before and after.
+// the last frame, and the load average before and after. --cycles N runs the
+// rows N times in alternating order (medians over the cycles); --camera
+// keeps one camera.
 #include "ssBenchCommon.h"
 
 #include "vtkActor.h"
@@ -25,6 +29,7 @@
 #include "vtkAppendPolyData.h"
 #include "vtkSphereSource.h"
 
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -57,8 +62,8 @@ struct Variant
 int BenchCulling(const std::vector<std::string>& args)
 {
   bool smoke = false;
-  std::string mesh, out = ".", only;
-  int frames = 3;
+  std::string mesh, out = ".", only, camera;
+  int frames = 3, cycles = 1;
   for (std::size_t i = 0; i < args.size(); ++i)
   {
     const std::string& a = args[i];
@@ -82,6 +87,18 @@ int BenchCulling(const std::vector<std::string>& args)
     {
       out = FlagValue(args, i);
     }
+    else if (a == "--cycles")
+    {
+      cycles = ParseInt(FlagValue(args, i), "--cycles", 1, 20);
+    }
+    else if (a == "--camera")
+    {
+      camera = FlagValue(args, i);
+      if (camera != "overview" && camera != "close-up")
+      {
+        throw UsageError("bench --culling: --camera takes overview or close-up, not '" + camera + "'");
+      }
+    }
     else if (a == "--only")
     {
       only = FlagValue(args, i);
@@ -103,6 +120,7 @@ int BenchCulling(const std::vector<std::string>& args)
   bench::StartBench(display, out);
   json report;
   report["load_average_before"] = Load();
+  report["cycles"] = cycles;
   report["hardware_threads"] = std::thread::hardware_concurrency();
 
   // --- the mesh, plain and prepared (the assembly scene's placement)
@@ -182,9 +200,10 @@ int BenchCulling(const std::vector<std::string>& args)
   ren->AddLight(light);
 
   const std::vector<Variant> variants = {
-    { "pvsm, no culling", "pvsm", false, { "pvsm_tile_culling=0", "pvsm_map_culling=0" } },
+    { "pvsm, no culling", "pvsm", false, { "pvsm_tile_culling=0", "pvsm_map_culling=0", "pvsm_tile_regions=0" } },
     { "pvsm, Morton clusters", "pvsm", false, {} },
-    { "pvsm, prepared clusters, tiles only", "pvsm", true, { "pvsm_map_culling=0" } },
+    { "pvsm, prepared clusters, tiles only", "pvsm", true, { "pvsm_map_culling=0", "pvsm_tile_regions=0" } },
+    { "pvsm, prepared clusters, whole tiles", "pvsm", true, { "pvsm_tile_regions=0" } },
     { "pvsm, prepared clusters", "pvsm", true, {} },
     { "gears, plain", "gears", false, {} },
     { "gears, prepared (closed pieces)", "gears", true, {} },
@@ -193,73 +212,140 @@ int BenchCulling(const std::vector<std::string>& args)
   md << "| camera | configuration | frame ms (median) | solver stage ms | shadow_maps ms | drawn / culled clusters "
         "(tiles) | drawn / culled clusters (low-resolution map) | tile triangles | GEARS pairs | dropped triangles "
         "|\n|---|---|---|---|---|---|---|---|---|---|\n";
+  // One run of a variant: its frame time (median of `frames`), the stage
+  // times and counts of its last frame.
+  auto runVariant = [&](const char* cam, double dolly, const Variant& v) {
+    vtkCamera* c = ren->GetActiveCamera();
+    c->SetPosition(8, -16, 12);
+    c->SetFocalPoint(0, 0, 0);
+    c->SetViewUp(0, 0, 1);
+    c->SetViewAngle(40);
+    c->Dolly(dolly);
+    ren->ResetCameraClippingRange();
+    mapper->SetInputData(v.prepared ? prepared : plain);
+    auto pass = bench::MakePass(ren, v.method, v.options);
+    const double ms = bench::TimeFrames(win, ren, pass, frames);
+    const json st = json::parse(pass->GetStatsJSON());
+    const std::string solver = v.method;
+    json row = { { "camera", cam }, { "configuration", v.label }, { "frame_ms", ms },
+      { "stage_ms", st["timings_ms"].value(solver, 0.0) }, { "timings_ms", st["timings_ms"] } };
+    if (solver == "pvsm" && st.contains("pvsm"))
+    {
+      const json& p = st["pvsm"];
+      row["tile_clusters"] = p["tile_clusters"];
+      row["map_clusters"] = p["map_clusters"];
+      row["tiles"] = p["stats"]["tiles"];
+      row["tile_triangles_drawn"] = p["stats"]["tile_triangles_drawn"];
+      row["pvsm_ms"] = p["stats"]["ms"]; // Table 1's stages: where the time goes
+      for (const char* key : { "tile_texels", "texels_rendered", "tiles_skipped", "filter_pixels" })
+      {
+        row[key] = p["stats"].value(key, 0.0);
+      }
+    }
+    if (solver == "gears" && st.contains("gears"))
+    {
+      row["gears_stats"] = st["gears"]["stats"];
+    }
+    std::cout << cam << " / " << v.label << ": " << ms << " ms (stage " << row["stage_ms"].get<double>()
+              << " ms, shadow_maps " << st["timings_ms"].value("shadow_maps", 0.0) << " ms; load " << Load() << ")"
+              << std::endl;
+    ren->SetPass(nullptr);
+    pass->ReleaseGraphicsResources(win);
+    return row;
+  };
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
+  };
   for (const double dolly : { 1.0, 4.0 })
   {
     const char* cam = dolly > 1 ? "close-up" : "overview";
+    if (!camera.empty() && camera != cam)
+    {
+      continue;
+    }
+    std::vector<const Variant*> chosen;
     for (const Variant& v : variants)
     {
-      if (!only.empty() && only != v.method)
+      if (only.empty() || only == v.method)
       {
-        continue;
+        chosen.push_back(&v);
       }
-      vtkCamera* c = ren->GetActiveCamera();
-      c->SetPosition(8, -16, 12);
-      c->SetFocalPoint(0, 0, 0);
-      c->SetViewUp(0, 0, 1);
-      c->SetViewAngle(40);
-      c->Dolly(dolly);
-      ren->ResetCameraClippingRange();
-      mapper->SetInputData(v.prepared ? prepared : plain);
-      auto pass = bench::MakePass(ren, v.method, v.options);
-      const double ms = bench::TimeFrames(win, ren, pass, frames);
-      const json st = json::parse(pass->GetStatsJSON());
-      const std::string solver = v.method;
-      const double stage = st["timings_ms"].value(solver, 0.0);
-      const double maps = st["timings_ms"].value("shadow_maps", 0.0);
-      json row = { { "camera", cam }, { "configuration", v.label }, { "frame_ms", ms }, { "stage_ms", stage },
-        { "timings_ms", st["timings_ms"] } };
+    }
+    // cycles through the variants in alternating order, so that a load that
+    // drifts during the run favours no row; per row the median over cycles
+    std::vector<std::vector<json>> runs(chosen.size());
+    for (int cycle = 0; cycle < cycles; ++cycle)
+    {
+      for (std::size_t k = 0; k < chosen.size(); ++k)
+      {
+        const std::size_t i = (cycle % 2) ? chosen.size() - 1 - k : k;
+        runs[i].push_back(runVariant(cam, dolly, *chosen[i]));
+      }
+    }
+    for (std::size_t i = 0; i < chosen.size(); ++i)
+    {
+      json row = runs[i].back(); // counts and stats of the last run
+      std::vector<double> frame, stage, maps;
+      json pvsmMs = json::object();
+      for (const json& r : runs[i])
+      {
+        frame.push_back(r["frame_ms"].get<double>());
+        stage.push_back(r["stage_ms"].get<double>());
+        maps.push_back(r["timings_ms"].value("shadow_maps", 0.0));
+      }
+      if (row.contains("pvsm_ms"))
+      {
+        for (const auto& kv : row["pvsm_ms"].items())
+        {
+          std::vector<double> x;
+          for (const json& r : runs[i])
+          {
+            x.push_back(r["pvsm_ms"].value(kv.key(), 0.0));
+          }
+          pvsmMs[kv.key()] = median(x);
+        }
+        row["pvsm_ms"] = pvsmMs;
+      }
+      row["frame_ms"] = median(frame);
+      row["stage_ms"] = median(stage);
+      row["shadow_maps_ms"] = median(maps);
+      row["frame_ms_per_cycle"] = frame;
+      row["stage_ms_per_cycle"] = stage;
+      row["shadow_maps_ms_per_cycle"] = maps;
       std::string clusters = "-", mapClusters = "-", tileTris = "-", pairs = "-", dropped = "-";
-      if (solver == "pvsm" && st.contains("pvsm"))
+      if (row.contains("tile_triangles_drawn"))
       {
-        const json& p = st["pvsm"];
-        row["tile_clusters"] = p["tile_clusters"];
-        row["tiles"] = p["stats"]["tiles"];
-        row["tile_triangles_drawn"] = p["stats"]["tile_triangles_drawn"];
-        row["pvsm_ms"] = p["stats"]["ms"]; // Table 1's stages: where the time goes
-        tileTris = bench::Fmt(p["stats"]["tile_triangles_drawn"].get<double>(), 4);
-        if (!p["tile_clusters"].is_null() && p["tile_clusters"]["source"] != "none")
+        tileTris = bench::Fmt(row["tile_triangles_drawn"].get<double>(), 4);
+        const json& tc = row["tile_clusters"];
+        if (!tc.is_null() && tc["source"] != "none")
         {
-          clusters = bench::Fmt(p["tile_clusters"]["drawn"].get<double>(), 6) + " / " +
-            bench::Fmt(p["tile_clusters"]["culled"].get<double>(), 6) + " (" +
-            p["tile_clusters"]["source"].get<std::string>() + ")";
+          clusters = bench::Fmt(tc["drawn"].get<double>(), 6) + " / " + bench::Fmt(tc["culled"].get<double>(), 6) +
+            " (" + tc["source"].get<std::string>() + ")";
         }
-        row["map_clusters"] = p["map_clusters"];
-        if (!p["map_clusters"].is_null() && p["map_clusters"]["drawn"].get<double>() + p["map_clusters"]["culled"].get<double>() > 0)
+        const json& mc = row["map_clusters"];
+        if (!mc.is_null() && mc["drawn"].get<double>() + mc["culled"].get<double>() > 0)
         {
-          mapClusters = bench::Fmt(p["map_clusters"]["drawn"].get<double>(), 6) + " / " +
-            bench::Fmt(p["map_clusters"]["culled"].get<double>(), 6);
+          mapClusters = bench::Fmt(mc["drawn"].get<double>(), 6) + " / " + bench::Fmt(mc["culled"].get<double>(), 6);
         }
       }
-      if (solver == "gears" && st.contains("gears"))
+      if (row.contains("gears_stats"))
       {
-        const json& g = st["gears"]["stats"];
-        row["gears_stats"] = g;
-        pairs = bench::Fmt(g["pairs"].get<double>(), 6);
-        dropped = bench::Fmt(g["dropped_triangles"].get<double>(), 6);
+        pairs = bench::Fmt(row["gears_stats"]["pairs"].get<double>(), 6);
+        dropped = bench::Fmt(row["gears_stats"]["dropped_triangles"].get<double>(), 6);
       }
       report["rows"].push_back(row);
-      md << "| " << cam << " | " << v.label << " | " << bench::Fmt(ms, 4) << " | " << bench::Fmt(stage, 4) << " | "
-         << bench::Fmt(maps, 4) << " | " << clusters << " | " << mapClusters << " | " << tileTris << " | " << pairs << " | " << dropped << " |\n";
-      std::cout << cam << " / " << v.label << ": " << ms << " ms (stage " << stage << " ms, shadow_maps " << maps
-                << " ms)" << std::endl;
-      ren->SetPass(nullptr);
-      pass->ReleaseGraphicsResources(win);
+      md << "| " << cam << " | " << chosen[i]->label << " | " << bench::Fmt(median(frame), 4) << " | "
+         << bench::Fmt(median(stage), 4) << " | " << bench::Fmt(median(maps), 4) << " | " << clusters << " | "
+         << mapClusters << " | " << tileTris << " | " << pairs << " | " << dropped << " |\n";
     }
   }
   report["load_average_after"] = Load();
   md << "\nLoad average (1, 5, 15 min) before: " << report["load_average_before"].get<std::string>()
      << "; after: " << report["load_average_after"].get<std::string>() << "; " << frames
-     << " timed frames per row after one warm-up.\n";
+     << " timed frames per run after one warm-up; " << cycles
+     << " cycle(s) through the rows in alternating order, medians over cycles.\n";
   const std::string jsonPath = out + "/bench_culling.json";
   std::ofstream(jsonPath) << std::setprecision(6) << report.dump(2) << "\n";
   std::ofstream(out + "/bench_culling.md") << md.str();

@@ -509,6 +509,8 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
       return;
     }
     const int hs = s / 2;
+    // o lies in the tile: the children inside it share it (those beyond are empty)
+    const double share = o / (((2 * qx + 1) * hs < tile.w ? 2 : 1) * ((2 * qy + 1) * hs < tile.h ? 2 : 1));
     for (int q = 0; q < 4; ++q)
     {
       const int cx = 2 * qx + (q & 1), cy = 2 * qy + (q >> 1);
@@ -520,11 +522,11 @@ CoverageAccum FilterKernelInTile(const TileDepthMap& tile, const glm::dvec2& c, 
       }
       if (zlo > dmax)
       {
-        addBlocked(cx * hs, cy * hs, (cx + 1) * hs, (cy + 1) * hs, 0.5 * (dmin + dmax), dmax, 0.25 * o, false);
+        addBlocked(cx * hs, cy * hs, (cx + 1) * hs, (cy + 1) * hs, 0.5 * (dmin + dmax), dmax, share, false);
       }
       else if (texelBlocked(std::min(cx * hs + hs / 2, tile.w - 1), std::min(cy * hs + hs / 2, tile.h - 1), bias * hs, zb))
       {
-        addBlocked(cx * hs, cy * hs, (cx + 1) * hs, (cy + 1) * hs, zb, dmax, 0.25 * o, true);
+        addBlocked(cx * hs, cy * hs, (cx + 1) * hs, (cy + 1) * hs, zb, dmax, share, true);
       }
     }
   };
@@ -579,7 +581,9 @@ std::string PVSMStatsToJSON(const PVSMStats& s)
   {
     o << (i ? ", " : "") << "[" << s.tileResolutions[i].first << ", " << s.tileResolutions[i].second << "]";
   }
-  o << "], \"texels_rendered\": " << s.texelsRendered << ", \"tile_triangles_drawn\": " << s.tileTrianglesDrawn
+  o << "], \"texels_rendered\": " << s.texelsRendered << ", \"tile_texels\": " << s.tileTexels
+    << ", \"tiles_skipped\": " << s.tilesSkipped << ", \"filter_pixels\": " << s.filterPixels
+    << ", \"tile_triangles_drawn\": " << s.tileTrianglesDrawn
     << ", \"shadow_memory_bytes\": " << s.shadowMemoryBytes
     << ", \"metric\": \"" << s.metric << "\", \"quality\": " << s.quality << "}";
   return o.str();

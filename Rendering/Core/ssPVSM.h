@@ -215,7 +215,10 @@ struct PVSMStats
   double msGBuffer = 0, msLowResSM = 0, msKernel = 0, msTiling = 0, msTileSM = 0, msFiltering = 0, msTotal = 0;
   std::size_t tiles = 0, clampedTiles = 0;
   std::vector<std::pair<int, int>> tileResolutions;
-  double texelsRendered = 0;
+  double texelsRendered = 0; ///< texels cleared, drawn and reduced (the read regions' with pvsm_tile_regions)
+  double tileTexels = 0;     ///< texels of the tiles at their predicted resolutions, summed
+  std::size_t tilesSkipped = 0; ///< tiles no pixel's kernel reaches: neither drawn nor filtered
+  double filterPixels = 0;   ///< fragments of the filter passes' rectangles, summed over tiles
   double tileTrianglesDrawn = 0; ///< caster triangles drawn into the tiles, summed
   double shadowMemoryBytes = 0;
   std::string metric;

@@ -8,6 +8,7 @@
 #include "ssFullScreenQuad.h"
 #include "ssGBuffer.h"
 #include "ssGLLimits.h"
+#include "ssPVSMTileReads.h"
 #include "ssPassStats.h"
 #include "ssShadowMaps.h"
 #include "ssShadowViews.h"
@@ -46,6 +47,21 @@
 
 namespace ss
 {
+namespace
+{
+// The filter's quad levels of a tile (its uniform tileLevels): its pyramid's
+// levels down to one texel along its longer side.
+int TileLevels(const ShadowTile& tile, int arrayLevels)
+{
+  int levels = 1;
+  while ((std::max(tile.resX, tile.resY) >> levels) > 0 && levels < arrayLevels)
+  {
+    ++levels;
+  }
+  return levels;
+}
+}
+
 PVSMSolver::PVSMSolver(Method method)
   : VisibilitySolver(method)
 {
@@ -72,6 +88,9 @@ const OptionList& PVSMSolver::DeclaredOptions()
     BoolOption("pvsm_map_culling", "PVSMMapCulling", "PVSM Map Culling", true,
       "pvsm: draw into the conservative low-resolution map only the caster clusters reaching the texels "
       "the visible receivers' blocker searches read"),
+    BoolOption("pvsm_tile_regions", "PVSMTileRegions", "PVSM Tile Regions", true,
+      "pvsm: clear, draw and reduce each tile only where the pixels whose kernel reaches it read it, filter "
+      "only over those pixels, and skip a tile no pixel reaches"),
   };
   return options;
 }
@@ -86,6 +105,7 @@ void PVSMSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.Metric = opt("pvsm_metric");
   this->Opt.TileCulling = opt("pvsm_tile_culling") != 0;
   this->Opt.MapCulling = opt("pvsm_map_culling") != 0;
+  this->Opt.TileRegions = opt("pvsm_tile_regions") != 0;
   this->Opt.BlockerSearchSamples = opt("blocker_samples");
   this->Opt.FilterMaxQuads = opt("filter_max_quads");
   this->Opt.ConstantBias = pass->GetConstantBias();
@@ -357,6 +377,12 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
     TextureArray::Detach();
     fbo->RemoveColorAttachments(3);
     ostate->PopFramebufferBindings();
+    // the host copy of the kernel buffer is needed only while the tiles are
+    // made (32 bytes a pixel: 265 MB at 3840 x 2160)
+    for (auto& k : this->HostKernel)
+    {
+      std::vector<float>().swap(k);
+    }
   };
 
   ++this->Lights;
@@ -392,6 +418,24 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   finish();
   auto t1 = Clock::now();
   st.msKernel += Milliseconds(t0, t1);
+  // the kernel buffer on the host: what each tile's pixels read (ss::PVSMTileReads)
+  KernelBuffer kernels;
+  if (this->Opt.TileRegions)
+  {
+    if (ReadTexture(win, fbo, this->Kernel[0], 0, W, H, 4, this->HostKernel[0]) &&
+      ReadTexture(win, fbo, this->Kernel[1], 0, W, H, 4, this->HostKernel[1]))
+    {
+      kernels = KernelBuffer{ this->HostKernel[0].data(), this->HostKernel[1].data(), W, H };
+    }
+    else
+    {
+      vtkWarningWithObjectMacro(frame.Reporter, "PVSM could not read its kernel buffer back: tiles are drawn whole.");
+    }
+    st.msTiling += Milliseconds(t1, Clock::now());
+  }
+  // the scissor bounds each tile's clear, draw, pyramid and filter to its region
+  vtkOpenGLState::ScopedglEnableDisable scissorSaver(ostate, GL_SCISSOR_TEST);
+  ostate->vtkglEnable(GL_SCISSOR_TEST);
 
   target(this->Accum, W, H);
   ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
@@ -455,6 +499,19 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
     const TileGridPyramid pyramid(this->LastGridLevels, G);
     const double extent[4] = { view.extent.x0, view.extent.y0, view.extent.x1, view.extent.y1 };
     const std::vector<ShadowTile> tiles = BuildShadowTiles(pyramid, extent, tileMax);
+    std::vector<TileReadRegion> regions;
+    if (kernels.kernel0)
+    {
+      std::vector<TileReadInput> in(tiles.size());
+      for (std::size_t ti = 0; ti < tiles.size(); ++ti)
+      {
+        std::copy(tiles[ti].rect, tiles[ti].rect + 4, in[ti].rect);
+        in[ti].resX = tiles[ti].resX;
+        in[ti].resY = tiles[ti].resY;
+        in[ti].levels = TileLevels(tiles[ti], this->Tile.Levels);
+      }
+      regions = PVSMTileReads(kernels, vi, in, this->Opt.FilterMaxQuads, this->Tile.Levels);
+    }
     t1 = Clock::now();
     st.msTiling += Milliseconds(t0, t1);
 
@@ -466,11 +523,37 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
       {
         break;
       }
-      // --- step 7: the tile's shadow map at its predicted resolution
+      const TileReadRegion* region = regions.empty() ? nullptr : &regions[ti];
+      st.tileTexels += static_cast<double>(tile.resX) * tile.resY;
+      st.tileResolutions.emplace_back(tile.resX, tile.resY);
+      st.clampedTiles += tile.clamped ? 1 : 0;
+      if (region && !(region->Texels() > 0.0))
+      {
+        // no pixel's kernel reaches a texel of it: nothing reads it, and
+        // its filter pass would add 0 to every pixel
+        ++st.tilesSkipped;
+        continue;
+      }
+      // --- step 7: the tile's shadow map at its predicted resolution, where it is read
       t0 = Clock::now();
       this->Tile.Attach(fbo, 0, 0);
       ostate->vtkglViewport(0, 0, tile.resX, tile.resY);
-      ostate->vtkglScissor(0, 0, tile.resX, tile.resY);
+      const Rect r{ tile.rect[0], tile.rect[1], tile.rect[2], tile.rect[3] };
+      Rect read = r; // what of the tile is read, in shadow-map units
+      if (region)
+      {
+        const LevelRegion& g = region->levels[0];
+        ostate->vtkglScissor(g[0], g[1], g[2] - g[0], g[3] - g[1]);
+        st.texelsRendered += region->Texels();
+        // one texel wider: a triangle drawn into a read texel covers its centre
+        const double tw = (r.x1 - r.x0) / tile.resX, th = (r.y1 - r.y0) / tile.resY;
+        read = Rect{ r.x0 + (g[0] - 1) * tw, r.y0 + (g[1] - 1) * th, r.x0 + (g[2] + 1) * tw, r.y0 + (g[3] + 1) * th };
+      }
+      else
+      {
+        ostate->vtkglScissor(0, 0, tile.resX, tile.resY);
+        st.texelsRendered += static_cast<double>(tile.resX) * tile.resY;
+      }
       ostate->vtkglClearColor(3.0e38, 3.0e38, 3.0e38, 3.0e38);
       ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
       if (!casters.Triangles.empty())
@@ -479,12 +562,11 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
         ostate->vtkglEnable(GL_BLEND);
         ostate->vtkglBlendEquation(GL_MIN);
         ostate->vtkglBlendFunc(GL_ONE, GL_ONE);
-        const Rect r{ tile.rect[0], tile.rect[1], tile.rect[2], tile.rect[3] };
         if (this->Opt.TileCulling && casters.HasClusters())
         {
-          // only the clusters whose light-space bounds reach the tile; the
-          // pad (1e-3 of the tile) covers the GPU's float projection
-          const auto ranges = VisibleTriangleRanges(casters.Clusters, view, casterOffset, r, 1e-3, &this->TileClusters);
+          // only the clusters whose light-space bounds reach the read part
+          // of the tile; the pad (1e-3 of it) covers the GPU's float projection
+          const auto ranges = VisibleTriangleRanges(casters.Clusters, view, casterOffset, read, 1e-3, &this->TileClusters);
           for (const auto& range : ranges)
           {
             st.tileTrianglesDrawn += static_cast<double>(range.second);
@@ -499,14 +581,11 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
         ostate->vtkglBlendEquation(GL_FUNC_ADD);
         ostate->vtkglDisable(GL_BLEND);
       }
-      BuildDepthPyramid(win, fbo, this->ReduceQuad, this->Tile, tile.resX, tile.resY);
+      BuildDepthPyramid(win, fbo, this->ReduceQuad, this->Tile, tile.resX, tile.resY, 0, region ? &region->levels : nullptr);
       TextureArray::Detach();
       finish();
       t1 = Clock::now();
       st.msTileSM += Milliseconds(t0, t1);
-      st.texelsRendered += static_cast<double>(tile.resX) * tile.resY;
-      st.tileResolutions.emplace_back(tile.resX, tile.resY);
-      st.clampedTiles += tile.clamped ? 1 : 0;
 
       // --- step 8: filtering of the pixels whose kernel reaches the tile
       vtkShaderProgram* fp = ReadyQuad(this->FilterQuad, win, filterFS.c_str());
@@ -516,6 +595,16 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
         break;
       }
       target(this->Accum, W, H);
+      if (region)
+      {
+        const int* b = region->screen;
+        ostate->vtkglScissor(b[0], b[1], b[2] - b[0] + 1, b[3] - b[1] + 1);
+        st.filterPixels += static_cast<double>(b[2] - b[0] + 1) * (b[3] - b[1] + 1);
+      }
+      else
+      {
+        st.filterPixels += static_cast<double>(W) * H;
+      }
       const int tileUnit = this->Tile.Bind(win);
       commonUniforms(fp, -1);
       fp->SetUniformi("kernel0", this->Kernel[0]->GetTextureUnit());
@@ -527,12 +616,7 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
       fp->SetUniform4f("tileRect", tr);
       const float res[2] = { static_cast<float>(tile.resX), static_cast<float>(tile.resY) };
       fp->SetUniform2f("tileRes", res);
-      int levels = 1;
-      while ((std::max(tile.resX, tile.resY) >> levels) > 0 && levels < this->Tile.Levels)
-      {
-        ++levels;
-      }
-      fp->SetUniformi("tileLevels", levels);
+      fp->SetUniformi("tileLevels", TileLevels(tile, this->Tile.Levels));
       fp->SetUniformi("view", vi);
       fp->SetUniformi("maxQuads", this->Opt.FilterMaxQuads);
       fp->SetUniformf("nearFraction", static_cast<float>(ReachParams{}.nearFraction));

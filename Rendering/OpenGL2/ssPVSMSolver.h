@@ -41,6 +41,7 @@ public:
     int Metric = 0; ///< 0 automatic, 1 dynamic, 2 static
     bool TileCulling = false;
     bool MapCulling = false; ///< pvsm_map_culling: the conservative map draws only what the blocker search reads
+    bool TileRegions = false; ///< pvsm_tile_regions: each tile drawn and filtered only where its pixels read it
     int BlockerSearchSamples = 0;
     int FilterMaxQuads = 0;
     double ConstantBias = 0.0;
@@ -89,6 +90,7 @@ private:
   TextureArray Tile; ///< one virtual shadow-map tile at a time (a single layer)
   TextureArray Grid; ///< RG32F SMTG and its pyramid (one layer, all levels)
   std::vector<std::vector<float>> LastGridLevels;
+  std::vector<float> HostKernel[2]; ///< kernel0, kernel1 read back (pvsm_tile_regions), during Compute only
   vtkSmartPointer<vtkTextureObject> Kernel[3]; ///< RGBA32F, screen size
   vtkSmartPointer<vtkTextureObject> Accum; ///< RGBA32F (V·A within reach, A, back-projection, unused)
   vtkShaderProgram* ConservativeProgram = nullptr; ///< owned by the shader cache

@@ -144,7 +144,8 @@ void TextureArray::Detach()
 }
 
 bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo,
-  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const TextureArray& array, int w, int h, int mode)
+  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const TextureArray& array, int w, int h, int mode,
+  const std::vector<std::array<int, 4>>* regions)
 {
   vtkOpenGLState* ostate = win->GetState();
   vtkShaderProgram* prog = ReadyQuad(quad, win, ssMinReduceFS);
@@ -157,6 +158,12 @@ bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* f
   prog->SetUniformi("mode", mode);
   for (int level = 1; level < array.Levels; ++level)
   {
+    const std::array<int, 4>* region =
+      (regions && static_cast<std::size_t>(level) < regions->size()) ? &(*regions)[level] : nullptr;
+    if (regions && (!region || (*region)[2] <= (*region)[0] || (*region)[3] <= (*region)[1]))
+    {
+      continue;
+    }
     // sample only the level below the one written
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, level - 1);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, level - 1);
@@ -166,7 +173,15 @@ bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* f
     prog->SetUniform2i("srcSize", src);
     prog->SetUniform2i("dstSize", dst);
     ostate->vtkglViewport(0, 0, dst[0], dst[1]);
-    ostate->vtkglScissor(0, 0, dst[0], dst[1]);
+    if (region)
+    {
+      const std::array<int, 4>& r = *region;
+      ostate->vtkglScissor(r[0], r[1], r[2] - r[0], r[3] - r[1]);
+    }
+    else
+    {
+      ostate->vtkglScissor(0, 0, dst[0], dst[1]);
+    }
     for (int layer = 0; layer < array.Layers; ++layer)
     {
       array.Attach(fbo, level, layer);

@@ -6,6 +6,7 @@
 
 #include "vtkSmartPointer.h"
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -54,8 +55,12 @@ struct TextureArray
 /// virtual PVSM tile uses only part of its texture): mode 0, depth (min, max);
 /// mode 1, PVSM's tile grid (min, min) -- see ssMinReduceFS.glsl. `quad`
 /// holds the reduction program (built on first use). False when it does not build.
+/// `regions` (one [x0, x1) x [y0, y1) per level, in that level's texels):
+/// each level is written only there (the scissor; each texel still reads
+/// the same four below), and a level whose region is empty is not drawn.
 bool BuildDepthPyramid(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo,
-  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const TextureArray& array, int w, int h, int mode = 0);
+  std::unique_ptr<vtkOpenGLQuadHelper>& quad, const TextureArray& array, int w, int h, int mode = 0,
+  const std::vector<std::array<int, 4>>* regions = nullptr);
 
 /// A screen-space float texture of `comps` (1, 2 or 4) components, (re)sized.
 void EnsureTexture2D(vtkOpenGLRenderWindow* win, vtkSmartPointer<vtkTextureObject>& t, int w, int h, int comps);

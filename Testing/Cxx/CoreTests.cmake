@@ -17,6 +17,7 @@ add_executable(TestSoftShadowsCore
   TestSSCasterClusters.cxx
   TestSSClusterBounds.cxx
   TestSSBlockerSearchWindow.cxx
+  TestSSPVSMTileReads.cxx
   TestSSAVSM.cxx
   TestSSVPCSS.cxx
   TestSSVolumeGrid.cxx

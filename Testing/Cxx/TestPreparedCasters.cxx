@@ -97,6 +97,9 @@ struct Result
 // rect light, a close-up camera; `setup` picks the method and its options.
 // camera: position, focal point, view angle
 const std::vector<double> kFieldCamera = { 0, -6.5, 3.2, 0, -1.5, 0, 40.0 };
+// two close-ups of the field: its visible receivers are a small part of the light's view
+const std::vector<double> kCloseUp = { 0.6, -3.4, 2.0, 0.2, -0.6, 0.2, 35.0 };
+const std::vector<double> kCloseUpLow = { -1.5, -3.0, 1.8, -1.8, 0.2, 0.3, 30.0 };
 Result RenderField(vtkPolyData* casters, const std::function<void(vtkSoftShadowPass*)>& setup, double opacity = 1.0,
   int w = 240, int h = 180, const std::vector<double>& camera = kFieldCamera)
 {
@@ -249,8 +252,8 @@ TEST(PreparedCasters, MapCullingKeepsVOnCloseUps)
     std::vector<double> camera;
   };
   const Case cases[] = {
-    { "close-up", 1024, 0.0, { 0.6, -3.4, 2.0, 0.2, -0.6, 0.2, 35.0 } },
-    { "close-up, 256 map, normal offset 4", 256, 4.0, { -1.5, -3.0, 1.8, -1.8, 0.2, 0.3, 30.0 } },
+    { "close-up", 1024, 0.0, kCloseUp },
+    { "close-up, 256 map, normal offset 4", 256, 4.0, kCloseUpLow },
   };
   for (const Case& c : cases)
   {
@@ -272,6 +275,55 @@ TEST(PreparedCasters, MapCullingKeepsVOnCloseUps)
     EXPECT_GT(culled, 0.3 * (drawn + culled)) << c.what;
     const std::size_t off = r[0].stats.find("\"map_clusters\"");
     EXPECT_EQ(Number(r[0].stats, "culled", off), 0.0) << c.what << " without map culling";
+  }
+}
+
+// Each tile cleared, drawn, reduced and filtered only where the pixels whose
+// kernel reaches it read it, and not at all when none does
+// (pvsm_tile_regions, ss::PVSMTileReads): V is the same on every pixel with
+// and without it, on the field's camera and two close-ups, also with small
+// tiles (many tile edges) and coarse filter quads (reads at high pyramid
+// levels), and fewer texels are drawn.
+TEST(PreparedCasters, TileRegionsKeepV)
+{
+  const auto prepared = PreparedField();
+  struct Case
+  {
+    const char* what;
+    int maxTile, maxQuads;
+    std::vector<double> camera;
+  };
+  const Case cases[] = {
+    { "field camera", 4096, 24, kFieldCamera },
+    { "close-up", 4096, 24, kCloseUp },
+    { "close-up, tiles of 256, 4 quads", 256, 4, kCloseUpLow },
+    { "field camera, tiles of 128, 6 quads", 128, 6, kFieldCamera },
+  };
+  for (const Case& c : cases)
+  {
+    const auto r = OffAndOn(
+      prepared,
+      [&](vtkSoftShadowPass* p, bool on) {
+        p->SetMethod(vtkSoftShadowPass::PVSM);
+        p->SetSolverOption("pvsm_tile_regions", on ? 1 : 0);
+        p->SetSolverOption("pvsm_max_tile", c.maxTile);
+        p->SetSolverOption("filter_max_quads", c.maxQuads);
+      },
+      1.0, c.camera);
+    ExpectSameV(r[0].frame, r[1].frame, std::string("pvsm tile regions off vs on, ") + c.what);
+    // (PVSM's own stats: they follow its "high_res_sms" time)
+    const std::size_t off = r[0].stats.find("\"high_res_sms\""), on = r[1].stats.find("\"high_res_sms\"");
+    ASSERT_NE(off, std::string::npos) << r[0].stats;
+    ASSERT_NE(on, std::string::npos) << r[1].stats;
+    const auto get = [&](int i, const char* key) { return Number(r[i].stats, key, i ? on : off); };
+    std::cout << c.what << ": " << get(1, "tiles") << " tiles, " << get(1, "tiles_skipped")
+              << " skipped; texels drawn " << get(0, "texels_rendered") << " -> " << get(1, "texels_rendered")
+              << "; filter pixels " << get(0, "filter_pixels") << " -> " << get(1, "filter_pixels") << "\n";
+    EXPECT_EQ(get(0, "texels_rendered"), get(0, "tile_texels")) << c.what;
+    EXPECT_EQ(get(0, "tile_texels"), get(1, "tile_texels")) << c.what;
+    EXPECT_EQ(get(0, "tiles_skipped"), 0.0) << c.what;
+    EXPECT_LT(get(1, "texels_rendered"), get(0, "texels_rendered")) << c.what;
+    EXPECT_LT(get(1, "filter_pixels"), get(0, "filter_pixels")) << c.what;
   }
 }
 

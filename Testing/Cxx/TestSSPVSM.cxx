@@ -569,6 +569,34 @@ TEST(PVSM, KernelSplitAcrossTilesMergesToTheSingleTileValue)
   }
 }
 
+// A quad of 2^l texels at a tile's last row or column reaches past the tile,
+// and its overlap with the kernel lies in the tile. When its (min, max)
+// cannot decide it, the children inside the tile share that overlap (those
+// beyond are empty); a quarter each, as before, under-counted the blocked
+// part of edge quads (V 0.389 here). A 6 x 6 tile with rows 0, 1, 4 and 5
+// blocked under a kernel that covers it, in quads of 4 texels: V is the
+// unblocked third exactly.
+TEST(PVSM, EdgeQuadsShareTheirOverlapAmongChildrenInTheTile)
+{
+  const int w = 6, h = 6;
+  std::vector<float> depth(w * h);
+  for (int j = 0; j < h; ++j)
+  {
+    for (int i = 0; i < w; ++i)
+    {
+      depth[j * w + i] = (j % 4 < 2) ? 0.5f : 1e30f;
+    }
+  }
+  const TileDepthMap tile{ depth.data(), w, h, { 0.0, 0.0, 6.0, 6.0 } }; // one unit a texel
+  KernelAxes k;
+  k.u = { 4.0, 0.0 };
+  k.v = { 0.0, 4.0 }; // the box [-1, 7]^2, 8 texels wide: quads of 4 with maxQuads 2
+  const auto zr = [](double, double) { return 1.0; };
+  const CoverageAccum a = FilterKernelInTile(tile, { 3.0, 3.0 }, k, zr, 0.0, 2);
+  EXPECT_DOUBLE_EQ(a.area, 36.0);
+  EXPECT_NEAR(a.Visibility(), 12.0 / 36.0, 1e-12);
+}
+
 namespace
 {
 // A kernel without pixel footprint: the light filter at z_avg (§4 eq. 1).

@@ -179,9 +179,19 @@ void quadBlocked(View w, int level, ivec2 q, float bias, float maxDelta, float o
   }
   bool whole = z.x > mm.y; // the whole quad is blocked
   float h = whole ? s : 0.5 * s;
+  // the level below as the pyramid built it (ceil(tileRes / 2^(level-1))):
+  // a child beyond it lies outside the tile, where the texture holds
+  // whatever an earlier tile left (ss::FilterKernelInTile: nothing drawn).
+  // o lies in the tile, so the children inside share it.
+  ivec2 below = (ivec2(tileRes) + (1 << (level - 1)) - 1) >> (level - 1);
+  float share = o / float(((2 * q.x + 1 < below.x) ? 2 : 1) * ((2 * q.y + 1 < below.y) ? 2 : 1));
   for (int c = 0; c < (whole ? 1 : 4); ++c)
   {
     ivec2 child = whole ? q : 2 * q + ivec2(c & 1, c >> 1);
+    if (!whole && (child.x >= below.x || child.y >= below.y))
+    {
+      continue;
+    }
     vec2 b = vec2(child) * h;
     vec2 cm = whole ? mm : texelFetch(tileMap, ivec3(child, 0), level - 1).rg;
     vec2 cz = whole ? z : planeRangeTile(w, b, h, maxDelta) - quadBias(bias, h);
@@ -193,7 +203,7 @@ void quadBlocked(View w, int level, ivec2 q, float bias, float maxDelta, float o
     zb = 0.5 * (cm.x + cm.y);
     if (decided || texelBlocked(w, ivec2(b + 0.5 * h), quadBias(bias, h), maxDelta, zb))
     {
-      addBlocked(b, b + h, zb, cm.y, whole ? o : 0.25 * o, !decided);
+      addBlocked(b, b + h, zb, cm.y, whole ? o : share, !decided);
     }
   }
 }
