@@ -137,19 +137,15 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
   ep.dir = job.dir;
   ep.project = project;
   ExactBatch& b = w.batch;
-  ExactColumns cols;
-  for (int col = 0; col < 16; ++col)
-  {
-    cols.c[col] = w.d[col].data();
-  }
+  const FaceTriangles& ft = *job.ft;
   const std::size_t stride = gv.ng + kPad;
   const float* boxCols[4] = { w.box.data(), w.box.data() + stride, w.box.data() + 2 * stride,
     w.box.data() + 3 * stride };
 
-  // One candidate's exact bitmask into the rows, given what SetupBatch found.
-  auto draw = [&](std::uint32_t a, int kind, int lane) {
+  // Triangle t's exact bitmask into the rows, given what SetupBatch found.
+  auto draw = [&](std::uint32_t t, int kind, int lane) {
     cc.rasterised += counts;
-    const float alpha = D.opacity[w.list[a]];
+    const float alpha = D.opacity[t];
     std::uint32_t tmp[40];
     std::uint32_t* target = rows;
     if (alpha < 1.0f || necessaryMode)
@@ -179,8 +175,8 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     }
     else
     {
-      const glm::dvec3 B0(w.d[0][a], w.d[1][a], w.d[2][a]), B1(w.d[3][a], w.d[4][a], w.d[5][a]),
-        B2(w.d[6][a], w.d[7][a], w.d[8][a]);
+      const glm::dvec3 B0 = ft.ToLight(D.Vertex(t, 0)), B1 = ft.ToLight(D.Vertex(t, 1)),
+        B2 = ft.ToLight(D.Vertex(t, 2));
       // the start rule tests only samples not known to be hidden
       hit = kind == 2 ? RasterizeNearTriangle(lf, B0, B1, B2, job.eps, target, target == rows ? rows : below)
                       : RasterizeTriangle(lf, S, B0, B1, B2, job.lut, target, j0, j1, fallback);
@@ -298,9 +294,9 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       for (int ln = 0; ln < K.lanes; ++ln)
       {
         gids[ln] = gids[ln < count ? ln : 0];
-        ids[ln] = gv.entry ? gv.entry[gids[ln]] : gids[ln];
+        ids[ln] = w.list[gv.entry ? gv.entry[gids[ln]] : gids[ln]];
       }
-      K.setup(b, cols, ids, boxCols, gids, ep, count);
+      K.setup(b, *gv.exact, ids, boxCols, gids, ep, count);
       for (int ln = 0; ln < count && !(ps.full && !necessaryMode); ++ln)
       {
         const int kind = b.kind[ln];
