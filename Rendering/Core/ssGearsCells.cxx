@@ -90,16 +90,6 @@ inline bool BoxInShaft(const Shaft& s, const float* b, float m)
     !(z0 < s.zhi));
 }
 
-// Scratch arrays only grow: resizing them down and up again per cell and
-// group zero-filled them every time (5% of step 4 in a profile).
-template <typename T>
-inline void Grow(std::vector<T>& v, std::size_t n)
-{
-  if (v.size() < n)
-  {
-    v.resize(n);
-  }
-}
 
 GroupArrays Arrays(std::vector<float>* a, std::size_t n)
 {
@@ -153,13 +143,24 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     const double a = (q & 1) ? 0.5 : -0.5, b = (q & 2) ? 0.5 : -0.5;
     corner[q] = dir ? glm::dvec3(a * W, b * H, -1.0) : glm::dvec3(a * W, b * H, 0.0);
   }
-  std::vector<std::uint32_t> cells;
+  // The non-empty cells, the most expensive first (samples x cluster pairs:
+  // cell costs differ by orders of magnitude), so that the cells the threads
+  // take last, before the barrier at the end of a chunk, are cheap ones. The
+  // cells are independent: their order changes no result.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> byCost;
   for (std::size_t c = 0; c < NC; ++c)
   {
     if (g.Count(c))
     {
-      cells.push_back(static_cast<std::uint32_t>(c));
+      const std::uint64_t cost = std::uint64_t(g.Count(c)) * (1 + pairs.cellBegin[c + 1] - pairs.cellBegin[c]);
+      byCost.emplace_back(~cost, static_cast<std::uint32_t>(c));
     }
+  }
+  std::sort(byCost.begin(), byCost.end());
+  std::vector<std::uint32_t> cells(byCost.size());
+  for (std::size_t i = 0; i < byCost.size(); ++i)
+  {
+    cells[i] = byCost[i].second;
   }
   // assignment output (tests): per cell its list, per group its list
   std::vector<std::vector<std::uint32_t>> cellLists, groupLists;
@@ -280,7 +281,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         drawn = true;
         GroupView gv;
         gv.ga = Arrays(w.f, nl);
-        gv.entry = nullptr;
+        gv.tri = w.list.data();
         gv.ng = nl;
         gv.o = o;
         gv.exact = &exact;
@@ -387,7 +388,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         GroupView gv;
         gv.o = o;
         gv.ng = nl;
-        gv.entry = nullptr;
+        gv.tri = w.list.data();
         gv.exact = &exact;
         gv.counting = true;
         bool groupFull = true;
@@ -430,14 +431,14 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
               dst[q] = w.gf[q].data();
             }
             std::size_t below = 0;
-            ng = K.group(Arrays(w.f, nl), split ? &gshaft : nullptr, planes, np, dst, w.glist.data(), below);
+            ng = K.group(Arrays(w.f, nl), w.list.data(), split ? &gshaft : nullptr, planes, np, dst, w.glist.data(), below);
             cc.trianglesBelowHorizon += static_cast<double>(below);
           }
           if (ng < nl)
           {
             gv.ng = ng;
             gv.ga = Arrays(w.gf, gv.ng);
-            gv.entry = w.glist.data();
+            gv.tri = w.glist.data();
           }
           else
           {
@@ -452,7 +453,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         {
           for (std::size_t a = 0; a < gv.ng; ++a)
           {
-            groupLists[c].push_back(w.list[gv.entry ? gv.entry[a] : a]);
+            groupLists[c].push_back(gv.tri[a]);
           }
           groupLists[c].push_back(0xFFFFFFFFu); // group separator
           for (std::uint32_t q = gbegin; q < gend; ++q)
@@ -478,7 +479,9 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     }
   };
   // in chunks of cells, so that the caller hears of progress and can stop
-  const std::size_t numCells = cells.size(), chunk = std::max<std::size_t>(64, numCells / 32);
+  // (without a callback in one: every barrier lets a thread idle)
+  const std::size_t numCells = cells.size();
+  const std::size_t chunk = opt.progress ? std::max<std::size_t>(64, numCells / 32) : std::max<std::size_t>(1, numCells);
   bool go = true;
   for (std::size_t b = 0; b < numCells && go; b += chunk)
   {

@@ -126,10 +126,10 @@ struct KernelTable
     const GroupArrays&, const PixelParams&, std::int32_t* keep, std::uint32_t* out, float* box, std::size_t stride);
   /// Group lists: the entries that may reach the shaft (null: all) and lie
   /// above one of the np horizon planes (4 floats each; 0 planes: all):
-  /// their indices to out, their 15 columns to dst; below += those in the
+  /// their ids to out, their 15 columns to dst; below += those in the
   /// shaft dropped by the planes.
-  std::size_t (*group)(const GroupArrays&, const Shaft* s, const float* planes, int np, float* const* dst,
-    std::uint32_t* out, std::size_t& below);
+  std::size_t (*group)(const GroupArrays&, const std::uint32_t* ids, const Shaft* s, const float* planes, int np,
+    float* const* dst, std::uint32_t* out, std::size_t& below);
   /// Cell lists: a cluster's live triangles that may reach the shaft (null:
   /// all), appended at `count` (ids to list, the 15 GroupArrays columns
   /// relative to o to out); returns the new count, tested += live triangles.
@@ -329,10 +329,11 @@ static inline int Compact(const V& v, VI keep, E* dst)
 // Entries of a group's arrays that may reach the shaft s (null: all) and
 // are not below every one of the np planes (a x + b y + c z < d at all
 // three vertices; the horizon rule, ssGearsCull.cxx, with its margin in d),
-// written to out (their indices) and gathered into dst (15 columns of at
-// least n + SS_GEARS_LANES floats); returns their count.
-static inline std::size_t GroupFilter(const GroupArrays& g, const Shaft* s, const float* planes, int np,
-  float* const* dst, std::uint32_t* out, std::size_t& belowCount)
+// written to out (their ids[]) and gathered into dst (15 columns of at
+// least n + SS_GEARS_LANES floats); returns their count. ids holds
+// SS_GEARS_LANES - 1 readable entries past n.
+static inline std::size_t GroupFilter(const GroupArrays& g, const std::uint32_t* ids, const Shaft* s,
+  const float* planes, int np, float* const* dst, std::uint32_t* out, std::size_t& belowCount)
 {
   int below = 0;
   const std::size_t n = g.n;
@@ -377,7 +378,8 @@ static inline std::size_t GroupFilter(const GroupArrays& g, const Shaft* s, cons
     {
       Compact(Load(src[col] + i), k, dst[col] + c);
     }
-    const VUI idx = (VUI)(lane + static_cast<int>(i));
+    VUI idx;
+    __builtin_memcpy(&idx, ids + i, sizeof(idx));
     c += static_cast<std::size_t>(Compact(idx, k, out + c));
   }
   belowCount += static_cast<std::size_t>(below);

@@ -14,6 +14,7 @@ namespace gears
 namespace
 {
 constexpr std::size_t kChunk = 512; // list entries per rejection call: a full mask stops early
+constexpr std::size_t kPrefetch = 12; // candidates ahead whose vertices are prefetched
 }
 
 void PixelStart(const CellJob& job, CellScratch& w, std::uint32_t sq)
@@ -142,10 +143,18 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
   const float* boxCols[4] = { w.box.data(), w.box.data() + stride, w.box.data() + 2 * stride,
     w.box.data() + 3 * stride };
 
+  // Bit j: row j is full. Rows only gain bits, so the set only grows: it
+  // makes the umbra test and most covered skips O(1).
+  const std::uint32_t allRows = RowBits(0, k - 1);
+  std::uint32_t fullRows = 0;
+  for (int j = 0; j < k; ++j)
+  {
+    fullRows |= rows[j] == job.fullRow ? 1u << j : 0u;
+  }
   // Triangle t's exact bitmask into the rows, given what SetupBatch found.
   auto draw = [&](std::uint32_t t, int kind, int lane) {
     cc.rasterised += counts;
-    const float alpha = D.opacity[t];
+    const float alpha = D.translucent ? D.opacity[t] : 1.0f; // (a scattered load per candidate otherwise)
     std::uint32_t tmp[40];
     std::uint32_t* target = rows;
     if (alpha < 1.0f || necessaryMode)
@@ -209,14 +218,12 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     }
     else if (hit)
     {
-      if (target == tmp)
+      for (int j = j0; j <= j1; ++j)
       {
-        for (int j = j0; j <= j1; ++j)
-        {
-          rows[j] |= tmp[j];
-        }
+        rows[j] |= target == tmp ? tmp[j] : 0u;
+        fullRows |= rows[j] == job.fullRow ? 1u << j : 0u;
       }
-      ps.full = Umbra(rows, k, job.fullRow);
+      ps.full = fullRows == allRows;
     }
   };
   // A candidate whose box of samples is hidden already changes no bit:
@@ -224,6 +231,11 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
   auto covered = [&](std::uint32_t gi) {
     const int i0 = static_cast<int>(boxCols[0][gi]), i1 = static_cast<int>(boxCols[1][gi]);
     const int j0 = static_cast<int>(boxCols[2][gi]), j1 = static_cast<int>(boxCols[3][gi]);
+    const std::uint32_t span = RowBits(j0, j1);
+    if ((fullRows & span) == span)
+    {
+      return true;
+    }
     const std::uint32_t bm = RowBits(i0, i1);
     int j = j0;
     while (j <= j1 && (rows[j] & bm) == bm)
@@ -280,6 +292,13 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       while (count < K.lanes && next < ncand)
       {
         const std::uint32_t gi = cand[next++];
+        if (next + kPrefetch < ncand)
+        {
+          // the exact raster reads the solver's floats of candidates at random
+          const float* v = &D.V[9 * static_cast<std::size_t>(gv.tri[cand[next + kPrefetch]])];
+          __builtin_prefetch(v);
+          __builtin_prefetch(v + 8);
+        }
         if (!necessaryMode && covered(gi))
         {
           ++cc.coveredSkips;
@@ -294,7 +313,7 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       for (int ln = 0; ln < K.lanes; ++ln)
       {
         gids[ln] = gids[ln < count ? ln : 0];
-        ids[ln] = w.list[gv.entry ? gv.entry[gids[ln]] : gids[ln]];
+        ids[ln] = gv.tri[gids[ln]];
       }
       K.setup(b, *gv.exact, ids, boxCols, gids, ep, count);
       for (int ln = 0; ln < count && !(ps.full && !necessaryMode); ++ln)
