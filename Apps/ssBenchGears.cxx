@@ -245,15 +245,18 @@ int BenchGEARS(const std::vector<std::string>& args)
           { "closed_pieces", f.closedPieces }, { "closed_triangles", f.closedTriangles },
           { "gears_setup_ms", msSetup } };
         // the minimal Embree program
-        double msMin = 0, raysMin = 0;
-        const std::vector<float> Vmin = MinimalEmbreeLoop(f, k, msMin, raysMin);
+        double msMin = 0, raysMin = 0, cpuMin = 0;
+        const std::vector<float> Vmin = MinimalEmbreeLoop(f, k, msMin, raysMin, cpuMin);
         row["minimal_ms"] = msMin;
+        row["minimal_cpu_ms"] = cpuMin;
         row["minimal_rays_per_s"] = msMin > 0 ? raysMin / (msMin * 1e-3) : 0.0;
         // the project's reference
         ss::ReferenceOptions ro;
         ro.k = k;
         ss::ReferenceStats rs;
+        const double cpuRef0 = ProcessCpuMs();
         const std::vector<float> Vref = ref.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, ro, &rs);
+        row["reference_cpu_ms"] = ProcessCpuMs() - cpuRef0;
         row["reference_ms"] = rs.milliseconds;
         row["reference_rays_per_s"] = rs.raysPerSecond;
         row["minimal_vs_reference"] = Compare(Vmin, Vref, k);
@@ -261,11 +264,14 @@ int BenchGEARS(const std::vector<std::string>& args)
         ss::GearsOptions go;
         go.k = k;
         std::vector<std::pair<double, ss::GearsStats>> runs;
+        std::vector<double> cpuRuns;
         std::vector<float> Vg;
         for (int r = 0; r < frames; ++r)
         {
           ss::GearsStats gs;
+          const double cpu0 = ProcessCpuMs();
           Vg = gears.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, go, &gs);
+          cpuRuns.push_back(ProcessCpuMs() - cpu0);
           if (r == 0)
           {
             // the first solve prepares the casters for this light; later
@@ -278,6 +284,11 @@ int BenchGEARS(const std::vector<std::string>& args)
         std::sort(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         const double msGears = runs[runs.size() / 2].first; // the median solve (the upper one of two)
         row["gears_ms"] = msGears;
+        std::sort(cpuRuns.begin(), cpuRuns.end());
+        const double cpuGears = cpuRuns[cpuRuns.size() / 2];
+        row["gears_cpu_ms"] = cpuGears;
+        row["cpu_speedup_minimal"] = cpuMin / std::max(cpuGears, 1e-9);
+        row["cpu_speedup_reference"] = row["reference_cpu_ms"].get<double>() / std::max(cpuGears, 1e-9);
         row["gears_stats"] = StatsJSON(runs[runs.size() / 2].second);
         row["gears_vs_reference"] = Compare(Vg, Vref, k);
         row["speedup_minimal"] = msMin / std::max(msGears, 1e-9);

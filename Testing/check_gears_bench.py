@@ -10,13 +10,13 @@ from pathlib import Path
 
 out = Path(sys.argv[1])
 md = (out / "gears-bench.md").read_text()
-assert "## Time and equality" in md and "## Assignments" in md, "gears-bench.md lacks its tables"
+assert "## Time and equality" in md and "## Assignments" in md and "## Process CPU time" in md, "gears-bench.md lacks its tables"
 data = json.loads((out / "gears-bench.json").read_text())
 rows = data["rows"]
 assert rows, "no rows"
 for r in rows:
     name = f'{r["scene"]} {r["width"]}x{r["height"]} k={r["k"]}'
-    for key in ("minimal_ms", "reference_ms", "gears_ms", "lut_ms"):
+    for key in ("minimal_ms", "reference_ms", "gears_ms", "lut_ms", "minimal_cpu_ms", "reference_cpu_ms", "gears_cpu_ms"):
         assert math.isfinite(r[key]) and r[key] > 0, f"{name}: {key} = {r[key]}"
     assert r["gears_vs_reference"]["equal_fraction"] >= 0.999, f"{name}: GEARS differs from the reference"
     assert r["gears_vs_reference"]["max_diff_samples"] <= 2, f"{name}: a pixel differs by > 2 samples"
