@@ -83,6 +83,52 @@ void WriteFrame(const GearsFrame& f, const fs::path& path)
 }
 }
 
+// bench --gears --report-from A.json,B.json: gears-bench.md and .json from
+// the rows of earlier runs (e.g. one run per scene, alternated with another
+// binary's on a shared machine), in the order given; the first run's meta,
+// the last one's load average after.
+static int ReportFromRuns(const std::vector<std::string>& files, const std::string& out)
+{
+  json rows = json::array(), meta;
+  for (const auto& file : files)
+  {
+    std::ifstream in(file);
+    if (!in)
+    {
+      throw std::runtime_error("bench --gears --report-from: cannot read " + file + ": " + std::strerror(errno));
+    }
+    json run;
+    try
+    {
+      in >> run;
+    }
+    catch (const std::exception& e)
+    {
+      throw std::runtime_error("bench --gears --report-from: " + file + " is not JSON: " + e.what());
+    }
+    if (!run.is_object() || !run.contains("meta") || !run.contains("rows") || !run["rows"].is_array())
+    {
+      throw std::runtime_error("bench --gears --report-from: " + file + " is not a bench --gears result (meta, rows)");
+    }
+    if (meta.is_null())
+    {
+      meta = run["meta"];
+    }
+    meta["loadavg_after"] = run["meta"].value("loadavg_after", std::string("?"));
+    for (const auto& r : run["rows"])
+    {
+      rows.push_back(r);
+    }
+  }
+  meta["runs"] = static_cast<int>(files.size());
+  fs::create_directories(out);
+  WriteGearsBenchReport(meta, rows, fs::path(out) / "gears-bench.md");
+  WriteReport(fs::path(out) / "gears-bench.json", json{ { "meta", meta }, { "rows", rows } }.dump(2) + "\n");
+  std::cout << "softshadows: bench --gears wrote " << (fs::path(out) / "gears-bench.md").string() << " from "
+            << files.size() << " runs\n";
+  return 0;
+}
+
 // softshadows bench --gears: per scene, output size and k, on one captured
 // frame (the pass's pixel samples, the scene's casters and closed pieces):
 // the minimal Embree program, the project's reference, GEARS on the CPU (its
@@ -99,6 +145,7 @@ int BenchGEARS(const std::vector<std::string>& args)
   int frames = 3;
   bool gl = true, lut = true;
   int probe = 0; // --silhouette-probe STRIDE: only the probe (gears-silhouette-probe.json)
+  std::vector<std::string> reportFrom; // --report-from: the report of earlier runs' JSON, no solves
   json probes = json::array();
   for (std::size_t i = 0; i < args.size(); ++i)
   {
@@ -160,6 +207,10 @@ int BenchGEARS(const std::vector<std::string>& args)
         throw UsageError("bench --gears: --silhouette-probe needs a stride >= 1");
       }
     }
+    else if (a == "--report-from")
+    {
+      reportFrom = list(value());
+    }
     else if (a == "--no-gl")
     {
       gl = false;
@@ -172,6 +223,10 @@ int BenchGEARS(const std::vector<std::string>& args)
     {
       throw UsageError("bench --gears: unknown argument '" + a + "'");
     }
+  }
+  if (!reportFrom.empty())
+  {
+    return ReportFromRuns(reportFrom, out);
   }
   if (scenes.empty() || sizes.empty() || ks.empty())
   {
