@@ -50,7 +50,6 @@ void CellCounters::Add(const CellCounters& o)
   cellsInUmbra += o.cellsInUmbra;
   lutFallbacks += o.lutFallbacks;
   msLists += o.msLists;
-  msArrays += o.msArrays;
   msGroups += o.msGroups;
   msReject += o.msReject;
   msExact += o.msExact;

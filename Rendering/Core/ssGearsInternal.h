@@ -421,9 +421,9 @@ struct CellCounters
   double trianglesBelowHorizon = 0;     ///< horizon rule, per group
   std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0;
   // thread time (ms, summed over threads) of the parts of step 4: cell
-  // lists (with the occluders' pre-pass), their arrays, the groups, and the
-  // pixels (rejection and exact raster)
-  double msLists = 0, msArrays = 0, msGroups = 0, msReject = 0, msExact = 0;
+  // lists with their kernel arrays (and the occluders' pre-pass), the
+  // groups, and the pixels (rejection and exact raster)
+  double msLists = 0, msGroups = 0, msReject = 0, msExact = 0;
   void Add(const CellCounters& o);
 };
 

@@ -58,19 +58,11 @@ std::vector<GearsSimd> Runnable()
 // on tilted patches and on the closed surface itself.
 sstest::Scene ClosedAndOpen(std::mt19937& rng, const glm::dvec3& offset, std::size_t& closedTris)
 {
-  std::uniform_real_distribution<double> U(-1.0, 1.0);
   sstest::Scene s = sstest::RandomScene(rng, 120, 500, offset);
   const std::vector<glm::dvec3> closed = sstest::BumpySphere(offset + glm::dvec3(0.1, 0.0, 0.9), 0.45, 4);
   closedTris = closed.size() / 3;
   s.tris.insert(s.tris.begin(), closed.begin(), closed.end());
-  for (int i = 0; i < 200; ++i)
-  {
-    const std::size_t t = rng() % closedTris;
-    const glm::dvec3 a = closed[3 * t] - offset, b = closed[3 * t + 1] - offset, c = closed[3 * t + 2] - offset;
-    const glm::dvec3 p = (a + b + c) / 3.0, n = glm::normalize(glm::cross(b - a, c - a));
-    s.pos.insert(s.pos.end(), { float(p.x), float(p.y), float(p.z) });
-    s.nrm.insert(s.nrm.end(), { float(n.x), float(n.y), float(n.z) });
-  }
+  sstest::PixelsOnTriangles(s, closedTris, offset, 200, rng);
   return s;
 }
 }
@@ -85,13 +77,9 @@ TEST(GEARSISA, EveryInstructionSetGivesTheBaselinesMasksListsAndCounts)
     const glm::dvec3 offset = seed == 2 ? glm::dvec3(-2e5, 1e5, 3e5) : glm::dvec3(0.0);
     std::size_t closedTris = 0;
     const sstest::Scene s = ClosedAndOpen(rng, offset, closedTris);
-    GearsPieces pieces;
-    pieces.piece.assign(s.tris.size() / 3, 1u);
-    std::fill(pieces.piece.begin(), pieces.piece.begin() + static_cast<std::ptrdiff_t>(closedTris), 0u);
-    pieces.orientation = { 1, 0 };
     GearsSolver g;
     g.SetTriangles(s.tris, {});
-    g.SetPieces(pieces);
+    g.SetPieces(sstest::ClosedThenOpen(s.tris.size() / 3, closedTris));
     const auto lights = sstest::Lights(offset);
     for (std::size_t li = 0; li < lights.size(); ++li)
     {
