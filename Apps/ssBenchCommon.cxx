@@ -16,10 +16,20 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <sys/resource.h>
+
 namespace ssapp
 {
 namespace bench
 {
+double ProcessCpuMs()
+{
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return 1e3 * static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+    1e-3 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 void ReportFile::Commit() const
 {
   WriteReport(this->Path, this->str());

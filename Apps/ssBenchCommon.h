@@ -48,6 +48,10 @@ public:
 void WriteReport(const std::filesystem::path& path, const std::string& text);
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+/// CPU time of this process so far (user + system, every thread), ms. On a
+/// machine other work shares, a solver's CPU time moves far less with the
+/// load than its wall time (a preempted thread's wall time runs on).
+double ProcessCpuMs();
 
 struct Config
 {

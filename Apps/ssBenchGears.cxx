@@ -83,6 +83,52 @@ void WriteFrame(const GearsFrame& f, const fs::path& path)
 }
 }
 
+// bench --gears --report-from A.json,B.json: gears-bench.md and .json from
+// the rows of earlier runs (e.g. one run per scene, alternated with another
+// binary's on a shared machine), in the order given; the first run's meta,
+// the last one's load average after.
+static int ReportFromRuns(const std::vector<std::string>& files, const std::string& out)
+{
+  json rows = json::array(), meta;
+  for (const auto& file : files)
+  {
+    std::ifstream in(file);
+    if (!in)
+    {
+      throw std::runtime_error("bench --gears --report-from: cannot read " + file + ": " + std::strerror(errno));
+    }
+    json run;
+    try
+    {
+      in >> run;
+    }
+    catch (const std::exception& e)
+    {
+      throw std::runtime_error("bench --gears --report-from: " + file + " is not JSON: " + e.what());
+    }
+    if (!run.is_object() || !run.contains("meta") || !run.contains("rows") || !run["rows"].is_array())
+    {
+      throw std::runtime_error("bench --gears --report-from: " + file + " is not a bench --gears result (meta, rows)");
+    }
+    if (meta.is_null())
+    {
+      meta = run["meta"];
+    }
+    meta["loadavg_after"] = run["meta"].value("loadavg_after", std::string("?"));
+    for (const auto& r : run["rows"])
+    {
+      rows.push_back(r);
+    }
+  }
+  meta["runs"] = static_cast<int>(files.size());
+  fs::create_directories(out);
+  WriteGearsBenchReport(meta, rows, fs::path(out) / "gears-bench.md");
+  WriteReport(fs::path(out) / "gears-bench.json", json{ { "meta", meta }, { "rows", rows } }.dump(2) + "\n");
+  std::cout << "softshadows: bench --gears wrote " << (fs::path(out) / "gears-bench.md").string() << " from "
+            << files.size() << " runs\n";
+  return 0;
+}
+
 // softshadows bench --gears: per scene, output size and k, on one captured
 // frame (the pass's pixel samples, the scene's casters and closed pieces):
 // the minimal Embree program, the project's reference, GEARS on the CPU (its
@@ -99,6 +145,7 @@ int BenchGEARS(const std::vector<std::string>& args)
   int frames = 3;
   bool gl = true, lut = true;
   int probe = 0; // --silhouette-probe STRIDE: only the probe (gears-silhouette-probe.json)
+  std::vector<std::string> reportFrom; // --report-from: the report of earlier runs' JSON, no solves
   json probes = json::array();
   for (std::size_t i = 0; i < args.size(); ++i)
   {
@@ -160,6 +207,10 @@ int BenchGEARS(const std::vector<std::string>& args)
         throw UsageError("bench --gears: --silhouette-probe needs a stride >= 1");
       }
     }
+    else if (a == "--report-from")
+    {
+      reportFrom = list(value());
+    }
     else if (a == "--no-gl")
     {
       gl = false;
@@ -172,6 +223,10 @@ int BenchGEARS(const std::vector<std::string>& args)
     {
       throw UsageError("bench --gears: unknown argument '" + a + "'");
     }
+  }
+  if (!reportFrom.empty())
+  {
+    return ReportFromRuns(reportFrom, out);
   }
   if (scenes.empty() || sizes.empty() || ks.empty())
   {
@@ -245,15 +300,18 @@ int BenchGEARS(const std::vector<std::string>& args)
           { "closed_pieces", f.closedPieces }, { "closed_triangles", f.closedTriangles },
           { "gears_setup_ms", msSetup } };
         // the minimal Embree program
-        double msMin = 0, raysMin = 0;
-        const std::vector<float> Vmin = MinimalEmbreeLoop(f, k, msMin, raysMin);
+        double msMin = 0, raysMin = 0, cpuMin = 0;
+        const std::vector<float> Vmin = MinimalEmbreeLoop(f, k, msMin, raysMin, cpuMin);
         row["minimal_ms"] = msMin;
+        row["minimal_cpu_ms"] = cpuMin;
         row["minimal_rays_per_s"] = msMin > 0 ? raysMin / (msMin * 1e-3) : 0.0;
         // the project's reference
         ss::ReferenceOptions ro;
         ro.k = k;
         ss::ReferenceStats rs;
+        const double cpuRef0 = ProcessCpuMs();
         const std::vector<float> Vref = ref.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, ro, &rs);
+        row["reference_cpu_ms"] = ProcessCpuMs() - cpuRef0;
         row["reference_ms"] = rs.milliseconds;
         row["reference_rays_per_s"] = rs.raysPerSecond;
         row["minimal_vs_reference"] = Compare(Vmin, Vref, k);
@@ -261,11 +319,14 @@ int BenchGEARS(const std::vector<std::string>& args)
         ss::GearsOptions go;
         go.k = k;
         std::vector<std::pair<double, ss::GearsStats>> runs;
+        std::vector<double> cpuRuns;
         std::vector<float> Vg;
         for (int r = 0; r < frames; ++r)
         {
           ss::GearsStats gs;
+          const double cpu0 = ProcessCpuMs();
           Vg = gears.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, go, &gs);
+          cpuRuns.push_back(ProcessCpuMs() - cpu0);
           if (r == 0)
           {
             // the first solve prepares the casters for this light; later
@@ -278,6 +339,11 @@ int BenchGEARS(const std::vector<std::string>& args)
         std::sort(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         const double msGears = runs[runs.size() / 2].first; // the median solve (the upper one of two)
         row["gears_ms"] = msGears;
+        std::sort(cpuRuns.begin(), cpuRuns.end());
+        const double cpuGears = cpuRuns[cpuRuns.size() / 2];
+        row["gears_cpu_ms"] = cpuGears;
+        row["cpu_speedup_minimal"] = cpuMin / std::max(cpuGears, 1e-9);
+        row["cpu_speedup_reference"] = row["reference_cpu_ms"].get<double>() / std::max(cpuGears, 1e-9);
         row["gears_stats"] = StatsJSON(runs[runs.size() / 2].second);
         row["gears_vs_reference"] = Compare(Vg, Vref, k);
         row["speedup_minimal"] = msMin / std::max(msGears, 1e-9);

@@ -1,4 +1,5 @@
 #include "ssBenchGearsFrame.h"
+#include "ssBenchCommon.h"
 
 #include "vtkActor.h"
 #include "vtkAssemblyNode.h"
@@ -405,7 +406,7 @@ GearsFrame CaptureGearsFrame(vtkRenderWindow* win, vtkRenderer* ren)
   return f;
 }
 
-std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, double& rays)
+std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, double& rays, double& cpuMs)
 {
   // The program anyone would write first with Embree: no filter callback,
   // rays set up per lane, rtcOccluded16, TBB over rows of pixels. The scene,
@@ -450,6 +451,7 @@ std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, dou
   std::vector<float> V(n, std::numeric_limits<float>::quiet_NaN());
   std::atomic<long long> count{ 0 };
   const auto t0 = Clock::now();
+  const double c0 = ProcessCpuMs();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& r) {
     long long local = 0;
     RTCIntersectContext ctx;
@@ -524,6 +526,7 @@ std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, dou
     count += local;
   });
   ms = Ms(t0, Clock::now());
+  cpuMs = ProcessCpuMs() - c0;
   rays = static_cast<double>(count.load());
   rtcReleaseScene(scene);
   rtcReleaseDevice(device);

@@ -51,8 +51,9 @@ GearsFrame CaptureGearsFrame(vtkRenderWindow* win, vtkRenderer* ren);
 /// the k x k regular light samples in 16-ray packets (every lane set),
 /// rtcOccluded16 on a scene of the caster triangles, TBB over pixels; same
 /// start offset, tangent-plane rule and one-sided light as the reference.
-/// Returns V (NaN background); rays counts the rays traced.
-std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, double& rays);
+/// Returns V (NaN background); rays counts the rays traced; cpuMs gets the
+/// process CPU time of the same span (ProcessCpuMs).
+std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, double& rays, double& cpuMs);
 
 /// bench --gears --silhouette-probe: on every stride-th lit pixel, the
 /// silhouette winding raster of each closed piece against its triangle

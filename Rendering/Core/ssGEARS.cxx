@@ -614,7 +614,6 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   st.coveredSkips = counters.coveredSkips;
   st.occluderBoxes = D.occPiece.size();
   st.cpuCellLists = counters.msLists;
-  st.cpuCellArrays = counters.msArrays;
   st.cpuGroups = counters.msGroups;
   st.cpuPixels = counters.msExact;
   st.cellsInUmbra = counters.cellsInUmbra;
@@ -647,7 +646,7 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"groups\": " << s.groups
     << ", \"covered_skips\": " << s.coveredSkips << ", \"occluder_boxes\": " << s.occluderBoxes
     << ", \"assignments_listed\": " << s.assignmentsListed << ", \"assignments_rasterised\": " << s.assignmentsRasterised
-    << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists << ", \"cell_arrays\": " << s.cpuCellArrays
+    << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists
     << ", \"groups\": " << s.cpuGroups << ", \"pixels\": " << s.cpuPixels << "}, \"cells_in_umbra\": " << s.cellsInUmbra
     << "}";
   return o.str();

@@ -96,9 +96,9 @@ struct GearsStats
   std::string simd;                  ///< the kernels' instruction set
   /// Step 4's parts in thread time (ms summed over the threads; a profile,
   /// not wall time): cell lists (clusters and triangles against the cell's
-  /// shaft, the inner occluders' pre-pass), the lists' double and float
-  /// arrays, the sample groups, and the pixels (rejection, exact raster, V).
-  double cpuCellLists = 0, cpuCellArrays = 0, cpuGroups = 0, cpuPixels = 0;
+  /// shaft with their kernel arrays, the inner occluders' pre-pass), the
+  /// sample groups, and the pixels (rejection, exact raster, V).
+  double cpuCellLists = 0, cpuGroups = 0, cpuPixels = 0;
   std::size_t cellsInUmbra = 0; ///< cells whose samples the horizon and inner occluders left in umbra
 };
 

@@ -50,7 +50,6 @@ void CellCounters::Add(const CellCounters& o)
   cellsInUmbra += o.cellsInUmbra;
   lutFallbacks += o.lutFallbacks;
   msLists += o.msLists;
-  msArrays += o.msArrays;
   msGroups += o.msGroups;
   msReject += o.msReject;
   msExact += o.msExact;
@@ -81,22 +80,6 @@ Shaft RelativeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double
   return r;
 }
 
-// Whether any of the three points may lie in the shaft (no plane has all three outside).
-inline bool InShaft(const Shaft& s, const float* x, const float* y, const float* z)
-{
-  int out[6] = { 0, 0, 0, 0, 0, 0 };
-  for (int m = 0; m < 3; ++m)
-  {
-    out[0] += x[m] < s.ax + s.sx * z[m];
-    out[1] += x[m] > s.bx + s.tx * z[m];
-    out[2] += y[m] < s.ay + s.sy * z[m];
-    out[3] += y[m] > s.by + s.ty * z[m];
-    out[4] += !(z[m] > s.zlo);
-    out[5] += !(z[m] < s.zhi);
-  }
-  return out[0] < 3 && out[1] < 3 && out[2] < 3 && out[3] < 3 && out[4] < 3 && out[5] < 3;
-}
-
 // Whether a light-frame box (widened by m) may reach the shaft.
 inline bool BoxInShaft(const Shaft& s, const float* b, float m)
 {
@@ -106,16 +89,6 @@ inline bool BoxInShaft(const Shaft& s, const float* b, float m)
     !(z0 < s.zhi));
 }
 
-// Scratch arrays only grow: resizing them down and up again per cell and
-// group zero-filled them every time (5% of step 4 in a profile).
-template <typename T>
-inline void Grow(std::vector<T>& v, std::size_t n)
-{
-  if (v.size() < n)
-  {
-    v.resize(n);
-  }
-}
 
 GroupArrays Arrays(std::vector<float>* a, std::size_t n)
 {
@@ -169,13 +142,24 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     const double a = (q & 1) ? 0.5 : -0.5, b = (q & 2) ? 0.5 : -0.5;
     corner[q] = dir ? glm::dvec3(a * W, b * H, -1.0) : glm::dvec3(a * W, b * H, 0.0);
   }
-  std::vector<std::uint32_t> cells;
+  // The non-empty cells, the most expensive first (samples x cluster pairs:
+  // cell costs differ by orders of magnitude), so that the cells the threads
+  // take last, before the barrier at the end of a chunk, are cheap ones. The
+  // cells are independent: their order changes no result.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> byCost;
   for (std::size_t c = 0; c < NC; ++c)
   {
     if (g.Count(c))
     {
-      cells.push_back(static_cast<std::uint32_t>(c));
+      const std::uint64_t cost = std::uint64_t(g.Count(c)) * (1 + pairs.cellBegin[c + 1] - pairs.cellBegin[c]);
+      byCost.emplace_back(~cost, static_cast<std::uint32_t>(c));
     }
+  }
+  std::sort(byCost.begin(), byCost.end());
+  std::vector<std::uint32_t> cells(byCost.size());
+  for (std::size_t i = 0; i < byCost.size(); ++i)
+  {
+    cells[i] = byCost[i].second;
   }
   // assignment output (tests): per cell its list, per group its list
   std::vector<std::vector<std::uint32_t>> cellLists, groupLists;
@@ -186,57 +170,25 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     groupLists.resize(NC);
     groupPixels.resize(NC);
   }
-  // w.list in double (exact raster) and in float relative to o (rejection kernel)
-  auto fillArraysFor = [&](CellScratch& w, const glm::dvec3& o) {
-    const std::size_t nl = w.list.size();
-        for (auto& col : w.d)
-        {
-          Grow(col, nl + kPad);
-        }
-        for (auto& a : w.f)
-        {
-          Grow(a, nl + kPad); // the kernels read whole vectors
-        }
-        for (std::size_t a = 0; a < nl; ++a)
-        {
-          const std::uint32_t t = w.list[a];
-          glm::dvec3 B[3];
-          for (int q = 0; q < 3; ++q)
-          {
-            B[q] = ft.ToLight(D.Vertex(t, q));
-            w.d[3 * q][a] = B[q].x;
-            w.d[3 * q + 1][a] = B[q].y;
-            w.d[3 * q + 2][a] = B[q].z;
-            w.f[3 * q][a] = static_cast<float>(B[q].x - o.x);
-            w.f[3 * q + 1][a] = static_cast<float>(B[q].y - o.y);
-            w.f[3 * q + 2][a] = static_cast<float>(B[q].z - o.z);
-          }
-          const glm::dvec3 nT = glm::cross(B[1] - B[0], B[2] - B[0]);
-          double lo1 = 1e300, hi1 = -1e300;
-          for (int q = 0; q < 4; ++q)
-          {
-            const double v = glm::dot(nT, dir ? corner[q] : corner[q] - B[0]);
-            lo1 = std::min(lo1, v);
-            hi1 = std::max(hi1, v);
-          }
-          const double len = glm::length(nT);
-          w.d[9][a] = nT.x;
-          w.d[10][a] = nT.y;
-          w.d[11][a] = nT.z;
-          w.d[12][a] = len;
-          w.d[13][a] = lo1;
-          w.d[14][a] = hi1;
-          w.d[15][a] = double(ft.closed[t]);
-          const glm::dvec3 un = len > 0.0 ? nT / len : glm::dvec3(0.0);
-          w.f[9][a] = static_cast<float>(un.x);
-          w.f[10][a] = static_cast<float>(un.y);
-          w.f[11][a] = static_cast<float>(un.z);
-          w.f[12][a] = static_cast<float>(glm::dot(un, B[0] - o));
-          // the plane test in the kernel needs the light on one side by more than the margin
-          const double scale = len > 0.0 ? (dir ? 1e-6 : m) * len : 1e300;
-          w.f[13][a] = (ft.closed[t] > 0 || lo1 > scale) ? 1.0f : 0.0f;
-          w.f[14][a] = (ft.closed[t] < 0 || hi1 < -scale) ? 1.0f : 0.0f;
-        }
+  const FaceColumns fc = ft.Columns();
+  const ExactSource exact = ft.Exact(D, corner, dir);
+  // a cluster's live triangles that may reach the shaft into the cell's
+  // list and kernel arrays (relative to the cell's centre of)
+  auto appendCluster = [&](CellScratch& w, std::uint32_t cl, const Shaft* s, const float* of, std::size_t& nl,
+                         std::size_t& tested) {
+    const std::uint32_t first = D.clusterFirst[cl], end = D.clusterFirst[cl + 1];
+    const std::size_t need = nl + (end - first) + kPad;
+    Grow(w.list, need);
+    for (auto& col : w.f)
+    {
+      Grow(col, need);
+    }
+    float* out[15];
+    for (int q = 0; q < 15; ++q)
+    {
+      out[q] = w.f[q].data();
+    }
+    nl = K.cluster(fc, first, end, s, of, out, w.list.data(), nl, tested);
   };
   tbb::enumerable_thread_specific<CellScratch> scratch;
   const auto solveCells = [&](const tbb::blocked_range<std::size_t>& r) {
@@ -273,12 +225,15 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         allFull = allFull && w.state[q].full;
       }
       const Shaft shaft = RelativeShaft(lo, hi, W, H, dir, m, glm::dvec3(0.0));
+      const Shaft* cellShaft = opt.shaftCulling ? &shaft : nullptr;
+      const glm::dvec3 o = 0.5 * (lo + hi);
+      const float of[3] = { static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z) };
+      std::size_t nl = 0, tested = 0;
       // --- inner occluders first (their clusters lead the cell's list): a
       // cell whose segments to the light all pass through one box is in
       // umbra; otherwise the boxes' faces S lies behind are drawn (their
       // bits are the solid's too) and fill many samples' masks at once
       std::uint32_t a0 = pairs.cellBegin[c];
-      w.list.clear();
       w.drawnBoxes.clear();
       bool cellUmbra = false;
       for (; a0 < pairs.cellBegin[c + 1] && pairs.clusters[a0] >= D.realClusters; ++a0)
@@ -303,15 +258,9 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
             ((q & 4) ? hi.z : lo.z) * ft.n;
         }
         cellUmbra = UmbraBox(job, corners, 8, &D.occBox[6 * (cl - D.realClusters)]);
-        const std::size_t before = w.list.size();
-        for (std::uint32_t t = D.clusterFirst[cl]; t < D.clusterFirst[cl + 1]; ++t)
-        {
-          if (!ft.drop[t] && (!opt.shaftCulling || InShaft(shaft, &ft.x[3 * t], &ft.y[3 * t], &ft.z[3 * t])))
-          {
-            w.list.push_back(t);
-          }
-        }
-        if (w.list.size() > before)
+        const std::size_t before = nl;
+        appendCluster(w, cl, cellShaft, of, nl, tested);
+        if (nl > before)
         {
           w.drawnBoxes.push_back(cl - static_cast<std::uint32_t>(D.realClusters));
         }
@@ -326,16 +275,15 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         }
         allFull = true;
       }
-      else if (!allFull && !w.list.empty())
+      else if (!allFull && nl > 0)
       {
         drawn = true;
-        const glm::dvec3 o = 0.5 * (lo + hi);
-        fillArraysFor(w, o);
         GroupView gv;
-        gv.ga = Arrays(w.f, w.list.size());
-        gv.entry = nullptr;
-        gv.ng = w.list.size();
+        gv.ga = Arrays(w.f, nl);
+        gv.tri = w.list.data();
+        gv.ng = nl;
         gv.o = o;
+        gv.exact = &exact;
         gv.counting = false;
         Grow(w.keep, gv.ng + kPad);
         Grow(w.cand, gv.ng + kPad);
@@ -359,7 +307,8 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       }
       // --- the cell's triangles: clusters, then triangles, against its
       // shaft; clusters below every open sample's horizon (ssGearsCull.cxx)
-      w.list.clear();
+      nl = 0;
+      tested = 0;
       w.horizons.usable = false;
       if (opt.horizonCulling)
       {
@@ -404,34 +353,19 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           ++cc.clustersBehindOccluders;
           continue;
         }
-        for (std::uint32_t t = D.clusterFirst[cl]; t < D.clusterFirst[cl + 1]; ++t)
-        {
-          if (ft.drop[t])
-          {
-            continue; // the closed-mesh rule: faces away from the whole light
-          }
-          ++cc.trianglesTested;
-          if (opt.shaftCulling && !InShaft(shaft, &ft.x[3 * t], &ft.y[3 * t], &ft.z[3 * t]))
-          {
-            ++cc.trianglesCulled;
-            continue;
-          }
-          w.list.push_back(t);
-        }
+        // its live triangles (the closed-mesh rule drops faces away from the
+        // whole light) against the shaft, with their kernel arrays
+        appendCluster(w, cl, cellShaft, of, nl, tested);
       }
-      const std::size_t nl = w.list.size();
+      cc.trianglesTested += tested;
+      cc.trianglesCulled += tested - nl;
       cc.cellTriangles += static_cast<double>(nl);
       cc.cellTrianglesMax = std::max(cc.cellTrianglesMax, nl);
       if (assign)
       {
-        cellLists[c] = w.list;
+        cellLists[c].assign(w.list.begin(), w.list.begin() + static_cast<std::ptrdiff_t>(nl));
       }
       lap(cc.msLists);
-      // --- the list in double (exact raster) and in float relative to the
-      // cell's centre (rejection kernel)
-      const glm::dvec3 o = 0.5 * (lo + hi);
-      fillArraysFor(w, o);
-      lap(cc.msArrays);
       // --- groups of samples
       w.sampleOrder.resize(ns);
       std::iota(w.sampleOrder.begin(), w.sampleOrder.end(), 0u);
@@ -453,7 +387,8 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         GroupView gv;
         gv.o = o;
         gv.ng = nl;
-        gv.entry = nullptr;
+        gv.tri = w.list.data();
+        gv.exact = &exact;
         gv.counting = true;
         bool groupFull = true;
         for (std::uint32_t q = gbegin; q < gend; ++q)
@@ -466,6 +401,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           Grow(w.glist, nl + kPad);
           Grow(w.keep, nl + kPad);
           std::size_t ng = nl;
+          Shaft gshaft;
           if (split)
           {
             glm::dvec3 glo(1e300), ghi(-1e300);
@@ -474,34 +410,34 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
               glo = glm::min(glo, w.S[w.sampleOrder[q]]);
               ghi = glm::max(ghi, w.S[w.sampleOrder[q]]);
             }
-            const Shaft gshaft = RelativeShaft(glo, ghi, W, H, dir, m, o);
-            ng = K.shaft(Arrays(w.f, nl), gshaft, w.keep.data(), w.glist.data());
+            gshaft = RelativeShaft(glo, ghi, W, H, dir, m, o);
           }
-          else
-          {
-            std::iota(w.glist.begin(), w.glist.begin() + static_cast<std::ptrdiff_t>(nl), 0u);
-          }
+          // triangles below every open sample's horizon in the group (ssGearsCull.cxx)
+          float planes[4 * kMaxHorizonPlanes];
+          int np = 0;
           if (opt.horizonCulling)
           {
-            // triangles below every open sample's horizon in the group (ssGearsCull.cxx)
             CollectHorizons(w, w.sampleOrder.data() + gbegin, gend - gbegin, w.horizons);
-            const std::size_t before = ng;
-            ng = HorizonFilter(Arrays(w.f, nl), w.horizons, o, 2.0 * m, w.glist.data(), ng);
-            cc.trianglesBelowHorizon += static_cast<double>(before - ng);
+            np = HorizonPlanesFloat(w.horizons, o, 2.0 * m, planes);
+          }
+          if (split || np > 0)
+          {
+            // the group's entries and their arrays, gathered by the kernel
+            float* dst[15];
+            for (int q = 0; q < 15; ++q)
+            {
+              Grow(w.gf[q], nl + kPad);
+              dst[q] = w.gf[q].data();
+            }
+            std::size_t below = 0;
+            ng = K.group(Arrays(w.f, nl), w.list.data(), split ? &gshaft : nullptr, planes, np, dst, w.glist.data(), below);
+            cc.trianglesBelowHorizon += static_cast<double>(below);
           }
           if (ng < nl)
           {
             gv.ng = ng;
-            for (int q = 0; q < 15; ++q)
-            {
-              Grow(w.gf[q], gv.ng + kPad);
-              for (std::size_t a = 0; a < gv.ng; ++a)
-              {
-                w.gf[q][a] = w.f[q][w.glist[a]];
-              }
-            }
             gv.ga = Arrays(w.gf, gv.ng);
-            gv.entry = w.glist.data();
+            gv.tri = w.glist.data();
           }
           else
           {
@@ -516,7 +452,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         {
           for (std::size_t a = 0; a < gv.ng; ++a)
           {
-            groupLists[c].push_back(w.list[gv.entry ? gv.entry[a] : a]);
+            groupLists[c].push_back(gv.tri[a]);
           }
           groupLists[c].push_back(0xFFFFFFFFu); // group separator
           for (std::uint32_t q = gbegin; q < gend; ++q)
@@ -542,7 +478,9 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     }
   };
   // in chunks of cells, so that the caller hears of progress and can stop
-  const std::size_t numCells = cells.size(), chunk = std::max<std::size_t>(64, numCells / 32);
+  // (without a callback in one: every barrier lets a thread idle)
+  const std::size_t numCells = cells.size();
+  const std::size_t chunk = opt.progress ? std::max<std::size_t>(64, numCells / 32) : std::max<std::size_t>(1, numCells);
   bool go = true;
   for (std::size_t b = 0; b < numCells && go; b += chunk)
   {

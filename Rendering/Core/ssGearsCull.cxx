@@ -63,44 +63,32 @@ bool BoxBelowHorizons(const HorizonPlanes& h, const float* b, double margin)
   return true;
 }
 
-std::size_t HorizonFilter(
-  const GroupArrays& a, const HorizonPlanes& h, const glm::dvec3& o, double margin, std::uint32_t* list, std::size_t n)
+int HorizonPlanesFloat(const HorizonPlanes& h, const glm::dvec3& o, double margin, float* planes)
 {
-  if (!h.usable)
+  if (!h.usable || h.p.size() > static_cast<std::size_t>(kMaxHorizonPlanes))
   {
-    return n;
+    return 0; // (groups hold at most GearsOptions::groupSize samples; a larger set is not filtered)
   }
-  // the planes relative to o, as the arrays are
-  double P[4 * 64];
-  const std::size_t np = std::min<std::size_t>(h.p.size(), 64);
-  for (std::size_t q = 0; q < np; ++q)
+  // In float the kernel's a x + b y + c z errs by a few float ulps of the
+  // coordinates (at most the scene's size and its distance to the light),
+  // far below the margin (twice the float culling margin, 1e-5 of those);
+  // d is rounded down, so rounding it never drops more.
+  int np = 0;
+  for (const glm::dvec4& P : h.p)
   {
-    P[4 * q] = h.p[q].x;
-    P[4 * q + 1] = h.p[q].y;
-    P[4 * q + 2] = h.p[q].z;
-    P[4 * q + 3] = h.p[q].w - glm::dot(glm::dvec3(h.p[q]), o) - margin;
-  }
-  if (np < h.p.size())
-  {
-    return n; // (groups hold at most GearsOptions::groupSize samples; a larger set is not filtered)
-  }
-  std::size_t kept = 0;
-  for (std::size_t e = 0; e < n; ++e)
-  {
-    const std::uint32_t i = list[e];
-    const double x0 = a.x0[i], y0 = a.y0[i], z0 = a.z0[i], x1 = a.x1[i], y1 = a.y1[i], z1 = a.z1[i];
-    const double x2 = a.x2[i], y2 = a.y2[i], z2 = a.z2[i];
-    bool below = true;
-    for (std::size_t q = 0; q < np && below; ++q)
+    const double d = P.w - glm::dot(glm::dvec3(P), o) - margin;
+    float df = static_cast<float>(d);
+    if (static_cast<double>(df) > d)
     {
-      const double* p = &P[4 * q];
-      below = (p[0] * x0 + p[1] * y0 + p[2] * z0 < p[3]) && (p[0] * x1 + p[1] * y1 + p[2] * z1 < p[3]) &&
-        (p[0] * x2 + p[1] * y2 + p[2] * z2 < p[3]);
+      df = std::nextafter(df, -std::numeric_limits<float>::infinity());
     }
-    list[kept] = i;
-    kept += below ? 0 : 1;
+    float* q = planes + 4 * np++;
+    q[0] = static_cast<float>(P.x);
+    q[1] = static_cast<float>(P.y);
+    q[2] = static_cast<float>(P.z);
+    q[3] = df;
   }
-  return kept;
+  return np;
 }
 
 // The inner-occluder rule (occluder fusion at cluster level). A cell's inner

@@ -301,7 +301,14 @@ Shaft MakeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double H, 
 struct FaceTriangles
 {
   glm::dvec3 Lc, u, v, n;          ///< the face's light frame (solver coordinates)
-  std::vector<float> x, y, z;      ///< 3 per triangle: light-frame vertices (float)
+  /// Per triangle, one column each (kPad readable floats past the end):
+  /// light-frame vertices x0 y0 z0 x1 y1 z1 x2 y2 z2 in float, the unit
+  /// normal of the light-frame triangle and n . B0, and kFlag* bits. A
+  /// cell's kernel arrays are these minus the cell's centre (ClusterFilter),
+  /// so nothing per triangle is recomputed per cell.
+  std::vector<float> p[9];
+  std::vector<float> nx, ny, nz, nd;
+  std::vector<std::int32_t> flags;
   std::vector<std::int8_t> closed; ///< per triangle: closed-rule sign (0: rule off)
   std::vector<std::uint8_t> drop;  ///< per triangle: faces away from every light sample of its closed piece
   std::vector<float> cbox;         ///< per cluster: light-frame AABB of its kept triangles (6 floats)
@@ -312,6 +319,41 @@ struct FaceTriangles
   {
     const glm::dvec3 r = X - Lc;
     return { glm::dot(r, u), glm::dot(r, v), glm::dot(r, n) };
+  }
+  FaceColumns Columns() const
+  {
+    FaceColumns c;
+    for (int q = 0; q < 9; ++q)
+    {
+      c.p[q] = p[q].data();
+    }
+    c.nx = nx.data();
+    c.ny = ny.data();
+    c.nz = nz.data();
+    c.nd = nd.data();
+    c.flags = flags.data();
+    return c;
+  }
+  /// What SetupBatch needs to compute a triangle's exact light-frame
+  /// vertices from the solver's floats, as ToLight does.
+  ExactSource Exact(const SolverData& D, const glm::dvec3* corner, bool dir) const
+  {
+    ExactSource e;
+    e.V = D.V.data();
+    e.closed = closed.data();
+    for (int a = 0; a < 3; ++a)
+    {
+      e.Lc[a] = Lc[a];
+      e.u[a] = u[a];
+      e.v[a] = v[a];
+      e.n[a] = n[a];
+      for (int q = 0; q < 4; ++q)
+      {
+        e.corner[q][a] = corner[q][a];
+      }
+    }
+    e.dir = dir;
+    return e;
   }
 };
 
@@ -379,9 +421,9 @@ struct CellCounters
   double trianglesBelowHorizon = 0;     ///< horizon rule, per group
   std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0;
   // thread time (ms, summed over threads) of the parts of step 4: cell
-  // lists (with the occluders' pre-pass), their arrays, the groups, and the
-  // pixels (rejection and exact raster)
-  double msLists = 0, msArrays = 0, msGroups = 0, msReject = 0, msExact = 0;
+  // lists with their kernel arrays (and the occluders' pre-pass), the
+  // groups, and the pixels (rejection and exact raster)
+  double msLists = 0, msGroups = 0, msReject = 0, msExact = 0;
   void Add(const CellCounters& o);
 };
 
@@ -413,6 +455,17 @@ struct CellJob
 bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Face* assign, std::int32_t* pixelGroup);
 
 constexpr std::size_t kPad = 16; ///< floats past the end of a kernel's arrays
+
+/// Scratch arrays only grow: resizing them down and up again per cell and
+/// group zero-filled them every time (5% of step 4 in a profile).
+template <typename T>
+inline void Grow(std::vector<T>& v, std::size_t n)
+{
+  if (v.size() < n)
+  {
+    v.resize(n);
+  }
+}
 
 /// Every one of the k rows full (from the first row on: a pixel not in
 /// umbra stops at its first open row).
@@ -450,12 +503,11 @@ struct CellScratch
   std::vector<PixelState> state;
   std::vector<std::vector<float>> trans; ///< per sample: transmittance of translucent casters
   std::vector<std::uint32_t> sampleOrder, groupEnd;
-  std::vector<std::uint32_t> list, occList; ///< the cell's triangles; its inner occluders' faces
-  std::vector<std::uint32_t> drawnBoxes;    ///< the inner occluders drawn into the cell's masks
-  std::vector<double> d[16];            ///< the list in double (ExactColumns order)
+  std::vector<std::uint32_t> list;       ///< the cell's triangles (their first entries are valid)
+  std::vector<std::uint32_t> drawnBoxes; ///< the inner occluders drawn into the cell's masks
   std::vector<float> f[15];             ///< the list in float relative to the cell's centre (GroupArrays order)
   std::vector<float> gf[15];            ///< one group's gathered arrays
-  std::vector<std::uint32_t> glist;     ///< one group's entries (indices into list)
+  std::vector<std::uint32_t> glist;     ///< one group's triangles
   std::vector<std::int32_t> keep;
   std::vector<float> box;
   std::vector<std::uint32_t> cand;
@@ -464,12 +516,13 @@ struct CellScratch
   HorizonPlanes horizons; ///< the cell's or the group's (horizon rule)
 };
 
-/// One sample group's list: the kernel arrays, entry -> cell list index
-/// (null: the cell's own list), its length and the cell's centre.
+/// One sample group's list: the kernel arrays, each entry's triangle, its
+/// length and the cell's centre.
 struct GroupView
 {
   GroupArrays ga;
-  const std::uint32_t* entry;
+  const ExactSource* exact; ///< where the exact raster takes the triangles from
+  const std::uint32_t* tri; ///< per entry: its triangle (solver index)
   std::size_t ng;
   glm::dvec3 o;
   bool counting; ///< false for the inner occluders' faces (not the scene's triangles)
@@ -479,10 +532,12 @@ struct GroupView
 void CollectHorizons(const CellScratch& w, const std::uint32_t* ids, std::size_t count, HorizonPlanes& h);
 /// Whether the light-frame box b (min xyz, max xyz) lies below every plane by more than margin.
 bool BoxBelowHorizons(const HorizonPlanes& h, const float* b, double margin);
-/// Entries list[0..n) of the arrays (relative to o) with a vertex not below
-/// every plane by more than margin, kept in order in list; returns their count.
-std::size_t HorizonFilter(
-  const GroupArrays& a, const HorizonPlanes& h, const glm::dvec3& o, double margin, std::uint32_t* list, std::size_t n);
+/// The group kernel's horizon planes (KernelTable::group): at most this many.
+constexpr int kMaxHorizonPlanes = 64;
+/// h's planes for coordinates relative to o, lowered by margin, in float
+/// (4 per plane: a point is below when a x + b y + c z < d); 0 when h is not
+/// usable or has more than kMaxHorizonPlanes planes (nothing is dropped then).
+int HorizonPlanesFloat(const HorizonPlanes& h, const glm::dvec3& o, double margin, float* planes);
 
 /// [t0, t1] narrowed to the t at which P + t d lies strictly inside box B
 /// (min xyz, max xyz) shrunk by m; false once that is empty.

@@ -53,13 +53,32 @@ struct GroupArrays
 /// bits by evaluating the constraints at each sample (SetupBatch).
 constexpr int kPointRows = 6, kPointCols = 6;
 
-/// A cell's triangles in double for the exact raster, one array per column:
-/// vertices (light frame: x0 y0 z0 x1 .. z2), the plane normal (x1 - x0) x
-/// (x2 - x0), its length, the light corners' extremes on it, the closed-mesh
-/// sign.
-struct ExactColumns
+/// FaceColumns::flags bits: not dropped by the closed-mesh rule; every light
+/// sample in front of the plane (or the rule, outward); every one behind it.
+constexpr std::int32_t kFlagLive = 1, kFlagFront = 2, kFlagBack = 4;
+
+/// A face's triangles for the cell kernels, one column per quantity, in
+/// float, in the face's light frame: the vertices (x0 y0 z0 x1 .. z2), the
+/// unit plane normal, n . B0, the kFlag bits.
+struct FaceColumns
 {
-  const double* c[16];
+  const float* p[9];
+  const float *nx, *ny, *nz, *nd;
+  const std::int32_t* flags;
+};
+
+/// Where the exact raster takes a triangle's double light-frame vertices
+/// from: the solver's floats (9 per triangle, solver frame) moved into the
+/// face's light frame (origin Lc, axes u v n) as FaceTriangles::ToLight
+/// does, so no per-cell copy in double is needed; the closed-mesh signs; the
+/// light's corners (directional: corner directions) in the light frame.
+struct ExactSource
+{
+  const float* V;
+  const std::int8_t* closed;
+  double Lc[3], u[3], v[3], n[3];
+  double corner[4][3];
+  bool dir;
 };
 
 /// What SetupBatch found for up to 8 candidate triangles of one pixel.
@@ -105,8 +124,19 @@ struct KernelTable
   /// box: 4 columns of `stride` floats (i0, i1, j0, j1 per entry)
   std::size_t (*reject)(
     const GroupArrays&, const PixelParams&, std::int32_t* keep, std::uint32_t* out, float* box, std::size_t stride);
-  std::size_t (*shaft)(const GroupArrays&, const Shaft&, std::int32_t* keep, std::uint32_t* out);
-  void (*setup)(ExactBatch& b, const ExactColumns& cols, const std::uint32_t* ids, const float* const* box,
+  /// Group lists: the entries that may reach the shaft (null: all) and lie
+  /// above one of the np horizon planes (4 floats each; 0 planes: all):
+  /// their ids to out, their 15 columns to dst; below += those in the
+  /// shaft dropped by the planes.
+  std::size_t (*group)(const GroupArrays&, const std::uint32_t* ids, const Shaft* s, const float* planes, int np,
+    float* const* dst, std::uint32_t* out, std::size_t& below);
+  /// Cell lists: a cluster's live triangles that may reach the shaft (null:
+  /// all), appended at `count` (ids to list, the 15 GroupArrays columns
+  /// relative to o to out); returns the new count, tested += live triangles.
+  std::size_t (*cluster)(const FaceColumns& f, std::uint32_t first, std::uint32_t end, const Shaft* s,
+    const float* o, float* const* out, std::uint32_t* list, std::size_t count, std::size_t& tested);
+  /// tri: triangle ids (ExactSource), box / gids: their sample boxes
+  void (*setup)(ExactBatch& b, const ExactSource& src, const std::uint32_t* tri, const float* const* box,
     const std::uint32_t* gids, const ExactPixel& p, int count);
   bool (*spans)(const ExactBatch& b, int lane, int k, std::uint32_t* rows);
 };
@@ -128,6 +158,7 @@ namespace SS_GEARS_KERNEL_NAMESPACE
 // 16: AVX-512), compiled to the instruction set of the including file.
 typedef float VF __attribute__((vector_size(4 * SS_GEARS_LANES)));
 typedef int VI __attribute__((vector_size(4 * SS_GEARS_LANES)));
+typedef unsigned VUI __attribute__((vector_size(4 * SS_GEARS_LANES)));
 
 static inline VF Load(const float* p)
 {
@@ -242,38 +273,167 @@ static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p
   return c;
 }
 
-// Entries of the arrays (x0..z2 of GroupArrays) that may reach the shaft
-// (no plane of it has all three vertices outside), written to out.
-static inline std::size_t ShaftFilter(const GroupArrays& g, const Shaft& s, std::int32_t* keep, std::uint32_t* out)
+// Whether points (x, y, z) may lie in the shaft: -1 where no plane of it has
+// all three outside (comparisons give -1 where true).
+static inline VI InShaftV(const Shaft& s, const VF* x, const VF* y, const VF* z)
 {
-  const std::size_t n = g.n;
   const VI three = VI{} + 3;
+  VI o0 = VI{}, o1 = VI{}, o2 = VI{}, o3 = VI{}, o4 = VI{}, o5 = VI{};
+  for (int m = 0; m < 3; ++m)
+  {
+    o0 -= x[m] < s.ax + s.sx * z[m];
+    o1 -= x[m] > s.bx + s.tx * z[m];
+    o2 -= y[m] < s.ay + s.sy * z[m];
+    o3 -= y[m] > s.by + s.ty * z[m];
+    o4 -= !(z[m] > s.zlo);
+    o5 -= !(z[m] < s.zhi);
+  }
+  return (o0 < three) & (o1 < three) & (o2 < three) & (o3 < three) & (o4 < three) & (o5 < three);
+}
+
+// Bit q set where lane q of a comparison result (0 or -1) is set.
+static inline unsigned LaneMask(VI v)
+{
+#if SS_GEARS_LANES == 16
+  return _mm512_movepi32_mask(reinterpret_cast<const __m512i&>(v));
+#elif SS_GEARS_LANES == 8
+  return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<const __m256&>(v)));
+#else
+  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<const __m128&>(v)));
+#endif
+}
+
+// The lanes of v where keep is set, stored contiguously from dst (which
+// must hold SS_GEARS_LANES writable entries: whole vectors are written);
+// returns their count.
+template <typename V, typename E>
+static inline int Compact(const V& v, VI keep, E* dst)
+{
+  static_assert(sizeof(V) == sizeof(VI) && sizeof(E) == 4, "32-bit lanes");
+#if SS_GEARS_LANES == 16
+  const __mmask16 mk = _mm512_movepi32_mask(reinterpret_cast<const __m512i&>(keep));
+  const __m512i x = _mm512_maskz_compress_epi32(mk, reinterpret_cast<const __m512i&>(v));
+  _mm512_storeu_si512(dst, x);
+  return __builtin_popcount(mk);
+#else
+  int c = 0;
+  for (int q = 0; q < SS_GEARS_LANES; ++q)
+  {
+    dst[c] = v[q];
+    c += keep[q] != 0;
+  }
+  return c;
+#endif
+}
+
+// Entries of a group's arrays that may reach the shaft s (null: all) and
+// are not below every one of the np planes (a x + b y + c z < d at all
+// three vertices; the horizon rule, ssGearsCull.cxx, with its margin in d),
+// written to out (their ids[]) and gathered into dst (15 columns of at
+// least n + SS_GEARS_LANES floats); returns their count. ids holds
+// SS_GEARS_LANES - 1 readable entries past n.
+static inline std::size_t GroupFilter(const GroupArrays& g, const std::uint32_t* ids, const Shaft* s,
+  const float* planes, int np, float* const* dst, std::uint32_t* out, std::size_t& belowCount)
+{
+  int below = 0;
+  const std::size_t n = g.n;
+  const float* const src[15] = { g.x0, g.y0, g.z0, g.x1, g.y1, g.z1, g.x2, g.y2, g.z2, g.nx, g.ny, g.nz, g.nd,
+    g.front, g.back };
+  VI lane;
+  for (int q = 0; q < SS_GEARS_LANES; ++q)
+  {
+    lane[q] = q;
+  }
+  std::size_t c = 0;
   for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
   {
     const VF x[3] = { Load(g.x0 + i), Load(g.x1 + i), Load(g.x2 + i) };
     const VF y[3] = { Load(g.y0 + i), Load(g.y1 + i), Load(g.y2 + i) };
     const VF z[3] = { Load(g.z0 + i), Load(g.z1 + i), Load(g.z2 + i) };
-    VI o0 = VI{}, o1 = VI{}, o2 = VI{}, o3 = VI{}, o4 = VI{}, o5 = VI{};
+    const VI valid = (lane + static_cast<int>(i)) < static_cast<int>(n);
+    VI k = s ? valid & InShaftV(*s, x, y, z) : valid;
+    if (np > 0)
+    {
+      VI b = k;
+      for (int q = 0; q < np; ++q)
+      {
+        const float* P = planes + 4 * q;
+        for (int m = 0; m < 3; ++m)
+        {
+          b &= (P[0] * x[m] + P[1] * y[m]) + P[2] * z[m] < P[3];
+        }
+        if (!LaneMask(b))
+        {
+          break; // every lane is above some plane: kept
+        }
+      }
+      below += __builtin_popcount(LaneMask(b));
+      k &= ~b;
+    }
+    if (!LaneMask(k))
+    {
+      continue;
+    }
+    for (int col = 0; col < 15; ++col)
+    {
+      Compact(Load(src[col] + i), k, dst[col] + c);
+    }
+    VUI idx;
+    __builtin_memcpy(&idx, ids + i, sizeof(idx));
+    c += static_cast<std::size_t>(Compact(idx, k, out + c));
+  }
+  belowCount += static_cast<std::size_t>(below);
+  return c;
+}
+
+// A cluster's triangles [first, end) into a cell's list: the live ones (not
+// dropped by the closed-mesh rule) that may reach the shaft s (null: all),
+// with their 15 GroupArrays columns relative to the cell's centre o. The
+// face's columns hold SS_GEARS_LANES - 1 readable entries past the last
+// triangle; out and list must hold count + end - first + SS_GEARS_LANES entries.
+static inline std::size_t ClusterFilter(const FaceColumns& f, std::uint32_t first, std::uint32_t end, const Shaft* s,
+  const float* o, float* const* out, std::uint32_t* list, std::size_t count, std::size_t& tested)
+{
+  VI lane;
+  for (int q = 0; q < SS_GEARS_LANES; ++q)
+  {
+    lane[q] = q;
+  }
+  const VF zero = VF{} + 0.0f, one = zero + 1.0f;
+  for (std::uint32_t t = first; t < end; t += SS_GEARS_LANES)
+  {
+    VF x[3], y[3], z[3];
     for (int m = 0; m < 3; ++m)
     {
-      // comparisons give -1 where true
-      o0 -= x[m] < s.ax + s.sx * z[m];
-      o1 -= x[m] > s.bx + s.tx * z[m];
-      o2 -= y[m] < s.ay + s.sy * z[m];
-      o3 -= y[m] > s.by + s.ty * z[m];
-      o4 -= !(z[m] > s.zlo);
-      o5 -= !(z[m] < s.zhi);
+      x[m] = Load(f.p[3 * m] + t);
+      y[m] = Load(f.p[3 * m + 1] + t);
+      z[m] = Load(f.p[3 * m + 2] + t);
     }
-    const VI k = (o0 < three) & (o1 < three) & (o2 < three) & (o3 < three) & (o4 < three) & (o5 < three);
-    __builtin_memcpy(keep + i, &k, sizeof(k));
+    VI fl;
+    __builtin_memcpy(&fl, f.flags + t, sizeof(fl));
+    const VI live = ((fl & kFlagLive) != 0) & ((lane + static_cast<int>(t)) < static_cast<int>(end));
+    const VI k = s ? live & InShaftV(*s, x, y, z) : live;
+    tested += static_cast<std::size_t>(__builtin_popcount(LaneMask(live)));
+    if (!LaneMask(k))
+    {
+      continue;
+    }
+    for (int m = 0; m < 3; ++m)
+    {
+      Compact(x[m] - o[0], k, out[3 * m] + count);
+      Compact(y[m] - o[1], k, out[3 * m + 1] + count);
+      Compact(z[m] - o[2], k, out[3 * m + 2] + count);
+    }
+    const VF nx = Load(f.nx + t), ny = Load(f.ny + t), nz = Load(f.nz + t);
+    Compact(nx, k, out[9] + count);
+    Compact(ny, k, out[10] + count);
+    Compact(nz, k, out[11] + count);
+    Compact(Load(f.nd + t) - ((nx * o[0] + ny * o[1]) + nz * o[2]), k, out[12] + count);
+    Compact((fl & kFlagFront) != 0 ? one : zero, k, out[13] + count);
+    Compact((fl & kFlagBack) != 0 ? one : zero, k, out[14] + count);
+    count += static_cast<std::size_t>(Compact((VUI)(lane + static_cast<int>(t)), k, list + count));
   }
-  std::size_t c = 0;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    out[c] = static_cast<std::uint32_t>(i);
-    c += keep[i] & 1;
-  }
-  return c;
+  return count;
 }
 
 // The exact raster [§4.2] (ssGearsRaster.cxx, SetupTriangle / RasterSetup,
@@ -381,19 +541,20 @@ static inline bool RowsSpan(const ExactBatch& b, int which, int k, std::uint32_t
   return hit;
 }
 
-// Lane q of the result is col[ids[q]] (hardware gathers where there are).
-static inline VD Gather(const double* col, const std::uint32_t* ids)
+// Lane q of the result is base[9 ids[q]], widened to double (hardware
+// gathers where there are).
+static inline VD GatherV(const float* base, const std::uint32_t* ids)
 {
 #if SS_GEARS_LANES == 16
-  const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids));
-  const __m512d g = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), 0xFF, v, col, 8);
+  const __m256i v = _mm256_mullo_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids)), _mm256_set1_epi32(9));
+  // (masked forms: GCC 12's plain ones warn of an uninitialised operand)
+  const __m512d g = _mm512_maskz_cvtps_pd(0xFF, _mm256_i32gather_ps(base, v, 4));
   VD r;
   __builtin_memcpy(&r, &g, sizeof(r));
   return r;
 #elif SS_GEARS_LANES == 8
-  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(ids));
-  const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-  const __m256d g = _mm256_mask_i32gather_pd(_mm256_setzero_pd(), col, v, all, 8);
+  const __m128i v = _mm_mullo_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(ids)), _mm_set1_epi32(9));
+  const __m256d g = _mm256_cvtps_pd(_mm_i32gather_ps(base, v, 4));
   VD r;
   __builtin_memcpy(&r, &g, sizeof(r));
   return r;
@@ -401,7 +562,7 @@ static inline VD Gather(const double* col, const std::uint32_t* ids)
   VD r;
   for (int q = 0; q < kRowLanes; ++q)
   {
-    r[q] = col[ids[q]];
+    r[q] = base[9 * static_cast<std::size_t>(ids[q])];
   }
   return r;
 #endif
@@ -415,23 +576,72 @@ static inline VD GatherF(const float* col, const std::uint32_t* ids)
   }
   return r;
 }
+static inline VD SqrtV(VD x)
+{
+#if SS_GEARS_LANES == 16
+  __m512d a;
+  __builtin_memcpy(&a, &x, sizeof(a));
+  a = _mm512_maskz_sqrt_pd(0xFF, a);
+  __builtin_memcpy(&x, &a, sizeof(a));
+#elif SS_GEARS_LANES == 8
+  __m256d a;
+  __builtin_memcpy(&a, &x, sizeof(a));
+  a = _mm256_sqrt_pd(a);
+  __builtin_memcpy(&x, &a, sizeof(a));
+#else
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    x[q] = __builtin_sqrt(x[q]);
+  }
+#endif
+  return x;
+}
 
-// The start of the exact raster for kRowLanes candidates at once: the
-// closed-mesh rule, the start rule's test, the constraints (SetupTriangle's
-// operations), and for a candidate whose box holds at most 2 x 2 samples the
-// bits themselves, each sample's constraints evaluated as RasterSetup
-// decides them.
-static inline void SetupBatch(ExactBatch& b, const ExactColumns& cols, const std::uint32_t* ids,
+// The start of the exact raster for kRowLanes candidates at once: their
+// light-frame vertices and plane (the operations of FaceTriangles::ToLight
+// and glm's cross, dot and length, so every ISA and the GL backend get the
+// same doubles), the closed-mesh rule, the start rule's test, the
+// constraints (SetupTriangle's operations), and for a candidate whose box
+// holds at most kPointRows x kPointCols samples the bits themselves, each
+// sample's constraints evaluated as RasterSetup decides them.
+static inline void SetupBatch(ExactBatch& b, const ExactSource& src, const std::uint32_t* ids,
   const float* const* box, const std::uint32_t* gids, const ExactPixel& p, int count)
 {
   static_assert(kRowLanes <= 8, "ExactBatch holds 8 lanes");
   const VD zero = VD{} + 0.0, one = VD{} + 1.0;
-  const VD B0x = Gather(cols.c[0], ids), B0y = Gather(cols.c[1], ids), B0z = Gather(cols.c[2], ids);
-  const VD B1x = Gather(cols.c[3], ids), B1y = Gather(cols.c[4], ids), B1z = Gather(cols.c[5], ids);
-  const VD B2x = Gather(cols.c[6], ids), B2y = Gather(cols.c[7], ids), B2z = Gather(cols.c[8], ids);
-  const VD nx = Gather(cols.c[9], ids), ny = Gather(cols.c[10], ids), nz = Gather(cols.c[11], ids);
-  const VD pl = Gather(cols.c[12], ids), cmin = Gather(cols.c[13], ids), cmax = Gather(cols.c[14], ids);
-  const VD closed = Gather(cols.c[15], ids);
+  VD Bv[9];
+  for (int m = 0; m < 3; ++m)
+  {
+    // r = X - Lc; B = (r . u, r . v, r . n), each dot as (x + y) + z
+    const VD rx = GatherV(src.V + 3 * m, ids) - src.Lc[0];
+    const VD ry = GatherV(src.V + 3 * m + 1, ids) - src.Lc[1];
+    const VD rz = GatherV(src.V + 3 * m + 2, ids) - src.Lc[2];
+    Bv[3 * m] = (rx * src.u[0] + ry * src.u[1]) + rz * src.u[2];
+    Bv[3 * m + 1] = (rx * src.v[0] + ry * src.v[1]) + rz * src.v[2];
+    Bv[3 * m + 2] = (rx * src.n[0] + ry * src.n[1]) + rz * src.n[2];
+  }
+  const VD B0x = Bv[0], B0y = Bv[1], B0z = Bv[2], B1x = Bv[3], B1y = Bv[4], B1z = Bv[5];
+  const VD B2x = Bv[6], B2y = Bv[7], B2z = Bv[8];
+  // the plane normal glm::cross(B1 - B0, B2 - B0), its length, the light
+  // corners' extremes on it
+  const VD e1x = B1x - B0x, e1y = B1y - B0y, e1z = B1z - B0z, e2x = B2x - B0x, e2y = B2y - B0y, e2z = B2z - B0z;
+  const VD nx = e1y * e2z - e2y * e1z, ny = e1z * e2x - e2z * e1x, nz = e1x * e2y - e2x * e1y;
+  const VD pl = SqrtV((nx * nx + ny * ny) + nz * nz);
+  VD cmin = VD{} + 1e300, cmax = VD{} - 1e300;
+  for (int q = 0; q < 4; ++q)
+  {
+    const double* c = src.corner[q];
+    const VD cx = src.dir ? VD{} + c[0] : c[0] - B0x, cy = src.dir ? VD{} + c[1] : c[1] - B0y;
+    const VD cz = src.dir ? VD{} + c[2] : c[2] - B0z;
+    const VD v = (nx * cx + ny * cy) + nz * cz;
+    cmin = v < cmin ? v : cmin;
+    cmax = cmax < v ? v : cmax;
+  }
+  VD closed;
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    closed[q] = double(src.closed[ids[q]]);
+  }
   // sigma = (S - B0) . n (Dot3)
   const VD sigma = ((p.Sx - B0x) * nx + (p.Sy - B0y) * ny) + (p.Sz - B0z) * nz;
   const VL skipClosed = (closed != 0.0) & (closed * sigma >= 0.0);
@@ -535,7 +745,7 @@ static inline void SetupBatch(ExactBatch& b, const ExactColumns& cols, const std
 
 static inline const KernelTable& Table(const char* name)
 {
-  static const KernelTable t = { name, kRowLanes, RejectPairs, ShaftFilter, SetupBatch, RowsSpan };
+  static const KernelTable t = { name, kRowLanes, RejectPairs, GroupFilter, ClusterFilter, SetupBatch, RowsSpan };
   return t;
 }
 }

@@ -163,28 +163,21 @@ void PrepareFaceTriangles(
   ft.u = C.u;
   ft.v = C.v;
   ft.n = C.n;
-  ft.x.resize(3 * NT);
-  ft.y.resize(3 * NT);
-  ft.z.resize(3 * NT);
+  for (auto& col : ft.p)
+  {
+    col.assign(NT + kPad, 0.0f);
+  }
+  for (auto* col : { &ft.nx, &ft.ny, &ft.nz, &ft.nd })
+  {
+    col->assign(NT + kPad, 0.0f);
+  }
+  ft.flags.assign(NT + kPad, 0);
   ft.closed.assign(NT, 0);
   ft.drop.assign(NT, 0);
   // float culling margin: well above float rounding of coordinates of the
   // size of the scene and its distance to the light
   const double R = D.extent + glm::length(L.center) + L.width + L.height;
   ft.margin = 1e-5 * R;
-  // light-frame vertices in float, for culling
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NT, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t t = r.begin(); t != r.end(); ++t)
-    {
-      for (int m = 0; m < 3; ++m)
-      {
-        const glm::dvec3 l = ft.ToLight(D.Vertex(t, m));
-        ft.x[3 * t + m] = static_cast<float>(l.x);
-        ft.y[3 * t + m] = static_cast<float>(l.y);
-        ft.z[3 * t + m] = static_cast<float>(l.z);
-      }
-    }
-  });
   // the closed-mesh rule, with the orientation turned into this frame's
   // (a left-handed frame would flip the normals computed in it)
   std::vector<std::int8_t> flags;
@@ -195,6 +188,50 @@ void PrepareFaceTriangles(
     ft.drop[t] = flags[t] == 2 ? 1 : 0;
     ft.closed[t] = static_cast<std::int8_t>(flags[t] == 2 ? 0 : flags[t] * hand);
   }
+  // light-frame vertices and planes in float, for the cells' kernels: once
+  // per face (and reused while casters and light stay), not per cell
+  const bool dir = L.type == LightType::Directional;
+  const double T = dir ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
+  const double W = dir ? T : L.width, H = dir ? T : L.height;
+  glm::dvec3 corner[4]; // light corners (directional: corner directions), light frame
+  for (int q = 0; q < 4; ++q)
+  {
+    const double a = (q & 1) ? 0.5 : -0.5, b = (q & 2) ? 0.5 : -0.5;
+    corner[q] = glm::dvec3(a * W, b * H, dir ? -1.0 : 0.0);
+  }
+  const double margin = ft.margin;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NT, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t t = r.begin(); t != r.end(); ++t)
+    {
+      glm::dvec3 B[3];
+      for (int q = 0; q < 3; ++q)
+      {
+        B[q] = ft.ToLight(D.Vertex(t, q));
+        for (int a = 0; a < 3; ++a)
+        {
+          ft.p[3 * q + a][t] = static_cast<float>(B[q][a]);
+        }
+      }
+      const glm::dvec3 nT = glm::cross(B[1] - B[0], B[2] - B[0]);
+      double lo1 = 1e300, hi1 = -1e300;
+      for (int q = 0; q < 4; ++q)
+      {
+        const double v = glm::dot(nT, dir ? corner[q] : corner[q] - B[0]);
+        lo1 = std::min(lo1, v);
+        hi1 = std::max(hi1, v);
+      }
+      const double len = glm::length(nT);
+      const glm::dvec3 un = len > 0.0 ? nT / len : glm::dvec3(0.0);
+      ft.nx[t] = static_cast<float>(un.x);
+      ft.ny[t] = static_cast<float>(un.y);
+      ft.nz[t] = static_cast<float>(un.z);
+      ft.nd[t] = static_cast<float>(glm::dot(un, B[0]));
+      // the rejection kernel's plane test needs the light on one side by more than the margin
+      const double scale = len > 0.0 ? (dir ? 1e-6 : margin) * len : 1e300;
+      const bool front = ft.closed[t] > 0 || lo1 > scale, back = ft.closed[t] < 0 || hi1 < -scale;
+      ft.flags[t] = (ft.drop[t] ? 0 : kFlagLive) | (front ? kFlagFront : 0) | (back ? kFlagBack : 0);
+    }
+  });
   // cluster boxes over the kept triangles
   const std::size_t NCl = D.Clusters();
   ft.cbox.assign(6 * NCl, 0.0f);
@@ -212,7 +249,7 @@ void PrepareFaceTriangles(
         }
         for (int m = 0; m < 3; ++m)
         {
-          const float p[3] = { ft.x[3 * t + m], ft.y[3 * t + m], ft.z[3 * t + m] };
+          const float p[3] = { ft.p[3 * m][t], ft.p[3 * m + 1][t], ft.p[3 * m + 2][t] };
           for (int a = 0; a < 3; ++a)
           {
             lo[a] = std::min(lo[a], p[a]);

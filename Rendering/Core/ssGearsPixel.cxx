@@ -14,6 +14,7 @@ namespace gears
 namespace
 {
 constexpr std::size_t kChunk = 512; // list entries per rejection call: a full mask stops early
+constexpr std::size_t kPrefetch = 12; // candidates ahead whose vertices are prefetched
 }
 
 void PixelStart(const CellJob& job, CellScratch& w, std::uint32_t sq)
@@ -137,19 +138,23 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
   ep.dir = job.dir;
   ep.project = project;
   ExactBatch& b = w.batch;
-  ExactColumns cols;
-  for (int col = 0; col < 16; ++col)
-  {
-    cols.c[col] = w.d[col].data();
-  }
+  const FaceTriangles& ft = *job.ft;
   const std::size_t stride = gv.ng + kPad;
   const float* boxCols[4] = { w.box.data(), w.box.data() + stride, w.box.data() + 2 * stride,
     w.box.data() + 3 * stride };
 
-  // One candidate's exact bitmask into the rows, given what SetupBatch found.
-  auto draw = [&](std::uint32_t a, int kind, int lane) {
+  // Bit j: row j is full. Rows only gain bits, so the set only grows: it
+  // makes the umbra test and most covered skips O(1).
+  const std::uint32_t allRows = RowBits(0, k - 1);
+  std::uint32_t fullRows = 0;
+  for (int j = 0; j < k; ++j)
+  {
+    fullRows |= rows[j] == job.fullRow ? 1u << j : 0u;
+  }
+  // Triangle t's exact bitmask into the rows, given what SetupBatch found.
+  auto draw = [&](std::uint32_t t, int kind, int lane) {
     cc.rasterised += counts;
-    const float alpha = D.opacity[w.list[a]];
+    const float alpha = D.translucent ? D.opacity[t] : 1.0f; // (a scattered load per candidate otherwise)
     std::uint32_t tmp[40];
     std::uint32_t* target = rows;
     if (alpha < 1.0f || necessaryMode)
@@ -179,8 +184,8 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     }
     else
     {
-      const glm::dvec3 B0(w.d[0][a], w.d[1][a], w.d[2][a]), B1(w.d[3][a], w.d[4][a], w.d[5][a]),
-        B2(w.d[6][a], w.d[7][a], w.d[8][a]);
+      const glm::dvec3 B0 = ft.ToLight(D.Vertex(t, 0)), B1 = ft.ToLight(D.Vertex(t, 1)),
+        B2 = ft.ToLight(D.Vertex(t, 2));
       // the start rule tests only samples not known to be hidden
       hit = kind == 2 ? RasterizeNearTriangle(lf, B0, B1, B2, job.eps, target, target == rows ? rows : below)
                       : RasterizeTriangle(lf, S, B0, B1, B2, job.lut, target, j0, j1, fallback);
@@ -213,14 +218,12 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     }
     else if (hit)
     {
-      if (target == tmp)
+      for (int j = j0; j <= j1; ++j)
       {
-        for (int j = j0; j <= j1; ++j)
-        {
-          rows[j] |= tmp[j];
-        }
+        rows[j] |= target == tmp ? tmp[j] : 0u;
+        fullRows |= rows[j] == job.fullRow ? 1u << j : 0u;
       }
-      ps.full = Umbra(rows, k, job.fullRow);
+      ps.full = fullRows == allRows;
     }
   };
   // A candidate whose box of samples is hidden already changes no bit:
@@ -228,6 +231,11 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
   auto covered = [&](std::uint32_t gi) {
     const int i0 = static_cast<int>(boxCols[0][gi]), i1 = static_cast<int>(boxCols[1][gi]);
     const int j0 = static_cast<int>(boxCols[2][gi]), j1 = static_cast<int>(boxCols[3][gi]);
+    const std::uint32_t span = RowBits(j0, j1);
+    if ((fullRows & span) == span)
+    {
+      return true;
+    }
     const std::uint32_t bm = RowBits(i0, i1);
     int j = j0;
     while (j <= j1 && (rows[j] & bm) == bm)
@@ -284,6 +292,13 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       while (count < K.lanes && next < ncand)
       {
         const std::uint32_t gi = cand[next++];
+        if (next + kPrefetch < ncand)
+        {
+          // the exact raster reads the solver's floats of candidates at random
+          const float* v = &D.V[9 * static_cast<std::size_t>(gv.tri[cand[next + kPrefetch]])];
+          __builtin_prefetch(v);
+          __builtin_prefetch(v + 8);
+        }
         if (!necessaryMode && covered(gi))
         {
           ++cc.coveredSkips;
@@ -298,9 +313,9 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       for (int ln = 0; ln < K.lanes; ++ln)
       {
         gids[ln] = gids[ln < count ? ln : 0];
-        ids[ln] = gv.entry ? gv.entry[gids[ln]] : gids[ln];
+        ids[ln] = gv.tri[gids[ln]];
       }
-      K.setup(b, cols, ids, boxCols, gids, ep, count);
+      K.setup(b, *gv.exact, ids, boxCols, gids, ep, count);
       for (int ln = 0; ln < count && !(ps.full && !necessaryMode); ++ln)
       {
         const int kind = b.kind[ln];

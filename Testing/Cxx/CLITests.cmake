@@ -160,6 +160,8 @@ ss_cli_error(unknown_method "--method: unknown method 'fancy'" ${_ss_cli} render
 ss_cli_error(gears_samples "--option gears_samples: expected an integer in \\[1, 32\\]" ${_ss_cli} render "${_demo}" --method gears --option gears_samples=64)
 ss_cli_error(gears_raster "--option gears_raster: expected edge or lut" ${_ss_cli} render "${_demo}" --method gears --option gears_raster=fast)
 ss_cli_error(gears_backend "--option gears_backend: expected cpu or gl" ${_ss_cli} render "${_demo}" --method gears --option gears_backend=cuda)
+ss_cli_error(gears_report_from "bench --gears --report-from: cannot read /nonexistent/run.json" ${_ss_cli} bench --gears --report-from /nonexistent/run.json --out "${_ss_out}/gears_report_from")
+ss_cli_error(gears_report_from_not_a_result "bench --gears --report-from: .*demo.json is not a bench --gears result" ${_ss_cli} bench --gears --report-from "${_demo}" --out "${_ss_out}/gears_report_from")
 ss_cli_error(pvsm_metric "--option pvsm_metric: expected auto, dynamic or static" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_metric=fast)
 ss_cli_error(pvsm_quality "--option pvsm_quality: expected a value in \\[0.05, 64\\]" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_quality=0)
 ss_cli_error(pvsm_tile_culling "--option pvsm_tile_culling: expected an integer in \\[0, 1\\]" ${_ss_cli} render "${_demo}" --method pvsm --option pvsm_tile_culling=yes)
@@ -241,6 +243,15 @@ add_test(NAME cli.bench.gears_smoke_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_gears_bench.py" "${_ss_out}/bench_gears_smoke")
 set_tests_properties(cli.bench.gears_smoke PROPERTIES LABELS "cli;bench" TIMEOUT 300 FIXTURES_SETUP bench_gears_smoke)
 set_tests_properties(cli.bench.gears_smoke_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_gears_smoke)
+# --report-from: the smoke run's rows given twice make one report of both runs
+add_test(NAME cli.bench.gears_report_from
+  COMMAND ${_ss_cli} bench --gears --report-from "${_ss_out}/bench_gears_smoke/gears-bench.json,${_ss_out}/bench_gears_smoke/gears-bench.json"
+    --out "${_ss_out}/bench_gears_report_from")
+add_test(NAME cli.bench.gears_report_from_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_gears_bench.py" "${_ss_out}/bench_gears_report_from" 2)
+set_tests_properties(cli.bench.gears_report_from PROPERTIES LABELS "cli;bench" PASS_REGULAR_EXPRESSION "from 2 runs"
+  FIXTURES_REQUIRED bench_gears_smoke FIXTURES_SETUP bench_gears_report_from)
+set_tests_properties(cli.bench.gears_report_from_check PROPERTIES LABELS "cli;bench" FIXTURES_REQUIRED bench_gears_report_from)
 # the silhouette winding raster's probe: identical to the triangle raster where it applies
 add_test(NAME cli.bench.gears_silhouette_probe
   COMMAND env -u DISPLAY ${_ss_cli} bench --gears --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/torus.json"

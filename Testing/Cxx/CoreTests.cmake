@@ -11,6 +11,7 @@ add_executable(TestSoftShadowsCore
   TestSSReferenceISA.cxx
   TestSSGEARS.cxx
   TestSSGEARSCulling.cxx
+  TestSSGEARSISA.cxx
   TestSSGEARSSilhouette.cxx
   TestSSPVSM.cxx
   TestSSMetrics.cxx

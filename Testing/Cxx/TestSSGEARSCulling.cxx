@@ -176,21 +176,10 @@ TEST(GEARSCulling, ClosedMeshRuleAndInnerOccludersChangeNoBit)
       s.pos.insert(s.pos.end(), { float(p.x), float(p.y), float(p.z) });
       s.nrm.insert(s.nrm.end(), { 0.0f, 0.0f, 1.0f });
     }
-    for (int i = 0; i < 300; ++i)
-    {
-      const std::size_t t = rng() % closedTris;
-      const glm::dvec3 a = s.tris[3 * t] - offset, b = s.tris[3 * t + 1] - offset, c = s.tris[3 * t + 2] - offset;
-      const glm::dvec3 p = (a + b + c) / 3.0, n = glm::normalize(glm::cross(b - a, c - a));
-      s.pos.insert(s.pos.end(), { float(p.x), float(p.y), float(p.z) });
-      s.nrm.insert(s.nrm.end(), { float(n.x), float(n.y), float(n.z) });
-    }
-    GearsPieces pieces;
-    pieces.piece.assign(s.tris.size() / 3, 1u);
-    std::fill(pieces.piece.begin(), pieces.piece.begin() + static_cast<std::ptrdiff_t>(closedTris), 0u);
-    pieces.orientation = { 1, 0 };
+    sstest::PixelsOnTriangles(s, closedTris, offset, 300, rng);
     GearsSolver g;
     g.SetTriangles(s.tris, {});
-    g.SetPieces(pieces);
+    g.SetPieces(sstest::ClosedThenOpen(s.tris.size() / 3, closedTris));
     ASSERT_EQ(g.ClosedTriangles(), closedTris);
     // the last point light of Lights() lies inside the closed surface: the
     // rule must not apply to that piece then

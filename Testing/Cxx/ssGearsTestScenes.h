@@ -6,8 +6,10 @@
 #ifndef ssGearsTestScenes_h
 #define ssGearsTestScenes_h
 
+#include "ssGEARS.h"
 #include "ssLightFrame.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -86,6 +88,32 @@ inline std::vector<glm::dvec3> BumpySphere(
     v = c + r * bump * u;
   }
   return tris;
+}
+
+// count pixel samples at the centroids of random ones of the first ntri
+// triangles of s.tris (world; pixels relative to offset), with their
+// normals: receivers on the casters themselves (self-shadowing).
+inline void PixelsOnTriangles(Scene& s, std::size_t ntri, const glm::dvec3& offset, int count, std::mt19937& rng)
+{
+  for (int i = 0; i < count; ++i)
+  {
+    const std::size_t t = rng() % ntri;
+    const glm::dvec3 a = s.tris[3 * t] - offset, b = s.tris[3 * t + 1] - offset, c = s.tris[3 * t + 2] - offset;
+    const glm::dvec3 p = (a + b + c) / 3.0, n = glm::normalize(glm::cross(b - a, c - a));
+    s.pos.insert(s.pos.end(), { float(p.x), float(p.y), float(p.z) });
+    s.nrm.insert(s.nrm.end(), { float(n.x), float(n.y), float(n.z) });
+  }
+}
+
+// Pieces for a scene whose first `closed` triangles form one closed,
+// outward piece and the rest one open piece.
+inline ss::GearsPieces ClosedThenOpen(std::size_t triangles, std::size_t closed)
+{
+  ss::GearsPieces pieces;
+  pieces.piece.assign(triangles, 1u);
+  std::fill(pieces.piece.begin(), pieces.piece.begin() + static_cast<std::ptrdiff_t>(closed), 0u);
+  pieces.orientation = { 1, 0 };
+  return pieces;
 }
 
 inline std::vector<ss::LightFrame> Lights(const glm::dvec3& offset)
