@@ -125,7 +125,13 @@ vec2 avsmBlocker(float zR)
     vec3 tc = avT[i];
     if (!(zE < zR))
     {
-      tc = avsmEval(zR, true);
+      // the function just in front of zR, avsmEval(zR, true): avD[i - 1] <
+      // zR <= avD[i] (i > 0), so it lies on the segment from node i - 1 to
+      // node i (written out: avsmEval's search loop here made the blocker
+      // of every texel O(N^2))
+      int j = max(i - 1, 0);
+      float s = (zR - avD[j]) / (avD[i] - avD[j]);
+      tc = avT[j] + (avT[i] - avT[j]) * s;
       zE = zR;
     }
     for (int c = 0; c < channels; ++c)
@@ -277,19 +283,20 @@ vec3 avsmQuad(View w, int level, ivec2 q, float bias, float maxDelta)
   vec2 zr = planeRange(w, vec2(q) * s, s, maxDelta) - bias * s;
   vec3 near = avsmEval(zr.x, false);
   vec3 far = avsmEval(zr.y, false);
-  if (avsmRefine == 0 || all(lessThan(abs(near - far), vec3(1e-3))))
-  {
-    return 0.5 * (near + far);
-  }
+  bool refine = avsmRefine != 0 && !all(lessThan(abs(near - far), vec3(1e-3)));
+  // the children's loop runs 0 times unless refining: llvmpipe runs a
+  // branch's body for every fragment of a group whatever the condition,
+  // but a loop only as often as its longest-running fragment needs
+  int children = refine ? 4 : 0;
   float h = 0.5 * s;
   vec3 sum = vec3(0.0);
-  for (int c = 0; c < 4; ++c)
+  for (int c = 0; c < children; ++c)
   {
     ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
     float z = planeDepth(w, texelToProjected(w, vec2(child) * h + 0.5 * h), maxDelta) - bias * h;
     sum += avsmTexel(w.index, child, level - 1, z);
   }
-  return 0.25 * sum;
+  return refine ? 0.25 * sum : 0.5 * (near + far);
 }
 
 // The filtered transmittance over the kernel box [k0, k1] (texel units):
