@@ -375,14 +375,14 @@ int TranslucentSolver::SetFragmentUniforms(vtkShaderProgram* p, const ShadowLigh
   // bounds that cost; the G-buffer pixels keep the full filter
   // (Documentation/vpcss.md, "Translucent receivers"). Measured against the
   // reference at the fragments' own points (render.VPCSS.
-  // TranslucentReceiversMatchReference, MAE over the sheet): 1 and 1, the
-  // filter before, 0.107 -- worse than hard AVSM's 0.041: cells as wide as
-  // the search window averaged blockers from well outside it, and their
-  // bias (one texel per texel of cell) passed blockers up to about a world
-  // unit above the receiver; 2: 0.028; 3: 0.013; 4: 0.012; 8 and 8 with
-  // refinement (the G-buffer's): 0.008, at 3.4x the shading time of 3 on
-  // particles.json.
-  constexpr int kFragmentQuads = 3, kFragmentSearch = 3;
+  // TranslucentReceiversMatchReference, MAE over the sheet, quads/samples):
+  // 1/1, the filter before, 0.107 -- worse than hard AVSM's 0.041: cells as
+  // wide as the search window averaged blockers from well outside it, and
+  // their bias (one texel per texel of cell) passed blockers up to about a
+  // world unit above the receiver; 3/1 0.062; 2/2 0.028; 3/2 and 3/3 0.0133;
+  // 4/4 0.012; 8/8 with refinement (the G-buffer's) 0.0082. The quads set
+  // the error, the samples little beyond 2.
+  constexpr int kFragmentQuads = 3, kFragmentSearch = 2;
   const float filter[4] = { this->Hard ? 1.0f : 0.0f,
     static_cast<float>(std::min(this->Opt.FilterQuads, kFragmentQuads)),
     static_cast<float>(std::min(this->Opt.BlockerSearchSamples, kFragmentSearch)),
