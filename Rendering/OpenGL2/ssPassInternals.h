@@ -15,6 +15,7 @@
 #include "ssGBuffer.h"
 #include "ssGLLimits.h"
 #include "ssPassStats.h"
+#include "ssReceiverCapture.h"
 #include "ssShadowMaps.h"
 #include "ssSolverOptions.h"
 #include "ssVisibilityLayers.h"
@@ -54,6 +55,7 @@ public:
   ss::ShadowMaps Maps;
   ss::VisibilityLayers Visibility;
   ss::StageTimings Timings;
+  ss::ReceiverCapture Capture; ///< the translucent receivers' V, when asked (CaptureTranslucentReceivers)
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO; // render target of the off-screen stages
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
 
@@ -67,7 +69,8 @@ public:
   vtkTimeStamp StageTime;
   bool ShadowsThisFrame = false;
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
-  bool ShadeTranslucent = false; // ... and the per-fragment code of translucent receivers
+  std::vector<vtkProp*> ShadeTranslucent; // the translucent receivers, whose shaders carry their per-fragment code
+  bool ShadeCapture = false;     // ... and its capture (CaptureTranslucentReceivers)
   std::string LastSignature;
   std::string LastFarLightWarning; // warned once until the far lights change
   bool HaveResults = false;
@@ -160,7 +163,8 @@ public:
   int CountResources() const
   {
     int n = this->GBuf.CountGraphicsResources() + this->Maps.CountGraphicsResources() +
-      this->Visibility.CountGraphicsResources() + this->Casters.CountGraphicsResources();
+      this->Visibility.CountGraphicsResources() + this->Casters.CountGraphicsResources() +
+      this->Capture.CountGraphicsResources();
     for (const auto& solver : this->Solvers)
     {
       n += solver->GetNumberOfGraphicsResources();
@@ -171,7 +175,8 @@ public:
 
   long long MemoryBytes() const
   {
-    long long b = this->GBuf.Bytes() + this->Maps.Bytes() + this->Visibility.Bytes() + this->Casters.Bytes();
+    long long b = this->GBuf.Bytes() + this->Maps.Bytes() + this->Visibility.Bytes() + this->Casters.Bytes() +
+      this->Capture.Bytes();
     for (const auto& solver : this->Solvers)
     {
       b += solver->GetMemoryBytes();
@@ -187,6 +192,7 @@ public:
       solver->ReleaseGraphicsResources(w);
     }
     this->Visibility.ReleaseGraphicsResources();
+    this->Capture.ReleaseGraphicsResources();
     this->GBuf.ReleaseGraphicsResources(w);
     if (this->FBO)
     {

@@ -130,6 +130,26 @@ bool vtkSoftShadowPass::GetDiffuseCosineImage(int shadowLight, vtkFloatArray* ou
   return true;
 }
 
+bool vtkSoftShadowPass::GetTranslucentReceiverImages(
+  vtkFloatArray* visibility, vtkFloatArray* positions, vtkFloatArray* normals)
+{
+  auto& in = *this->Internals;
+  std::vector<float> V, p, n;
+  if (!visibility || !positions || !normals || !in.Window || !in.Capture.Read(in.Window, in.FBO, V, p, n))
+  {
+    return false;
+  }
+  auto fill = [](vtkFloatArray* out, const std::vector<float>& values, int comps) {
+    out->SetNumberOfComponents(comps);
+    out->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / comps));
+    std::copy(values.begin(), values.end(), out->GetPointer(0));
+  };
+  fill(visibility, V, 1);
+  fill(positions, p, 3);
+  fill(normals, n, 3);
+  return true;
+}
+
 int vtkSoftShadowPass::GetLastPVSMTileGridLevels()
 {
   auto* pvsm = dynamic_cast<ss::PVSMSolver*>(this->Internals->SolverFor(ss::Method::PVSM));
@@ -272,6 +292,7 @@ void vtkSoftShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NormalOffset: " << this->NormalOffset << "\n";
   os << indent << "FitViewsToVisibleReceivers: " << (this->FitViewsToVisibleReceivers ? "on" : "off") << "\n";
   os << indent << "KeepRequestedMethod: " << (this->KeepRequestedMethod ? "on" : "off") << "\n";
+  os << indent << "CaptureTranslucentReceivers: " << this->CaptureTranslucentReceivers << "\n";
   os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "DelegatePass: " << this->DelegatePass << "\n";
   os << indent << "Plan:\n" << this->Internals->Plan.ToText() << "\n";

@@ -1,6 +1,7 @@
 #include "ssShadingSubstitution.h"
 
 #include "ssFrameState.h"
+#include "ssReceiverCapture.h"
 #include "ssTranslucentReceivers.h"
 
 #include "vtkShaderProgram.h"
@@ -9,7 +10,7 @@
 
 namespace ss
 {
-int InjectVisibility(std::string& fragmentShader, bool translucentReceivers)
+int InjectVisibility(std::string& fragmentShader, bool translucentReceivers, bool capture)
 {
   int lightsInShader = 0;
   while (fragmentShader.find("lightColor" + std::to_string(lightsInShader)) != std::string::npos)
@@ -23,13 +24,23 @@ int InjectVisibility(std::string& fragmentShader, bool translucentReceivers)
     return 0; // unlit, or a headlight (which never casts shadows)
   }
   int hits = 0;
+  std::string perLight;
   for (int i = 0; i < lightsInShader; ++i)
   {
     const std::string n = std::to_string(i);
     const std::string vis = "ssVisibility(ssLightLayer" + n + ", ssLightColorLayer" + n + ")";
+    const std::string diffuse = "diffuse += (df * lightColor" + n + ");";
+    const std::string specular = "specular += (sf * lightColor" + n + ");";
+    const std::size_t d = fragmentShader.find(diffuse), sp = fragmentShader.find(specular);
+    // The specular term takes the V the diffuse term computed just before
+    // (in VTK's Phong code both are in one block, diffuse first): a
+    // translucent receiver's V is its fragment's whole filter, which
+    // llvmpipe would otherwise run twice per light.
+    const bool reuse = d != std::string::npos && sp != std::string::npos && d < sp;
+    perLight += "vec3 ssVis" + n + " = vec3(1.0);\n";
     const std::pair<std::string, std::string> subs[] = {
-      { "diffuse += (df * lightColor" + n + ");", "diffuse += (df * lightColor" + n + " * " + vis + ");" },
-      { "specular += (sf * lightColor" + n + ");", "specular += (sf * lightColor" + n + " * " + vis + ");" },
+      { diffuse, "{ ssVis" + n + " = " + vis + "; diffuse += (df * lightColor" + n + " * ssVis" + n + "); }" },
+      { specular, "specular += (sf * lightColor" + n + " * " + (reuse ? "ssVis" + n : vis) + ");" },
       { "radiance = lightColor" + n + ";", "radiance = lightColor" + n + " * " + vis + ";" },
       { "radiance = lightColor" + n + " * attenuation;",
         "radiance = lightColor" + n + " * attenuation * " + vis + ";" },
@@ -56,7 +67,7 @@ int InjectVisibility(std::string& fragmentShader, bool translucentReceivers)
   }
   // props that are not in the G-buffer (translucent ones) get the
   // visibility of their own fragments from the solvers that can give it
-  decl += translucentReceivers ? TranslucentReceiverCode(fragmentShader)
+  decl += translucentReceivers ? TranslucentReceiverCode(fragmentShader, capture)
                                : std::string("vec3 ssFragmentVisibility(int layer) { return vec3(1.0); }\n");
   decl += "vec3 ssVisibility(int layer, int colorLayer)\n"
           "{\n"
@@ -69,7 +80,9 @@ int InjectVisibility(std::string& fragmentShader, bool translucentReceivers)
           "  if (colorLayer >= 0) { return clamp(texelFetch(ssVisColorTex, ivec3(pix, colorLayer), 0).rgb, 0.0, 1.0); }\n"
           "  return vec3(clamp(texelFetch(ssVisTex, ivec3(pix, layer), 0).r, 0.0, 1.0));\n"
           "}\n";
+  decl += perLight;
   fragmentShader.insert(fragmentShader.find("void main"), decl);
+  ReceiverCapture::RequireImageStores(fragmentShader, translucentReceivers && capture);
   return 0;
 }
 

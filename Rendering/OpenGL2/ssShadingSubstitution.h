@@ -25,13 +25,18 @@ struct ShadowLight;
 /// where the light has a colour layer) and declares that function and its
 /// uniforms. Fragments of props that are not in the G-buffer (translucent
 /// props) take ssFragmentVisibility (ssTranslucentReceivers) when
-/// `translucentReceivers`; without them that function is 1: its code (the
-/// AVSM lookup and filter) made every shaded fragment 7x slower on llvmpipe,
-/// which runs both sides of a branch (issue 24, PVSM's first frame).
-/// Unlit and headlight-only shaders are left alone. Returns how many lights'
-/// terms were not found (0 when all were, or when there was nothing to do);
-/// the shader is then not usable.
-int InjectVisibility(std::string& fragmentShader, bool translucentReceivers);
+/// `translucentReceivers` (the shader of a translucent receiver); elsewhere
+/// that function is 1: its code (the AVSM lookup and filter) made every
+/// shaded fragment 7x slower on llvmpipe, which runs both sides of a branch
+/// (issue 24, PVSM's first frame; in every prop's shader while a
+/// translucent receiver was shown, until issue 20). Each light's V is
+/// computed once, for its diffuse term, and reused by its specular term.
+/// Unlit and headlight-only shaders are left alone. `capture`: the
+/// translucent receivers' code also stores each fragment's V
+/// (ssReceiverCapture). Returns how many lights' terms were not found (0
+/// when all were, or when there was nothing to do); the shader is then not
+/// usable.
+int InjectVisibility(std::string& fragmentShader, bool translucentReceivers, bool capture);
 
 /// The uniforms of one draw with that code.
 struct ShadingUniforms

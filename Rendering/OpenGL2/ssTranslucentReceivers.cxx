@@ -1,14 +1,21 @@
 #include "ssTranslucentReceivers.h"
 
 #include "ssFrameState.h"
+#include "ssShadowView.h"
 #include "ssGBuffer.h"
+#include "ssReceiverCapture.h"
 #include "ssVisibilitySolver.h"
 
 #include "ssAVSMLookup.h"
 #include "ssShadowCommon.h"
 
+#include "vtkActor.h"
+#include "vtkMath.h"
 #include "vtkShaderProgram.h"
+#include "vtkSoftShadowPass.h"
 
+#include <algorithm>
+#include <cmath>
 #include <regex>
 #include <sstream>
 
@@ -26,7 +33,35 @@ std::string AsGlobals(const char* code)
 }
 }
 
-std::string TranslucentReceiverCode(const std::string& fs)
+bool IsTranslucentReceiver(vtkProp* prop)
+{
+  return prop && prop->GetVisibility() && prop->HasTranslucentPolygonalGeometry() &&
+    vtkSoftShadowPass::GetReceivesShadows(prop);
+}
+
+Box TranslucentReceiverBounds(vtkRenderer* ren)
+{
+  Box box;
+  if (!ren)
+  {
+    return box;
+  }
+  vtkSoftShadowPass::ForEachVisibleActor(ren, [&box](vtkActor* actor, vtkMatrix4x4*) {
+    double b[6];
+    if (IsTranslucentReceiver(actor))
+    {
+      actor->GetBounds(b);
+      if (vtkMath::AreBoundsInitialized(b) && std::all_of(b, b + 6, [](double x) { return std::isfinite(x); }))
+      {
+        box.Add(glm::dvec3(b[0], b[2], b[4]));
+        box.Add(glm::dvec3(b[1], b[3], b[5]));
+      }
+    }
+  });
+  return box;
+}
+
+std::string TranslucentReceiverCode(const std::string& fs, bool capture)
 {
   const bool haveVC = fs.find("in vec4 vertexVCVSOutput;") != std::string::npos;
   const bool haveN = fs.find("in vec3 normalVCVSOutput;") != std::string::npos;
@@ -58,6 +93,7 @@ std::string TranslucentReceiverCode(const std::string& fs)
        "  return (ssFragSel == 0) ? texelFetch(ssFragAVSM0, p, level) : texelFetch(ssFragAVSM1, p, level);\n"
        "}\n";
   o << AsGlobals(ssAVSMLookup);
+  o << ReceiverCapture::Code(capture);
   o << "vec3 ssFragmentVisibility(int layer)\n"
        "{\n";
   if (!haveVC)
@@ -120,11 +156,16 @@ std::string TranslucentReceiverCode(const std::string& fs)
        "  vec3 nPlane = (dot(ng, ng) > 0.5) ? ng : nrm;\n"
        "  vec3 d = p - lightCenter;\n"
        "  View w = selectView(d, nPlane);\n"
-       "  if (w.index < 0) { return vec3(outsideViewsVisibility(d)); }\n"
-       "  int hard = int(ssFragFilter[k].x);\n"
-       "  vec3 T = avsmVisibility(w, nPlane, d, hard);\n"
-       "  T *= (hard != 0) ? centreAboveSurface(nrm, ng, d) : lightAboveSurface(nrm, ng, d);\n"
-       "  return clamp(T, 0.0, 1.0);\n"
+       "  vec3 T = vec3(outsideViewsVisibility(d));\n"
+       "  if (w.index >= 0)\n"
+       "  {\n"
+       "    int hard = int(ssFragFilter[k].x);\n"
+       "    T = avsmVisibility(w, nPlane, d, hard);\n"
+       "    T *= (hard != 0) ? centreAboveSurface(nrm, ng, d) : lightAboveSurface(nrm, ng, d);\n"
+       "  }\n"
+       "  T = clamp(T, 0.0, 1.0);\n"
+       "  ssCaptureFragment(layer, (avsmColored != 0) ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n"
+       "  return T;\n"
        "}\n";
   return o.str();
 }

@@ -18,20 +18,32 @@
 #include <string>
 #include <vector>
 
+class vtkProp;
+class vtkRenderer;
 class vtkShaderProgram;
 
 namespace ss
 {
+struct Box;
 class GBuffer;
 class VisibilitySolver;
 struct ShadowLight;
 
 constexpr int kFragmentSlots = 4;
 
+/// Whether `prop`'s fragments compute V in the shading stage: it is shown,
+/// translucent (so not in the G-buffer) and receives shadows.
+bool IsTranslucentReceiver(vtkProp* prop);
+
+/// The world bounds of the renderer's translucent receivers (empty: none).
+Box TranslucentReceiverBounds(vtkRenderer* renderer);
+
 /// The declarations and the function ssFragmentVisibility(int layer) (vec3)
 /// for a polydata mapper's fragment shader `fragmentShader` (read for which
-/// of VTK's inputs it has); vec3(1) where no slot holds the layer.
-std::string TranslucentReceiverCode(const std::string& fragmentShader);
+/// of VTK's inputs it has); vec3(1) where no slot holds the layer. With
+/// `capture`, each fragment's V also goes to the capture image
+/// (ssReceiverCapture).
+std::string TranslucentReceiverCode(const std::string& fragmentShader, bool capture);
 
 /// The uniforms of that code for one draw: the camera, and a slot per
 /// shadow light whose solver (`solverOf` its method) shades fragments (at

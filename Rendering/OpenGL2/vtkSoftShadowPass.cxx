@@ -518,22 +518,42 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
   // The shading code is injected only while there are shadows (its samplers
   // must be bound to real textures), the per-fragment code of translucent
   // receivers only while one is shown: rebuild shaders when either changes.
-  bool translucent = false;
-  for (int i = 0; in.ShadowsThisFrame && !translucent && i < s->GetPropArrayCount(); ++i)
+  // Only the translucent receivers' shaders carry that code (llvmpipe runs
+  // both sides of a branch: in every other prop's shader it ran, masked,
+  // for every fragment), so the shaders are rebuilt when the set changes.
+  std::vector<vtkProp*> translucentProps;
+  for (int i = 0; in.ShadowsThisFrame && i < s->GetPropArrayCount(); ++i)
   {
     vtkProp* prop = s->GetPropArray()[i];
-    translucent = prop->GetVisibility() && prop->HasTranslucentPolygonalGeometry() && GetReceivesShadows(prop);
+    if (ss::IsTranslucentReceiver(prop))
+    {
+      translucentProps.push_back(prop);
+    }
   }
+  const bool translucent = !translucentProps.empty();
+  const bool capture = translucent && this->CaptureTranslucentReceivers >= 0;
   if (in.CurrentStage != Stage::Shade || in.ShadeShadows != in.ShadowsThisFrame ||
-    in.ShadeTranslucent != translucent)
+    in.ShadeTranslucent != translucentProps || in.ShadeCapture != capture)
   {
     in.CurrentStage = Stage::Shade;
     in.ShadeShadows = in.ShadowsThisFrame;
-    in.ShadeTranslucent = translucent;
+    in.ShadeTranslucent = translucentProps;
+    in.ShadeCapture = capture;
     in.StageTime.Modified();
+  }
+  if (!capture || !in.ShadowsThisFrame)
+  {
+    in.Capture.ReleaseGraphicsResources(); // a frame without a capture leaves none to read
   }
   if (in.ShadowsThisFrame)
   {
+    // first: making its image binds (and unbinds) a 2-D array on the active
+    // texture unit, which must not yet hold a texture the shading reads
+    std::string error;
+    if (capture && !in.Capture.Begin(win, w, h, this->CaptureTranslucentReceivers, error))
+    {
+      vtkErrorMacro(<< error);
+    }
     in.Visibility.BindForShading(win);
     in.GBuf.Position->Activate();
     for (const auto& solver : in.Solvers)
@@ -554,6 +574,7 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
   this->PostRender(s);
   if (in.ShadowsThisFrame)
   {
+    in.Capture.End();
     for (const auto& solver : in.Solvers)
     {
       solver->EndShading(win);
@@ -596,7 +617,8 @@ bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader, std::
   {
     return true;
   }
-  if (const int missing = ss::InjectVisibility(fragmentShader, in.ShadeTranslucent))
+  const bool translucentReceiver = ss::IsTranslucentReceiver(prop);
+  if (const int missing = ss::InjectVisibility(fragmentShader, translucentReceiver, in.ShadeCapture))
   {
     vtkErrorMacro("vtkSoftShadowPass: could not find the light terms of "
       << missing << " light(s) in the shader of " << (prop ? prop->GetClassName() : "?")
@@ -635,6 +657,7 @@ bool vtkSoftShadowPass::SetShaderParameters(
   ss::SetVisibilityUniforms(program, u, in.Frame.Lights);
   ss::SetTranslucentReceiverUniforms(program, in.GBuf, in.Frame.Lights,
     [&in](ss::Method m) -> const ss::VisibilitySolver* { return in.SolverFor(m); }, u.VisibilityUnit);
+  in.Capture.SetUniforms(program);
   return true;
 }
 

@@ -405,6 +405,22 @@ public:
    */
   bool GetDiffuseCosineImage(int shadowLight, vtkFloatArray* out);
   /**
+   * The V of translucent receivers (props not in the G-buffer, whose
+   * fragments compute V in the shading stage; VPCSS and AVSM), for tests
+   * and diagnostics. With CaptureTranslucentReceivers set to a shadow
+   * light's index (default -1: off), the next frames' shading also stores,
+   * per pixel, the V that light's solver gave the translucent fragment drawn
+   * there last, that fragment's position (relative to
+   * GetLastPositionsOrigin) and the normal of the plane its filter used.
+   * GetTranslucentReceiverImages reads the last frame's back (1, 3 and 3
+   * components per pixel, NaN where no translucent receiver was shaded);
+   * false when nothing was captured. The capture needs GL 4.4; the shaders
+   * carry its code only while it is on.
+   */
+  vtkSetMacro(CaptureTranslucentReceivers, int);
+  vtkGetMacro(CaptureTranslucentReceivers, int);
+  bool GetTranslucentReceiverImages(vtkFloatArray* visibility, vtkFloatArray* positions, vtkFloatArray* normals);
+  /**
    * PVSM's shadow map tile grid pyramid of the last view solved, as built on
    * the GPU and read back (§5.2 step 5): level l has (G/2^l)^2 cells of 2
    * components (the smallest predicted texel size per axis; values >= 1e38
@@ -476,6 +492,7 @@ protected:
   bool MeasureTimings = false;
   bool AdaptToFrameBudget = true;
   bool KeepRequestedMethod = false;
+  int CaptureTranslucentReceivers = -1;
   double InteractiveUpdateRate = 0.1;
 
 private:

@@ -204,6 +204,13 @@ ss_cli_render(nan_mesh "${_ss_data}/GoodScenes/nan_mesh.json" soft --method pcss
 # a volume object read from a .vti (its "density" array, a transform): the
 # planner gives its light vpcss, which shadows the ground through it (issue 20)
 ss_cli_render(volume_file "${_ss_data}/GoodScenes/volume_file.json" soft --size 320x240)
+# the translucent receivers' scene of vpcss.md: a sheet that casts nothing under a
+# translucent layer; the planner gives the light vpcss for the layer
+add_test(NAME cli.render.translucent_sheet
+  COMMAND env -u DISPLAY ${_ss_cli} render "${PROJECT_SOURCE_DIR}/Data/Scenes/translucent_sheet.json" --size 160x120
+    --output "${_ss_out}/cli_translucent_sheet.png")
+set_tests_properties(cli.render.translucent_sheet PROPERTIES LABELS "cli" TIMEOUT 300
+  PASS_REGULAR_EXPRESSION "light 0: vpcss - area light with translucent casters")
 # A scene with a mesh file (.off through OpenMesh; the mesh is committed, not
 # generated). Run through the test wrapper, so the program takes the path
 # where DISPLAY is already set (the wrapper's Xvfb, or the developer's X).

@@ -125,7 +125,13 @@ vec2 avsmBlocker(float zR)
     vec3 tc = avT[i];
     if (!(zE < zR))
     {
-      tc = avsmEval(zR, true);
+      // the function just in front of zR, avsmEval(zR, true): avD[i - 1] <
+      // zR <= avD[i] (i > 0), so it lies on the segment from node i - 1 to
+      // node i (written out: avsmEval's search loop here made the blocker
+      // of every texel O(N^2))
+      int j = max(i - 1, 0);
+      float s = (zR - avD[j]) / (avD[i] - avD[j]);
+      tc = avT[j] + (avT[i] - avT[j]) * s;
       zE = zR;
     }
     for (int c = 0; c < channels; ++c)
@@ -144,13 +150,57 @@ vec2 avsmBlocker(float zR)
   return acc;
 }
 
+// The nearest node depth of texel q of `view` at `level` (3e38: no node,
+// or outside the map): the first depth of its first layer, one fetch (the
+// nodes are stored sorted, unused ones last; storeNodes in ssAVSMBuildCS).
+float avsmFirstDepth(int view, ivec2 q, int level)
+{
+  int size = max(1, int(mapSize) >> level);
+  if (q.x < 0 || q.y < 0 || q.x >= size || q.y >= size)
+  {
+    return 3.0e38;
+  }
+  return avsmFetch(ivec3(q, avsmFirstLayer + view * avsmLayersPerView), level).x;
+}
+
+// An upper bound of the receiver plane's depth (planeDepth) over the quad
+// [a, a + s]^2 (texel units). Along the projection rays the plane's depth
+// is dot(n, p) / dot(n, (X, 1)), monotonic along any segment on which the
+// denominator keeps its sign, so the corners bound it; where the sign may
+// change inside, only planeDepth's clamp bounds it.
+float planeUpper(View w, vec2 a, float s, float maxDelta)
+{
+  if (orthographic == 0)
+  {
+    vec2 X0 = texelToProjected(w, a), X1 = texelToProjected(w, a + vec2(s));
+    vec4 den = vec4(dot(w.n, vec3(X0, 1.0)), dot(w.n, vec3(X1.x, X0.y, 1.0)), dot(w.n, vec3(X0.x, X1.y, 1.0)),
+      dot(w.n, vec3(X1, 1.0)));
+    if (!(all(greaterThan(den, vec4(1e-12))) || all(lessThan(den, vec4(-1e-12)))))
+    {
+      return w.p.z + maxDelta;
+    }
+  }
+  return planeRange(w, a, s, maxDelta).y;
+}
+
 // VPCSS §4, eq. 13: the blocker depth over the search window (the light's
 // footprint on the plane of the nearest caster, as PCSS's blocker search),
 // read from the pyramid level whose cells are about 2 * search / samples
 // texels wide so that no blocker between samples is missed; each cell
 // weighted by its overlap with the window and by its Delta (1 - T at the
 // receiver's nearest depth over the cell). -1: nothing in the window has
-// transmittance < 1 in front of the receiver (the paper's early exit).
+// transmittance < 1 in front of the receiver (the paper's early exit, §4).
+//
+// That exit is taken for blocks of cells first: the pyramid level two above
+// the search's holds in its first node depth the nearest node of every
+// texel under it (the mean function's first breakpoint is its children's
+// nearest, and least-area removal never removes the first node: K_PYRAMID
+// in ssAVSMBuildCS.glsl), so a block whose first depth lies behind the
+// receiver plane's farthest depth over the window holds no blocker in front
+// of any of its cells (their Delta is 0). Only the search cells under the
+// other blocks are read, in the same order: the sums, and so V, are the
+// same as over every cell; with no such block, V = 1 after at most 4 x 4
+// fetches instead of up to 9 x 9 functions.
 float avsmBlockerSearch(View w, float bias)
 {
   vec2 searchHalf = lightFilterHalf(w.p.z, min(searchDepth, w.p.z));
@@ -164,6 +214,31 @@ float avsmBlockerSearch(View w, float bias)
   vec2 s1 = w.T + searchTex;
   ivec2 c0 = ivec2(floor(s0 / cell));
   ivec2 c1 = ivec2(floor(s1 / cell));
+  int up = min(level + 2, avsmLevels - 1) - level;
+  if (up > 0)
+  {
+    // the deepest a search cell's receiver depth (zr - bias * cell below)
+    // can be: over a square holding every search cell, with a margin for
+    // the rounding of the corners' depths
+    float side = float(max(c1.x - c0.x, c1.y - c0.y) + 1) * cell;
+    float zMax = planeUpper(w, vec2(c0) * cell, side, maxDelta);
+    zMax += 1e-4 * abs(zMax) - bias * cell;
+    ivec2 b0 = c0 >> up, b1 = c1 >> up;
+    ivec2 lo = c1 + 1, hi = c0 - 1; // the search cells under blocks that may block
+    for (int by = b0.y; by <= b1.y; ++by)
+    {
+      for (int bx = b0.x; bx <= b1.x; ++bx)
+      {
+        if (avsmFirstDepth(w.index, ivec2(bx, by), level + up) < zMax)
+        {
+          lo = min(lo, ivec2(bx, by) << up);
+          hi = max(hi, ((ivec2(bx, by) + 1) << up) - 1);
+        }
+      }
+    }
+    c0 = max(c0, lo);
+    c1 = min(c1, hi);
+  }
   float sum = 0.0, weight = 0.0;
   for (int cy = c0.y; cy <= c1.y; ++cy)
   {
@@ -208,19 +283,20 @@ vec3 avsmQuad(View w, int level, ivec2 q, float bias, float maxDelta)
   vec2 zr = planeRange(w, vec2(q) * s, s, maxDelta) - bias * s;
   vec3 near = avsmEval(zr.x, false);
   vec3 far = avsmEval(zr.y, false);
-  if (avsmRefine == 0 || all(lessThan(abs(near - far), vec3(1e-3))))
-  {
-    return 0.5 * (near + far);
-  }
+  bool refine = avsmRefine != 0 && !all(lessThan(abs(near - far), vec3(1e-3)));
+  // the children's loop runs 0 times unless refining: llvmpipe runs a
+  // branch's body for every fragment of a group whatever the condition,
+  // but a loop only as often as its longest-running fragment needs
+  int children = refine ? 4 : 0;
   float h = 0.5 * s;
   vec3 sum = vec3(0.0);
-  for (int c = 0; c < 4; ++c)
+  for (int c = 0; c < children; ++c)
   {
     ivec2 child = 2 * q + ivec2(c & 1, c >> 1);
     float z = planeDepth(w, texelToProjected(w, vec2(child) * h + 0.5 * h), maxDelta) - bias * h;
     sum += avsmTexel(w.index, child, level - 1, z);
   }
-  return 0.25 * sum;
+  return refine ? 0.25 * sum : 0.5 * (near + far);
 }
 
 // The filtered transmittance over the kernel box [k0, k1] (texel units):
