@@ -68,15 +68,13 @@ GearsPieceCounts FindGearsPieces(
     std::uint64_t key;
     std::uint32_t r;
   };
-  std::vector<glm::dvec3> points(3 * m); // the block's corners, contiguous
   std::vector<Corner> sorted;
   sorted.reserve(3 * m);
   for (std::size_t r = 0; r < 3 * m; ++r)
   {
-    points[r] = corner(r);
     if (valid[r / 3])
     {
-      sorted.push_back({ Hash(points[r]), static_cast<std::uint32_t>(r) });
+      sorted.push_back({ Hash(corner(r)), static_cast<std::uint32_t>(r) });
     }
   }
   tbb::parallel_sort(sorted.begin(), sorted.end(),
@@ -90,17 +88,17 @@ GearsPieceCounts FindGearsPieces(
     bool same = true;
     for (; j < sorted.size() && sorted[j].key == sorted[i].key; ++j)
     {
-      same = same && points[sorted[j].r] == points[sorted[i].r];
+      same = same && corner(sorted[j].r) == corner(sorted[i].r);
     }
     if (!same)
     {
       // a collision: its points in order, so that each is one run
       std::sort(sorted.begin() + std::ptrdiff_t(i), sorted.begin() + std::ptrdiff_t(j),
-        [&](const Corner& a, const Corner& b) { return Less(points[a.r], points[b.r]); });
+        [&](const Corner& a, const Corner& b) { return Less(corner(a.r), corner(b.r)); });
     }
     for (std::size_t k = i; k < j; ++k)
     {
-      if (k == i || (!same && points[sorted[k].r] != points[sorted[k - 1].r]))
+      if (k == i || (!same && corner(sorted[k].r) != corner(sorted[k - 1].r)))
       {
         vertexBegin.push_back(static_cast<std::uint32_t>(k));
       }
@@ -218,7 +216,7 @@ GearsPieceCounts FindGearsPieces(
     if (component[root] == ~0u)
     {
       component[root] = static_cast<std::uint32_t>(closed.size());
-      origin.push_back(points[3 * i]);
+      origin.push_back(corner(3 * i));
       closed.push_back(mayClose ? 1 : 0);
     }
     component[i] = component[root];
@@ -231,8 +229,8 @@ GearsPieceCounts FindGearsPieces(
     if (valid[i])
     {
       const std::uint32_t c = component[i];
-      const glm::dvec3 p = points[3 * i] - origin[c], q = points[3 * i + 1] - origin[c],
-                       r = points[3 * i + 2] - origin[c];
+      const glm::dvec3 p = corner(3 * i) - origin[c], q = corner(3 * i + 1) - origin[c],
+                       r = corner(3 * i + 2) - origin[c];
       const double w = glm::dot(p, glm::cross(q, r));
       volume[c] += w;
       magnitude[c] += std::abs(w);
