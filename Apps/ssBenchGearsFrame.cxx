@@ -24,10 +24,9 @@
 #include "vtkSoftShadowPass.h"
 #include "vtkTriangleFilter.h"
 
+#include "ssGearsPieces.h"
 #include "ssTriangleSet.h"
 
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -62,6 +61,7 @@ struct ActorTriangles
   std::vector<std::array<vtkIdType, 3>> tris;
   float opacity = 1.0f;
   bool casts = true;
+  bool affine = true; // a projective matrix leaves the actor's pieces open
 };
 
 
@@ -70,6 +70,8 @@ ActorTriangles Gather(vtkActor* actor, vtkMatrix4x4* m)
   ActorTriangles a;
   a.opacity = static_cast<float>(actor->GetProperty()->GetOpacity());
   a.casts = vtkSoftShadowPass::GetCastsShadows(actor);
+  a.affine = m->GetElement(3, 0) == 0.0 && m->GetElement(3, 1) == 0.0 && m->GetElement(3, 2) == 0.0 &&
+    m->GetElement(3, 3) == 1.0;
   actor->GetMapper()->Update();
   auto* pd = vtkPolyData::SafeDownCast(actor->GetMapper()->GetInputDataObject(0, 0));
   if (!pd || !pd->GetPoints())
@@ -122,115 +124,6 @@ ActorTriangles Gather(vtkActor* actor, vtkMatrix4x4* m)
     }
   }
   return a;
-}
-
-// Closed pieces of one actor's triangles [ssGEARS.h, GearsPieces]: points
-// welded by exact coordinates, faces added to an OpenMesh triangle mesh
-// (which refuses a face that would make an edge non-manifold or the
-// orientation inconsistent), connected components through OpenMesh's
-// face-face circulator. A component is closed when none of its halfedges is a
-// boundary and none of its vertices belongs to a refused face; its
-// orientation is the sign of its volume.
-void FindPieces(const ActorTriangles& a, std::uint32_t firstPiece, std::vector<std::uint32_t>& piece,
-  std::vector<std::int8_t>& orientation)
-{
-  using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
-  Mesh mesh;
-  // weld: equal coordinates -> one vertex
-  std::vector<vtkIdType> order(a.points.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](vtkIdType x, vtkIdType y) {
-    const glm::dvec3 &p = a.points[x], &q = a.points[y];
-    return p.x != q.x ? p.x < q.x : (p.y != q.y ? p.y < q.y : p.z < q.z);
-  });
-  std::vector<Mesh::VertexHandle> vh(a.points.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-  {
-    const glm::dvec3& p = a.points[order[i]];
-    if (i > 0 && p == a.points[order[i - 1]])
-    {
-      vh[order[i]] = vh[order[i - 1]];
-    }
-    else
-    {
-      vh[order[i]] = mesh.add_vertex(Mesh::Point(p.x, p.y, p.z));
-    }
-  }
-  std::vector<Mesh::FaceHandle> fh(a.tris.size());
-  std::vector<char> refusedVertex(mesh.n_vertices(), 0);
-  for (std::size_t t = 0; t < a.tris.size(); ++t)
-  {
-    const auto& tr = a.tris[t];
-    const Mesh::VertexHandle v0 = vh[tr[0]], v1 = vh[tr[1]], v2 = vh[tr[2]];
-    if (v0 == v1 || v1 == v2 || v0 == v2)
-    {
-      continue; // zero area after welding: the solvers skip it too
-    }
-    fh[t] = mesh.add_face(v0, v1, v2);
-    if (!fh[t].is_valid())
-    {
-      refusedVertex[v0.idx()] = refusedVertex[v1.idx()] = refusedVertex[v2.idx()] = 1;
-    }
-  }
-  std::vector<int> component(mesh.n_faces(), -1);
-  std::vector<char> closed;
-  std::vector<double> volume;
-  std::vector<Mesh::FaceHandle> stack;
-  for (auto f : mesh.faces())
-  {
-    if (component[f.idx()] >= 0)
-    {
-      continue;
-    }
-    const int c = static_cast<int>(closed.size());
-    closed.push_back(1);
-    volume.push_back(0.0);
-    component[f.idx()] = c;
-    stack.assign(1, f);
-    while (!stack.empty())
-    {
-      const Mesh::FaceHandle g = stack.back();
-      stack.pop_back();
-      std::array<Mesh::Point, 3> p;
-      int q = 0;
-      for (auto v : mesh.fv_range(g))
-      {
-        p[q++] = mesh.point(v);
-        closed[c] = closed[c] && !refusedVertex[v.idx()];
-      }
-      volume[c] += OpenMesh::dot(p[0], OpenMesh::cross(p[1], p[2]));
-      for (auto h : mesh.fh_range(g))
-      {
-        closed[c] = closed[c] && !mesh.is_boundary(mesh.opposite_halfedge_handle(h));
-      }
-      for (auto n : mesh.ff_range(g))
-      {
-        if (component[n.idx()] < 0)
-        {
-          component[n.idx()] = c;
-          stack.push_back(n);
-        }
-      }
-    }
-  }
-  // triangles refused by OpenMesh, or degenerate, each get an open piece of their own
-  std::uint32_t next = firstPiece + static_cast<std::uint32_t>(closed.size());
-  for (std::size_t c = 0; c < closed.size(); ++c)
-  {
-    orientation.push_back(closed[c] ? (volume[c] > 0.0 ? 1 : (volume[c] < 0.0 ? -1 : 0)) : 0);
-  }
-  for (std::size_t t = 0; t < a.tris.size(); ++t)
-  {
-    if (fh[t].is_valid())
-    {
-      piece.push_back(firstPiece + static_cast<std::uint32_t>(component[fh[t].idx()]));
-    }
-    else
-    {
-      piece.push_back(next++);
-      orientation.push_back(0);
-    }
-  }
 }
 
 ss::LightFrame FirstShadowLight(vtkRenderer* ren)
@@ -373,25 +266,26 @@ GearsFrame CaptureGearsFrame(vtkRenderWindow* win, vtkRenderer* ren)
   const auto t1 = Clock::now();
   f.msCapture = Ms(t0, t1);
 
-  // the casters and their pieces
-  omerr().disable();
-  omlog().disable();
-  omout().disable();
+  // the casters and their pieces, one actor at a time (as the pass finds them)
+  std::vector<std::uint32_t> block;
   for (const ActorTriangles& a : actors)
   {
     if (!a.casts)
     {
       continue;
     }
+    block.clear();
     for (const auto& tr : a.tris)
     {
+      block.push_back(static_cast<std::uint32_t>(f.tris.size() / 3));
       for (int j = 0; j < 3; ++j)
       {
         f.tris.push_back(a.points[tr[j]]);
       }
       f.opacity.push_back(a.opacity);
     }
-    FindPieces(a, static_cast<std::uint32_t>(f.pieces.orientation.size()), f.pieces.piece, f.pieces.orientation);
+    f.pieces.piece.resize(f.tris.size() / 3);
+    ss::FindGearsPieces(f.tris, block, a.affine, f.pieces);
   }
   f.pieceCount = f.pieces.orientation.size();
   for (auto o : f.pieces.orientation)

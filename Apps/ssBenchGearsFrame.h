@@ -1,6 +1,6 @@
 // What `softshadows bench --gears` feeds every solver it times: one frame's
 // pixel samples (the pass's G-buffer positions, normals recovered from the
-// scene), the caster triangles with their closed pieces (OpenMesh), the
+// scene), the caster triangles with their closed pieces (ss::FindGearsPieces), the
 // light; and the minimal Embree program the solvers are measured against.
 #ifndef ssBenchGearsFrame_h
 #define ssBenchGearsFrame_h
@@ -31,7 +31,7 @@ struct GearsFrame
   std::size_t foreground = 0;
   std::vector<glm::dvec3> tris; ///< caster triangles, 3 world vertices each
   std::vector<float> opacity;   ///< per caster triangle
-  ss::GearsPieces pieces;       ///< closed, outward-oriented pieces (OpenMesh), per triangle
+  ss::GearsPieces pieces;       ///< closed, pieces (ss::FindGearsPieces), per triangle
   std::size_t pieceCount = 0, closedPieces = 0, closedTriangles = 0;
   double msCapture = 0.0, msPieces = 0.0;
 };
@@ -42,8 +42,8 @@ struct GearsFrame
 /// pixel's normal as the pass's G-buffer holds it (the hit triangle's
 /// interpolated point normal, or its face normal, turned to the viewer; found
 /// by casting a ray from the eye to the pixel's position), and the closed
-/// pieces (connected components that OpenMesh finds 2-manifold without
-/// boundary, consistently oriented, with positive volume). Throws on a scene
+/// pieces (ss::FindGearsPieces per actor, as the pass finds them: 2-manifold
+/// without boundary, consistently oriented, sign of the volume). Throws on a scene
 /// without a shadow-casting rect, point or directional light.
 GearsFrame CaptureGearsFrame(vtkRenderWindow* win, vtkRenderer* ren);
 

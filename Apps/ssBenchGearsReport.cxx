@@ -35,8 +35,9 @@ void WriteGearsBenchReport(const json& meta, const json& rows, const fs::path& p
      << "GEARS kernels: " << meta["simd"].get<std::string>()
      << "; OpenGL renderer: " << meta["renderer"].get<std::string>() << "). Raw data: `gears-bench.json`.\n\n"
      << "Every solver runs on the same captured frame: the pass's G-buffer positions, the normals the "
-     << "G-buffer holds (recovered from the scene), the caster triangles, and the closed pieces OpenMesh "
-     << "finds in them (2-manifold, no boundary, consistently oriented, positive volume). All use the "
+     << "G-buffer holds (recovered from the scene), the caster triangles, and the closed pieces "
+     << "`ss::FindGearsPieces` finds in them per actor, as the render pass does (exact weld; 2-manifold, no "
+     << "boundary, consistently oriented, the volume's sign). All use the "
      << "same k x k regular light samples, the same start offset and horizon rule. Times are the "
      << "solvers' own (scene and BVH builds excluded; GEARS's `SetTriangles` + `SetPieces` is listed "
      << "once per frame in the JSON as `gears_setup_ms`). GEARS: the median of "

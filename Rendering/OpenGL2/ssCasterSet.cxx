@@ -260,6 +260,8 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
   std::string translucentWhy;
   std::vector<PreparedBlock> prepared;
   std::string preparedNote;
+  std::vector<std::uint32_t> actorOf;
+  std::vector<char> actorAffine;
   ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
     if (!vtkSoftShadowPass::GetCastsShadows(actor))
     {
@@ -310,6 +312,9 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
         }
       }
     });
+    actorOf.resize(tris.size() / 3, static_cast<std::uint32_t>(actorAffine.size()));
+    actorAffine.push_back(m->GetElement(3, 0) == 0.0 && m->GetElement(3, 1) == 0.0 && m->GetElement(3, 2) == 0.0 &&
+      m->GetElement(3, 3) == 1.0);
     const bool textured = std::any_of(attr.texture.begin() + static_cast<std::ptrdiff_t>(first / 3),
       attr.texture.end(), [](int t) { return t >= 0; });
     if ((look.opacity < 1.0f || textured) && tris.size() > first)
@@ -354,6 +359,8 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
   this->AlphaTextures = anyTexture ? textures : std::vector<vtkTexture*>();
   this->TranslucentBounds = translucentBounds;
   this->TranslucentWhy = translucentWhy;
+  this->ActorOf = std::move(actorOf);
+  this->ActorAffine = std::move(actorAffine);
   this->Keys = keys;
   if (!preparedNote.empty() && preparedNote != this->PreparedNote)
   {
@@ -404,6 +411,36 @@ void CasterSet::SetPrepared(std::vector<PreparedBlock> prepared)
       }
     }
   }
+}
+
+GearsPieces CasterSet::FindPieces(const std::vector<glm::dvec3>& world, GearsPieceCounts& counts) const
+{
+  // prepared triangles keep their tables' pieces (SetPrepared); piece 0, the
+  // open piece of all the others, is split per actor
+  const std::size_t n = this->NumberOfTriangles();
+  GearsPieces out;
+  out.piece = this->Piece.empty() ? std::vector<std::uint32_t>(n, 0) : this->Piece;
+  out.orientation = this->PieceOrientation.empty() ? std::vector<std::int8_t>(1, 0) : this->PieceOrientation;
+  std::vector<std::vector<std::uint32_t>> blocks(this->ActorAffine.size());
+  for (std::size_t t = 0; t < n && t < this->ActorOf.size(); ++t)
+  {
+    if (out.piece[t] == 0)
+    {
+      blocks[this->ActorOf[t]].push_back(static_cast<std::uint32_t>(t));
+    }
+  }
+  counts = GearsPieceCounts{};
+  for (std::size_t a = 0; a < blocks.size(); ++a)
+  {
+    if (!blocks[a].empty())
+    {
+      const GearsPieceCounts c = FindGearsPieces(world, blocks[a], this->ActorAffine[a] != 0, out);
+      counts.pieces += c.pieces;
+      counts.closedPieces += c.closedPieces;
+      counts.closedTriangles += c.closedTriangles;
+    }
+  }
+  return out;
 }
 
 const char* CasterSet::ClusterSource() const
@@ -543,6 +580,12 @@ void CasterSet::EnsureClusters()
     }
     this->Piece = std::move(piece);
   }
+  std::vector<std::uint32_t> actorOf(n);
+  for (std::size_t t = 0; t < n; ++t)
+  {
+    actorOf[t] = this->ActorOf[this->Clusters.order[t]];
+  }
+  this->ActorOf = std::move(actorOf);
   // the blocks' triangles now come first, in the order of Prepared
   std::size_t next = 0;
   for (PreparedBlock& b : this->Prepared)

@@ -7,6 +7,7 @@
 
 #include "ssCasterClusters.h"
 #include "ssClusterTable.h"
+#include "ssGearsPieces.h"
 #include "ssShadowView.h"
 
 #include "vtkSmartPointer.h"
@@ -105,6 +106,15 @@ public:
   /// that are not prepared share one open piece.
   std::vector<std::uint32_t> Piece;
   std::vector<std::int8_t> PieceOrientation;
+  /// Per triangle (current order) its actor: an index into ActorAffine,
+  /// whose entry is 0 when the actor's matrix is projective.
+  std::vector<std::uint32_t> ActorOf;
+  std::vector<char> ActorAffine;
+  /// GEARS' pieces for every triangle: the prepared ones' (Piece) and, for
+  /// the other triangles, those ss::FindGearsPieces finds per actor in
+  /// `world` (WorldVertices(), what GEARS is given), exact welds only.
+  /// `counts` gets what was found (prepared pieces not included).
+  GearsPieces FindPieces(const std::vector<glm::dvec3>& world, GearsPieceCounts& counts) const;
 
   // --- clusters (tile culling, vtkSoftShadowPass::PVSMTileCulling)
   /// Orders the triangles into clusters when the set changed since the last

@@ -44,6 +44,8 @@ const OptionList& TriangleSolver::DeclaredOptions()
       "gears: CPU (TBB) or GL 4.3 compute (without GL 4.3: the CPU, with one warning)"),
     BoolOption("gears_necessary", "GearsCountNecessary", "Gears Count Necessary", false,
       "gears: count Table 9's necessary assignments (slower)"),
+    BoolOption("gears_find_pieces", "GearsFindPieces", "Gears Find Pieces", true,
+      "gears: find the closed pieces of casters that are not prepared (closed-mesh rule, inner occluders; same V)"),
   };
   return options;
 }
@@ -59,6 +61,7 @@ void TriangleSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.Gears.raster = opt("gears_raster") == 1 ? GearsRaster::LUT : GearsRaster::EdgePlane;
   this->Opt.Gears.countNecessary = opt("gears_necessary") != 0;
   this->Opt.GearsOnGL = opt("gears_backend") == vtkSoftShadowPass::GEARS_BACKEND_GL;
+  this->Opt.GearsFindPieces = opt("gears_find_pieces") != 0;
 }
 
 void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLight*>& lights)
@@ -69,6 +72,7 @@ void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLigh
   this->LastReferenceStats = ReferenceStats{};
   this->LastGearsStats = GearsStats{};
   this->GearsLights = 0;
+  this->PiecesThisFrame = false;
   this->BackendUsed = "cpu";
   this->BackendNote.clear();
 }
@@ -103,22 +107,39 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
         this->HaveVolumes = true;
       }
     }
-    if (!reference && (!this->Gears || this->Version != casters.Version))
+    if (!reference &&
+      (!this->Gears || this->Version != casters.Version || this->PiecesFound != this->Opt.GearsFindPieces))
     {
       if (!this->Gears)
       {
         this->Gears.reset(new GearsSolver);
       }
-      this->Gears->SetTriangles(casters.WorldVertices(), casters.Opacity);
-      if (!casters.Piece.empty())
+      const std::vector<glm::dvec3> world = casters.WorldVertices();
+      this->Gears->SetTriangles(world, casters.Opacity);
+      // the closed pieces, for the closed-mesh rule and the inner occluders:
+      // prepared casters' (vtkShadowCasterPreparation upstream) from their
+      // tables, the others' found here, per actor, once per caster set
+      this->FoundPieces = GearsPieceCounts{};
+      this->PiecesMs = this->PiecesSolverMs = 0.0;
+      if (this->Opt.GearsFindPieces)
       {
-        // prepared casters (vtkShadowCasterPreparation upstream): their
-        // closed pieces, for the closed-mesh rule and the inner occluders
+        const auto tp = Clock::now();
+        const GearsPieces pieces = casters.FindPieces(world, this->FoundPieces);
+        const auto ts = Clock::now();
+        this->Gears->SetPieces(pieces);
+        this->PiecesMs = ss::Milliseconds(tp, ts);
+        this->PiecesSolverMs = ss::Milliseconds(ts, Clock::now());
+        this->PiecesThisFrame = true;
+        frame.Timings->Add("gears_pieces", this->PiecesMs + this->PiecesSolverMs);
+      }
+      else if (!casters.Piece.empty())
+      {
         GearsPieces pieces;
         pieces.piece = casters.Piece;
         pieces.orientation = casters.PieceOrientation;
         this->Gears->SetPieces(pieces);
       }
+      this->PiecesFound = this->Opt.GearsFindPieces;
       this->Version = casters.Version;
     }
     this->HaveTriangles = true;
@@ -258,7 +279,13 @@ std::string TriangleSolver::GetStatsJSON() const
     << ", \"raster\": \"" << (this->Opt.Gears.raster == GearsRaster::LUT ? "lut" : "edge")
     << "\", \"backend\": \"" << this->BackendUsed << "\", \"backend_requested\": \""
     << (this->Opt.GearsOnGL ? "gl" : "cpu") << "\", \"backend_note\": \"" << JSONEscape(this->BackendNote) << "\""
-    << ", \"lights\": " << this->GearsLights << ", \"stats\": " << GearsStatsToJSON(this->LastGearsStats) << "}";
+    << ", \"lights\": " << this->GearsLights << ", \"stats\": " << GearsStatsToJSON(this->LastGearsStats)
+    << ", \"pieces\": {\"find\": " << (this->PiecesFound ? "true" : "false")
+    << ", \"found_this_frame\": " << (this->PiecesThisFrame ? "true" : "false")
+    << ", \"pieces_found\": " << this->FoundPieces.pieces << ", \"closed_pieces\": " << this->FoundPieces.closedPieces
+    << ", \"closed_triangles\": " << this->FoundPieces.closedTriangles << ", \"find_ms\": " << this->PiecesMs
+    << ", \"set_ms\": " << this->PiecesSolverMs
+    << ", \"solver_closed_triangles\": " << (this->Gears ? this->Gears->ClosedTriangles() : 0) << "}}";
   return o.str();
 }
 

@@ -13,6 +13,7 @@
 #define ssTriangleSolver_h
 
 #include "ssGEARS.h"
+#include "ssGearsPieces.h"
 #include "ssReference.h"
 #include "ssVisibilitySolver.h"
 #include "ssVolumeCasters.h"
@@ -33,6 +34,7 @@ public:
     ReferenceOptions Reference;
     GearsOptions Gears;
     bool GearsOnGL = false; ///< GearsBackend == GEARS_BACKEND_GL
+    bool GearsFindPieces = true; ///< GearsFindPieces: closed pieces of casters that are not prepared
   };
 
   /// `method`: Method::Reference or Method::GEARS.
@@ -65,6 +67,13 @@ private:
   std::unique_ptr<GearsSolver> Gears;
   unsigned long Version = 0;
   bool HaveTriangles = false;
+  // GEARS' pieces of the current caster set (found once per Version, or
+  // again when GearsFindPieces changes), for the stats
+  bool PiecesFound = false;     ///< found with GearsFindPieces on
+  bool PiecesThisFrame = false; ///< found in this frame (not cached)
+  GearsPieceCounts FoundPieces;
+  double PiecesMs = 0.0;       ///< finding them (CasterSet::FindPieces)
+  double PiecesSolverMs = 0.0; ///< GearsSolver::SetPieces (its inner occluders)
   // reference: the caster set's volumes as grids, given to Reference when
   // the caster set's VolumeVersion changes
   VolumeCasters Volumes;

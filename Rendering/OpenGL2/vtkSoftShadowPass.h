@@ -177,6 +177,10 @@ public:
   virtual int GetGearsRaster();
   virtual void SetGearsCountNecessary(bool v);
   virtual bool GetGearsCountNecessary();
+  virtual void SetGearsFindPieces(bool v);
+  virtual bool GetGearsFindPieces();
+  virtual void GearsFindPiecesOn();
+  virtual void GearsFindPiecesOff();
   virtual void SetGearsBackend(int v);
   virtual int GetGearsBackend();
   // pvsm (ssPVSMSolver)

@@ -1,7 +1,9 @@
 // The render pass with prepared casters (vtkShadowCasterPreparation upstream,
 // Documentation/filters.md): the caster set takes its clusters from the
 // preparation's cluster table and GEARS its closed pieces, and neither the
-// culling nor the pieces change what any pixel sees.
+// culling nor the pieces change what any pixel sees. And with plain casters:
+// GEARS' closed pieces found by the pass itself (gears_find_pieces), which
+// change no pixel either.
 #include "ssRenderTestUtilities.h"
 
 #include "vtkAppendPolyData.h"
@@ -338,7 +340,10 @@ TEST(PreparedCasters, GearsPiecesKeepVAndDropPairs)
     p->SetGearsSamples(8);
   };
   const Result with = RenderField(prepared, gears);
-  const Result without = RenderField(Stripped(prepared), gears);
+  const Result without = RenderField(Stripped(prepared), [&](vtkSoftShadowPass* p) {
+    gears(p);
+    p->GearsFindPiecesOff(); // no pieces at all: the plain triangles
+  });
   ExpectSameV(with.frame, without.frame, "gears with vs without closed pieces");
   const double pairsWith = Number(with.stats, "pairs"), pairsWithout = Number(without.stats, "pairs");
   const double droppedWith = Number(with.stats, "dropped_triangles");
@@ -378,4 +383,151 @@ TEST(PreparedCasters, MirroredActorKeepsV)
     ExpectSameV(mirrored(prepared, setup), mirrored(Stripped(prepared), setup),
       std::string(method) + " mirrored, prepared vs plain");
   }
+}
+
+namespace
+{
+// Plain casters as a VTK user gives them (no preparation): a sphere, a box
+// (vtkCubeSource: quads whose corners are repeated per face, so it is closed
+// only through the exact weld) and one actor holding a sphere and a box (two
+// pieces in one block), over a ground that casts too (open). Every actor's
+// matrix scales x by `mirror` (-1: a mirror, det < 0). `frames` renders, the
+// camera turning between them (the casters stay).
+Result RenderPlain(const std::function<void(vtkSoftShadowPass*)>& setup, double mirror = 1.0, int frames = 1,
+  bool open = false)
+{
+  Scene s(240, 180);
+  s.renderer->AddActor(Ground(7.0));
+  std::vector<vtkSmartPointer<vtkActor>> actors;
+  if (open)
+  {
+    // a hemisphere (a bowl open at its rim) and a tilted square
+    vtkNew<vtkSphereSource> bowl;
+    bowl->SetCenter(-1.0, -0.5, 1.2);
+    bowl->SetRadius(0.7);
+    bowl->SetThetaResolution(32);
+    bowl->SetPhiResolution(16);
+    bowl->SetEndPhi(90.0);
+    actors.push_back(MakeActor(bowl));
+    vtkNew<vtkPlaneSource> square;
+    square->SetOrigin(0.5, -0.8, 0.6);
+    square->SetPoint1(1.6, -0.8, 1.0);
+    square->SetPoint2(0.5, 0.4, 0.6);
+    square->SetResolution(4, 4);
+    actors.push_back(MakeActor(square));
+  }
+  else
+  {
+    actors.push_back(Sphere(-1.6, -0.6, 1.0, 0.6));
+    actors.push_back(Box(1.1, 0.1, 0.6, 0.8, 0.6, 1.0));
+    vtkNew<vtkSphereSource> sphere;
+    sphere->SetCenter(0.2, -2.0, 0.5);
+    sphere->SetRadius(0.4);
+    vtkNew<vtkCubeSource> cube;
+    cube->SetCenter(-0.3, 1.2, 0.8);
+    vtkNew<vtkAppendPolyData> both;
+    both->AddInputConnection(sphere->GetOutputPort());
+    both->AddInputConnection(cube->GetOutputPort());
+    actors.push_back(MakeActor(both));
+  }
+  for (auto& a : actors)
+  {
+    a->SetScale(mirror, 1.0, 1.0);
+    s.renderer->AddActor(a);
+  }
+  s.renderer->AddLight(RectLight(0.5, -0.5, 6, 0, 0, 0, 2.5, 2.5));
+  s.Camera(0, -6.5, 3.2, 0, -0.8, 0, 40.0);
+  setup(s.pass);
+  Result r;
+  for (int f = 0; f < frames; ++f)
+  {
+    // the camera turns a little (an unchanged view would reuse V unsolved)
+    s.renderer->GetActiveCamera()->Azimuth(f > 0 ? 3.0 : 0.0);
+    r.frame = s.Render();
+  }
+  r.stats = s.pass->GetStatsJSON();
+  return r;
+}
+
+const auto kGears = [](vtkSoftShadowPass* p) {
+  p->SetMethod(vtkSoftShadowPass::GEARS);
+  p->SetGearsSamples(8);
+};
+const auto kGearsWithoutPieces = [](vtkSoftShadowPass* p) {
+  kGears(p);
+  p->GearsFindPiecesOff();
+};
+
+// GEARS' assignments (Table 9's total) in the pass's stats
+double Assignments(const std::string& js)
+{
+  return Number(js, "total", js.find("\"assignments\": {", js.find("\"gears\": {\"samples_per_axis")));
+}
+}
+
+// The pass finds the closed pieces of plain casters itself, once per caster
+// set: GEARS sees exactly what it sees without them, with fewer pairs; the
+// stats count the four closed pieces (not the ground).
+TEST(UnpreparedCasters, GearsFindsClosedPiecesKeepsVDropsPairs)
+{
+  const Result with = RenderPlain(kGears, 1.0, 3);
+  const Result without = RenderPlain(kGearsWithoutPieces, 1.0, 3);
+  ExpectSameV(with.frame, without.frame, "gears, plain casters, pieces found vs none");
+  std::cout << with.stats.substr(with.stats.find("\"pieces\": {\"find")) << "\n";
+  EXPECT_EQ(Number(with.stats, "closed_pieces"), 4.0);
+  EXPECT_GT(Number(with.stats, "closed_triangles"), 0.0);
+  EXPECT_EQ(Number(with.stats, "solver_closed_triangles"), Number(with.stats, "closed_triangles"));
+  EXPECT_EQ(Number(without.stats, "closed_pieces"), 0.0);
+  // the last frame solved with the pieces found in the first (the caster set did not change)
+  EXPECT_NE(with.stats.find("\"found_this_frame\": false"), std::string::npos);
+  const double pairsWith = Number(with.stats, "pairs"), pairsWithout = Number(without.stats, "pairs");
+  const double listedWith = Assignments(with.stats), listedWithout = Assignments(without.stats);
+  std::cout << "pairs with found pieces " << pairsWith << ", without " << pairsWithout << "; assignments "
+            << listedWith << " vs " << listedWithout << "\n";
+  EXPECT_GT(Number(with.stats, "dropped_triangles"), 0.0);
+  EXPECT_EQ(Number(without.stats, "dropped_triangles"), 0.0);
+  EXPECT_LT(pairsWith, pairsWithout);
+  EXPECT_LT(listedWith, listedWithout);
+}
+
+// Under a mirror (det < 0) the same pieces come out inward (-1); GEARS must
+// still see what the plain triangles give, and what the reference's own
+// regular samples give.
+TEST(UnpreparedCasters, MirroredActorsKeepV)
+{
+  const Result with = RenderPlain(kGears, -1.0);
+  const Result without = RenderPlain(kGearsWithoutPieces, -1.0);
+  ExpectSameV(with.frame, without.frame, "gears, mirrored plain casters, pieces found vs none");
+  EXPECT_EQ(Number(with.stats, "closed_pieces"), 4.0);
+  EXPECT_GT(Number(with.stats, "dropped_triangles"), 0.0);
+  const Result ref = RenderPlain(
+    [](vtkSoftShadowPass* p) {
+      p->SetMethod(vtkSoftShadowPass::REFERENCE);
+      p->SetReferenceSamples(8);
+    },
+    -1.0);
+  // as GEARSEqualsReferenceAndBaseline: equal up to samples grazing an edge
+  ExpectSameV(with.frame, ref.frame, "gears with found pieces vs the reference, mirrored", 2.0 / 64 + 1e-6);
+  std::size_t fg = 0, equal = 0;
+  for (std::size_t i = 0; i < ref.frame.V.size() && i < with.frame.V.size(); ++i)
+  {
+    if (!std::isnan(ref.frame.V[i]))
+    {
+      ++fg;
+      equal += std::abs(double(with.frame.V[i]) - ref.frame.V[i]) < 1e-6;
+    }
+  }
+  EXPECT_GE(equal, 0.999 * fg);
+}
+
+// Open casters (a hemisphere, a square, the ground) get no closed piece, and
+// GEARS drops nothing.
+TEST(UnpreparedCasters, OpenMeshesGetNoClosedPiece)
+{
+  const Result with = RenderPlain(kGears, 1.0, 1, true);
+  const Result without = RenderPlain(kGearsWithoutPieces, 1.0, 1, true);
+  ExpectSameV(with.frame, without.frame, "gears, open casters, pieces found vs none");
+  EXPECT_GE(Number(with.stats, "pieces_found"), 3.0);
+  EXPECT_EQ(Number(with.stats, "closed_pieces"), 0.0);
+  EXPECT_EQ(Number(with.stats, "dropped_triangles"), 0.0);
 }
