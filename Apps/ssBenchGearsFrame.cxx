@@ -70,8 +70,7 @@ ActorTriangles Gather(vtkActor* actor, vtkMatrix4x4* m)
   ActorTriangles a;
   a.opacity = static_cast<float>(actor->GetProperty()->GetOpacity());
   a.casts = vtkSoftShadowPass::GetCastsShadows(actor);
-  a.affine = m->GetElement(3, 0) == 0.0 && m->GetElement(3, 1) == 0.0 && m->GetElement(3, 2) == 0.0 &&
-    m->GetElement(3, 3) == 1.0;
+  a.affine = ss::MayClosePieces(m->GetData());
   actor->GetMapper()->Update();
   auto* pd = vtkPolyData::SafeDownCast(actor->GetMapper()->GetInputDataObject(0, 0));
   if (!pd || !pd->GetPoints())

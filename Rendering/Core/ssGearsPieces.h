@@ -52,6 +52,13 @@ struct GearsPieceCounts
 /// every piece open.
 GearsPieceCounts FindGearsPieces(
   const std::vector<glm::dvec3>& v, const std::vector<std::uint32_t>& tris, bool mayClose, GearsPieces& out);
+
+/// `mayClose` for a world transform given row-major (vtkMatrix4x4's layout):
+/// true unless its last row is projective.
+inline bool MayClosePieces(const double* m)
+{
+  return m[12] == 0.0 && m[13] == 0.0 && m[14] == 0.0 && m[15] == 1.0;
+}
 }
 
 #endif

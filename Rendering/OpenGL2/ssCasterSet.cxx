@@ -313,8 +313,7 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
       }
     });
     actorOf.resize(tris.size() / 3, static_cast<std::uint32_t>(actorAffine.size()));
-    actorAffine.push_back(m->GetElement(3, 0) == 0.0 && m->GetElement(3, 1) == 0.0 && m->GetElement(3, 2) == 0.0 &&
-      m->GetElement(3, 3) == 1.0);
+    actorAffine.push_back(MayClosePieces(m->GetData()));
     const bool textured = std::any_of(attr.texture.begin() + static_cast<std::ptrdiff_t>(first / 3),
       attr.texture.end(), [](int t) { return t >= 0; });
     if ((look.opacity < 1.0f || textured) && tris.size() > first)
@@ -399,7 +398,7 @@ void CasterSet::SetPrepared(std::vector<PreparedBlock> prepared)
     }
     const std::uint32_t base = static_cast<std::uint32_t>(this->PieceOrientation.size());
     const std::uint32_t pieces = 1 + *std::max_element(b.table.piece.begin(), b.table.piece.end());
-    const bool affine = b.m[12] == 0.0 && b.m[13] == 0.0 && b.m[14] == 0.0 && b.m[15] == 1.0;
+    const bool affine = MayClosePieces(b.m);
     const std::int8_t closed = !affine || !(b.det != 0.0) ? 0 : (b.det > 0.0 ? 1 : -1);
     this->PieceOrientation.resize(base + pieces, closed);
     for (std::size_t i = 0; i < b.count; ++i)
@@ -612,7 +611,7 @@ TriangleClusters CasterSet::PreparedClusterOrder(const std::vector<glm::dvec3>& 
   std::vector<char> taken(n, 0);
   for (const PreparedBlock& b : this->Prepared)
   {
-    const bool affine = b.m[12] == 0.0 && b.m[13] == 0.0 && b.m[14] == 0.0 && b.m[15] == 1.0;
+    const bool affine = MayClosePieces(b.m);
     const auto linear = [&](const glm::dvec3& a) {
       return glm::dvec3(b.m[0] * a.x + b.m[1] * a.y + b.m[2] * a.z, b.m[4] * a.x + b.m[5] * a.y + b.m[6] * a.z,
         b.m[8] * a.x + b.m[9] * a.y + b.m[10] * a.z);
