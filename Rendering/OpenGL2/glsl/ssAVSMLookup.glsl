@@ -20,132 +20,155 @@ uniform int avsmFilterQuads;  // VPCSS: texel quads per axis of the filter, at m
 // every depth peel runs the filter, so it reads a fixed handful of texels).
 int avsmRefine = 1;
 
-// The nodes of the texel loaded last (globals: GLSL copies array arguments).
-float avD[AVSM_MAXN];
-vec3 avT[AVSM_MAXN];
-int avN = 0;
-
-// Loads texel q of `view` at `level` into avD/avT (count returned); outside
-// the map there is nothing (0 nodes: transmittance 1).
-int avsmLoad(int view, ivec2 q, int level)
+// T(z) of texel q of `view` at `level`, at two depths z.x and z.y, read
+// block by block into registers. The segment from node k to node k + 1
+// holds z where d_k <= z < d_{k+1}: k is the last node at or in front of z
+// (ss::AVSMFunction::Evaluate), interpolated as there; in front of the first
+// node T = 1. The unused nodes (depth 3e38, the last node's T: storeNodes in
+// ssAVSMBuildCS.glsl) make the last node's segment constant, and a texel
+// with no node, or outside the map, gives 1. No local array: llvmpipe reads
+// an array at an index that differs between the fragments of a group lane
+// by lane, and the nodes' compaction and search did that for every texel
+// of the filter.
+void avsmSegments(vec4 D, vec4 Dn, vec4 T0, vec4 Tn0, vec4 T1, vec4 Tn1, vec4 T2, vec4 Tn2, float z,
+  inout vec3 r)
 {
+  vec4 zz = vec4(z);
+  vec4 hit = step(D, zz) * (vec4(1.0) - step(Dn, zz)); // D <= z < Dn
+  vec4 s = (zz - D) / (Dn - D);
+  vec4 v0 = T0 + (Tn0 - T0) * s;
+  vec4 v1 = T1 + (Tn1 - T1) * s;
+  vec4 v2 = T2 + (Tn2 - T2) * s;
+  r = (hit.x > 0.5) ? vec3(v0.x, v1.x, v2.x) : r;
+  r = (hit.y > 0.5) ? vec3(v0.y, v1.y, v2.y) : r;
+  r = (hit.z > 0.5) ? vec3(v0.z, v1.z, v2.z) : r;
+  r = (hit.w > 0.5) ? vec3(v0.w, v1.w, v2.w) : r;
+}
+
+vec3 avsmTexel2(int view, ivec2 q, int level, vec2 z, out vec3 second)
+{
+  vec3 r0 = vec3(1.0), r1 = vec3(1.0);
+  second = r1;
   int size = max(1, int(mapSize) >> level);
-  avN = 0;
   if (q.x < 0 || q.y < 0 || q.x >= size || q.y >= size)
   {
-    return 0;
+    return r0;
   }
   int nb = avsmNodes / 4;
   int L = avsmFirstLayer + view * avsmLayersPerView;
-  int n = 0;
+  bool colored = avsmColored != 0;
+  vec4 d = avsmFetch(ivec3(q, L), level);
+  vec4 t0 = avsmFetch(ivec3(q, L + nb), level);
+  vec4 t1 = colored ? avsmFetch(ivec3(q, L + 2 * nb), level) : t0;
+  vec4 t2 = colored ? avsmFetch(ivec3(q, L + 3 * nb), level) : t0;
   for (int b = 0; b < nb; ++b)
   {
-    vec4 dv = avsmFetch(ivec3(q, L + b), level);
-    vec4 t0 = avsmFetch(ivec3(q, L + nb + b), level);
-    vec4 t1 = t0, t2 = t0;
-    if (avsmColored != 0)
+    // the next block's first node closes this block's last segment
+    vec4 dn = vec4(3.0e38), n0 = t0.wwww, n1 = t1.wwww, n2 = t2.wwww;
+    if (b + 1 < nb)
     {
-      t1 = avsmFetch(ivec3(q, L + 2 * nb + b), level);
-      t2 = avsmFetch(ivec3(q, L + 3 * nb + b), level);
+      dn = avsmFetch(ivec3(q, L + b + 1), level);
+      n0 = avsmFetch(ivec3(q, L + nb + b + 1), level);
+      n1 = colored ? avsmFetch(ivec3(q, L + 2 * nb + b + 1), level) : n0;
+      n2 = colored ? avsmFetch(ivec3(q, L + 3 * nb + b + 1), level) : n0;
     }
-    for (int j = 0; j < 4; ++j)
-    {
-      if (dv[j] < 1.0e38)
-      {
-        avD[n] = dv[j];
-        avT[n] = vec3(t0[j], t1[j], t2[j]);
-        ++n;
-      }
-    }
+    vec4 D1 = vec4(d.yzw, dn.x);
+    vec4 T0n = vec4(t0.yzw, n0.x), T1n = vec4(t1.yzw, n1.x), T2n = vec4(t2.yzw, n2.x);
+    avsmSegments(d, D1, t0, T0n, t1, T1n, t2, T2n, z.x, r0);
+    avsmSegments(d, D1, t0, T0n, t1, T1n, t2, T2n, z.y, r1);
+    d = dn;
+    t0 = n0;
+    t1 = n1;
+    t2 = n2;
   }
-  avN = n;
-  return n;
-}
-
-// T(z) of the loaded texel (front: just in front of z, a drop at z left out)
-vec3 avsmEval(float z, bool front)
-{
-  int i = -1;
-  for (int k = 0; k < avN; ++k)
-  {
-    i = (front ? avD[k] < z : avD[k] <= z) ? k : i;
-  }
-  if (i < 0)
-  {
-    return vec3(1.0);
-  }
-  if (i == avN - 1)
-  {
-    return avT[i];
-  }
-  float s = (z - avD[i]) / (avD[i + 1] - avD[i]);
-  return avT[i] + (avT[i + 1] - avT[i]) * s;
+  second = r1;
+  return r0;
 }
 
 vec3 avsmTexel(int view, ivec2 q, int level, float z)
 {
-  avsmLoad(view, q, level);
-  return avsmEval(z, false);
+  vec3 unused;
+  return avsmTexel2(view, q, level, vec2(z), unused);
 }
 
-// VPCSS eq. 6 (sign corrected: ss::ReplacementBlockerFraction)
-float avsmReplacementFraction(float a)
+// VPCSS eq. 6 (sign corrected: ss::ReplacementBlockerFraction), for four
+// opacities at once
+vec4 avsmReplacementFraction(vec4 a)
 {
-  if (!(a > 0.0))
-  {
-    return 0.5;
-  }
-  if (a >= 1.0)
-  {
-    return 0.0;
-  }
-  if (a < 1e-3)
-  {
-    return 0.5 - a / 8.0;
-  }
-  return log(1.0 - 0.5 * a) / log(1.0 - a);
+  vec4 f = log(vec4(1.0) - 0.5 * a) / log(vec4(1.0) - a);
+  f = mix(f, vec4(0.5) - a / 8.0, lessThan(a, vec4(1e-3)));
+  f = mix(f, vec4(0.0), greaterThanEqual(a, vec4(1.0)));
+  return mix(f, vec4(0.5), not(greaterThan(a, vec4(0.0))));
 }
 
-// VPCSS eqs. 7-8 (ss::TransmittanceFunctionBlocker) on the loaded texel:
-// (sum Delta z_RB, sum Delta) of the blockers in front of zR, channels summed.
-vec2 avsmBlocker(float zR)
+// One channel of one block of nodes i (depths D, transmittance T) with the
+// nodes before them (Dp, Tp): node i's drop from Tp to T (at zR: the function
+// just in front of zR, on the segment from node i - 1, where node i lies at
+// or behind it) with its replacement blocker depth; 0 where the node is
+// not in front of zR (`live` 0).
+void avsmBlockerChannel(vec4 live, vec4 inside, vec4 s, vec4 Dp, vec4 zE, vec4 Tp, vec4 T, out vec4 delta,
+  out vec4 zRB)
+{
+  vec4 after = mix(T, Tp + (T - Tp) * s, greaterThan(inside, vec4(0.5)));
+  delta = Tp - after;
+  vec4 ok = live * (vec4(1.0) - step(Tp, vec4(0.0))) * (vec4(1.0) - step(delta, vec4(0.0))); // Tp > 0, delta > 0
+  zRB = Dp + (zE - Dp) * avsmReplacementFraction(vec4(1.0) - after / Tp);
+  delta = mix(vec4(0.0), delta, greaterThan(ok, vec4(0.5)));
+  zRB = mix(vec4(0.0), zRB, greaterThan(ok, vec4(0.5)));
+}
+
+// VPCSS eqs. 7-8 (ss::TransmittanceFunctionBlocker) on texel q of `view` at
+// `level`: (sum Delta z_RB, sum Delta) of the blockers in front of zR,
+// channels summed, in the order of ss::TransmittanceFunctionBlocker (node by
+// node, channel by channel). Node i's segment runs from node i - 1 (the first
+// node: from itself, a drop) to node i, clipped at zR; the nodes are sorted,
+// so those whose segment starts at or behind zR, and the unused ones (3e38),
+// add nothing. Block by block in registers, as avsmTexel2.
+vec2 avsmBlockerTexel(int view, ivec2 q, int level, float zR)
 {
   vec2 acc = vec2(0.0);
-  vec3 prevT = vec3(1.0);
-  float prevD = (avN > 0) ? avD[0] : 0.0;
-  int channels = (avsmColored != 0) ? 3 : 1;
-  for (int i = 0; i < avN; ++i)
+  int size = max(1, int(mapSize) >> level);
+  if (q.x < 0 || q.y < 0 || q.x >= size || q.y >= size)
   {
-    float z0 = prevD;
-    if (!(z0 < zR))
+    return acc;
+  }
+  int nb = avsmNodes / 4;
+  int L = avsmFirstLayer + view * avsmLayersPerView;
+  bool colored = avsmColored != 0;
+  vec4 zz = vec4(zR);
+  float lastD = 0.0;
+  vec3 lastT = vec3(1.0);
+  for (int b = 0; b < nb; ++b)
+  {
+    vec4 D = avsmFetch(ivec3(q, L + b), level);
+    vec4 t0 = avsmFetch(ivec3(q, L + nb + b), level);
+    vec4 t1 = colored ? avsmFetch(ivec3(q, L + 2 * nb + b), level) : t0;
+    vec4 t2 = colored ? avsmFetch(ivec3(q, L + 3 * nb + b), level) : t0;
+    lastD = (b == 0) ? D.x : lastD;
+    vec4 Dp = vec4(lastD, D.xyz);
+    // Dp < zR and a used node
+    vec4 live = (vec4(1.0) - step(zz, Dp)) * (vec4(1.0) - step(vec4(1.0e38), D));
+    vec4 inside = step(zz, D); // node i at or behind zR: clip its segment there
+    vec4 s = (zz - Dp) / (D - Dp);
+    vec4 zE = mix(D, zz, greaterThan(inside, vec4(0.5)));
+    vec4 d0, z0, d1 = vec4(0.0), z1 = vec4(0.0), d2 = vec4(0.0), z2 = vec4(0.0);
+    avsmBlockerChannel(live, inside, s, Dp, zE, vec4(lastT.x, t0.xyz), t0, d0, z0);
+    if (colored)
     {
-      break;
+      avsmBlockerChannel(live, inside, s, Dp, zE, vec4(lastT.y, t1.xyz), t1, d1, z1);
+      avsmBlockerChannel(live, inside, s, Dp, zE, vec4(lastT.z, t2.xyz), t2, d2, z2);
     }
-    float zE = avD[i];
-    vec3 tc = avT[i];
-    if (!(zE < zR))
+    for (int j = 0; j < 4; ++j)
     {
-      // the function just in front of zR, avsmEval(zR, true): avD[i - 1] <
-      // zR <= avD[i] (i > 0), so it lies on the segment from node i - 1 to
-      // node i (written out: avsmEval's search loop here made the blocker
-      // of every texel O(N^2))
-      int j = max(i - 1, 0);
-      float s = (zR - avD[j]) / (avD[i] - avD[j]);
-      tc = avT[j] + (avT[i] - avT[j]) * s;
-      zE = zR;
-    }
-    for (int c = 0; c < channels; ++c)
-    {
-      float before = prevT[c], after = tc[c];
-      float delta = before - after;
-      if (before > 0.0 && delta > 0.0)
+      acc += vec2(d0[j] * z0[j], d0[j]);
+      if (colored)
       {
-        float zRB = z0 + (zE - z0) * avsmReplacementFraction(1.0 - after / before);
-        acc += vec2(delta * zRB, delta);
+        acc += vec2(d1[j] * z1[j], d1[j]);
+        acc += vec2(d2[j] * z2[j], d2[j]);
       }
     }
-    prevT = tc;
-    prevD = avD[i];
+    lastD = D.w;
+    lastT = vec3(t0.w, t1.w, t2.w);
   }
   return acc;
 }
@@ -250,12 +273,8 @@ float avsmBlockerSearch(View w, float bias)
       {
         continue;
       }
-      if (avsmLoad(w.index, ivec2(cx, cy), level) == 0)
-      {
-        continue;
-      }
       float zr = planeRange(w, vec2(cx, cy) * cell, cell, maxDelta).x;
-      vec2 b = avsmBlocker(zr - bias * cell);
+      vec2 b = avsmBlockerTexel(w.index, ivec2(cx, cy), level, zr - bias * cell);
       sum += ox * oy * b.x;
       weight += ox * oy * b.y;
     }
@@ -271,18 +290,14 @@ float avsmBlockerSearch(View w, float bias)
 vec3 avsmQuad(View w, int level, ivec2 q, float bias, float maxDelta)
 {
   float s = exp2(float(level));
-  if (avsmLoad(w.index, q, level) == 0)
-  {
-    return vec3(1.0);
-  }
   if (level == 0)
   {
     float z = planeDepth(w, texelToProjected(w, vec2(q) + 0.5), maxDelta) - bias;
-    return avsmEval(z, false);
+    return avsmTexel(w.index, q, 0, z);
   }
   vec2 zr = planeRange(w, vec2(q) * s, s, maxDelta) - bias * s;
-  vec3 near = avsmEval(zr.x, false);
-  vec3 far = avsmEval(zr.y, false);
+  vec3 far;
+  vec3 near = avsmTexel2(w.index, q, level, zr, far);
   bool refine = avsmRefine != 0 && !all(lessThan(abs(near - far), vec3(1e-3)));
   // the children's loop runs 0 times unless refining: llvmpipe runs a
   // branch's body for every fragment of a group whatever the condition,
