@@ -20,6 +20,25 @@ uniform int avsmFilterQuads;  // VPCSS: texel quads per axis of the filter, at m
 // every depth peel runs the filter, so it reads a fixed handful of texels).
 int avsmRefine = 1;
 
+// Texel q of a level of `mapSize` >> level texels a side lies in the map
+// (outside: no node, T = 1).
+bool avsmInMap(ivec2 q, int level)
+{
+  int size = max(1, int(mapSize) >> level);
+  return q.x >= 0 && q.y >= 0 && q.x < size && q.y < size;
+}
+
+// Block b of texel q's nodes: 4 depths (unused: 3e38) and their
+// transmittance per channel (t1 = t2 = t0 with one channel). `L`: the
+// view's first layer; nb: blocks per texel.
+void avsmBlock(int L, int nb, ivec2 q, int level, int b, out vec4 d, out vec4 t0, out vec4 t1, out vec4 t2)
+{
+  d = avsmFetch(ivec3(q, L + b), level);
+  t0 = avsmFetch(ivec3(q, L + nb + b), level);
+  t1 = (avsmColored != 0) ? avsmFetch(ivec3(q, L + 2 * nb + b), level) : t0;
+  t2 = (avsmColored != 0) ? avsmFetch(ivec3(q, L + 3 * nb + b), level) : t0;
+}
+
 // T(z) of texel q of `view` at `level`, at two depths z.x and z.y, read
 // block by block into registers. The segment from node k to node k + 1
 // holds z where d_k <= z < d_{k+1}: k is the last node at or in front of z
@@ -49,28 +68,21 @@ vec3 avsmTexel2(int view, ivec2 q, int level, vec2 z, out vec3 second)
 {
   vec3 r0 = vec3(1.0), r1 = vec3(1.0);
   second = r1;
-  int size = max(1, int(mapSize) >> level);
-  if (q.x < 0 || q.y < 0 || q.x >= size || q.y >= size)
+  if (!avsmInMap(q, level))
   {
     return r0;
   }
   int nb = avsmNodes / 4;
   int L = avsmFirstLayer + view * avsmLayersPerView;
-  bool colored = avsmColored != 0;
-  vec4 d = avsmFetch(ivec3(q, L), level);
-  vec4 t0 = avsmFetch(ivec3(q, L + nb), level);
-  vec4 t1 = colored ? avsmFetch(ivec3(q, L + 2 * nb), level) : t0;
-  vec4 t2 = colored ? avsmFetch(ivec3(q, L + 3 * nb), level) : t0;
+  vec4 d, t0, t1, t2;
+  avsmBlock(L, nb, q, level, 0, d, t0, t1, t2);
   for (int b = 0; b < nb; ++b)
   {
     // the next block's first node closes this block's last segment
     vec4 dn = vec4(3.0e38), n0 = t0.wwww, n1 = t1.wwww, n2 = t2.wwww;
     if (b + 1 < nb)
     {
-      dn = avsmFetch(ivec3(q, L + b + 1), level);
-      n0 = avsmFetch(ivec3(q, L + nb + b + 1), level);
-      n1 = colored ? avsmFetch(ivec3(q, L + 2 * nb + b + 1), level) : n0;
-      n2 = colored ? avsmFetch(ivec3(q, L + 3 * nb + b + 1), level) : n0;
+      avsmBlock(L, nb, q, level, b + 1, dn, n0, n1, n2);
     }
     vec4 D1 = vec4(d.yzw, dn.x);
     vec4 T0n = vec4(t0.yzw, n0.x), T1n = vec4(t1.yzw, n1.x), T2n = vec4(t2.yzw, n2.x);
@@ -127,8 +139,7 @@ void avsmBlockerChannel(vec4 live, vec4 inside, vec4 s, vec4 Dp, vec4 zE, vec4 T
 vec2 avsmBlockerTexel(int view, ivec2 q, int level, float zR)
 {
   vec2 acc = vec2(0.0);
-  int size = max(1, int(mapSize) >> level);
-  if (q.x < 0 || q.y < 0 || q.x >= size || q.y >= size)
+  if (!avsmInMap(q, level))
   {
     return acc;
   }
@@ -140,10 +151,8 @@ vec2 avsmBlockerTexel(int view, ivec2 q, int level, float zR)
   vec3 lastT = vec3(1.0);
   for (int b = 0; b < nb; ++b)
   {
-    vec4 D = avsmFetch(ivec3(q, L + b), level);
-    vec4 t0 = avsmFetch(ivec3(q, L + nb + b), level);
-    vec4 t1 = colored ? avsmFetch(ivec3(q, L + 2 * nb + b), level) : t0;
-    vec4 t2 = colored ? avsmFetch(ivec3(q, L + 3 * nb + b), level) : t0;
+    vec4 D, t0, t1, t2;
+    avsmBlock(L, nb, q, level, b, D, t0, t1, t2);
     lastD = (b == 0) ? D.x : lastD;
     vec4 Dp = vec4(lastD, D.xyz);
     // Dp < zR and a used node
@@ -178,8 +187,7 @@ vec2 avsmBlockerTexel(int view, ivec2 q, int level, float zR)
 // nodes are stored sorted, unused ones last; storeNodes in ssAVSMBuildCS).
 float avsmFirstDepth(int view, ivec2 q, int level)
 {
-  int size = max(1, int(mapSize) >> level);
-  if (q.x < 0 || q.y < 0 || q.x >= size || q.y >= size)
+  if (!avsmInMap(q, level))
   {
     return 3.0e38;
   }
