@@ -68,6 +68,18 @@ inline vtkSmartPointer<vtkActor> Sphere(double cx, double cy, double cz, double 
   return MakeActor(s, 0.85, 0.3, 0.25);
 }
 
+// A horizontal square of side `side` centred at (cx, cy, z), opacity `alpha`.
+inline vtkSmartPointer<vtkActor> Quad(double cx, double cy, double z, double side, double alpha)
+{
+  vtkNew<vtkPlaneSource> q;
+  q->SetOrigin(cx - side / 2, cy - side / 2, z);
+  q->SetPoint1(cx + side / 2, cy - side / 2, z);
+  q->SetPoint2(cx - side / 2, cy + side / 2, z);
+  auto a = MakeActor(q, 0.9, 0.9, 0.9);
+  a->GetProperty()->SetOpacity(alpha);
+  return a;
+}
+
 inline vtkSmartPointer<vtkActor> Box(
   double cx, double cy, double cz, double sx, double sy, double sz)
 {
