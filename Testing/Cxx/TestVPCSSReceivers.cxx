@@ -49,6 +49,15 @@ std::vector<double> Luminance(Scene& s)
   return lum;
 }
 
+// Depth peeling on, with peels enough for every layer here (8, occlusion
+// ratio 0: no layer is left to alpha blending).
+void PeelEveryLayer(Scene& s, int on = 1)
+{
+  s.renderer->SetUseDepthPeeling(on);
+  s.renderer->SetMaximumNumberOfPeels(8);
+  s.renderer->SetOcclusionRatio(0.0);
+}
+
 // Renders `s` capturing the translucent receivers' V for `light` (the first
 // visibility layer), and solves `reference` (16 x 16 samples) at the
 // captured fragments' own points and planes: v and ref, fragment by fragment.
@@ -97,9 +106,7 @@ TEST(VPCSS, TranslucentPropsReceiveShadows)
   {
     SCOPED_TRACE(peeling ? "depth peeling" : "no depth peeling");
     Scene s(240, 180);
-    s.renderer->SetUseDepthPeeling(peeling);
-    s.renderer->SetMaximumNumberOfPeels(8);
-    s.renderer->SetOcclusionRatio(0.0);
+    PeelEveryLayer(s, peeling);
     auto layer = Quad(0, 0, 0.5, 3.0, 0.6);
     s.renderer->AddActor(layer);
     s.renderer->AddActor(Sphere(0, 0, 1.6, 0.5));
@@ -173,9 +180,7 @@ TEST(VPCSS, TranslucentReceiverUsesItsFacetPlane)
   {
     SCOPED_TRACE(vtkSoftShadowPass::GetMethodName(method));
     Scene s(240, 180);
-    s.renderer->SetUseDepthPeeling(1);
-    s.renderer->SetMaximumNumberOfPeels(8);
-    s.renderer->SetOcclusionRatio(0.0);
+    PeelEveryLayer(s);
     s.renderer->AddActor(sheet);
     s.renderer->AddLight(RectLight(0, -4, 1.8, 0, 0, 1, 0.5, 0.5));
     s.Camera(0, -4, 5, 0, 0, 1);
@@ -280,9 +285,7 @@ TEST(VPCSS, TranslucentReceiversMatchReference)
         (peeling ? ", depth peeling" : ", no depth peeling");
       SCOPED_TRACE(name);
       Scene s(240, 180);
-      s.renderer->SetUseDepthPeeling(peeling);
-      s.renderer->SetMaximumNumberOfPeels(8);
-      s.renderer->SetOcclusionRatio(0.0);
+      PeelEveryLayer(s, peeling);
       for (auto& a : { sheet, ball, layer })
       {
         s.renderer->AddActor(a);
@@ -369,9 +372,7 @@ TEST(VPCSS, SelfShadowingCloudMatchesReference)
   {
     SCOPED_TRACE(vtkSoftShadowPass::GetMethodName(method));
     Scene s(240, 180);
-    s.renderer->SetUseDepthPeeling(1);
-    s.renderer->SetMaximumNumberOfPeels(8);
-    s.renderer->SetOcclusionRatio(0.0);
+    PeelEveryLayer(s);
     auto ground = Ground();
     vtkSoftShadowPass::SetCastsShadows(ground, false);
     s.renderer->AddActor(ground);
