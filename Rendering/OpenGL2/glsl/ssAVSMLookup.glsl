@@ -12,8 +12,6 @@ uniform int avsmFirstLayer;   // the light's first layer
 uniform int avsmLayersPerView;
 uniform int avsmFilterQuads;  // VPCSS: texel quads per axis of the filter, at most
 
-#define AVSM_MAXN 16
-
 // 1: a pyramid quad whose function changes across it reads its four
 // children (G-buffer pixels); 0: its mean function alone, a mip-mapped
 // lookup (translucent receivers, ssTranslucentReceivers: every fragment of
