@@ -228,6 +228,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   // --- caster set, rebuilt only when a prop, its data or its transform changed
   auto tStage = Clock::now();
   in.Casters.Update(ren, this);
+  in.TranslucentReceivers = ss::TranslucentReceiverBounds(ren);
   in.Timings.Set("caster_set", ss::Milliseconds(tStage, Clock::now()));
 
   // --- lights and the effect plan
@@ -313,10 +314,15 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudg
   pin.frameBudgetMs = frameBudgetMs;
   pin.shadowMapSize = this->ShadowMapSize;
   const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
+  ss::Box casters = ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin);
+  casters.Add(ss::RelativeBox(in.Casters.VolumeBounds, in.Frame.Origin));
+  const ss::Box translucentReceivers = ss::RelativeBox(in.TranslucentReceivers, in.Frame.Origin);
   for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
     pin.lights.back().translucentInView = in.Casters.TranslucentInView(l.Frame, in.Frame.Origin);
+    pin.lights.back().translucentReceiversInView = !translucentReceivers.Empty() &&
+      !casters.Empty() && ss::CastersMayShadow(l.Frame, casters, translucentReceivers);
     pin.lights.back().receiverTexels =
       ss::ReceiverTexelsAtPixelSize(l.Frame, receivers, in.Frame.Eye, in.PixelAngle, in.ParallelPixel);
   }
