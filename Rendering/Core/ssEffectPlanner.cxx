@@ -464,7 +464,7 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       const LightPlan& l = plan.lights[i];
       const MethodInfo* info = FindMethod(in.methods, l.method);
       if (in.lights[i].translucentReceiversInView && l.method != Method::None &&
-        !(info && info->translucentCasters) && unshaded.find(l.name) == std::string::npos)
+        !(info && info->translucentReceivers) && unshaded.find(l.name) == std::string::npos)
       {
         unshaded += (unshaded.empty() ? "" : ", ") + l.name;
       }

@@ -49,10 +49,12 @@ struct MethodInfo
   Method method = Method::None;
   std::string name;
   PlannerRule rule = PlannerRule::OnRequest;
-  /// Its solver weighs casters by their opacity, and shades the fragments
-  /// of translucent receivers; otherwise translucent casters shadow as if
-  /// opaque and translucent receivers get no shadows (the plan says so).
+  /// Its solver weighs casters by their opacity; otherwise translucent
+  /// casters shadow as if opaque (and the plan says so).
   bool translucentCasters = false;
+  /// Its solver shades the fragments of translucent receivers (props not in
+  /// the G-buffer); otherwise they get no shadows (and the plan says so).
+  bool translucentReceivers = false;
   /// What one light's shadow work with this method is expected to take this
   /// frame (milliseconds, measured on earlier frames); negative: unknown.
   double estimatedMs = -1.0;

@@ -41,8 +41,8 @@ std::vector<MethodInfo> Catalogue()
     { Method::HardAverage, "hardavg", PlannerRule::OnRequest, false },
     { Method::Reference, "reference", PlannerRule::OnRequest, true },
     { Method::GEARS, "gears", PlannerRule::OnRequest, true },
-    { Method::VPCSS, "vpcss", PlannerRule::TranslucentCasters, true },
-    { Method::AVSM, "avsm", PlannerRule::OnRequest, true } };
+    { Method::VPCSS, "vpcss", PlannerRule::TranslucentCasters, true, true },
+    { Method::AVSM, "avsm", PlannerRule::OnRequest, true, true } };
 }
 
 PlannerInput Scene(std::vector<PlannerLight> lights)
@@ -400,6 +400,10 @@ TEST(EffectPlanner, TranslucentReceiversInViewGetVPCSS)
   EXPECT_TRUE(Contains(p.reason, "translucent receivers get no shadows from pcss")) << p.reason;
   in.requested = Method::AVSM;
   EXPECT_FALSE(Contains(MakeEffectPlan(in).reason, "translucent receivers get no shadows")) << MakeEffectPlan(in).reason;
+  // the reference weighs translucent casters but shades no translucent receiver
+  in.requested = Method::Reference;
+  EXPECT_TRUE(Contains(MakeEffectPlan(in).reason, "translucent receivers get no shadows from reference"))
+    << MakeEffectPlan(in).reason;
 }
 
 // Which translucent casters are "in a light's view": those that can shadow
