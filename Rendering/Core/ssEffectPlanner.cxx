@@ -351,9 +351,11 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
         // VPCSS over casters that are all opaque: every transmittance is 0 or
         // 1 and eqs. 6-8 are PCSS's (vpcss.md), so the light gets PCSS, which
         // is exact for that case and cheaper (the AVSM build has nothing to
-        // compress); the reason says so.
+        // compress); the reason says so. Not where a translucent receiver is
+        // in its view: PCSS leaves it unshadowed.
         const MethodInfo* pcss = FindMethod(in.methods, Method::PCSS);
-        if (in.requested == Method::VPCSS && l.translucentInView.empty() && pcss && !in.keepRequested)
+        if (in.requested == Method::VPCSS && l.translucentInView.empty() && !l.translucentReceiversInView && pcss &&
+          !in.keepRequested)
         {
           p = Planned(Method::PCSS,
             "requested " + info->name + "; no translucent caster in this light's view, where VPCSS is PCSS: " +
@@ -366,11 +368,23 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
     else if (!l.translucentInView.empty() && ForRule(in.methods, PlannerRule::TranslucentCasters))
     {
       const MethodInfo* info = ForRule(in.methods, PlannerRule::TranslucentCasters);
-      p = { info->method,
+      p = Planned(info->method,
         std::string(l.frame.IsSoft() ? "area light" : "light without extent") + " with translucent casters in its view (" +
           l.translucentInView + "): transmittance-weighted " + (l.frame.IsSoft() ? "soft" : "hard") + " shadows (" +
           Upper(info->name) + ")",
-        info->name };
+        info->name);
+    }
+    else if (l.translucentReceiversInView && ForRule(in.methods, PlannerRule::TranslucentCasters))
+    {
+      // the casters are opaque, but a translucent prop receives their
+      // shadows: it is not in the G-buffer, and only this rule's method
+      // shades its fragments
+      const MethodInfo* info = ForRule(in.methods, PlannerRule::TranslucentCasters);
+      p = Planned(info->method,
+        std::string(l.frame.IsSoft() ? "area light" : "light without extent") +
+          " with translucent receivers in its view: their fragments take their own " +
+          (l.frame.IsSoft() ? "soft" : "hard") + " shadows (" + Upper(info->name) + ")",
+        info->name);
     }
     else if (!l.frame.IsSoft())
     {
@@ -440,6 +454,24 @@ EffectPlan MakeEffectPlan(const PlannerInput& in)
       plan.reason += in.casterVolumes ? std::string(in.translucentCasters ? " and" : ";") + " volumes cast no shadows"
                                       : "";
       plan.reason += " by " + opaqueOnly;
+    }
+  }
+  if (plan.shadowWork)
+  {
+    std::string unshaded; // methods that leave a light's translucent receivers unshadowed
+    for (std::size_t i = 0; i < plan.lights.size() && i < in.lights.size(); ++i)
+    {
+      const LightPlan& l = plan.lights[i];
+      const MethodInfo* info = FindMethod(in.methods, l.method);
+      if (in.lights[i].translucentReceiversInView && l.method != Method::None &&
+        !(info && info->translucentReceivers) && unshaded.find(l.name) == std::string::npos)
+      {
+        unshaded += (unshaded.empty() ? "" : ", ") + l.name;
+      }
+    }
+    if (!unshaded.empty())
+    {
+      plan.reason += "; translucent receivers get no shadows from " + unshaded;
     }
   }
   if (plan.shadowWork && in.frameBudgetMs > 0.0)

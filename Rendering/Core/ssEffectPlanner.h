@@ -36,7 +36,7 @@ enum class PlannerRule
   OnRequest,  ///< only when asked for by name
   HardLights, ///< auto: lights without extent (point, zero-size rect, directional without angular size)
   SoftLights, ///< auto: lights with extent (rect, directional with angular size)
-  TranslucentCasters, ///< auto: lights with a translucent caster in their view (before the others)
+  TranslucentCasters, ///< auto: lights with a translucent caster or a translucent receiver in their view (before the others)
   /// auto: point and spot lights, and directional lights without angular size
   /// whose receivers need far more texels than one map holds at the view's
   /// pixel size (NeedsAdaptiveMap). Without a method for it, HardLights serves them.
@@ -52,6 +52,9 @@ struct MethodInfo
   /// Its solver weighs casters by their opacity; otherwise translucent
   /// casters shadow as if opaque (and the plan says so).
   bool translucentCasters = false;
+  /// Its solver shades the fragments of translucent receivers (props not in
+  /// the G-buffer); otherwise they get no shadows (and the plan says so).
+  bool translucentReceivers = false;
   /// What one light's shadow work with this method is expected to take this
   /// frame (milliseconds, measured on earlier frames); negative: unknown.
   double estimatedMs = -1.0;
@@ -67,6 +70,10 @@ struct PlannerLight
   /// What translucent casters may shadow a receiver of this light (e.g.
   /// "opacity < 1", "an RGBA texture", "a volume", joined); empty: none.
   std::string translucentInView;
+  /// Translucent props that receive shadows and that casters may shadow from
+  /// this light: they are not in the G-buffer, so only a method whose solver
+  /// shades fragments (vpcss, avsm) gives them their shadows.
+  bool translucentReceiversInView = false;
   /// Directional lights: the texels a side that one map over the receivers
   /// needs for a texel per pixel where the view is finest
   /// (ReceiverTexelsAtPixelSize); 0 when unknown.

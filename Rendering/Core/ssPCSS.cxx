@@ -1,6 +1,7 @@
 #include "ssPCSS.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <vector>
 
@@ -111,22 +112,32 @@ double LightFractionAboveSurface(
   // the light point c + hx s u + hy t v, (s, t) in [-1, 1]^2, is above the
   // plane of n when a + b s + c t > 0
   const double hx = 0.5 * light.width, hy = 0.5 * light.height;
-  std::vector<glm::dvec2> poly = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };
-  for (const auto& n : normals)
+  glm::dvec3 f[2];
+  for (int k = 0; k < 2; ++k)
   {
-    const double a = glm::dot(n, light.center - p), b = hx * glm::dot(n, light.u), c = hy * glm::dot(n, light.v);
+    const glm::dvec3& n = normals[k];
+    f[k] = glm::dvec3(glm::dot(n, light.center - p), hx * glm::dot(n, light.u), hy * glm::dot(n, light.v));
+  }
+  return SquareFractionAbovePlanesByClipping(f[0], f[1]);
+}
+
+double SquareFractionAbovePlanesByClipping(const glm::dvec3& f1, const glm::dvec3& f2)
+{
+  std::vector<glm::dvec2> poly = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };
+  for (const glm::dvec3& f : { f1, f2 })
+  {
     std::vector<glm::dvec2> out; // Sutherland-Hodgman against one half-plane
     for (std::size_t i = 0; i < poly.size(); ++i)
     {
       const glm::dvec2 p0 = poly[i], p1 = poly[(i + 1) % poly.size()];
-      const double f0 = a + b * p0.x + c * p0.y, f1 = a + b * p1.x + c * p1.y;
-      if (f0 > 0.0)
+      const double v0 = f.x + f.y * p0.x + f.z * p0.y, v1 = f.x + f.y * p1.x + f.z * p1.y;
+      if (v0 > 0.0)
       {
         out.push_back(p0);
       }
-      if ((f0 > 0.0) != (f1 > 0.0))
+      if ((v0 > 0.0) != (v1 > 0.0))
       {
-        out.push_back(p0 + (p1 - p0) * (f0 / (f0 - f1)));
+        out.push_back(p0 + (p1 - p0) * (v0 / (v0 - v1)));
       }
     }
     poly.swap(out);
@@ -140,4 +151,125 @@ double LightFractionAboveSurface(
   }
   return std::clamp(0.5 * std::abs(area) / 4.0, 0.0, 1.0);
 }
+
+namespace
+{
+// [lo, hi] of t where alpha + beta t > 0 (with `closed`, >= 0 where beta
+// is 0), intersected into lo, hi
+template <typename T>
+void ClipInterval(T alpha, T beta, bool closed, T& lo, T& hi)
+{
+  if (beta > T(0))
+  {
+    lo = std::max(lo, -alpha / beta);
+  }
+  else if (beta < T(0))
+  {
+    hi = std::min(hi, -alpha / beta);
+  }
+  else if (!(alpha > T(0) || (closed && alpha == T(0))))
+  {
+    hi = lo - T(1); // empty
+  }
+}
+
+template <typename T>
+T Cross(const glm::vec<2, T>& p, const glm::vec<2, T>& q)
+{
+  return p.x * q.y - p.y * q.x;
+}
+}
+
+template <typename T>
+T SquareFractionAbovePlanes(const glm::vec<3, T>& f1In, const glm::vec<3, T>& f2In)
+{
+  using V2 = glm::vec<2, T>;
+  using V3 = glm::vec<3, T>;
+  // scaled to at most 1 (the same half-planes): products of a 1e30 light's
+  // coefficients stay finite in float
+  auto unit = [](const V3& f) {
+    const T m = std::max(std::max(std::abs(f.x), std::abs(f.y)), std::abs(f.z));
+    return (m > T(0)) ? f / m : f;
+  };
+  const V3 f[2] = { unit(f1In), unit(f2In) };
+  auto value = [](const V3& q, const V2& p) { return q.x + q.y * p.x + q.z * p.y; };
+  T twice = T(0); // twice the area
+  // the square's edges, counter-clockwise, each where both values are > 0
+  const V2 corner[4] = { V2(-1, -1), V2(1, -1), V2(1, 1), V2(-1, 1) };
+  for (int e = 0; e < 4; ++e)
+  {
+    const V2 A = corner[e], B = corner[(e + 1) & 3];
+    T lo = T(0), hi = T(1);
+    for (int k = 0; k < 2; ++k)
+    {
+      ClipInterval(value(f[k], A), value(f[k], B) - value(f[k], A), false, lo, hi);
+    }
+    if (lo < hi)
+    {
+      twice += Cross(A + (B - A) * lo, A + (B - A) * hi);
+    }
+  }
+  // each plane's line, run with its positive side on the left, inside the
+  // square (closed: a line on an edge is drawn there, the edge is not) and
+  // on the positive side of the other plane. The lines' crossing X is
+  // computed once for both, so that their parts meet there however badly
+  // conditioned X is; parallel lines (within 1e-6 rad): facing the same
+  // way, only the inner one bounds the region (ties: the first), facing
+  // each other, both or neither (the strip between them is empty).
+  const V2 g[2] = { V2(f[0].y, f[0].z), V2(f[1].y, f[1].z) };
+  const T gg[2] = { glm::dot(g[0], g[0]), glm::dot(g[1], g[1]) };
+  const T len[2] = { std::sqrt(gg[0]), std::sqrt(gg[1]) };
+  const T kappa = Cross(g[0], g[1]);
+  const bool crossing = std::abs(kappa) > T(1e-6) * len[0] * len[1];
+  const V2 X = crossing ? V2(f[1].x * g[0].y - f[0].x * g[1].y, f[0].x * g[1].x - f[1].x * g[0].x) / kappa : V2(0);
+  const bool sameWay = glm::dot(g[0], g[1]) > T(0);
+  const T offset[2] = { (len[0] > T(0)) ? -f[0].x / len[0] : T(0), (len[1] > T(0)) ? -f[1].x / len[1] : T(0) };
+  for (int k = 0; k < 2; ++k)
+  {
+    const int o = 1 - k;
+    if (!(gg[k] > T(0)))
+    {
+      continue; // a constant: no line (the edges took it)
+    }
+    const V2 p0 = g[k] * (-f[k].x / gg[k]), d(g[k].y, -g[k].x);
+    T lo = -std::numeric_limits<T>::max(), hi = std::numeric_limits<T>::max();
+    ClipInterval(T(1) - p0.x, -d.x, true, lo, hi);
+    ClipInterval(T(1) + p0.x, d.x, true, lo, hi);
+    ClipInterval(T(1) - p0.y, -d.y, true, lo, hi);
+    ClipInterval(T(1) + p0.y, d.y, true, lo, hi);
+    if (crossing)
+    {
+      const T tX = glm::dot(X - p0, d) / gg[k];
+      if (glm::dot(g[o], d) > T(0))
+      {
+        lo = std::max(lo, tX);
+      }
+      else
+      {
+        hi = std::min(hi, tX);
+      }
+    }
+    else if (!(gg[o] > T(0)))
+    {
+      ClipInterval(f[o].x, T(0), false, lo, hi); // the other is a constant
+    }
+    else
+    {
+      // f_k > 0 where offset_k < (x along g_k); the other plane, parallel:
+      // (x along g_k) > offset_o facing the same way, < -offset_o facing back
+      const bool keep = sameWay ? ((k == 0) ? offset[k] >= offset[o] : offset[k] > offset[o])
+                                : (offset[0] < -offset[1]);
+      hi = keep ? hi : lo - T(1);
+    }
+    if (lo < hi)
+    {
+      twice += Cross(p0 + d * lo, p0 + d * hi);
+    }
+  }
+  const T fraction = T(0.125) * twice; // the square's area is 4
+  return (fraction == fraction) ? std::min(std::max(fraction, T(0)), T(1)) : T(0);
+}
+
+template float SquareFractionAbovePlanes<float>(const glm::vec3&, const glm::vec3&);
+template double SquareFractionAbovePlanes<double>(const glm::dvec3&, const glm::dvec3&);
 }

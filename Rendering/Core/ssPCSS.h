@@ -67,6 +67,25 @@ double LightFractionAboveTangentPlane(const LightFrame& light, const glm::dvec3&
 /// overflowed float's w * h). Point lights give 0 or 1.
 double LightFractionAboveSurface(
   const LightFrame& light, const glm::dvec3& p, const glm::dvec3& shading, const glm::dvec3& geometric);
+
+/// The fraction of the square [-1,1]^2 where f1 = (a, b, c) and f2 both
+/// give a + b s + c t > 0 (the light in units of its half sizes above two
+/// planes, as LightFractionAboveSurface clips it): the square clipped by
+/// both half-planes (Sutherland-Hodgman), then the shoelace area.
+double SquareFractionAbovePlanesByClipping(const glm::dvec3& f1, const glm::dvec3& f2);
+
+/// The same fraction by the boundary integral instead of a clipped polygon:
+/// the area is half the sum of cross(P0, P1) over the boundary's segments
+/// P0 -> P1 (counter-clockwise), which are the parts of the square's four
+/// edges on the positive side of both planes and the parts of each plane's
+/// line inside the square on the positive side of the other (Liang-Barsky
+/// intervals). No array indexed per point, so llvmpipe runs it in
+/// registers: ssShadowCommon.glsl's lightAboveSurface is this code in float
+/// (the polygon clip it replaced read and wrote local arrays lane by lane;
+/// issue 20). Same result as the clip up to rounding, for any planes:
+/// equal, parallel, facing each other, on an edge, constant (TestSSPCSS).
+template <typename T>
+T SquareFractionAbovePlanes(const glm::vec<3, T>& f1, const glm::vec<3, T>& f2);
 }
 
 #endif

@@ -70,6 +70,8 @@ public:
   bool ShadowsThisFrame = false;
   bool ShadeShadows = false; // whether the shading shaders carry the visibility code
   std::vector<vtkProp*> ShadeTranslucent; // the translucent receivers, whose shaders carry their per-fragment code
+  ss::Box TranslucentReceivers; // this frame's translucent receivers (absolute bounds), for the plan
+  int ShadeLookups = 0;          // ... the lookups it holds (ss::FragmentLookupBits)
   bool ShadeCapture = false;     // ... and its capture (CaptureTranslucentReceivers)
   std::string LastSignature;
   std::string LastFarLightWarning; // warned once until the far lights change

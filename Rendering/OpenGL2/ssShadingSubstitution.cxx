@@ -10,7 +10,7 @@
 
 namespace ss
 {
-int InjectVisibility(std::string& fragmentShader, bool translucentReceivers, bool capture)
+int InjectVisibility(std::string& fragmentShader, int translucentLookups, bool capture)
 {
   int lightsInShader = 0;
   while (fragmentShader.find("lightColor" + std::to_string(lightsInShader)) != std::string::npos)
@@ -67,8 +67,7 @@ int InjectVisibility(std::string& fragmentShader, bool translucentReceivers, boo
   }
   // props that are not in the G-buffer (translucent ones) get the
   // visibility of their own fragments from the solvers that can give it
-  decl += translucentReceivers ? TranslucentReceiverCode(fragmentShader, capture)
-                               : std::string("vec3 ssFragmentVisibility(int layer) { return vec3(1.0); }\n");
+  decl += TranslucentReceiverCode(fragmentShader, capture, translucentLookups);
   decl += "vec3 ssVisibility(int layer, int colorLayer)\n"
           "{\n"
           "  if (ssUseVis == 0 || layer < 0) { return vec3(1.0); }\n"
@@ -82,7 +81,7 @@ int InjectVisibility(std::string& fragmentShader, bool translucentReceivers, boo
           "}\n";
   decl += perLight;
   fragmentShader.insert(fragmentShader.find("void main"), decl);
-  ReceiverCapture::RequireImageStores(fragmentShader, translucentReceivers && capture);
+  ReceiverCapture::RequireImageStores(fragmentShader, translucentLookups != 0 && capture);
   return 0;
 }
 

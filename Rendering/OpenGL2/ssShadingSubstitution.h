@@ -24,19 +24,22 @@ struct ShadowLight;
 /// ssVisibility(ssLightLayerN, ssLightColorLayerN) (RGB: coloured shadows
 /// where the light has a colour layer) and declares that function and its
 /// uniforms. Fragments of props that are not in the G-buffer (translucent
-/// props) take ssFragmentVisibility (ssTranslucentReceivers) when
-/// `translucentReceivers` (the shader of a translucent receiver); elsewhere
-/// that function is 1: its code (the AVSM lookup and filter) made every
-/// shaded fragment 7x slower on llvmpipe, which runs both sides of a branch
-/// (issue 24, PVSM's first frame; in every prop's shader while a
-/// translucent receiver was shown, until issue 20). Each light's V is
+/// props) take ssFragmentVisibility (ssTranslucentReceivers) with the
+/// lookups `translucentLookups` (FragmentLookupBits; nonzero only in the
+/// shader of a translucent receiver while a light's solver shades
+/// fragments); elsewhere that function is 1: its code (the AVSM lookup and
+/// filter) made every shaded fragment 7x slower on llvmpipe, which runs
+/// both sides of a branch (issue 24, PVSM's first frame; in every prop's
+/// shader while a translucent receiver was shown, until issue 20; in a
+/// translucent receiver's shader under PCSS, whose solver shades no
+/// fragments, 6.6x, until issue 20's stop 32). Each light's V is
 /// computed once, for its diffuse term, and reused by its specular term.
 /// Unlit and headlight-only shaders are left alone. `capture`: the
 /// translucent receivers' code also stores each fragment's V
 /// (ssReceiverCapture). Returns how many lights' terms were not found (0
 /// when all were, or when there was nothing to do); the shader is then not
 /// usable.
-int InjectVisibility(std::string& fragmentShader, bool translucentReceivers, bool capture);
+int InjectVisibility(std::string& fragmentShader, int translucentLookups, bool capture);
 
 /// The uniforms of one draw with that code.
 struct ShadingUniforms

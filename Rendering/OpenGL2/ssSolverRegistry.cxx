@@ -31,19 +31,19 @@ const std::vector<SolverEntry>& SolverRegistry()
   // options (its static DeclaredOptions()); the pass, the CLI and the ParaView view
   // enumerate them from here.
   static const std::vector<SolverEntry> table = {
-    // name       method               solver factory           planner rule                     translucent  options
-    { "auto",      Method::Auto,        nullptr,                 PlannerRule::OnRequest,          false, nullptr },
-    { "hard",      Method::Hard,        Make<ShadowMapSolver>,   PlannerRule::HardLights,         false, ShadowMapSolver::DeclaredOptions },
-    { "pcf",       Method::PCF,         Make<ShadowMapSolver>,   PlannerRule::OnRequest,          false, ShadowMapSolver::DeclaredOptions },
-    { "pcss",      Method::PCSS,        Make<ShadowMapSolver>,   PlannerRule::SoftLights,         false, ShadowMapSolver::DeclaredOptions },
-    { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,          false, PVSMSolver::DeclaredOptions },
-    { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,          false, HardAverageSolver::DeclaredOptions },
-    { "asm",       Method::ASM,         Make<ASMSolver>,         PlannerRule::AdaptiveHardLights, false, ASMSolver::DeclaredOptions },
-    { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,          true,  TriangleSolver::DeclaredOptions },
-    { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,          true,  TriangleSolver::DeclaredOptions },
-    { "vpcss",     Method::VPCSS,       Make<VPCSSSolver>,       PlannerRule::TranslucentCasters, true,  TranslucentSolver::DeclaredOptions },
-    { "avsm",      Method::AVSM,        Make<AVSMSolver>,        PlannerRule::OnRequest,          true,  TranslucentSolver::DeclaredOptions },
-    { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,          false, nullptr },
+    // name       method               solver factory           planner rule                     translucent casters, receivers; options
+    { "auto",      Method::Auto,        nullptr,                 PlannerRule::OnRequest,          false, false, nullptr },
+    { "hard",      Method::Hard,        Make<ShadowMapSolver>,   PlannerRule::HardLights,         false, false, ShadowMapSolver::DeclaredOptions },
+    { "pcf",       Method::PCF,         Make<ShadowMapSolver>,   PlannerRule::OnRequest,          false, false, ShadowMapSolver::DeclaredOptions },
+    { "pcss",      Method::PCSS,        Make<ShadowMapSolver>,   PlannerRule::SoftLights,         false, false, ShadowMapSolver::DeclaredOptions },
+    { "pvsm",      Method::PVSM,        Make<PVSMSolver>,        PlannerRule::OnRequest,          false, false, PVSMSolver::DeclaredOptions },
+    { "hardavg",   Method::HardAverage, Make<HardAverageSolver>, PlannerRule::OnRequest,          false, false, HardAverageSolver::DeclaredOptions },
+    { "asm",       Method::ASM,         Make<ASMSolver>,         PlannerRule::AdaptiveHardLights, false, false, ASMSolver::DeclaredOptions },
+    { "reference", Method::Reference,   Make<TriangleSolver>,    PlannerRule::OnRequest,          true,  false, TriangleSolver::DeclaredOptions },
+    { "gears",     Method::GEARS,       Make<TriangleSolver>,    PlannerRule::OnRequest,          true,  false, TriangleSolver::DeclaredOptions },
+    { "vpcss",     Method::VPCSS,       Make<VPCSSSolver>,       PlannerRule::TranslucentCasters, true,  true,  TranslucentSolver::DeclaredOptions },
+    { "avsm",      Method::AVSM,        Make<AVSMSolver>,        PlannerRule::OnRequest,          true,  true,  TranslucentSolver::DeclaredOptions },
+    { "none",      Method::None,        nullptr,                 PlannerRule::OnRequest,          false, false, nullptr },
   };
   return table;
 }
@@ -77,7 +77,7 @@ std::vector<MethodInfo> PlannerMethods()
   std::vector<MethodInfo> methods;
   for (const auto& e : SolverRegistry())
   {
-    methods.push_back({ e.Method, e.Name, e.Rule, e.TranslucentCasters });
+    methods.push_back({ e.Method, e.Name, e.Rule, e.TranslucentCasters, e.TranslucentReceivers });
   }
   return methods;
 }

@@ -24,6 +24,7 @@ struct SolverEntry
   SolverFactory Factory;    ///< null for auto and none, which are not solvers
   PlannerRule Rule;         ///< when the planner uses it on its own
   bool TranslucentCasters;  ///< its solver weighs casters by their opacity
+  bool TranslucentReceivers; ///< its solver shades translucent receivers' fragments (FragmentLookup)
   SolverOptionsFunction Options; ///< its solver's typed options (null: none)
 };
 

@@ -61,8 +61,37 @@ Box TranslucentReceiverBounds(vtkRenderer* ren)
   return box;
 }
 
-std::string TranslucentReceiverCode(const std::string& fs, bool capture)
+std::string AVSMLookupCode(int lookups, bool refine)
 {
+  const bool both = (lookups & kFragmentHard) && (lookups & kFragmentFiltered);
+  std::ostringstream o;
+  o << "#define AVSM_HARD " << ((lookups & kFragmentHard) ? 1 : 0) << "\n"
+    << "#define AVSM_FILTERED " << ((lookups & kFragmentFiltered) ? 1 : 0) << "\n"
+    << "#define AVSM_REFINE " << (refine ? 1 : 0) << "\n"
+    << "#define AVSM_COLORED " << ((lookups & kFragmentColored) ? 1 : 0) << "\n"
+    << "#define AVSM_NODES " << (both ? 0 : 4 * (lookups >> kFragmentNodesShift)) << "\n"
+    << ssAVSMLookup;
+  return o.str();
+}
+
+int FragmentLookups(
+  const std::vector<ShadowLight>& lights, const std::function<const VisibilitySolver*(Method)>& solverOf)
+{
+  int lookups = 0;
+  for (const auto& l : lights)
+  {
+    const VisibilitySolver* solver = l.Layer >= 0 ? solverOf(l.Method) : nullptr;
+    lookups |= solver ? solver->FragmentLookup(l) : 0;
+  }
+  return lookups;
+}
+
+std::string TranslucentReceiverCode(const std::string& fs, bool capture, int lookups)
+{
+  if (lookups == 0)
+  {
+    return "vec3 ssFragmentVisibility(int layer) { return vec3(1.0); } // no light's solver shades fragments\n";
+  }
   const bool haveVC = fs.find("in vec4 vertexVCVSOutput;") != std::string::npos;
   const bool haveN = fs.find("in vec3 normalVCVSOutput;") != std::string::npos;
   std::ostringstream o;
@@ -88,11 +117,15 @@ std::string TranslucentReceiverCode(const std::string& fs, bool capture)
        "uniform vec4 ssFragFilter[SS_SLOTS]; // hard, filter quads, search samples, slope bias\n"
        "int ssFragSel = 0;\n";
   o << AsGlobals(ssShadowCommon);
+  // both lookups: two solvers, so two AVSMs (llvmpipe fetches from both)
   o << "vec4 avsmFetch(ivec3 p, int level)\n"
        "{\n"
-       "  return (ssFragSel == 0) ? texelFetch(ssFragAVSM0, p, level) : texelFetch(ssFragAVSM1, p, level);\n"
-       "}\n";
-  o << AsGlobals(ssAVSMLookup);
+    << (((lookups & kFragmentHard) != 0 && (lookups & kFragmentFiltered) != 0)
+           ? "  return (ssFragSel == 0) ? texelFetch(ssFragAVSM0, p, level) : texelFetch(ssFragAVSM1, p, level);\n"
+           : "  return texelFetch(ssFragAVSM0, p, level);\n")
+    << "}\n";
+  // a coarse filter without refinement (ssTranslucentSolver::SetFragmentUniforms)
+  o << AsGlobals(AVSMLookupCode(lookups, false).c_str());
   o << ReceiverCapture::Code(capture);
   o << "vec3 ssFragmentVisibility(int layer)\n"
        "{\n";
@@ -129,7 +162,6 @@ std::string TranslucentReceiverCode(const std::string& fs, bool capture)
        "  avsmLayersPerView = int(ssFragAVSM[k].w);\n"
        "  avsmLevels = int(ssFragView[k].w);\n"
        "  avsmFilterQuads = int(ssFragFilter[k].y);\n"
-       "  avsmRefine = 0;\n"
        "  vec3 p = ssVCToWC * vertexVCVSOutput.xyz + ssVCToRelOffset;\n";
   if (haveN)
   {
@@ -160,11 +192,10 @@ std::string TranslucentReceiverCode(const std::string& fs, bool capture)
        "  if (w.index >= 0)\n"
        "  {\n"
        "    int hard = int(ssFragFilter[k].x);\n"
-       "    T = avsmVisibility(w, nPlane, d, hard);\n"
-       "    T *= (hard != 0) ? centreAboveSurface(nrm, ng, d) : lightAboveSurface(nrm, ng, d);\n"
+       "    T = avsmVisibility(w, nPlane, d, hard) * avsmAboveSurface(nrm, ng, d, hard);\n"
        "  }\n"
        "  T = clamp(T, 0.0, 1.0);\n"
-       "  ssCaptureFragment(layer, (avsmColored != 0) ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n"
+       "  ssCaptureFragment(layer, avsmIsColored ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n"
        "  return T;\n"
        "}\n";
   return o.str();
@@ -182,7 +213,7 @@ void SetTranslucentReceiverUniforms(vtkShaderProgram* program, const GBuffer& gb
   for (const auto& l : all)
   {
     const VisibilitySolver* solver = l.Layer >= 0 ? solverOf(l.Method) : nullptr;
-    if (solver && solver->ShadesFragments(l))
+    if (solver && solver->FragmentLookup(l) != 0)
     {
       lights.emplace_back(&l, solver);
     }
@@ -214,7 +245,7 @@ void SetTranslucentReceiverUniforms(vtkShaderProgram* program, const GBuffer& gb
     samplerSolver[sampler] = ls.second;
     samplerUnit[sampler] = unit;
     const std::string k = "[" + std::to_string(slot) + "]";
-    program->SetUniformi(("ssFragSampler" + k).c_str(), sampler);
+    program->SetUniformi(("ssFragSampler" + k).c_str(), sampler); // (unused with one AVSM)
     ++slot;
   }
   for (int s = slot; s < kFragmentSlots; ++s)

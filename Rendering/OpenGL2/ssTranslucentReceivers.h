@@ -6,7 +6,7 @@
 // same code as the AVSM solvers' full-screen pass (ssShadowCommon.glsl's
 // views and receiver plane, ssAVSMLookup.glsl's hard AVSM lookup or VPCSS
 // filter) for the light of that visibility layer, when a solver that can
-// (VisibilitySolver::ShadesFragments) solved it. Up to kFragmentSlots such
+// (VisibilitySolver::FragmentLookup) solved it. Up to kFragmentSlots such
 // lights, each with one view (a point light needing a cube of six views
 // leaves its translucent receivers unshadowed), and up to two solvers' AVSMs.
 #ifndef ssTranslucentReceivers_h
@@ -31,6 +31,28 @@ struct ShadowLight;
 
 constexpr int kFragmentSlots = 4;
 
+/// The lookups of an AVSM a shader can hold (bits): hard AVSM's, VPCSS's
+/// filter, and whether a light's AVSM has three channels (coloured
+/// shadows). A shader holds only those its lights use: llvmpipe runs the
+/// code of every branch and the first pass of every loop for every
+/// fragment, so the code of a lookup no light uses cost as much as the one
+/// in use.
+enum FragmentLookupBits : int
+{
+  kFragmentHard = 1,
+  kFragmentFiltered = 2,
+  kFragmentColored = 4,
+  /// N / 4 of the lights' AVSMs (N nodes, 4 to 16) sits in the bits from
+  /// here on: one solver has one N; with both lookups (two solvers) the
+  /// code reads N at run time.
+  kFragmentNodesShift = 4
+};
+
+/// ssAVSMLookup.glsl with the lookups `lookups` (FragmentLookupBits) alone
+/// and, from them, N fixed where it can be;
+/// `refine`: the filter refines a quad whose function changes across it.
+std::string AVSMLookupCode(int lookups, bool refine);
+
 /// Whether `prop`'s fragments compute V in the shading stage: it is shown,
 /// translucent (so not in the G-buffer) and receives shadows.
 bool IsTranslucentReceiver(vtkProp* prop);
@@ -40,10 +62,17 @@ Box TranslucentReceiverBounds(vtkRenderer* renderer);
 
 /// The declarations and the function ssFragmentVisibility(int layer) (vec3)
 /// for a polydata mapper's fragment shader `fragmentShader` (read for which
-/// of VTK's inputs it has); vec3(1) where no slot holds the layer. With
-/// `capture`, each fragment's V also goes to the capture image
-/// (ssReceiverCapture).
-std::string TranslucentReceiverCode(const std::string& fragmentShader, bool capture);
+/// of VTK's inputs it has); vec3(1) where no slot holds the layer. It holds
+/// the lookups `lookups` (FragmentLookupBits, those of the lights whose
+/// solvers shade fragments; both: two solvers, so two AVSMs), 0: none
+/// (V = 1). With `capture`, each fragment's V also goes to the capture
+/// image (ssReceiverCapture).
+std::string TranslucentReceiverCode(const std::string& fragmentShader, bool capture, int lookups);
+
+/// The lookups (FragmentLookupBits) the solvers (`solverOf` a method) of
+/// `lights` need for fragments.
+int FragmentLookups(
+  const std::vector<ShadowLight>& lights, const std::function<const VisibilitySolver*(Method)>& solverOf);
 
 /// The uniforms of that code for one draw: the camera, and a slot per
 /// shadow light whose solver (`solverOf` its method) shades fragments (at

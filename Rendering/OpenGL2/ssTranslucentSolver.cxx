@@ -10,7 +10,6 @@
 #include "ssTranslucentReceivers.h"
 #include "ssVisibilityLayers.h"
 
-#include "ssAVSMLookup.h"
 #include "ssAVSMVisibilityFS.h"
 
 #include "vtkObject.h"
@@ -192,12 +191,19 @@ void TranslucentSolver::Compute(SolverFrame& frame, const ShadowLight& light)
   ++this->LightCount;
 
   // --- V (and RGB) of every G-buffer pixel: one full-screen pass
-  static const std::string fs = []() {
-    std::string s = WithCommon(ssAVSMVisibilityFS);
-    vtkShaderProgram::Substitute(s, "//SS::AVSMLookup", ssAVSMLookup);
-    return s;
-  }();
+  // built for this solver's lookup alone, its N and channels (ssAVSMLookup.
+  // glsl: llvmpipe runs the code of the other one too, masked, for every
+  // pixel)
   vtkOpenGLRenderWindow* win = frame.Window;
+  const int lookup = this->Lookup();
+  if (lookup != this->ProgramLookup)
+  {
+    ReleaseQuad(this->Quad, win); // built for another N or channel count
+    this->ProgramLookup = lookup;
+    this->Program = WithCommon(ssAVSMVisibilityFS);
+    vtkShaderProgram::Substitute(this->Program, "//SS::AVSMLookup", AVSMLookupCode(lookup, true));
+  }
+  const std::string& fs = this->Program;
   vtkOpenGLState* ostate = win->GetState();
   const int W = frame.State->Width, H = frame.State->Height;
   ostate->PushFramebufferBindings();
@@ -310,10 +316,17 @@ void TranslucentSolver::ReleaseGraphicsResources(vtkWindow* w)
   this->Ready = false;
 }
 
-bool TranslucentSolver::ShadesFragments(const ShadowLight& light) const
+int TranslucentSolver::Lookup() const
+{
+  return (this->Hard ? kFragmentHard : kFragmentFiltered) | (this->Maps.GetChannels() == 3 ? kFragmentColored : 0) |
+    ((this->Maps.GetNodes() / 4) << kFragmentNodesShift);
+}
+
+int TranslucentSolver::FragmentLookup(const ShadowLight& light) const
 {
   const ShadowLight* mine = this->FindLight(light);
-  return this->Ready && mine && mine->Views.size() == 1 && this->Maps.GetArray().Handle != 0;
+  const bool can = this->Ready && mine && mine->Views.size() == 1 && this->Maps.GetArray().Handle != 0;
+  return can ? this->Lookup() : 0;
 }
 
 void TranslucentSolver::BeginShading(vtkOpenGLRenderWindow* win)

@@ -60,7 +60,10 @@ public:
   void ReleaseGraphicsResources(vtkWindow* w) override;
 
   // translucent receivers (the shading stage; ssShadingSubstitution)
-  bool ShadesFragments(const ShadowLight& light) const override;
+  int FragmentLookup(const ShadowLight& light) const override;
+  /// The lookup its code holds (ss::FragmentLookupBits): hard or filtered,
+  /// coloured or not, and N.
+  int Lookup() const;
   void BeginShading(vtkOpenGLRenderWindow* win) override;
   void EndShading(vtkOpenGLRenderWindow* win) override;
   int SetFragmentUniforms(vtkShaderProgram* program, const ShadowLight& light, int slot) const override;
@@ -85,6 +88,8 @@ private:
   double MsBuild = 0.0, MsFilter = 0.0;
   AVSMBuildStats LastStats;
   std::string LastClustersJSON; ///< CasterSet::ClusterStatsJSON of the last frame's views
+  int ProgramLookup = -1;       ///< the Lookup() that Program (the G-buffer pass's shader) was built for
+  std::string Program;
   std::string LastError;
   std::unique_ptr<vtkOpenGLQuadHelper> Quad;
   int ShadingUnit = -1;

@@ -134,7 +134,10 @@ public:
   // (BeginShading/EndShading) and sets slot `slot`'s uniforms of the
   // fragment code (ssShadingSubstitution, ssTranslucentReceivers) per draw;
   // it returns the texture unit of its data (bound by BeginShading).
-  virtual bool ShadesFragments(const ShadowLight&) const { return false; }
+  // FragmentLookup: the lookup that code needs for `light` (a bit of
+  // ss::FragmentLookup, ssTranslucentReceivers.h), 0 when the solver cannot
+  // give its visibility at any point.
+  virtual int FragmentLookup(const ShadowLight&) const { return 0; }
   virtual void BeginShading(vtkOpenGLRenderWindow*) {}
   virtual void EndShading(vtkOpenGLRenderWindow*) {}
   virtual int SetFragmentUniforms(vtkShaderProgram*, const ShadowLight&, int /*slot*/) const { return -1; }

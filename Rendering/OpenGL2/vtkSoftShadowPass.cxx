@@ -228,6 +228,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
   // --- caster set, rebuilt only when a prop, its data or its transform changed
   auto tStage = Clock::now();
   in.Casters.Update(ren, this);
+  in.TranslucentReceivers = ss::TranslucentReceiverBounds(ren);
   in.Timings.Set("caster_set", ss::Milliseconds(tStage, Clock::now()));
 
   // --- lights and the effect plan
@@ -313,10 +314,15 @@ void vtkSoftShadowPass::PlanFrame(bool unchangedSinceLastFrame, double frameBudg
   pin.frameBudgetMs = frameBudgetMs;
   pin.shadowMapSize = this->ShadowMapSize;
   const ss::Box receivers = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
+  ss::Box casters = ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin);
+  casters.Add(ss::RelativeBox(in.Casters.VolumeBounds, in.Frame.Origin));
+  const ss::Box translucentReceivers = ss::RelativeBox(in.TranslucentReceivers, in.Frame.Origin);
   for (const auto& l : in.Frame.Lights)
   {
     pin.lights.push_back(l.Planner);
     pin.lights.back().translucentInView = in.Casters.TranslucentInView(l.Frame, in.Frame.Origin);
+    pin.lights.back().translucentReceiversInView = !translucentReceivers.Empty() &&
+      !casters.Empty() && ss::CastersMayShadow(l.Frame, casters, translucentReceivers);
     pin.lights.back().receiverTexels =
       ss::ReceiverTexelsAtPixelSize(l.Frame, receivers, in.Frame.Eye, in.PixelAngle, in.ParallelPixel);
   }
@@ -518,11 +524,16 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
   // The shading code is injected only while there are shadows (its samplers
   // must be bound to real textures), the per-fragment code of translucent
   // receivers only while one is shown: rebuild shaders when either changes.
-  // Only the translucent receivers' shaders carry that code (llvmpipe runs
-  // both sides of a branch: in every other prop's shader it ran, masked,
-  // for every fragment), so the shaders are rebuilt when the set changes.
+  // Only the translucent receivers' shaders carry that code, and only the
+  // lookups their lights' solvers use, none when no solver shades fragments
+  // (llvmpipe runs both sides of a branch: in every other prop's shader, or
+  // under PCSS, it ran, masked, for every fragment of every depth peel), so
+  // the shaders are rebuilt when the set or the lookups change.
+  const int lookups = in.ShadowsThisFrame
+    ? ss::FragmentLookups(in.Frame.Lights, [&in](ss::Method m) -> const ss::VisibilitySolver* { return in.SolverFor(m); })
+    : 0;
   std::vector<vtkProp*> translucentProps;
-  for (int i = 0; in.ShadowsThisFrame && i < s->GetPropArrayCount(); ++i)
+  for (int i = 0; lookups != 0 && i < s->GetPropArrayCount(); ++i)
   {
     vtkProp* prop = s->GetPropArray()[i];
     if (ss::IsTranslucentReceiver(prop))
@@ -533,11 +544,12 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
   const bool translucent = !translucentProps.empty();
   const bool capture = translucent && this->CaptureTranslucentReceivers >= 0;
   if (in.CurrentStage != Stage::Shade || in.ShadeShadows != in.ShadowsThisFrame ||
-    in.ShadeTranslucent != translucentProps || in.ShadeCapture != capture)
+    in.ShadeTranslucent != translucentProps || in.ShadeLookups != lookups || in.ShadeCapture != capture)
   {
     in.CurrentStage = Stage::Shade;
     in.ShadeShadows = in.ShadowsThisFrame;
     in.ShadeTranslucent = translucentProps;
+    in.ShadeLookups = lookups;
     in.ShadeCapture = capture;
     in.StageTime.Modified();
   }
@@ -617,8 +629,8 @@ bool vtkSoftShadowPass::PostReplaceShaderValues(std::string& vertexShader, std::
   {
     return true;
   }
-  const bool translucentReceiver = ss::IsTranslucentReceiver(prop);
-  if (const int missing = ss::InjectVisibility(fragmentShader, translucentReceiver, in.ShadeCapture))
+  const int lookups = ss::IsTranslucentReceiver(prop) ? in.ShadeLookups : 0;
+  if (const int missing = ss::InjectVisibility(fragmentShader, lookups, in.ShadeCapture))
   {
     vtkErrorMacro("vtkSoftShadowPass: could not find the light terms of "
       << missing << " light(s) in the shader of " << (prop ? prop->GetClassName() : "?")

@@ -41,8 +41,8 @@ std::vector<MethodInfo> Catalogue()
     { Method::HardAverage, "hardavg", PlannerRule::OnRequest, false },
     { Method::Reference, "reference", PlannerRule::OnRequest, true },
     { Method::GEARS, "gears", PlannerRule::OnRequest, true },
-    { Method::VPCSS, "vpcss", PlannerRule::TranslucentCasters, true },
-    { Method::AVSM, "avsm", PlannerRule::OnRequest, true } };
+    { Method::VPCSS, "vpcss", PlannerRule::TranslucentCasters, true, true },
+    { Method::AVSM, "avsm", PlannerRule::OnRequest, true, true } };
 }
 
 PlannerInput Scene(std::vector<PlannerLight> lights)
@@ -367,6 +367,43 @@ TEST(EffectPlanner, TranslucentCastersInViewGetVPCSS)
   EXPECT_EQ(p.lights[0].method, Method::VPCSS);
   v.casterVolumes = 0;
   EXPECT_FALSE(MakeEffectPlan(v).shadowWork);
+}
+
+// Translucent receivers (props not in the G-buffer, whose fragments take
+// their own V) in a light's view with only opaque casters: auto gives the
+// light the TranslucentCasters rule's method (PCSS left a translucent sheet
+// under an opaque ball unshadowed), vpcss requested is not turned into PCSS
+// there, and a method that cannot shade them is named in the frame's note.
+TEST(EffectPlanner, TranslucentReceiversInViewGetVPCSS)
+{
+  PlannerLight sheet = Area();
+  sheet.translucentReceiversInView = true;
+  PlannerLight spot = Point();
+  spot.translucentReceiversInView = true;
+  PlannerInput in = Scene({ sheet, spot, Area() });
+  EffectPlan p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
+  EXPECT_TRUE(Contains(p.lights[0].reason, "translucent receivers in its view")) << p.lights[0].reason;
+  EXPECT_TRUE(Contains(p.lights[0].reason, "soft shadows (VPCSS)")) << p.lights[0].reason;
+  EXPECT_EQ(p.lights[1].method, Method::VPCSS);
+  EXPECT_TRUE(Contains(p.lights[1].reason, "hard shadows")) << p.lights[1].reason;
+  EXPECT_EQ(p.lights[2].method, Method::PCSS);
+  EXPECT_FALSE(Contains(p.reason, "translucent receivers get no shadows")) << p.reason;
+  in.requested = Method::VPCSS;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
+  EXPECT_EQ(p.lights[0].reason, "requested vpcss");
+  EXPECT_EQ(p.lights[2].method, Method::PCSS); // nothing translucent in its view
+  in.requested = Method::PCSS;
+  p = MakeEffectPlan(in);
+  EXPECT_EQ(p.lights[0].method, Method::PCSS);
+  EXPECT_TRUE(Contains(p.reason, "translucent receivers get no shadows from pcss")) << p.reason;
+  in.requested = Method::AVSM;
+  EXPECT_FALSE(Contains(MakeEffectPlan(in).reason, "translucent receivers get no shadows")) << MakeEffectPlan(in).reason;
+  // the reference weighs translucent casters but shades no translucent receiver
+  in.requested = Method::Reference;
+  EXPECT_TRUE(Contains(MakeEffectPlan(in).reason, "translucent receivers get no shadows from reference"))
+    << MakeEffectPlan(in).reason;
 }
 
 // Which translucent casters are "in a light's view": those that can shadow

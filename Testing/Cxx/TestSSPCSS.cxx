@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 
 using namespace ss;
 
@@ -234,6 +235,62 @@ TEST(PCSS, LightAboveSurfaceMatchesSampling)
   const double f = LightFractionAboveSurface(huge, { 0, 0, 0 }, { 1, 0, 1 }, { 1, 0, 1 });
   EXPECT_TRUE(std::isfinite(f));
   EXPECT_NEAR(f, 0.5, 1e-9);
+}
+
+TEST(PCSS, SquareFractionByBoundaryMatchesClipping)
+{
+  // the boundary integral (the shaders' lightAboveSurface, in float) against
+  // the clipped polygon, on random planes and on every degenerate pair
+  using glm::dvec3;
+  // (double: 1e-9, but lines within 1e-6 rad count as parallel, a sliver
+  // of up to ~1e-6 of the square)
+  auto check = [](const dvec3& f1, const dvec3& f2, double floatTol, const char* what) {
+    const double doubleTol = std::string(what) == "nearly parallel" ? 1e-6 : 1e-9;
+    const double clip = SquareFractionAbovePlanesByClipping(f1, f2);
+    const double byEdges = SquareFractionAbovePlanes(f1, f2);
+    const float inFloat = SquareFractionAbovePlanes(glm::vec3(f1), glm::vec3(f2));
+    EXPECT_NEAR(byEdges, clip, doubleTol) << what << " f1 " << f1.x << " " << f1.y << " " << f1.z << " f2 " << f2.x
+                                     << " " << f2.y << " " << f2.z;
+    EXPECT_NEAR(inFloat, clip, floatTol) << what << " (float) f1 " << f1.x << " " << f1.y << " " << f1.z << " f2 "
+                                         << f2.x << " " << f2.y << " " << f2.z;
+    EXPECT_TRUE(std::isfinite(inFloat));
+  };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (int trial = 0; trial < 20000; ++trial)
+  {
+    const dvec3 f1(3 * U(rng), 2 * U(rng), 2 * U(rng)), f2(3 * U(rng), 2 * U(rng), 2 * U(rng));
+    check(f1, f2, 2e-5, "random");
+    // the same plane (a facet normal equal to the shading normal), scaled
+    check(f1, f1, 2e-5, "equal");
+    check(f1, 2.5 * f1, 2e-5, "equal, scaled");
+    // facing each other on one line: nothing is above both
+    EXPECT_EQ(SquareFractionAbovePlanes(glm::vec3(f1), glm::vec3(-f1)), 0.0f);
+    // parallel, the same way or facing, apart
+    check(f1, f1 + dvec3(0.4 * U(rng), 0, 0), 2e-5, "parallel");
+    check(f1, -f1 + dvec3(0.8 * U(rng), 0, 0), 2e-5, "facing");
+    // nearly parallel: the lines cross far away or at an ill-conditioned point
+    for (double angle : { 1e-8, 1e-6, 1e-4, 1e-2 })
+    {
+      const double c = std::cos(angle), s = std::sin(angle);
+      const dvec3 r(f1.x + 1e-3 * U(rng), c * f1.y - s * f1.z, s * f1.y + c * f1.z);
+      check(f1, r, 5e-5, "nearly parallel");
+    }
+  }
+  // lines along the square's edges and through its corners, constants
+  const dvec3 special[] = { { 1, -1, 0 }, { -1, 1, 0 }, { 1, 1, 0 }, { -1, -1, 0 }, { 1, 0, -1 }, { -1, 0, 1 },
+    { 0, 1, 1 }, { 0, -1, 1 }, { 2, 1, 1 }, { -2, 1, 1 }, { 0, 0, 0 }, { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 },
+    { 0, 0, 1 } };
+  for (const dvec3& a : special)
+  {
+    for (const dvec3& b : special)
+    {
+      check(a, b, 2e-6, "special");
+    }
+  }
+  // a 1e30 light (coefficients ~1e30, whose products overflow float) and a tiny one
+  check(dvec3(0.3e30, 1e30, -0.5e30), dvec3(-0.2e30, 0.4e30, 1e30), 2e-5, "huge");
+  check(dvec3(0.3e-30, 1e-30, -0.5e-30), dvec3(-0.2e-30, 0.4e-30, 1e-30), 2e-5, "tiny");
 }
 
 TEST(PCSS, NormalOffsetDistance)

@@ -11,12 +11,15 @@
 #include "ssReference.h"
 
 #include "vtkAppendPolyData.h"
+#include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
 #include "vtkFloatArray.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataAlgorithm.h"
 #include "vtkPolyDataMapper.h"
+#include "vtkShader.h"
+#include "vtkShaderProgram.h"
 #include "vtkProperty.h"
 #include "vtkWindowToImageFilter.h"
 
@@ -263,6 +266,109 @@ void AppendTriangles(vtkActor* actor, float opacity, std::vector<glm::dvec3>& ve
 // rectangle; MAE 0.11 for both methods), and then the per-fragment filter
 // read cells as wide as the search window (vpcss MAE 0.107, penumbra 0.27:
 // worse than hard AVSM's 0.041 and 0.142).
+// A translucent receiver's shader holds only the AVSM lookup its light's
+// solver uses, and none under a solver that shades no fragments: llvmpipe
+// runs the code of every branch and the first pass of every loop for every
+// fragment of every depth peel, so a lookup left in the shader cost as much
+// as one in use (under PCSS, the VPCSS filter made particles.json's shading
+// 847 instead of 102 ms a frame; Documentation/vpcss.md). The fragment
+// shaders the sheet is drawn with are read at every draw (the mapper's
+// UpdateShaderEvent); the shadow on the sheet shows the code still works.
+// The casters are opaque: vpcss requested stays VPCSS, and auto picks it
+// (the planner turned both into PCSS, and the sheet got no shadow).
+TEST(VPCSS, TranslucentReceiverShaderHoldsOnlyItsLookup)
+{
+  struct Case
+  {
+    int method;
+    int colored;
+    int nodes;
+    std::vector<std::string> present, absent;
+  };
+  // the lookup's settings, as the pass writes them before ssAVSMLookup.glsl
+  auto header = [](int hard, int refine, int colored, int nodes) {
+    return "#define AVSM_HARD " + std::to_string(hard) + "\n#define AVSM_FILTERED " + std::to_string(1 - hard) +
+      "\n#define AVSM_REFINE " + std::to_string(refine) + "\n#define AVSM_COLORED " + std::to_string(colored) +
+      "\n#define AVSM_NODES " + std::to_string(nodes) + "\n";
+  };
+  const Case cases[] = {
+    { vtkSoftShadowPass::PCSS, 0, 8, {}, { "avsmTexel2", "ssFragAVSM0", "#define AVSM_" } },
+    { vtkSoftShadowPass::AVSM, 0, 8, { header(1, 0, 0, 8) }, {} },
+    { vtkSoftShadowPass::VPCSS, 0, 4, { header(0, 0, 0, 4) }, {} },
+    { vtkSoftShadowPass::VPCSS, 1, 16, { header(0, 0, 1, 16) }, {} },
+    // auto: the casters are opaque, but the translucent sheet receives their
+    // shadow, which only VPCSS (or AVSM) gives it (PCSS left it unshadowed)
+    { vtkSoftShadowPass::AUTO, 0, 8, { header(0, 0, 0, 8) }, {} },
+  };
+  for (const Case& c : cases)
+  {
+    SCOPED_TRACE(std::string(vtkSoftShadowPass::GetMethodName(c.method)) + (c.colored ? ", coloured" : "") +
+      ", " + std::to_string(c.nodes) + " nodes");
+    Scene s(160, 120);
+    PeelEveryLayer(s);
+    auto sheet = Quad(0, 0, 0.5, 3.0, 0.5);
+    vtkSoftShadowPass::SetCastsShadows(sheet, false);
+    auto ball = Sphere(0, 0, 1.4, 0.35);
+    s.renderer->AddActor(sheet);
+    s.renderer->AddActor(ball);
+    s.renderer->AddLight(RectLight(0, 0, 4, 0, 0, 0, 0.8, 0.8));
+    s.Camera(0, -3.0, 4.0, 0, 0, 0.5);
+    s.pass->SetMethod(c.method);
+    ASSERT_TRUE(s.pass->SetSolverOption("colored_shadows", c.colored));
+    ASSERT_TRUE(s.pass->SetSolverOption("avsm_nodes", c.nodes));
+    std::vector<std::string> sources;
+    vtkNew<vtkCallbackCommand> onShader;
+    onShader->SetClientData(&sources);
+    onShader->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
+      auto* program = static_cast<vtkShaderProgram*>(call);
+      if (program && program->GetFragmentShader())
+      {
+        static_cast<std::vector<std::string>*>(client)->push_back(program->GetFragmentShader()->GetSource());
+      }
+    });
+    sheet->GetMapper()->AddObserver(vtkCommand::UpdateShaderEvent, onShader);
+    const std::vector<double> lum = Luminance(s);
+    // the shading stage's shaders of the sheet: those with the visibility code
+    std::vector<const std::string*> shading;
+    for (const auto& src : sources)
+    {
+      if (src.find("ssVisibility(") != std::string::npos)
+      {
+        shading.push_back(&src);
+      }
+    }
+    ASSERT_FALSE(shading.empty()) << "no shading-stage draw of the sheet seen";
+    for (const std::string* src : shading)
+    {
+      for (const auto& p : c.present)
+      {
+        const std::size_t at = src->find("#define AVSM_HARD");
+        EXPECT_NE(src->find(p), std::string::npos) << "missing: " << p << "; the shader has: " << src->substr(at == std::string::npos ? 0 : at, 120);
+      }
+      for (const auto& a : c.absent)
+      {
+        EXPECT_EQ(src->find(a), std::string::npos) << "present: " << a;
+      }
+    }
+    // the ball's shadow darkens the sheet's middle against its corner
+    const int w = 160, h = 120;
+    double middle = 0.0, edge = 0.0;
+    for (int y = 0; y < h; ++y)
+    {
+      for (int x = 0; x < w; ++x)
+      {
+        const double l = lum[static_cast<std::size_t>(y * w + x)];
+        middle = std::max(middle, (std::abs(x - w / 2) < 4 && std::abs(y - h / 2) < 4) ? l : 0.0);
+        edge = std::max(edge, (std::abs(x - w / 2) < 4 && std::abs(y - h / 5) < 4) ? l : 0.0);
+      }
+    }
+    if (c.method != vtkSoftShadowPass::PCSS) // PCSS: the sheet receives no shadow
+    {
+      EXPECT_LT(middle, edge - 20) << "middle " << middle << ", near edge " << edge;
+    }
+  }
+}
+
 TEST(VPCSS, TranslucentReceiversMatchReference)
 {
   auto sheet = Quad(0, 0, 0.5, 3.0, 0.5);

@@ -12,11 +12,49 @@ uniform int avsmFirstLayer;   // the light's first layer
 uniform int avsmLayersPerView;
 uniform int avsmFilterQuads;  // VPCSS: texel quads per axis of the filter, at most
 
-// 1: a pyramid quad whose function changes across it reads its four
-// children (G-buffer pixels); 0: its mean function alone, a mip-mapped
-// lookup (translucent receivers, ssTranslucentReceivers: every fragment of
-// every depth peel runs the filter, so it reads a fixed handful of texels).
-int avsmRefine = 1;
+// Which lookups the including shader holds, fixed when it is built (it may
+// define them first). llvmpipe runs both sides of every branch and the first
+// pass of every loop, even for a group of fragments none of which takes it:
+// code for a lookup no light uses costs as much as the one in use (measured
+// in Documentation/vpcss.md, "Only the code a light uses").
+// AVSM_HARD: hard AVSM; AVSM_FILTERED: VPCSS's filter; with both, the
+// caller's `hard` picks. AVSM_REFINE 1: a pyramid quad whose function
+// changes across it reads its four children (G-buffer pixels), and the
+// blocker search exits early by blocks of cells; 0: its mean function
+// alone, a mip-mapped lookup (translucent receivers,
+// ssTranslucentReceivers: every fragment of every depth peel runs the
+// filter, so it reads a fixed handful of texels), and the search reads its
+// few cells without the block test (whose 4 x 4 reads cost more there than
+// they save, as every loop runs at least once on llvmpipe: 614 against 641
+// ms of shading on particles.json, the same V). AVSM_COLORED 0: no light
+// of the shader has three channels (avsmColored is 0), so the code of the
+// other two is left out. AVSM_NODES > 0: every light of the shader has that
+// N (avsmNodes), so the loops over its blocks unroll; 0: N is read.
+#ifndef AVSM_HARD
+#define AVSM_HARD 1
+#endif
+#ifndef AVSM_FILTERED
+#define AVSM_FILTERED 1
+#endif
+#ifndef AVSM_REFINE
+#define AVSM_REFINE 1
+#endif
+#ifndef AVSM_COLORED
+#define AVSM_COLORED 1
+#endif
+#ifndef AVSM_NODES
+#define AVSM_NODES 0
+#endif
+#if AVSM_NODES > 0
+#define avsmBlocks (AVSM_NODES / 4)
+#else
+#define avsmBlocks (avsmNodes / 4)
+#endif
+#if AVSM_COLORED
+#define avsmIsColored (avsmColored != 0)
+#else
+#define avsmIsColored false
+#endif
 
 // Texel q of a level of `mapSize` >> level texels a side lies in the map
 // (outside: no node, T = 1).
@@ -33,8 +71,8 @@ void avsmBlock(int L, int nb, ivec2 q, int level, int b, out vec4 d, out vec4 t0
 {
   d = avsmFetch(ivec3(q, L + b), level);
   t0 = avsmFetch(ivec3(q, L + nb + b), level);
-  t1 = (avsmColored != 0) ? avsmFetch(ivec3(q, L + 2 * nb + b), level) : t0;
-  t2 = (avsmColored != 0) ? avsmFetch(ivec3(q, L + 3 * nb + b), level) : t0;
+  t1 = avsmIsColored ? avsmFetch(ivec3(q, L + 2 * nb + b), level) : t0;
+  t2 = avsmIsColored ? avsmFetch(ivec3(q, L + 3 * nb + b), level) : t0;
 }
 
 // T(z) of texel q of `view` at `level`, at two depths z.x and z.y, read
@@ -70,7 +108,7 @@ vec3 avsmTexel2(int view, ivec2 q, int level, vec2 z, out vec3 second)
   {
     return r0;
   }
-  int nb = avsmNodes / 4;
+  int nb = avsmBlocks;
   int L = avsmFirstLayer + view * avsmLayersPerView;
   vec4 d, t0, t1, t2;
   avsmBlock(L, nb, q, level, 0, d, t0, t1, t2);
@@ -141,9 +179,9 @@ vec2 avsmBlockerTexel(int view, ivec2 q, int level, float zR)
   {
     return acc;
   }
-  int nb = avsmNodes / 4;
+  int nb = avsmBlocks;
   int L = avsmFirstLayer + view * avsmLayersPerView;
-  bool colored = avsmColored != 0;
+  bool colored = avsmIsColored;
   vec4 zz = vec4(zR);
   float lastD = 0.0;
   vec3 lastT = vec3(1.0);
@@ -232,6 +270,7 @@ float planeUpper(View w, vec2 a, float s, float maxDelta)
 // fetches instead of up to 9 x 9 functions.
 float avsmBlockerSearch(View w, float bias)
 {
+
   vec2 searchHalf = lightFilterHalf(w.p.z, min(searchDepth, w.p.z));
   vec2 searchTex = min(searchHalf * w.texelPerUnit, vec2(mapSize * 0.25));
   searchTex = max(searchTex, vec2(1.0));
@@ -244,6 +283,9 @@ float avsmBlockerSearch(View w, float bias)
   ivec2 c0 = ivec2(floor(s0 / cell));
   ivec2 c1 = ivec2(floor(s1 / cell));
   int up = min(level + 2, avsmLevels - 1) - level;
+#if !AVSM_REFINE
+  up = 0; // the coarse filter: fewer search cells than the exit's 4 x 4 reads (measured)
+#endif
   if (up > 0)
   {
     // the deepest a search cell's receiver depth (zr - bias * cell below)
@@ -304,7 +346,8 @@ vec3 avsmQuad(View w, int level, ivec2 q, float bias, float maxDelta)
   vec2 zr = planeRange(w, vec2(q) * s, s, maxDelta) - bias * s;
   vec3 far;
   vec3 near = avsmTexel2(w.index, q, level, zr, far);
-  bool refine = avsmRefine != 0 && !all(lessThan(abs(near - far), vec3(1e-3)));
+#if AVSM_REFINE
+  bool refine = !all(lessThan(abs(near - far), vec3(1e-3)));
   // the children's loop runs 0 times unless refining: llvmpipe runs a
   // branch's body for every fragment of a group whatever the condition,
   // but a loop only as often as its longest-running fragment needs
@@ -318,6 +361,9 @@ vec3 avsmQuad(View w, int level, ivec2 q, float bias, float maxDelta)
     sum += avsmTexel(w.index, child, level - 1, z);
   }
   return refine ? 0.25 * sum : 0.5 * (near + far);
+#else
+  return 0.5 * (near + far);
+#endif
 }
 
 // The filtered transmittance over the kernel box [k0, k1] (texel units):
@@ -327,6 +373,7 @@ vec3 avsmQuad(View w, int level, ivec2 q, float bias, float maxDelta)
 // no banding.
 vec3 avsmCoverage(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
 {
+
   float area = (k1.x - k0.x) * (k1.y - k0.y);
   if (area <= 0.0)
   {
@@ -362,11 +409,10 @@ vec3 avsmCoverage(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
   return clamp(sum / area, 0.0, 1.0);
 }
 
-// Transmittance of the light at receiver point d (from the light's centre)
-// with normal nrm: hard AVSM (one texel, `hard` != 0) or VPCSS (blocker
-// search, eq. 14 penumbra, filtered transmittance); RGB. The light above
-// the tangent plane and the views are the caller's.
-vec3 avsmVisibility(View w, vec3 nrm, vec3 d, int hard)
+// Hard AVSM's transmittance of the light at receiver point d (from the
+// light's centre) with normal nrm: one texel, at the receiver's depth less
+// the slope-scaled bias; RGB.
+vec3 avsmHardVisibility(View w, vec3 nrm, vec3 d)
 {
   vec3 toLight = (orthographic != 0) ? -viewN[w.index] : normalize(-d);
   float cosTheta = dot(normalize(nrm), toLight);
@@ -375,11 +421,14 @@ vec3 avsmVisibility(View w, vec3 nrm, vec3 d, int hard)
   {
     tanTheta = 0.0; // no normal: no slope
   }
-  if (hard != 0)
-  {
-    float slopeScaled = w.texelWorld * (constantBias + slopeBias * tanTheta);
-    return avsmTexel(w.index, ivec2(floor(w.T)), 0, w.p.z - slopeScaled);
-  }
+  float slopeScaled = w.texelWorld * (constantBias + slopeBias * tanTheta);
+  return avsmTexel(w.index, ivec2(floor(w.T)), 0, w.p.z - slopeScaled);
+}
+
+// VPCSS's transmittance of the light at receiver view w: blocker search,
+// eq. 14 penumbra, filtered transmittance; RGB.
+vec3 avsmFilteredVisibility(View w)
+{
   float bias = w.texelWorld * constantBias;
   float zAvg = avsmBlockerSearch(w, bias);
   if (zAvg < 0.0)
@@ -392,4 +441,33 @@ vec3 avsmVisibility(View w, vec3 nrm, vec3 d, int hard)
   vec2 kTex = max(lightFilterHalf(w.p.z, zAvg) * w.texelPerUnit, vec2(0.5));
   float md = max(kTex.x, kTex.y) * w.texelWorld * 10.0;
   return avsmCoverage(w, w.T - kTex, w.T + kTex, bias, md);
+}
+
+// Transmittance of the light at receiver point d (from the light's centre)
+// with normal nrm: hard AVSM (`hard` != 0) or VPCSS, among the lookups the
+// shader holds (AVSM_HARD, AVSM_FILTERED); RGB. The views are the caller's.
+vec3 avsmVisibility(View w, vec3 nrm, vec3 d, int hard)
+{
+#if AVSM_HARD && AVSM_FILTERED
+  return (hard != 0) ? avsmHardVisibility(w, nrm, d) : avsmFilteredVisibility(w);
+#elif AVSM_HARD
+  return avsmHardVisibility(w, nrm, d);
+#else
+  return avsmFilteredVisibility(w);
+#endif
+}
+
+// The fraction of the light above the receiver's surface (the terminator,
+// ssShadowCommon; ns the shading normal, ng the facet's): hard AVSM's light
+// is its centre, VPCSS's all of it. As avsmVisibility, only the code the
+// shader's lookups need.
+float avsmAboveSurface(vec3 ns, vec3 ng, vec3 d, int hard)
+{
+#if AVSM_HARD && AVSM_FILTERED
+  return (hard != 0) ? centreAboveSurface(ns, ng, d) : lightAboveSurface(ns, ng, d);
+#elif AVSM_HARD
+  return centreAboveSurface(ns, ng, d);
+#else
+  return lightAboveSurface(ns, ng, d);
+#endif
 }

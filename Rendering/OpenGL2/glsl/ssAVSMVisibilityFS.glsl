@@ -2,7 +2,8 @@
 // Visibility of one light for every G-buffer pixel from its AVSM: hard AVSM
 // (the texel's transmittance at the receiver) or VPCSS (the paper's filter).
 // Output 0: V (the mean of the channels for coloured shadows); output 1 (when
-// the light has a colour layer): RGB.
+// the light has a colour layer): RGB. Built for one of the two
+// (ssTranslucentSolver defines AVSM_HARD, AVSM_FILTERED and AVSM_COLORED).
 uniform int hardAVSM;
 uniform sampler2DArray avsmTex;
 in vec2 texCoord; // from VTK's full-screen quad
@@ -37,11 +38,11 @@ void main()
   else
   {
     // the terminator (ssShadowCommon): hard AVSM from the light's centre
-    float above = (hardAVSM != 0) ? centreAboveSurface(normalize(nrm), ng, d) : lightAboveSurface(normalize(nrm), ng, d);
+    float above = avsmAboveSurface(normalize(nrm), ng, d, hardAVSM);
     T = avsmVisibility(w, (dot(ng, ng) > 0.5) ? ng : nrm, dLookup, hardAVSM) * above;
   }
   T = clamp(T, 0.0, 1.0);
-  float V = (avsmColored != 0) ? (T.x + T.y + T.z) / 3.0 : T.x;
+  float V = avsmIsColored ? (T.x + T.y + T.z) / 3.0 : T.x;
   gl_FragData[0] = vec4(V, 0.0, 0.0, 1.0);
-  gl_FragData[1] = vec4((avsmColored != 0) ? T : vec3(V), 1.0);
+  gl_FragData[1] = vec4(avsmIsColored ? T : vec3(V), 1.0);
 }

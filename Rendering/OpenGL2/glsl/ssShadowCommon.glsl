@@ -110,6 +110,106 @@ vec2 planeRange(View w, vec2 a, float s, float maxDelta)
   return vec2(min(min(z00, z10), min(z01, z11)), max(max(z00, z10), max(z01, z11)));
 }
 
+// [lo, hi] of t where alpha + beta t > 0 (`closed`: >= 0 where beta is 0)
+void clipInterval(float alpha, float beta, bool closed, inout float lo, inout float hi)
+{
+  if (beta > 0.0)
+  {
+    lo = max(lo, -alpha / beta);
+  }
+  else if (beta < 0.0)
+  {
+    hi = min(hi, -alpha / beta);
+  }
+  else if (!(alpha > 0.0 || (closed && alpha == 0.0)))
+  {
+    hi = lo - 1.0;
+  }
+}
+
+float crossArea(vec2 p, vec2 q)
+{
+  return p.x * q.y - p.y * q.x;
+}
+
+// ss::SquareFractionAbovePlanes in float (its comments; unit-tested there
+// against the clipped polygon): the fraction of [-1,1]^2 where both
+// f.x + f.y s + f.z t > 0, by the boundary integral. Registers only: the
+// polygon clip it replaced kept its points in local arrays, which llvmpipe
+// reads and writes lane by lane.
+float squareAbovePlanes(vec3 f1In, vec3 f2In)
+{
+  float m1 = max(max(abs(f1In.x), abs(f1In.y)), abs(f1In.z));
+  float m2 = max(max(abs(f2In.x), abs(f2In.y)), abs(f2In.z));
+  vec3 f[2];
+  f[0] = (m1 > 0.0) ? f1In / m1 : f1In;
+  f[1] = (m2 > 0.0) ? f2In / m2 : f2In;
+  float twice = 0.0;
+  for (int e = 0; e < 4; ++e)
+  {
+    // the square's corners counter-clockwise: (-1,-1), (1,-1), (1,1), (-1,1)
+    vec2 A = vec2((e == 1 || e == 2) ? 1.0 : -1.0, (e >= 2) ? 1.0 : -1.0);
+    vec2 B = vec2((e == 0 || e == 1) ? 1.0 : -1.0, (e == 1 || e == 2) ? 1.0 : -1.0);
+    float lo = 0.0, hi = 1.0;
+    for (int k = 0; k < 2; ++k)
+    {
+      float vA = f[k].x + f[k].y * A.x + f[k].z * A.y;
+      float vB = f[k].x + f[k].y * B.x + f[k].z * B.y;
+      clipInterval(vA, vB - vA, false, lo, hi);
+    }
+    twice += (lo < hi) ? crossArea(A + (B - A) * lo, A + (B - A) * hi) : 0.0;
+  }
+  vec2 g[2];
+  g[0] = f[0].yz;
+  g[1] = f[1].yz;
+  vec2 gg = vec2(dot(g[0], g[0]), dot(g[1], g[1]));
+  vec2 len = sqrt(gg);
+  float kappa = crossArea(g[0], g[1]);
+  bool crossing = abs(kappa) > 1e-6 * len.x * len.y;
+  vec2 X = crossing ? vec2(f[1].x * g[0].y - f[0].x * g[1].y, f[0].x * g[1].x - f[1].x * g[0].x) / kappa : vec2(0.0);
+  bool sameWay = dot(g[0], g[1]) > 0.0;
+  vec2 offset = vec2((len.x > 0.0) ? -f[0].x / len.x : 0.0, (len.y > 0.0) ? -f[1].x / len.y : 0.0);
+  for (int k = 0; k < 2; ++k)
+  {
+    int o = 1 - k;
+    if (!(gg[k] > 0.0))
+    {
+      continue;
+    }
+    vec2 p0 = g[k] * (-f[k].x / gg[k]);
+    vec2 dir = vec2(g[k].y, -g[k].x);
+    float lo = -3.0e38, hi = 3.0e38;
+    clipInterval(1.0 - p0.x, -dir.x, true, lo, hi);
+    clipInterval(1.0 + p0.x, dir.x, true, lo, hi);
+    clipInterval(1.0 - p0.y, -dir.y, true, lo, hi);
+    clipInterval(1.0 + p0.y, dir.y, true, lo, hi);
+    if (crossing)
+    {
+      float tX = dot(X - p0, dir) / gg[k];
+      if (dot(g[o], dir) > 0.0)
+      {
+        lo = max(lo, tX);
+      }
+      else
+      {
+        hi = min(hi, tX);
+      }
+    }
+    else if (!(gg[o] > 0.0))
+    {
+      clipInterval(f[o].x, 0.0, false, lo, hi);
+    }
+    else
+    {
+      bool keep = sameWay ? ((k == 0) ? offset[k] >= offset[o] : offset[k] > offset[o]) : (offset.x < -offset.y);
+      hi = keep ? hi : lo - 1.0;
+    }
+    twice += (lo < hi) ? crossArea(p0 + dir * lo, p0 + dir * hi) : 0.0;
+  }
+  float fraction = 0.125 * twice;
+  return (fraction == fraction) ? clamp(fraction, 0.0, 1.0) : 0.0;
+}
+
 // Fraction of the light above both the tangent plane of the shading normal
 // `ns` and the plane of the receiver's own triangle `ng`: light points below
 // either cannot be seen from the surface (below the triangle's plane the
@@ -119,9 +219,9 @@ vec2 planeRange(View w, vec2 a, float s, float maxDelta)
 // 17; Chiang et al. 2019 "Taming the shadow terminator" make the same
 // observation): the lit/unlit decision at a facet the light grazes comes from
 // the facet, not from a shadow-map texel the facet shares with its
-// neighbours. Rect light: the square [-1,1]^2 (the light in units of its half
-// sizes, so that a 1e30 light's area stays finite in float) clipped by both
-// half-planes (Sutherland-Hodgman), then the shoelace area. Point and
+// neighbours. Rect light: the part of the square [-1,1]^2 (the light in units
+// of its half sizes, so that a 1e30 light's area stays finite in float)
+// above both planes (squareAbovePlanes). Point and
 // two-sided lights: the light centre's side of both planes. Same as
 // ss::LightFractionAboveSurface.
 float lightAboveSurface(vec3 ns, vec3 ng, vec3 d)
@@ -147,49 +247,9 @@ float lightAboveSurface(vec3 ns, vec3 ng, vec3 d)
   {
     return (dot(ns, -d) > 0.0 && dot(ng, -d) > 0.0) ? 1.0 : 0.0;
   }
-  vec2 poly[8];
-  poly[0] = vec2(-1.0, -1.0);
-  poly[1] = vec2(1.0, -1.0);
-  poly[2] = vec2(1.0, 1.0);
-  poly[3] = vec2(-1.0, 1.0);
-  int n = 4;
-  for (int k = 0; k < 2; ++k)
-  {
-    vec3 nrm = (k == 0) ? ns : ng;
-    float a = dot(nrm, -d);
-    float b = lightHalfSize.x * dot(nrm, lightU);
-    float c = lightHalfSize.y * dot(nrm, lightV);
-    vec2 outp[8];
-    int m = 0;
-    for (int i = 0; i < n; ++i)
-    {
-      vec2 p0 = poly[i];
-      vec2 p1 = poly[(i + 1) % n];
-      float f0 = a + b * p0.x + c * p0.y;
-      float f1 = a + b * p1.x + c * p1.y;
-      if (f0 > 0.0 && m < 8)
-      {
-        outp[m++] = p0;
-      }
-      if ((f0 > 0.0) != (f1 > 0.0) && m < 8)
-      {
-        outp[m++] = mix(p0, p1, f0 / (f0 - f1));
-      }
-    }
-    for (int i = 0; i < m; ++i)
-    {
-      poly[i] = outp[i];
-    }
-    n = m;
-  }
-  float area = 0.0;
-  for (int i = 0; i < n; ++i)
-  {
-    vec2 p0 = poly[i];
-    vec2 p1 = poly[(i + 1) % n];
-    area += p0.x * p1.y - p1.x * p0.y;
-  }
-  return clamp(0.125 * abs(area), 0.0, 1.0);
+  vec3 f1 = vec3(dot(ns, -d), lightHalfSize.x * dot(ns, lightU), lightHalfSize.y * dot(ns, lightV));
+  vec3 f2 = vec3(dot(ng, -d), lightHalfSize.x * dot(ng, lightU), lightHalfSize.y * dot(ng, lightV));
+  return squareAbovePlanes(f1, f2);
 }
 
 // 1 when the light's centre is above both planes (lightAboveSurface), else
