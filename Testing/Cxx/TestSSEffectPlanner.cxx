@@ -307,6 +307,19 @@ TEST(EffectPlanner, JSONAndText)
   EXPECT_EQ(MakeEffectPlan(Scene({})).ToJSON().find("\"lights\": []") != std::string::npos, true);
 }
 
+// Lights 0 (an area light) and 1 (a point light) planned VPCSS, soft and
+// hard, each reason naming why (`why0`, `why1`).
+void ExpectVPCSSSoftAndHard(const EffectPlan& p, const std::string& why0, const std::string& why1)
+{
+  ASSERT_GE(p.lights.size(), 2u);
+  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
+  EXPECT_TRUE(Contains(p.lights[0].reason, why0)) << p.lights[0].reason;
+  EXPECT_TRUE(Contains(p.lights[0].reason, "soft shadows (VPCSS)")) << p.lights[0].reason;
+  EXPECT_EQ(p.lights[1].method, Method::VPCSS);
+  EXPECT_TRUE(Contains(p.lights[1].reason, why1)) << p.lights[1].reason;
+  EXPECT_TRUE(Contains(p.lights[1].reason, "hard shadows")) << p.lights[1].reason;
+}
+
 // The translucent rule (VPCSS): a light with a translucent caster in its
 // view (opacity < 1, an RGBA texture or a volume, as the pass finds it) gets
 // the method registered for TranslucentCasters, soft or not, and the reason
@@ -322,12 +335,7 @@ TEST(EffectPlanner, TranslucentCastersInViewGetVPCSS)
   in.translucentCasters = true;
   in.casterVolumes = 1;
   EffectPlan p = MakeEffectPlan(in);
-  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
-  EXPECT_TRUE(Contains(p.lights[0].reason, "translucent casters in its view (opacity < 1)")) << p.lights[0].reason;
-  EXPECT_TRUE(Contains(p.lights[0].reason, "soft shadows (VPCSS)")) << p.lights[0].reason;
-  EXPECT_EQ(p.lights[1].method, Method::VPCSS);
-  EXPECT_TRUE(Contains(p.lights[1].reason, "(a volume)")) << p.lights[1].reason;
-  EXPECT_TRUE(Contains(p.lights[1].reason, "hard shadows")) << p.lights[1].reason;
+  ExpectVPCSSSoftAndHard(p, "translucent casters in its view (opacity < 1)", "(a volume)");
   EXPECT_EQ(p.lights[2].method, Method::PCSS); // nothing translucent can shadow its receivers
   EXPECT_EQ(p.lights[3].method, Method::Hard);
   EXPECT_TRUE(Contains(p.reason, "1 caster volume(s)")) << p.reason;
@@ -382,11 +390,7 @@ TEST(EffectPlanner, TranslucentReceiversInViewGetVPCSS)
   spot.translucentReceiversInView = true;
   PlannerInput in = Scene({ sheet, spot, Area() });
   EffectPlan p = MakeEffectPlan(in);
-  EXPECT_EQ(p.lights[0].method, Method::VPCSS);
-  EXPECT_TRUE(Contains(p.lights[0].reason, "translucent receivers in its view")) << p.lights[0].reason;
-  EXPECT_TRUE(Contains(p.lights[0].reason, "soft shadows (VPCSS)")) << p.lights[0].reason;
-  EXPECT_EQ(p.lights[1].method, Method::VPCSS);
-  EXPECT_TRUE(Contains(p.lights[1].reason, "hard shadows")) << p.lights[1].reason;
+  ExpectVPCSSSoftAndHard(p, "translucent receivers in its view", "translucent receivers in its view");
   EXPECT_EQ(p.lights[2].method, Method::PCSS);
   EXPECT_FALSE(Contains(p.reason, "translucent receivers get no shadows")) << p.reason;
   in.requested = Method::VPCSS;
