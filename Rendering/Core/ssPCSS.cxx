@@ -1,8 +1,8 @@
 #include "ssPCSS.h"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace ss

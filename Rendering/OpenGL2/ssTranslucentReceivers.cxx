@@ -31,6 +31,12 @@ std::string AsGlobals(const char* code)
   static const std::regex uniform(R"(^uniform (?!sampler)([^;]*;))", std::regex::multiline);
   return std::regex_replace(std::string(code), uniform, "$1");
 }
+
+// Both lookups: two solvers, so two AVSMs and possibly two N.
+bool BothLookups(int lookups)
+{
+  return (lookups & kFragmentHard) != 0 && (lookups & kFragmentFiltered) != 0;
+}
 }
 
 bool IsTranslucentReceiver(vtkProp* prop)
@@ -63,7 +69,7 @@ Box TranslucentReceiverBounds(vtkRenderer* ren)
 
 std::string AVSMLookupCode(int lookups, bool refine)
 {
-  const bool both = (lookups & kFragmentHard) && (lookups & kFragmentFiltered);
+  const bool both = BothLookups(lookups);
   std::ostringstream o;
   o << "#define AVSM_HARD " << ((lookups & kFragmentHard) ? 1 : 0) << "\n"
     << "#define AVSM_FILTERED " << ((lookups & kFragmentFiltered) ? 1 : 0) << "\n"
@@ -120,7 +126,7 @@ std::string TranslucentReceiverCode(const std::string& fs, bool capture, int loo
   // both lookups: two solvers, so two AVSMs (llvmpipe fetches from both)
   o << "vec4 avsmFetch(ivec3 p, int level)\n"
        "{\n"
-    << (((lookups & kFragmentHard) != 0 && (lookups & kFragmentFiltered) != 0)
+    << (BothLookups(lookups)
            ? "  return (ssFragSel == 0) ? texelFetch(ssFragAVSM0, p, level) : texelFetch(ssFragAVSM1, p, level);\n"
            : "  return texelFetch(ssFragAVSM0, p, level);\n")
     << "}\n";

@@ -134,9 +134,11 @@ public:
   // (BeginShading/EndShading) and sets slot `slot`'s uniforms of the
   // fragment code (ssShadingSubstitution, ssTranslucentReceivers) per draw;
   // it returns the texture unit of its data (bound by BeginShading).
-  // FragmentLookup: the lookup that code needs for `light` (a bit of
-  // ss::FragmentLookup, ssTranslucentReceivers.h), 0 when the solver cannot
-  // give its visibility at any point.
+  // FragmentLookup: the lookup that code needs for `light`
+  // (ss::FragmentLookupBits, ssTranslucentReceivers.h), 0 when the solver
+  // cannot give its visibility at any point. The registry's "translucent
+  // receivers" column (ssSolverRegistry.cxx) tells the planner which
+  // solvers can.
   virtual int FragmentLookup(const ShadowLight&) const { return 0; }
   virtual void BeginShading(vtkOpenGLRenderWindow*) {}
   virtual void EndShading(vtkOpenGLRenderWindow*) {}

@@ -270,7 +270,6 @@ float planeUpper(View w, vec2 a, float s, float maxDelta)
 // fetches instead of up to 9 x 9 functions.
 float avsmBlockerSearch(View w, float bias)
 {
-
   vec2 searchHalf = lightFilterHalf(w.p.z, min(searchDepth, w.p.z));
   vec2 searchTex = min(searchHalf * w.texelPerUnit, vec2(mapSize * 0.25));
   searchTex = max(searchTex, vec2(1.0));
@@ -373,7 +372,6 @@ vec3 avsmQuad(View w, int level, ivec2 q, float bias, float maxDelta)
 // no banding.
 vec3 avsmCoverage(View w, vec2 k0, vec2 k1, float bias, float maxDelta)
 {
-
   float area = (k1.x - k0.x) * (k1.y - k0.y);
   if (area <= 0.0)
   {
