@@ -1,5 +1,6 @@
 #include "ssTranslucentReceivers.h"
 
+#include "ssFragmentLists.h"
 #include "ssFrameState.h"
 #include "ssShadowView.h"
 #include "ssGBuffer.h"
@@ -92,7 +93,72 @@ int FragmentLookups(
   return lookups;
 }
 
-std::string TranslucentReceiverCode(const std::string& fs, bool capture, int lookups)
+int FragmentSlots(const std::vector<ShadowLight>& lights,
+  const std::function<const VisibilitySolver*(Method)>& solverOf, bool& colored)
+{
+  int slots = 0;
+  colored = false;
+  for (const auto& l : lights)
+  {
+    const VisibilitySolver* solver = l.Layer >= 0 ? solverOf(l.Method) : nullptr;
+    const int lookup = solver ? solver->FragmentLookup(l) : 0;
+    if (lookup != 0 && slots < kFragmentSlots)
+    {
+      ++slots;
+      colored = colored || (lookup & kFragmentColored) != 0;
+    }
+  }
+  return slots;
+}
+
+namespace
+{
+// The slots' uniforms (SetTranslucentReceiverUniforms) and the camera's.
+const char* kSlotUniforms = "uniform mat3 ssVCToWC;\n"
+                            "uniform vec3 ssVCToRelOffset;\n"
+                            "uniform sampler2DArray ssFragAVSM0;\n"
+                            "uniform sampler2DArray ssFragAVSM1;\n"
+                            "uniform int ssFragLayer[SS_SLOTS];   // visibility layer of the slot's light (-1: none)\n"
+                            "uniform int ssFragSampler[SS_SLOTS]; // 0 or 1: which AVSM\n"
+                            "uniform vec3 ssFragOrigin[SS_SLOTS];\n"
+                            "uniform vec3 ssFragU[SS_SLOTS];\n"
+                            "uniform vec3 ssFragV[SS_SLOTS];\n"
+                            "uniform vec3 ssFragN[SS_SLOTS];\n"
+                            "uniform vec4 ssFragExtent[SS_SLOTS];\n"
+                            "uniform vec3 ssFragLightU[SS_SLOTS];\n"
+                            "uniform vec3 ssFragLightV[SS_SLOTS];\n"
+                            "uniform vec4 ssFragLight[SS_SLOTS];  // half width, half height, search depth, constant bias\n"
+                            "uniform vec4 ssFragView[SS_SLOTS];   // orthographic, one-sided, map size, levels\n"
+                            "uniform vec4 ssFragAVSM[SS_SLOTS];   // first layer, nodes, coloured, layers per view\n"
+                            "uniform vec4 ssFragFilter[SS_SLOTS]; // hard, filter quads, search samples, slope bias\n";
+
+// The fragment's position p (relative to the frame origin), its shading
+// normal nrm and the normal nPlane of its filter's plane. The receiver's
+// plane is its facet, as for the G-buffer's pixels (issue 17,
+// ssShadowCommon's receiverNormal): the shading normal's tangent plane cuts
+// through the fragment's own triangle, which then shadows itself.
+// Translucent props are not in the G-buffer, so the facet's normal comes
+// from the screen derivatives of the position (one triangle per quad of
+// fragments), turned towards the camera as VTK turns a back face's normal.
+// The receiver-plane depth and slope bias take the facet; the light is
+// clipped by both planes (lightAboveSurface; hard AVSM: the centre's side).
+std::string FragmentGeometry(bool haveN)
+{
+  std::string o = "  vec3 p = ssVCToWC * vertexVCVSOutput.xyz + ssVCToRelOffset;\n";
+  // VTK turns the normal of a back face towards the camera; so does this
+  o += haveN ? "  vec3 nVC = normalize(normalVCVSOutput);\n"
+               "  if (gl_FrontFacing == false) { nVC = -nVC; }\n"
+               "  vec3 nrm = normalize(ssVCToWC * nVC);\n"
+             : "  vec3 nrm = vec3(0.0); // no shading normal: the facet's plane alone\n";
+  o += "  vec3 ng = cross(dFdx(p), dFdy(p));\n"
+       "  ng = (dot(ng, ng) > 1e-30) ? normalize(ng) : vec3(0.0);\n"
+       "  if (dot(ng, ssVCToRelOffset - p) < 0.0) { ng = -ng; }\n"
+       "  vec3 nPlane = (dot(ng, ng) > 0.5) ? ng : nrm;\n";
+  return o;
+}
+}
+
+std::string TranslucentReceiverCode(const std::string& fs, bool capture, int lookups, FragmentCode code)
 {
   if (lookups == 0)
   {
@@ -100,28 +166,28 @@ std::string TranslucentReceiverCode(const std::string& fs, bool capture, int loo
   }
   const bool haveVC = fs.find("in vec4 vertexVCVSOutput;") != std::string::npos;
   const bool haveN = fs.find("in vec3 normalVCVSOutput;") != std::string::npos;
+  const bool listed = code == FragmentCode::Listed;
   std::ostringstream o;
-  o << "uniform mat3 ssVCToWC;\n"
-       "uniform vec3 ssVCToRelOffset;\n"
-       "uniform sampler2DArray ssFragAVSM0;\n"
-       "uniform sampler2DArray ssFragAVSM1;\n"
-       "#define SS_SLOTS "
-    << kFragmentSlots
-    << "\n"
-       "uniform int ssFragLayer[SS_SLOTS];   // visibility layer of the slot's light (-1: none)\n"
-       "uniform int ssFragSampler[SS_SLOTS]; // 0 or 1: which AVSM\n"
-       "uniform vec3 ssFragOrigin[SS_SLOTS];\n"
-       "uniform vec3 ssFragU[SS_SLOTS];\n"
-       "uniform vec3 ssFragV[SS_SLOTS];\n"
-       "uniform vec3 ssFragN[SS_SLOTS];\n"
-       "uniform vec4 ssFragExtent[SS_SLOTS];\n"
-       "uniform vec3 ssFragLightU[SS_SLOTS];\n"
-       "uniform vec3 ssFragLightV[SS_SLOTS];\n"
-       "uniform vec4 ssFragLight[SS_SLOTS];  // half width, half height, search depth, constant bias\n"
-       "uniform vec4 ssFragView[SS_SLOTS];   // orthographic, one-sided, map size, levels\n"
-       "uniform vec4 ssFragAVSM[SS_SLOTS];   // first layer, nodes, coloured, layers per view\n"
-       "uniform vec4 ssFragFilter[SS_SLOTS]; // hard, filter quads, search samples, slope bias\n"
-       "int ssFragSel = 0;\n";
+  o << "#define SS_SLOTS " << kFragmentSlots << "\n" << kSlotUniforms << "int ssFragSel = 0;\n";
+  if (listed)
+  {
+    // the peels read what the record draw listed: no lookup code at all
+    o << FragmentLists::LookupCode(capture) << ReceiverCapture::Code(capture)
+      << "vec3 ssFragmentVisibility(int layer)\n"
+         "{\n"
+         "  int k = -1;\n"
+         "  for (int i = 0; i < SS_SLOTS; ++i) { k = (ssFragLayer[i] == layer && layer >= 0) ? i : k; }\n"
+         "  if (k < 0) { return vec3(1.0); }\n"
+         "  vec3 T = ssListedVisibility(k);\n";
+    if (capture && haveVC)
+    {
+      o << FragmentGeometry(haveN)
+        << "  ssCaptureFragment(layer, (ssListChannels == 3) ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n";
+    }
+    o << "  return T;\n"
+         "}\n";
+    return o.str();
+  }
   o << AsGlobals(ssShadowCommon);
   // both lookups: two solvers, so two AVSMs (llvmpipe fetches from both)
   o << "vec4 avsmFetch(ivec3 p, int level)\n"
@@ -132,78 +198,62 @@ std::string TranslucentReceiverCode(const std::string& fs, bool capture, int loo
     << "}\n";
   // a coarse filter without refinement (ssTranslucentSolver::SetFragmentUniforms)
   o << AsGlobals(AVSMLookupCode(lookups, false).c_str());
-  o << ReceiverCapture::Code(capture);
+  // the record draw captures nothing: the peels capture what they read
+  o << ReceiverCapture::Code(capture && code == FragmentCode::Filter);
   o << "vec3 ssFragmentVisibility(int layer)\n"
        "{\n";
   if (!haveVC)
   {
     o << "  return vec3(1.0); // no view-coordinate position in this shader\n}\n";
-    return o.str();
-  }
-  o << "  int k = -1;\n"
-       "  for (int i = 0; i < SS_SLOTS; ++i) { k = (ssFragLayer[i] == layer && layer >= 0) ? i : k; }\n"
-       "  if (k < 0) { return vec3(1.0); }\n"
-       "  ssFragSel = ssFragSampler[k];\n"
-       "  firstLayer = 0;\n"
-       "  numViews = 1;\n"
-       "  viewU[0] = ssFragU[k];\n"
-       "  viewV[0] = ssFragV[k];\n"
-       "  viewN[0] = ssFragN[k];\n"
-       "  viewExtent[0] = ssFragExtent[k];\n"
-       "  lightCenter = ssFragOrigin[k];\n"
-       "  orthographic = int(ssFragView[k].x);\n"
-       "  oneSided = int(ssFragView[k].y);\n"
-       "  mapSize = ssFragView[k].z;\n"
-       "  numLevels = int(ssFragView[k].w);\n"
-       "  lightHalfSize = ssFragLight[k].xy;\n"
-       "  lightU = ssFragLightU[k];\n"
-       "  lightV = ssFragLightV[k];\n"
-       "  searchDepth = ssFragLight[k].z;\n"
-       "  constantBias = ssFragLight[k].w;\n"
-       "  searchSamples = int(ssFragFilter[k].z);\n"
-       "  slopeBias = ssFragFilter[k].w;\n"
-       "  avsmFirstLayer = int(ssFragAVSM[k].x);\n"
-       "  avsmNodes = int(ssFragAVSM[k].y);\n"
-       "  avsmColored = int(ssFragAVSM[k].z);\n"
-       "  avsmLayersPerView = int(ssFragAVSM[k].w);\n"
-       "  avsmLevels = int(ssFragView[k].w);\n"
-       "  avsmFilterQuads = int(ssFragFilter[k].y);\n"
-       "  vec3 p = ssVCToWC * vertexVCVSOutput.xyz + ssVCToRelOffset;\n";
-  if (haveN)
-  {
-    // VTK turns the normal of a back face towards the camera; so does this
-    o << "  vec3 nVC = normalize(normalVCVSOutput);\n"
-         "  if (gl_FrontFacing == false) { nVC = -nVC; }\n"
-         "  vec3 nrm = normalize(ssVCToWC * nVC);\n";
   }
   else
   {
-    o << "  vec3 nrm = vec3(0.0); // no shading normal: the facet's plane alone\n";
+    o << "  int k = -1;\n"
+         "  for (int i = 0; i < SS_SLOTS; ++i) { k = (ssFragLayer[i] == layer && layer >= 0) ? i : k; }\n"
+         "  if (k < 0) { return vec3(1.0); }\n"
+         "  ssFragSel = ssFragSampler[k];\n"
+         "  firstLayer = 0;\n"
+         "  numViews = 1;\n"
+         "  viewU[0] = ssFragU[k];\n"
+         "  viewV[0] = ssFragV[k];\n"
+         "  viewN[0] = ssFragN[k];\n"
+         "  viewExtent[0] = ssFragExtent[k];\n"
+         "  lightCenter = ssFragOrigin[k];\n"
+         "  orthographic = int(ssFragView[k].x);\n"
+         "  oneSided = int(ssFragView[k].y);\n"
+         "  mapSize = ssFragView[k].z;\n"
+         "  numLevels = int(ssFragView[k].w);\n"
+         "  lightHalfSize = ssFragLight[k].xy;\n"
+         "  lightU = ssFragLightU[k];\n"
+         "  lightV = ssFragLightV[k];\n"
+         "  searchDepth = ssFragLight[k].z;\n"
+         "  constantBias = ssFragLight[k].w;\n"
+         "  searchSamples = int(ssFragFilter[k].z);\n"
+         "  slopeBias = ssFragFilter[k].w;\n"
+         "  avsmFirstLayer = int(ssFragAVSM[k].x);\n"
+         "  avsmNodes = int(ssFragAVSM[k].y);\n"
+         "  avsmColored = int(ssFragAVSM[k].z);\n"
+         "  avsmLayersPerView = int(ssFragAVSM[k].w);\n"
+         "  avsmLevels = int(ssFragView[k].w);\n"
+         "  avsmFilterQuads = int(ssFragFilter[k].y);\n"
+      << FragmentGeometry(haveN)
+      << "  vec3 d = p - lightCenter;\n"
+         "  View w = selectView(d, nPlane);\n"
+         "  vec3 T = vec3(outsideViewsVisibility(d));\n"
+         "  if (w.index >= 0)\n"
+         "  {\n"
+         "    int hard = int(ssFragFilter[k].x);\n"
+         "    T = avsmVisibility(w, nPlane, d, hard) * avsmAboveSurface(nrm, ng, d, hard);\n"
+         "  }\n"
+         "  T = clamp(T, 0.0, 1.0);\n"
+         "  ssCaptureFragment(layer, avsmIsColored ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n"
+         "  return T;\n"
+         "}\n";
   }
-  // The receiver's plane is its facet, as for the G-buffer's pixels (issue
-  // 17, ssShadowCommon's receiverNormal): the shading normal's tangent plane
-  // cuts through the fragment's own triangle, which then shadows itself.
-  // Translucent props are not in the G-buffer, so the facet's normal comes
-  // from the screen derivatives of the position (one triangle per quad of
-  // fragments), turned towards the camera as VTK turns a back face's normal.
-  // The receiver-plane depth and slope bias take the facet; the light is
-  // clipped by both planes (lightAboveSurface; hard AVSM: the centre's side).
-  o << "  vec3 ng = cross(dFdx(p), dFdy(p));\n"
-       "  ng = (dot(ng, ng) > 1e-30) ? normalize(ng) : vec3(0.0);\n"
-       "  if (dot(ng, ssVCToRelOffset - p) < 0.0) { ng = -ng; }\n"
-       "  vec3 nPlane = (dot(ng, ng) > 0.5) ? ng : nrm;\n"
-       "  vec3 d = p - lightCenter;\n"
-       "  View w = selectView(d, nPlane);\n"
-       "  vec3 T = vec3(outsideViewsVisibility(d));\n"
-       "  if (w.index >= 0)\n"
-       "  {\n"
-       "    int hard = int(ssFragFilter[k].x);\n"
-       "    T = avsmVisibility(w, nPlane, d, hard) * avsmAboveSurface(nrm, ng, d, hard);\n"
-       "  }\n"
-       "  T = clamp(T, 0.0, 1.0);\n"
-       "  ssCaptureFragment(layer, avsmIsColored ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n"
-       "  return T;\n"
-       "}\n";
+  if (code == FragmentCode::Record)
+  {
+    o << FragmentLists::RecordCode();
+  }
   return o.str();
 }
 

@@ -423,6 +423,19 @@ public:
    */
   vtkSetMacro(CaptureTranslucentReceivers, int);
   vtkGetMacro(CaptureTranslucentReceivers, int);
+  /**
+   * With depth peeling on, a translucent receiver's fragment takes part in
+   * every peel, and llvmpipe runs its whole shader in each. With
+   * ListTranslucentFragments on (default), the pass draws the translucent
+   * receivers once first, their fragments' V (VPCSS's or hard AVSM's
+   * per-fragment lookup) into per-pixel lists, and the peels read it from
+   * there (ssFragmentLists): the same V, the lookup once per fragment. Off,
+   * or without depth peeling, or past the lists' memory budget, every draw
+   * runs the lookup. The stats' "translucent_receivers" tells which.
+   */
+  vtkSetMacro(ListTranslucentFragments, bool);
+  vtkGetMacro(ListTranslucentFragments, bool);
+  vtkBooleanMacro(ListTranslucentFragments, bool);
   bool GetTranslucentReceiverImages(vtkFloatArray* visibility, vtkFloatArray* positions, vtkFloatArray* normals);
   /**
    * PVSM's shadow map tile grid pyramid of the last view solved, as built on
@@ -497,6 +510,7 @@ protected:
   bool AdaptToFrameBudget = true;
   bool KeepRequestedMethod = false;
   int CaptureTranslucentReceivers = -1;
+  bool ListTranslucentFragments = true;
   double InteractiveUpdateRate = 0.1;
 
 private:
@@ -507,6 +521,8 @@ private:
   void PlanFrame(bool unchangedSinceLastFrame, double frameBudgetMs);
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
+  void FindTranslucentReceivers(const vtkRenderState* s);
+  void RecordTranslucentReceivers(const vtkRenderState* s);
   void Shade(const vtkRenderState* s);
 
   class vtkInternals;

@@ -271,7 +271,9 @@ void AppendTriangles(vtkActor* actor, float opacity, std::vector<glm::dvec3>& ve
 // runs the code of every branch and the first pass of every loop for every
 // fragment of every depth peel, so a lookup left in the shader cost as much
 // as one in use (under PCSS, the VPCSS filter made particles.json's shading
-// 847 instead of 102 ms a frame; Documentation/vpcss.md). The fragment
+// 847 instead of 102 ms a frame; Documentation/vpcss.md). With the fragment
+// lists (ListTranslucentFragments, the default), the lookup is in the record
+// draw's shader alone, and the peels' shaders read the lists. The fragment
 // shaders the sheet is drawn with are read at every draw (the mapper's
 // UpdateShaderEvent); the shadow on the sheet shows the code still works.
 // The casters are opaque: vpcss requested stays VPCSS, and auto picks it
@@ -300,12 +302,14 @@ TEST(VPCSS, TranslucentReceiverShaderHoldsOnlyItsLookup)
     // shadow, which only VPCSS (or AVSM) gives it (PCSS left it unshadowed)
     { vtkSoftShadowPass::AUTO, 0, 8, { header(0, 0, 0, 8) }, {} },
   };
+  for (const bool listed : { true, false })
   for (const Case& c : cases)
   {
     SCOPED_TRACE(std::string(vtkSoftShadowPass::GetMethodName(c.method)) + (c.colored ? ", coloured" : "") +
-      ", " + std::to_string(c.nodes) + " nodes");
+      ", " + std::to_string(c.nodes) + " nodes" + (listed ? ", listed" : ", every peel filters"));
     Scene s(160, 120);
     PeelEveryLayer(s);
+    s.pass->SetListTranslucentFragments(listed);
     auto sheet = Quad(0, 0, 0.5, 3.0, 0.5);
     vtkSoftShadowPass::SetCastsShadows(sheet, false);
     auto ball = Sphere(0, 0, 1.4, 0.35);
@@ -328,17 +332,34 @@ TEST(VPCSS, TranslucentReceiverShaderHoldsOnlyItsLookup)
     });
     sheet->GetMapper()->AddObserver(vtkCommand::UpdateShaderEvent, onShader);
     const std::vector<double> lum = Luminance(s);
-    // the shading stage's shaders of the sheet: those with the visibility code
-    std::vector<const std::string*> shading;
+    // the shaders of the sheet that run its lookup: the shading stage's
+    // (those with the visibility code) or, with the lists, the record
+    // draw's; the peels' shaders then read the lists and hold no lookup
+    std::vector<const std::string*> shading, record;
     for (const auto& src : sources)
     {
       if (src.find("ssVisibility(") != std::string::npos)
       {
         shading.push_back(&src);
       }
+      if (src.find("ssRecordFragment();") != std::string::npos)
+      {
+        record.push_back(&src);
+      }
     }
     ASSERT_FALSE(shading.empty()) << "no shading-stage draw of the sheet seen";
+    const bool shadesFragments = c.method != vtkSoftShadowPass::PCSS;
+    EXPECT_EQ(record.empty(), !(listed && shadesFragments)) << record.size() << " record shaders";
+    const std::vector<const std::string*>& lookup = listed ? record : shading;
     for (const std::string* src : shading)
+    {
+      EXPECT_EQ(src->find("ssListedVisibility(k)") != std::string::npos, listed && shadesFragments);
+      if (listed)
+      {
+        EXPECT_EQ(src->find("avsmTexel2"), std::string::npos) << "a peel's shader holds the lookup";
+      }
+    }
+    for (const std::string* src : lookup)
     {
       for (const auto& p : c.present)
       {
@@ -402,6 +423,14 @@ TEST(VPCSS, TranslucentReceiversMatchReference)
       s.pass->SetMethod(method);
       std::vector<float> v, ref;
       ASSERT_TRUE(CaptureAgainstReference(s, light, reference, v, ref));
+      // with depth peeling the peels read the record draw's lists, and each
+      // of their fragments found its own entry (the capture counts misses)
+      const std::string stats = s.pass->GetStatsJSON();
+      EXPECT_NE(stats.find(peeling ? "\"listed\": true" : "\"listed\": false"), std::string::npos) << stats;
+      if (peeling)
+      {
+        EXPECT_NE(stats.find("\"misses\": 0,"), std::string::npos) << stats;
+      }
       const ss::VisibilityErrors e = ss::CompareVisibility(v.data(), ref.data(), v.size());
       int umbra = 0, half = 0;
       for (std::size_t i = 0; i < ref.size(); ++i)

@@ -1,0 +1,271 @@
+#include "ssFragmentLists.h"
+
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkShaderProgram.h"
+#include "vtk_glew.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace ss
+{
+namespace
+{
+// A binding point nothing else uses while recording or shading (the AVSM
+// build binds its buffers only while it builds; GL 4.3 guarantees 8).
+constexpr int kListBinding = 6;
+constexpr long long kHeader = 4; // uints before the heads
+// The lists' budget: past it the peels run the filter themselves.
+constexpr long long kBudgetBytes = 512ll << 20;
+
+std::string Declarations()
+{
+  return "layout(std430, binding = " + std::to_string(kListBinding) +
+    ") buffer ssFragListBuffer { uint ssFL[]; };\n"
+    "uniform int ssListWidth;\n"
+                            "uniform int ssListHeight;\n"
+                            "uniform int ssListSlots;    // slots stored per entry\n"
+                            "uniform int ssListChannels; // 1 or 3\n"
+                            "uniform uint ssListCapacity;\n"
+                            "uint ssListEntry(uint i)\n"
+                            "{\n"
+                            "  return 4u + uint(ssListWidth * ssListHeight) + i * uint(2 + ssListSlots * ssListChannels);\n"
+                            "}\n"
+                            "int ssListHead(ivec2 pix)\n"
+                            "{\n"
+                            "  bool inside = all(greaterThanEqual(pix, ivec2(0))) && pix.x < ssListWidth && pix.y < ssListHeight;\n"
+                            "  return inside ? 4 + pix.y * ssListWidth + pix.x : -1;\n"
+                            "}\n";
+}
+}
+
+FragmentLists::~FragmentLists()
+{
+  // the context may be gone: ReleaseGraphicsResources is the pass's to call
+}
+
+std::string FragmentLists::RecordCode()
+{
+  std::ostringstream o;
+  o << Declarations()
+    << "// one entry per fragment: its V for every slot, computed before the\n"
+       "// appending (in uniform control flow: the filter takes screen derivatives)\n"
+       "void ssRecordFragment()\n"
+       "{\n"
+       "  uint i = atomicAdd(ssFL[0], 1u);\n"
+       "  bool keep = i < ssListCapacity; // counted all the same: the pass grows the buffer\n"
+       "  uint at = ssListEntry(min(i, ssListCapacity));\n"
+       "  for (int k = 0; k < ssListSlots; ++k)\n"
+       "  {\n"
+       "    vec3 V = ssFragmentVisibility(ssFragLayer[k]);\n"
+       "    uint c = at + 2u + uint(k * ssListChannels);\n"
+       "    if (keep)\n"
+       "    {\n"
+       "      ssFL[c] = floatBitsToUint(V.x);\n"
+       "      if (ssListChannels == 3) { ssFL[c + 1u] = floatBitsToUint(V.y); ssFL[c + 2u] = floatBitsToUint(V.z); }\n"
+       "    }\n"
+       "  }\n"
+       "  int head = ssListHead(ivec2(gl_FragCoord.xy));\n"
+       "  if (keep && head >= 0)\n"
+       "  {\n"
+       "    ssFL[at] = floatBitsToUint(gl_FragCoord.z);\n"
+       "    ssFL[at + 1u] = atomicExchange(ssFL[head], i + 1u);\n"
+       "  }\n"
+       "}\n";
+  return o.str();
+}
+
+std::string FragmentLists::LookupCode(bool countMisses)
+{
+  std::ostringstream o;
+  o.precision(9);
+  o << Declarations()
+    << "uniform int ssListCount; // entries appended (bounds every walk)\n"
+       "uint ssListAt = 0u;       // this fragment's entry (0: not looked up yet)\n"
+       "// The entry of this fragment's pixel nearest to it in depth, looked up once\n"
+       "// for all its lights (~0u: the pixel has none).\n"
+       "uint ssListFind()\n"
+       "{\n"
+       "  if (ssListAt != 0u) { return ssListAt; }\n"
+       "  int head = ssListHead(ivec2(gl_FragCoord.xy - ssViewportOrigin));\n"
+       "  uint j = (head >= 0) ? ssFL[head] : 0u;\n"
+       "  float best = 3.0e38;\n"
+       "  uint found = 0xFFFFFFFFu;\n"
+       "  // links are entry + 1, 0 ends a list: llvmpipe runs a loop for the\n"
+       "  // lanes a peel has already returned from too, and their loads read 0\n"
+       "  for (int n = 0; j != 0u && n < ssListCount; ++n)\n"
+       "  {\n"
+       "    uint at = ssListEntry(j - 1u);\n"
+       "    float dz = abs(uintBitsToFloat(ssFL[at]) - gl_FragCoord.z);\n"
+       "    found = (dz < best) ? at : found;\n"
+       "    best = min(best, dz);\n"
+       "    j = ssFL[at + 1u];\n"
+       "  }\n";
+  if (countMisses)
+  {
+    o << "  if (!(best <= " << kListDepthTolerance << ")) { atomicAdd(ssFL[1], 1u); }\n";
+  }
+  o << "  ssListAt = found;\n"
+       "  return found;\n"
+       "}\n"
+       "vec3 ssListedVisibility(int slot)\n"
+       "{\n"
+       "  uint at = ssListFind();\n"
+       "  if (at == 0xFFFFFFFFu || slot >= ssListSlots) { return vec3(1.0); }\n"
+       "  uint c = at + 2u + uint(slot * ssListChannels);\n"
+       "  float r = uintBitsToFloat(ssFL[c]);\n"
+       "  return (ssListChannels == 3) ? vec3(r, uintBitsToFloat(ssFL[c + 1u]), uintBitsToFloat(ssFL[c + 2u])) : vec3(r);\n"
+       "}\n";
+  return o.str();
+}
+
+bool FragmentLists::Begin(
+  vtkOpenGLRenderWindow* win, int width, int height, int slots, int channels, std::string& error)
+{
+  win->MakeCurrent();
+  GLint fragmentBlocks = 0, bindings = 0, maxBlock = 0;
+  glGetIntegerv(GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS, &fragmentBlocks);
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+  // the shaders' #extension lines (ssShadingSubstitution RequireExtensions)
+  const bool extensions = GLEW_ARB_shader_storage_buffer_object && GLEW_ARB_shading_language_420pack &&
+    GLEW_ARB_shader_bit_encoding && GLEW_ARB_shader_image_load_store;
+  if (!glBindBufferBase || !glClearBufferSubData || !extensions || fragmentBlocks < 1 || bindings <= kListBinding)
+  {
+    error = "no shader storage buffers in fragment shaders (GL 4.3)";
+    return false;
+  }
+  const bool resized = width != this->Width || height != this->Height || slots != this->Slots ||
+    channels != this->Channels;
+  this->Width = width;
+  this->Height = height;
+  this->Slots = slots;
+  this->Channels = channels;
+  const long long pixels = static_cast<long long>(width) * height;
+  const long long stride = this->Stride();
+  const long long limit = std::min<long long>(kBudgetBytes, static_cast<unsigned int>(maxBlock)) / 4;
+  // room for what the last frame appended and a quarter more, 2 per pixel at least
+  const long long wanted = std::max(this->Wanted + this->Wanted / 4, 2 * pixels);
+  const long long capacity = std::min(wanted, (limit - kHeader - pixels) / stride);
+  if (capacity <= 0)
+  {
+    error = "a " + std::to_string(width) + " x " + std::to_string(height) + " frame's lists exceed " +
+      std::to_string(limit * 4 >> 20) + " MB";
+    return false;
+  }
+  const long long bytes = 4 * (kHeader + pixels + capacity * stride);
+  if (!this->Buffer)
+  {
+    glGenBuffers(1, &this->Buffer);
+  }
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, this->Buffer);
+  if (resized || capacity > this->Capacity || bytes > this->Allocated)
+  {
+    while (glGetError() != GL_NO_ERROR)
+    {
+    }
+    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_COPY);
+    if (glGetError() != GL_NO_ERROR)
+    {
+      this->ReleaseGraphicsResources();
+      error = "GL refused a buffer of " + std::to_string(bytes >> 20) + " MB";
+      return false;
+    }
+    this->Allocated = bytes;
+    this->Capacity = capacity;
+  }
+  const GLuint zero = 0; // the counters, and every pixel's list empty
+  glClearBufferSubData(
+    GL_SHADER_STORAGE_BUFFER, GL_R32UI, 0, 4 * (kHeader + pixels), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  this->Count = 0;
+  this->Bind();
+  return true;
+}
+
+bool FragmentLists::End(bool& retry, std::string& error)
+{
+  retry = false;
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  GLuint appended = 0;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, this->Buffer);
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, 4, &appended);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  this->Unbind();
+  this->Count = appended;
+  this->Wanted = appended;
+  if (this->Count <= this->Capacity)
+  {
+    return true;
+  }
+  const long long needed = 4 * (kHeader + static_cast<long long>(this->Width) * this->Height + this->Count * this->Stride());
+  GLint maxBlock = 0;
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+  const long long limit = std::min<long long>(kBudgetBytes, static_cast<unsigned int>(maxBlock));
+  retry = needed <= limit;
+  if (!retry)
+  {
+    error = std::to_string(this->Count) + " translucent receiver fragments need " + std::to_string(needed >> 20) +
+      " MB of lists, over " + std::to_string(limit >> 20) + " MB";
+    this->Wanted = 0;
+  }
+  return false;
+}
+
+void FragmentLists::SetUniforms(vtkShaderProgram* program) const
+{
+  if (!program->IsUniformUsed("ssListWidth"))
+  {
+    return;
+  }
+  program->SetUniformi("ssListWidth", this->Width);
+  program->SetUniformi("ssListHeight", this->Height);
+  program->SetUniformi("ssListSlots", this->Slots);
+  program->SetUniformi("ssListChannels", this->Channels);
+  const long long cap = std::min<long long>(this->Capacity, 0x7FFFFFFF);
+  if (program->IsUniformUsed("ssListCapacity"))
+  {
+    glUniform1ui(program->FindUniform("ssListCapacity"), static_cast<GLuint>(cap));
+  }
+  if (program->IsUniformUsed("ssListCount"))
+  {
+    program->SetUniformi("ssListCount", static_cast<int>(std::min(this->Count, cap)));
+  }
+}
+
+void FragmentLists::Bind() const
+{
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListBinding, this->Buffer);
+}
+
+void FragmentLists::Unbind() const
+{
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListBinding, 0);
+}
+
+long long FragmentLists::ReadMisses() const
+{
+  if (!this->Buffer)
+  {
+    return 0;
+  }
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  GLuint misses = 0;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, this->Buffer);
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 4, 4, &misses);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  return misses;
+}
+
+void FragmentLists::ReleaseGraphicsResources()
+{
+  if (this->Buffer)
+  {
+    glDeleteBuffers(1, &this->Buffer);
+  }
+  this->Buffer = 0;
+  this->Allocated = 0;
+  this->Capacity = 0;
+  this->Count = 0;
+}
+}
