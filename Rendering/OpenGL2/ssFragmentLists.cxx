@@ -1,7 +1,13 @@
 #include "ssFragmentLists.h"
 
+#include "ssFullScreenQuad.h"
+
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
 #include "vtkShaderProgram.h"
+#include "vtkTextureObject.h"
 #include "vtk_glew.h"
 
 #include <algorithm>
@@ -29,7 +35,7 @@ std::string Declarations()
                             "uniform uint ssListCapacity;\n"
                             "uint ssListEntry(uint i)\n"
                             "{\n"
-                            "  return 4u + uint(ssListWidth * ssListHeight) + i * uint(2 + ssListSlots * ssListChannels);\n"
+                            "  return 4u + uint(ssListWidth * ssListHeight) + i * uint(11 + ssListSlots * ssListChannels);\n"
                             "}\n"
                             "int ssListHead(ivec2 pix)\n"
                             "{\n"
@@ -38,6 +44,8 @@ std::string Declarations()
                             "}\n";
 }
 }
+
+FragmentLists::FragmentLists() = default;
 
 FragmentLists::~FragmentLists()
 {
@@ -48,29 +56,52 @@ std::string FragmentLists::RecordCode()
 {
   std::ostringstream o;
   o << Declarations()
-    << "// one entry per fragment: its V for every slot, computed before the\n"
-       "// appending (in uniform control flow: the filter takes screen derivatives)\n"
-       "void ssRecordFragment()\n"
+    << "// one entry per fragment: its depth and what its filter needs\n"
+       "void ssRecordFragment(vec3 p, vec3 nrm, vec3 ng)\n"
        "{\n"
-       "  uint i = atomicAdd(ssFL[0], 1u);\n"
-       "  bool keep = i < ssListCapacity; // counted all the same: the pass grows the buffer\n"
-       "  uint at = ssListEntry(min(i, ssListCapacity));\n"
-       "  for (int k = 0; k < ssListSlots; ++k)\n"
-       "  {\n"
-       "    vec3 V = ssFragmentVisibility(ssFragLayer[k]);\n"
-       "    uint c = at + 2u + uint(k * ssListChannels);\n"
-       "    if (keep)\n"
-       "    {\n"
-       "      ssFL[c] = floatBitsToUint(V.x);\n"
-       "      if (ssListChannels == 3) { ssFL[c + 1u] = floatBitsToUint(V.y); ssFL[c + 2u] = floatBitsToUint(V.z); }\n"
-       "    }\n"
-       "  }\n"
        "  int head = ssListHead(ivec2(gl_FragCoord.xy));\n"
-       "  if (keep && head >= 0)\n"
+       "  if (head < 0) { return; }\n"
+       "  uint i = atomicAdd(ssFL[0], 1u);\n"
+       "  if (i >= ssListCapacity) { return; } // counted all the same: the pass grows the buffer\n"
+       "  uint at = ssListEntry(i);\n"
+       "  ssFL[at] = floatBitsToUint(gl_FragCoord.z);\n"
+       "  for (int c = 0; c < 3; ++c)\n"
        "  {\n"
-       "    ssFL[at] = floatBitsToUint(gl_FragCoord.z);\n"
-       "    ssFL[at + 1u] = atomicExchange(ssFL[head], i + 1u);\n"
+       "    ssFL[at + 2u + uint(c)] = floatBitsToUint(p[c]);\n"
+       "    ssFL[at + 5u + uint(c)] = floatBitsToUint(nrm[c]);\n"
+       "    ssFL[at + 8u + uint(c)] = floatBitsToUint(ng[c]);\n"
        "  }\n"
+       "  ssFL[at + 1u] = atomicExchange(ssFL[head], i + 1u);\n"
+       "}\n";
+  return o.str();
+}
+
+std::string FragmentLists::FilterCode()
+{
+  std::ostringstream o;
+  o << Declarations()
+    << "uniform int ssListCount;   // entries appended\n"
+       "uniform int ssEntriesWide; // entries per row of the pass\n"
+       "// this fragment's entry (~0u: past the last)\n"
+       "uint ssListEntryAt()\n"
+       "{\n"
+       "  int e = int(gl_FragCoord.y) * ssEntriesWide + int(gl_FragCoord.x);\n"
+       "  return (e < ssListCount) ? ssListEntry(uint(e)) : 0xFFFFFFFFu;\n"
+       "}\n"
+       "void ssListPoint(uint at, out vec3 p, out vec3 nrm, out vec3 ng)\n"
+       "{\n"
+       "  for (int c = 0; c < 3; ++c)\n"
+       "  {\n"
+       "    p[c] = uintBitsToFloat(ssFL[at + 2u + uint(c)]);\n"
+       "    nrm[c] = uintBitsToFloat(ssFL[at + 5u + uint(c)]);\n"
+       "    ng[c] = uintBitsToFloat(ssFL[at + 8u + uint(c)]);\n"
+       "  }\n"
+       "}\n"
+       "void ssListStore(uint at, int slot, vec3 V)\n"
+       "{\n"
+       "  uint c = at + 11u + uint(slot * ssListChannels);\n"
+       "  ssFL[c] = floatBitsToUint(V.x);\n"
+       "  if (ssListChannels == 3) { ssFL[c + 1u] = floatBitsToUint(V.y); ssFL[c + 2u] = floatBitsToUint(V.z); }\n"
        "}\n";
   return o.str();
 }
@@ -112,9 +143,25 @@ std::string FragmentLists::LookupCode(bool countMisses)
        "{\n"
        "  uint at = ssListFind();\n"
        "  if (at == 0xFFFFFFFFu || slot >= ssListSlots) { return vec3(1.0); }\n"
-       "  uint c = at + 2u + uint(slot * ssListChannels);\n"
+       "  uint c = at + 11u + uint(slot * ssListChannels);\n"
        "  float r = uintBitsToFloat(ssFL[c]);\n"
        "  return (ssListChannels == 3) ? vec3(r, uintBitsToFloat(ssFL[c + 1u]), uintBitsToFloat(ssFL[c + 2u])) : vec3(r);\n"
+       "}\n"
+       "// the point and the plane's normal the filter took (the capture's)\n"
+       "void ssListedPoint(out vec3 p, out vec3 nPlane)\n"
+       "{\n"
+       "  uint at = ssListFind();\n"
+       "  p = vec3(0.0);\n"
+       "  nPlane = vec3(0.0);\n"
+       "  if (at == 0xFFFFFFFFu) { return; }\n"
+       "  vec3 nrm, ng;\n"
+       "  for (int c = 0; c < 3; ++c)\n"
+       "  {\n"
+       "    p[c] = uintBitsToFloat(ssFL[at + 2u + uint(c)]);\n"
+       "    nrm[c] = uintBitsToFloat(ssFL[at + 5u + uint(c)]);\n"
+       "    ng[c] = uintBitsToFloat(ssFL[at + 8u + uint(c)]);\n"
+       "  }\n"
+       "  nPlane = (dot(ng, ng) > 0.5) ? ng : nrm;\n"
        "}\n";
   return o.str();
 }
@@ -167,7 +214,10 @@ bool FragmentLists::Begin(
     glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_COPY);
     if (glGetError() != GL_NO_ERROR)
     {
-      this->ReleaseGraphicsResources();
+      glDeleteBuffers(1, &this->Buffer);
+      this->Buffer = 0;
+      this->Allocated = 0;
+      this->Capacity = 0;
       error = "GL refused a buffer of " + std::to_string(bytes >> 20) + " MB";
       return false;
     }
@@ -210,6 +260,76 @@ bool FragmentLists::End(bool& retry, std::string& error)
     this->Wanted = 0;
   }
   return false;
+}
+
+bool FragmentLists::Filter(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, const std::string& fs,
+  const std::function<void(vtkShaderProgram*)>& setUniforms, std::string& error)
+{
+  if (this->Count == 0)
+  {
+    return true;
+  }
+  // one fragment per entry, in rows of `wide`
+  GLint maxTexture = 0, dims[2] = { 0, 0 };
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
+  const long long side = std::min<long long>({ maxTexture, dims[0], dims[1] });
+  const long long wide = std::min<long long>(side, 1024);
+  const long long rows = (this->Count + wide - 1) / wide;
+  if (rows > side)
+  {
+    error = std::to_string(this->Count) + " listed fragments exceed a " + std::to_string(side) + " x " +
+      std::to_string(side) + " filter pass";
+    return false;
+  }
+  if (fs != this->QuadSource)
+  {
+    ReleaseQuad(this->Quad, win);
+    this->QuadSource = fs;
+  }
+  vtkShaderProgram* prog = ReadyQuad(this->Quad, win, fs.c_str());
+  if (!prog)
+  {
+    error = "the fragment lists' filter pass did not compile";
+    return false;
+  }
+  if (!this->Target)
+  {
+    this->Target = vtkSmartPointer<vtkTextureObject>::New();
+    this->Target->SetContext(win);
+  }
+  if (static_cast<long long>(this->Target->GetWidth()) != wide ||
+    static_cast<long long>(this->Target->GetHeight()) < rows)
+  {
+    this->Target->ReleaseGraphicsResources(win);
+    this->Target->Allocate2D(static_cast<unsigned int>(wide), static_cast<unsigned int>(rows), 1, VTK_UNSIGNED_CHAR);
+  }
+  vtkOpenGLState* ostate = win->GetState();
+  vtkOpenGLState::ScopedglColorMask colorSaver(ostate);
+  ostate->PushFramebufferBindings();
+  fbo->Bind();
+  fbo->AddColorAttachment(0, this->Target);
+  fbo->ActivateDrawBuffers(1);
+  ostate->vtkglViewport(0, 0, static_cast<GLsizei>(wide), static_cast<GLsizei>(rows));
+  ostate->vtkglScissor(0, 0, static_cast<GLsizei>(wide), static_cast<GLsizei>(rows));
+  ostate->vtkglDisable(GL_DEPTH_TEST);
+  ostate->vtkglDisable(GL_BLEND);
+  ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  this->Bind();
+  setUniforms(prog);
+  this->SetUniforms(prog);
+  prog->SetUniformi("ssEntriesWide", static_cast<int>(wide));
+  this->Quad->Render();
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  this->Unbind();
+  fbo->RemoveColorAttachments(1);
+  ostate->PopFramebufferBindings();
+  return true;
+}
+
+int FragmentLists::CountGraphicsResources() const
+{
+  return (this->Buffer != 0 ? 1 : 0) + (this->Quad ? 1 : 0) + (this->Target && this->Target->GetHandle() ? 1 : 0);
 }
 
 void FragmentLists::SetUniforms(vtkShaderProgram* program) const
@@ -257,8 +377,15 @@ long long FragmentLists::ReadMisses() const
   return misses;
 }
 
-void FragmentLists::ReleaseGraphicsResources()
+void FragmentLists::ReleaseGraphicsResources(vtkWindow* w)
 {
+  ReleaseQuad(this->Quad, w);
+  this->QuadSource.clear();
+  if (this->Target)
+  {
+    this->Target->ReleaseGraphicsResources(w);
+    this->Target = nullptr;
+  }
   if (this->Buffer)
   {
     glDeleteBuffers(1, &this->Buffer);

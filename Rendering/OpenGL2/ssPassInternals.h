@@ -206,7 +206,7 @@ public:
     }
     this->Visibility.ReleaseGraphicsResources();
     this->Capture.ReleaseGraphicsResources();
-    this->Lists.ReleaseGraphicsResources();
+    this->Lists.ReleaseGraphicsResources(w);
     this->ListsValid = false;
     this->GBuf.ReleaseGraphicsResources(w);
     if (this->FBO)

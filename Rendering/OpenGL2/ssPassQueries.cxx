@@ -255,7 +255,7 @@ std::string vtkSoftShadowPass::GetStatsJSON()
   {
     // where the translucent receivers' V came from (ListTranslucentFragments)
     std::ostringstream o;
-    o << "{\"props\": " << in.FrameTranslucent.size() << ", \"listed\": " << (in.ShadeListed ? "true" : "false")
+    o << "{\"props\": " << in.FrameTranslucent.size() << ", \"lookups\": " << in.FrameLookups << ", \"listed\": " << (in.ShadeListed ? "true" : "false")
       << ", \"fragments\": " << (in.ShadeListed ? in.Lists.Fragments() : 0)
       << ", \"list_bytes\": " << in.Lists.Bytes() << ", \"misses\": " << in.ListMisses << ", \"note\": \""
       << ss::JSONEscape(in.ListsNote) << "\"}";

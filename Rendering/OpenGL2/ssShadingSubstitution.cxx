@@ -113,7 +113,7 @@ void RequireExtensions(std::string& fs, bool storage, bool images)
 
 void InjectRecord(std::string& fs, std::size_t mainPos, std::size_t endPos, int lookups)
 {
-  fs.insert(endPos, "  ssRecordFragment();\n");
+  fs.insert(endPos, "  ssRecordThisFragment();\n");
   fs.insert(mainPos, TranslucentReceiverCode(fs, false, lookups, FragmentCode::Record));
   // early tests need image load/store's layout
   const bool early = fs.find("gl_FragDepth") == std::string::npos;

@@ -46,11 +46,11 @@ int InjectVisibility(
   std::string& fragmentShader, int translucentLookups, bool capture, FragmentCode code = FragmentCode::Filter);
 
 /// The record draw's shader (ssFragmentLists): `fragmentShader`, a
-/// translucent receiver's, also appends its fragment's V for every slot to
-/// its pixel's list at the end of main(), with early fragment tests (the
-/// occluded fragments, which the peels discard, are not filtered) unless
-/// the shader writes its depth. VTK's lighting is left alone: the draw writes
-/// no colour.
+/// translucent receiver's, also lists its fragment's depth, position and
+/// normals in its pixel's list at the end of main(), with early fragment
+/// tests (the occluded fragments, which the peels discard, are not listed)
+/// unless the shader writes its depth. VTK's lighting is left alone: the
+/// draw writes no colour. `translucentLookups`: 0, nothing to list.
 void InjectRecord(std::string& fragmentShader, std::size_t mainPos, std::size_t endPos, int translucentLookups);
 
 /// The #extension lines (after VTK's #version 150) for shader storage

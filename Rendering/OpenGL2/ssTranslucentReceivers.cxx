@@ -9,6 +9,7 @@
 
 #include "ssAVSMLookup.h"
 #include "ssShadowCommon.h"
+#include "ssShadingSubstitution.h"
 
 #include "vtkActor.h"
 #include "vtkMath.h"
@@ -153,41 +154,19 @@ std::string FragmentGeometry(bool haveN)
   o += "  vec3 ng = cross(dFdx(p), dFdy(p));\n"
        "  ng = (dot(ng, ng) > 1e-30) ? normalize(ng) : vec3(0.0);\n"
        "  if (dot(ng, ssVCToRelOffset - p) < 0.0) { ng = -ng; }\n"
-       "  vec3 nPlane = (dot(ng, ng) > 0.5) ? ng : nrm;\n";
+       "  vec3 nPlane = (dot(ng, ng) > 0.5) ? ng : nrm; // the filter's plane (ssSlotVisibility's)\n";
   return o;
 }
 }
 
-std::string TranslucentReceiverCode(const std::string& fs, bool capture, int lookups, FragmentCode code)
+namespace
 {
-  if (lookups == 0)
-  {
-    return "vec3 ssFragmentVisibility(int layer) { return vec3(1.0); } // no light's solver shades fragments\n";
-  }
-  const bool haveVC = fs.find("in vec4 vertexVCVSOutput;") != std::string::npos;
-  const bool haveN = fs.find("in vec3 normalVCVSOutput;") != std::string::npos;
-  const bool listed = code == FragmentCode::Listed;
+// The lookup of `lookups` for slot k at point p (relative to the frame
+// origin) with shading normal nrm and facet normal ng: the shared code with
+// the slot's uniforms set as its globals, then hard AVSM or VPCSS's filter.
+std::string SlotVisibilityCode(int lookups)
+{
   std::ostringstream o;
-  o << "#define SS_SLOTS " << kFragmentSlots << "\n" << kSlotUniforms << "int ssFragSel = 0;\n";
-  if (listed)
-  {
-    // the peels read what the record draw listed: no lookup code at all
-    o << FragmentLists::LookupCode(capture) << ReceiverCapture::Code(capture)
-      << "vec3 ssFragmentVisibility(int layer)\n"
-         "{\n"
-         "  int k = -1;\n"
-         "  for (int i = 0; i < SS_SLOTS; ++i) { k = (ssFragLayer[i] == layer && layer >= 0) ? i : k; }\n"
-         "  if (k < 0) { return vec3(1.0); }\n"
-         "  vec3 T = ssListedVisibility(k);\n";
-    if (capture && haveVC)
-    {
-      o << FragmentGeometry(haveN)
-        << "  ssCaptureFragment(layer, (ssListChannels == 3) ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n";
-    }
-    o << "  return T;\n"
-         "}\n";
-    return o.str();
-  }
   o << AsGlobals(ssShadowCommon);
   // both lookups: two solvers, so two AVSMs (llvmpipe fetches from both)
   o << "vec4 avsmFetch(ivec3 p, int level)\n"
@@ -198,70 +177,141 @@ std::string TranslucentReceiverCode(const std::string& fs, bool capture, int loo
     << "}\n";
   // a coarse filter without refinement (ssTranslucentSolver::SetFragmentUniforms)
   o << AsGlobals(AVSMLookupCode(lookups, false).c_str());
-  // the record draw captures nothing: the peels capture what they read
-  o << ReceiverCapture::Code(capture && code == FragmentCode::Filter);
-  o << "vec3 ssFragmentVisibility(int layer)\n"
+  o << "vec3 ssSlotVisibility(int k, vec3 p, vec3 nrm, vec3 ng)\n"
+       "{\n"
+       "  ssFragSel = ssFragSampler[k];\n"
+       "  firstLayer = 0;\n"
+       "  numViews = 1;\n"
+       "  viewU[0] = ssFragU[k];\n"
+       "  viewV[0] = ssFragV[k];\n"
+       "  viewN[0] = ssFragN[k];\n"
+       "  viewExtent[0] = ssFragExtent[k];\n"
+       "  lightCenter = ssFragOrigin[k];\n"
+       "  orthographic = int(ssFragView[k].x);\n"
+       "  oneSided = int(ssFragView[k].y);\n"
+       "  mapSize = ssFragView[k].z;\n"
+       "  numLevels = int(ssFragView[k].w);\n"
+       "  lightHalfSize = ssFragLight[k].xy;\n"
+       "  lightU = ssFragLightU[k];\n"
+       "  lightV = ssFragLightV[k];\n"
+       "  searchDepth = ssFragLight[k].z;\n"
+       "  constantBias = ssFragLight[k].w;\n"
+       "  searchSamples = int(ssFragFilter[k].z);\n"
+       "  slopeBias = ssFragFilter[k].w;\n"
+       "  avsmFirstLayer = int(ssFragAVSM[k].x);\n"
+       "  avsmNodes = int(ssFragAVSM[k].y);\n"
+       "  avsmColored = int(ssFragAVSM[k].z);\n"
+       "  avsmLayersPerView = int(ssFragAVSM[k].w);\n"
+       "  avsmLevels = int(ssFragView[k].w);\n"
+       "  avsmFilterQuads = int(ssFragFilter[k].y);\n"
+       "  vec3 nPlane = (dot(ng, ng) > 0.5) ? ng : nrm;\n"
+       "  vec3 d = p - lightCenter;\n"
+       "  View w = selectView(d, nPlane);\n"
+       "  vec3 T = vec3(outsideViewsVisibility(d));\n"
+       "  if (w.index >= 0)\n"
+       "  {\n"
+       "    int hard = int(ssFragFilter[k].x);\n"
+       "    T = avsmVisibility(w, nPlane, d, hard) * avsmAboveSurface(nrm, ng, d, hard);\n"
+       "  }\n"
+       "  return clamp(T, 0.0, 1.0);\n"
+       "}\n";
+  return o.str();
+}
+
+// The slot of `layer`'s light (k), or V = 1 when none holds it.
+const char* kSlotOfLayer = "  int k = -1;\n"
+                           "  for (int i = 0; i < SS_SLOTS; ++i) { k = (ssFragLayer[i] == layer && layer >= 0) ? i : k; }\n"
+                           "  if (k < 0) { return vec3(1.0); }\n";
+}
+
+std::string TranslucentReceiverCode(const std::string& fs, bool capture, int lookups, FragmentCode code)
+{
+  if (lookups == 0)
+  {
+    return "vec3 ssFragmentVisibility(int layer) { return vec3(1.0); } // no light's solver shades fragments\n";
+  }
+  const bool haveVC = fs.find("in vec4 vertexVCVSOutput;") != std::string::npos;
+  const bool haveN = fs.find("in vec3 normalVCVSOutput;") != std::string::npos;
+  std::ostringstream o;
+  o << "#define SS_SLOTS " << kFragmentSlots << "\n" << kSlotUniforms << "int ssFragSel = 0;\n";
+  if (code == FragmentCode::Record)
+  {
+    // the record draw lists what the filter pass needs (ListedFilterShader)
+    o << FragmentLists::RecordCode() << "void ssRecordThisFragment()\n"
+      << "{\n"
+      << (haveVC ? FragmentGeometry(haveN) + "  ssRecordFragment(p, nrm, ng);\n"
+                 : "  // no view-coordinate position in this shader: nothing to list\n")
+      << "}\n";
+    return o.str();
+  }
+  if (code == FragmentCode::Listed)
+  {
+    // the peels read what the filter pass stored: no lookup code at all
+    o << FragmentLists::LookupCode(capture) << ReceiverCapture::Code(capture)
+      << "vec3 ssFragmentVisibility(int layer)\n"
+         "{\n"
+      << kSlotOfLayer << "  vec3 T = ssListedVisibility(k);\n";
+    if (capture)
+    {
+      o << "  vec3 p, nPlane;\n"
+           "  ssListedPoint(p, nPlane);\n"
+           "  ssCaptureFragment(layer, (ssListChannels == 3) ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n";
+    }
+    o << "  return T;\n"
+         "}\n";
+    return o.str();
+  }
+  o << SlotVisibilityCode(lookups) << ReceiverCapture::Code(capture)
+    << "vec3 ssFragmentVisibility(int layer)\n"
        "{\n";
   if (!haveVC)
   {
     o << "  return vec3(1.0); // no view-coordinate position in this shader\n}\n";
+    return o.str();
   }
-  else
-  {
-    o << "  int k = -1;\n"
-         "  for (int i = 0; i < SS_SLOTS; ++i) { k = (ssFragLayer[i] == layer && layer >= 0) ? i : k; }\n"
-         "  if (k < 0) { return vec3(1.0); }\n"
-         "  ssFragSel = ssFragSampler[k];\n"
-         "  firstLayer = 0;\n"
-         "  numViews = 1;\n"
-         "  viewU[0] = ssFragU[k];\n"
-         "  viewV[0] = ssFragV[k];\n"
-         "  viewN[0] = ssFragN[k];\n"
-         "  viewExtent[0] = ssFragExtent[k];\n"
-         "  lightCenter = ssFragOrigin[k];\n"
-         "  orthographic = int(ssFragView[k].x);\n"
-         "  oneSided = int(ssFragView[k].y);\n"
-         "  mapSize = ssFragView[k].z;\n"
-         "  numLevels = int(ssFragView[k].w);\n"
-         "  lightHalfSize = ssFragLight[k].xy;\n"
-         "  lightU = ssFragLightU[k];\n"
-         "  lightV = ssFragLightV[k];\n"
-         "  searchDepth = ssFragLight[k].z;\n"
-         "  constantBias = ssFragLight[k].w;\n"
-         "  searchSamples = int(ssFragFilter[k].z);\n"
-         "  slopeBias = ssFragFilter[k].w;\n"
-         "  avsmFirstLayer = int(ssFragAVSM[k].x);\n"
-         "  avsmNodes = int(ssFragAVSM[k].y);\n"
-         "  avsmColored = int(ssFragAVSM[k].z);\n"
-         "  avsmLayersPerView = int(ssFragAVSM[k].w);\n"
-         "  avsmLevels = int(ssFragView[k].w);\n"
-         "  avsmFilterQuads = int(ssFragFilter[k].y);\n"
-      << FragmentGeometry(haveN)
-      << "  vec3 d = p - lightCenter;\n"
-         "  View w = selectView(d, nPlane);\n"
-         "  vec3 T = vec3(outsideViewsVisibility(d));\n"
-         "  if (w.index >= 0)\n"
-         "  {\n"
-         "    int hard = int(ssFragFilter[k].x);\n"
-         "    T = avsmVisibility(w, nPlane, d, hard) * avsmAboveSurface(nrm, ng, d, hard);\n"
-         "  }\n"
-         "  T = clamp(T, 0.0, 1.0);\n"
-         "  ssCaptureFragment(layer, avsmIsColored ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n"
-         "  return T;\n"
-         "}\n";
-  }
-  if (code == FragmentCode::Record)
-  {
-    o << FragmentLists::RecordCode();
-  }
+  o << kSlotOfLayer << FragmentGeometry(haveN)
+    << "  vec3 T = ssSlotVisibility(k, p, nrm, ng);\n"
+       "  ssCaptureFragment(layer, avsmIsColored ? (T.x + T.y + T.z) / 3.0 : T.x, p, nPlane);\n"
+       "  return T;\n"
+       "}\n";
   return o.str();
+}
+
+std::string ListedFilterShader(int lookups)
+{
+  std::ostringstream o;
+  o << "//VTK::System::Dec\n"
+       "// The fragment lists' filter pass (ssFragmentLists): one fragment per\n"
+       "// listed translucent fragment, the lookup of every slot's light on it.\n"
+       "in vec2 texCoord; // from VTK's full-screen quad\n"
+       "//VTK::Output::Dec\n"
+    << "#define SS_SLOTS " << kFragmentSlots << "\n"
+    << kSlotUniforms << "int ssFragSel = 0;\n"
+    << SlotVisibilityCode(lookups) << FragmentLists::FilterCode()
+    << "void main()\n"
+       "{\n"
+       "  gl_FragData[0] = vec4(texCoord, 0.0, 0.0); // (nothing reads it)\n"
+       "  uint at = ssListEntryAt();\n"
+       "  if (at == 0xFFFFFFFFu) { return; }\n"
+       "  vec3 p, nrm, ng;\n"
+       "  ssListPoint(at, p, nrm, ng);\n"
+       "  for (int k = 0; k < ssListSlots; ++k)\n"
+       "  {\n"
+       "    ssListStore(at, k, ssSlotVisibility(k, p, nrm, ng));\n"
+       "  }\n"
+       "}\n";
+  std::string fs = o.str();
+  RequireExtensions(fs, true, false);
+  return fs;
 }
 
 void SetTranslucentReceiverUniforms(vtkShaderProgram* program, const GBuffer& gbuffer,
   const std::vector<ShadowLight>& all, const std::function<const VisibilitySolver*(Method)>& solverOf,
   int fallbackUnit)
 {
-  if (!program->IsUniformUsed("ssFragLayer[0]"))
+  // the peels' listed read uses the layers alone, the lists' filter pass
+  // the views alone
+  if (!program->IsUniformUsed("ssFragLayer[0]") && !program->IsUniformUsed("ssFragOrigin[0]"))
   {
     return;
   }

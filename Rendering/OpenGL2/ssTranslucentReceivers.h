@@ -67,7 +67,7 @@ Box TranslucentReceiverBounds(vtkRenderer* renderer);
 enum class FragmentCode
 {
   Filter, ///< ssFragmentVisibility runs the lookup
-  Record, ///< ... and ssRecordFragment() lists it for every slot
+  Record, ///< ssRecordThisFragment() lists the fragment for the filter pass
   Listed  ///< ssFragmentVisibility reads the fragment's listed V
 };
 
@@ -76,11 +76,18 @@ enum class FragmentCode
 /// of VTK's inputs it has); vec3(1) where no slot holds the layer. It holds
 /// the lookups `lookups` (FragmentLookupBits, those of the lights whose
 /// solvers shade fragments; both: two solvers, so two AVSMs), 0: none
-/// (V = 1), or, `Listed`, the read of the record's lists. With `capture`,
+/// (V = 1), or, `Listed`, the read of the lists; `Record`: instead of that
+/// function, the record draw's ssRecordThisFragment(). With `capture`,
 /// each fragment's V also goes to the capture image (ssReceiverCapture),
 /// and a listed read that finds no entry is counted.
 std::string TranslucentReceiverCode(
   const std::string& fragmentShader, bool capture, int lookups, FragmentCode code = FragmentCode::Filter);
+
+/// The fragment lists' filter pass (ssFragmentLists::Filter): a full-screen
+/// pass's fragment shader that runs the lookups `lookups` of every slot on
+/// each listed fragment and stores its V in the lists; the uniforms are
+/// SetTranslucentReceiverUniforms' and the lists'.
+std::string ListedFilterShader(int lookups);
 
 /// The slots the lights of `lights` whose solvers shade fragments take (at
 /// most kFragmentSlots), and whether one has coloured V.

@@ -570,11 +570,6 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
     ostate->vtkglDepthFunc(GL_LEQUAL);
     ostate->vtkglDepthMask(GL_FALSE);
     ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    in.Visibility.BindForShading(win);
-    for (const auto& solver : in.Solvers)
-    {
-      solver->BeginShading(win);
-    }
     if (in.CurrentStage != Stage::Record)
     {
       in.CurrentStage = Stage::Record;
@@ -586,11 +581,6 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
       this->NumberOfRenderedProps += prop->RenderTranslucentPolygonalGeometry(ren);
     }
     this->PostRender(s);
-    for (const auto& solver : in.Solvers)
-    {
-      solver->EndShading(win);
-    }
-    in.Visibility.UnbindAfterShading(win);
     in.FBO->RemoveColorAttachments(1);
     in.FBO->RemoveDepthAttachment();
     ostate->PopFramebufferBindings();
@@ -600,6 +590,30 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
     {
       in.ListsNote = error;
     }
+  }
+  if (in.ListsValid)
+  {
+    // every listed fragment's lookups, once, with every lane busy
+    const auto t1 = Clock::now();
+    in.Visibility.BindForShading(win);
+    for (const auto& solver : in.Solvers)
+    {
+      solver->BeginShading(win);
+    }
+    std::string error;
+    in.ListsValid = in.Lists.Filter(win, in.FBO, ss::ListedFilterShader(in.FrameLookups),
+      [&](vtkShaderProgram* program) {
+        ss::SetTranslucentReceiverUniforms(program, in.GBuf, in.Frame.Lights, solverOf, in.Visibility.GetShadingUnit());
+      },
+      error);
+    for (const auto& solver : in.Solvers)
+    {
+      solver->EndShading(win);
+    }
+    in.Visibility.UnbindAfterShading(win);
+    in.ListsNote = in.ListsValid ? std::string() : error;
+    in.Timings.Finish();
+    in.Timings.Set("fragment_filter", ss::Milliseconds(t1, Clock::now()));
   }
   if (!in.ListsNote.empty())
   {
@@ -779,8 +793,7 @@ bool vtkSoftShadowPass::SetShaderParameters(
   {
     if (polyMapper)
     {
-      ss::SetTranslucentReceiverUniforms(
-        program, in.GBuf, in.Frame.Lights, solverOf, in.Visibility.GetShadingUnit());
+      in.GBuf.SetCameraUniforms(program);
       in.Lists.SetUniforms(program);
     }
     return true;

@@ -9,6 +9,7 @@
 
 #include "ssMetrics.h"
 #include "ssReference.h"
+#include "ssTranslucentReceivers.h"
 
 #include "vtkAppendPolyData.h"
 #include "vtkCallbackCommand.h"
@@ -342,7 +343,7 @@ TEST(VPCSS, TranslucentReceiverShaderHoldsOnlyItsLookup)
       {
         shading.push_back(&src);
       }
-      if (src.find("ssRecordFragment();") != std::string::npos)
+      if (src.find("ssRecordThisFragment();") != std::string::npos)
       {
         record.push_back(&src);
       }
@@ -350,7 +351,23 @@ TEST(VPCSS, TranslucentReceiverShaderHoldsOnlyItsLookup)
     ASSERT_FALSE(shading.empty()) << "no shading-stage draw of the sheet seen";
     const bool shadesFragments = c.method != vtkSoftShadowPass::PCSS;
     EXPECT_EQ(record.empty(), !(listed && shadesFragments)) << record.size() << " record shaders";
-    const std::vector<const std::string*>& lookup = listed ? record : shading;
+    for (const std::string* src : record)
+    {
+      EXPECT_EQ(src->find("avsmTexel2"), std::string::npos) << "the record draw's shader holds the lookup";
+    }
+    // the lookup: in the shading stage's shaders, or in the lists' filter pass
+    std::vector<const std::string*> lookup = shading;
+    // the pass builds that pass from the frame's lookups, which its stats give
+    const std::string stats = s.pass->GetStatsJSON();
+    const std::size_t at = stats.find("\"lookups\": ");
+    ASSERT_NE(at, std::string::npos) << stats;
+    const int lookups = std::atoi(stats.c_str() + at + 11);
+    EXPECT_EQ(lookups != 0, shadesFragments) << stats;
+    const std::string filterPass = ss::ListedFilterShader(lookups);
+    if (listed && shadesFragments)
+    {
+      lookup = { &filterPass }; // (PCSS: no filter pass; its shading shaders hold nothing)
+    }
     for (const std::string* src : shading)
     {
       EXPECT_EQ(src->find("ssListedVisibility(k)") != std::string::npos, listed && shadesFragments);
