@@ -233,6 +233,31 @@ bool FragmentLists::Begin(
   return true;
 }
 
+void FragmentLists::BindRecordTarget(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo,
+  vtkTextureObject* color, vtkTextureObject* depth) const
+{
+  vtkOpenGLState* ostate = win->GetState();
+  ostate->PushFramebufferBindings();
+  fbo->Bind();
+  fbo->AddColorAttachment(0, color);
+  fbo->AddDepthAttachment(depth);
+  fbo->ActivateDrawBuffers(1);
+  ostate->vtkglViewport(0, 0, this->Width, this->Height);
+  ostate->vtkglScissor(0, 0, this->Width, this->Height);
+  ostate->vtkglDisable(GL_BLEND);
+  ostate->vtkglEnable(GL_DEPTH_TEST);
+  ostate->vtkglDepthFunc(GL_LEQUAL);
+  ostate->vtkglDepthMask(GL_FALSE);
+  ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+}
+
+void FragmentLists::UnbindRecordTarget(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo) const
+{
+  fbo->RemoveColorAttachments(1);
+  fbo->RemoveDepthAttachment();
+  win->GetState()->PopFramebufferBindings();
+}
+
 bool FragmentLists::End(bool& retry, std::string& error)
 {
   retry = false;

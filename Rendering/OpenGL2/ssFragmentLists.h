@@ -76,6 +76,14 @@ public:
   /// cleared, bound. False (with `error`) when GL has no storage buffers in
   /// fragment shaders or none of that size can be made.
   bool Begin(vtkOpenGLRenderWindow* win, int width, int height, int slots, int channels, std::string& error);
+  /// Around the record draw: `fbo` drawing to `color` (no colour written)
+  /// with the depth test against `depth` (the G-buffer's: fragments behind
+  /// opaque props, which the peels discard, are not listed; early fragment
+  /// tests), no depth writes, no blending, over the lists' pixels. The
+  /// caller keeps the colour mask and depth function it had (scoped).
+  void BindRecordTarget(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* color,
+    vtkTextureObject* depth) const;
+  void UnbindRecordTarget(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo) const;
   /// After the record draw: true when every fragment got its entry; false
   /// when the buffer was too small, after growing it for a second record
   /// (`retry` true) or, past the budget, leaving the lists unusable

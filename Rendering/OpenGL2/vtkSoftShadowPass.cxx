@@ -540,9 +540,8 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
   }
   const auto t0 = Clock::now();
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
-  vtkOpenGLState* ostate = win->GetState();
-  vtkOpenGLState::ScopedglColorMask colorSaver(ostate);
-  vtkOpenGLState::ScopedglDepthFunc depthFuncSaver(ostate);
+  vtkOpenGLState::ScopedglColorMask colorSaver(win->GetState());
+  vtkOpenGLState::ScopedglDepthFunc depthFuncSaver(win->GetState());
   const auto solverOf = [&in](ss::Method m) -> const ss::VisibilitySolver* { return in.SolverFor(m); };
   bool colored = false;
   const int slots = ss::FragmentSlots(in.Frame.Lights, solverOf, colored);
@@ -556,20 +555,7 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
       in.ListsNote = error;
       break;
     }
-    // the G-buffer's depth: fragments behind opaque props, which the peels
-    // discard, are not filtered (early fragment tests); no colour is written
-    ostate->PushFramebufferBindings();
-    in.FBO->Bind();
-    in.FBO->AddColorAttachment(0, in.GBuf.Position);
-    in.FBO->AddDepthAttachment(in.GBuf.Depth);
-    in.FBO->ActivateDrawBuffers(1);
-    ostate->vtkglViewport(0, 0, w, h);
-    ostate->vtkglScissor(0, 0, w, h);
-    ostate->vtkglDisable(GL_BLEND);
-    ostate->vtkglEnable(GL_DEPTH_TEST);
-    ostate->vtkglDepthFunc(GL_LEQUAL);
-    ostate->vtkglDepthMask(GL_FALSE);
-    ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    in.Lists.BindRecordTarget(win, in.FBO, in.GBuf.Position, in.GBuf.Depth);
     if (in.CurrentStage != Stage::Record)
     {
       in.CurrentStage = Stage::Record;
@@ -581,9 +567,7 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
       this->NumberOfRenderedProps += prop->RenderTranslucentPolygonalGeometry(ren);
     }
     this->PostRender(s);
-    in.FBO->RemoveColorAttachments(1);
-    in.FBO->RemoveDepthAttachment();
-    ostate->PopFramebufferBindings();
+    in.Lists.UnbindRecordTarget(win, in.FBO);
     bool retry = false;
     in.ListsValid = in.Lists.End(retry, error);
     if (!in.ListsValid && !retry)
