@@ -75,7 +75,7 @@ const std::vector<PassOption>& PassOptions()
       { "normal_offset", "0..16", "normal-offset lookup, texels along the triangle's normal (0: off)", false,
         [](P* p, S v, S w) { p->SetNormalOffset(ParseDouble(v, w, 0.0, 16.0)); } },
       { "list_translucent_fragments", "0|1",
-        "with depth peeling, translucent receivers' V once per fragment into lists (0: in every peel)", false,
+        "translucent receivers' V once per fragment into lists (0: in their shading, every peel)", false,
         [](P* p, S v, S w) { p->SetListTranslucentFragments(ParseInt(v, w, 0, 1) != 0); } },
       { "fit_views_to_visible", "0|1", "shadow-map views cut to the receivers the camera sees (0: the bounds)",
         false, [](P* p, S v, S w) { p->SetFitViewsToVisibleReceivers(ParseInt(v, w, 0, 1) != 0); } },

@@ -4,7 +4,8 @@
 // whole shader in each of those draws where any fragment of its block is
 // still live: VPCSS's per-fragment filter of a translucent receiver
 // (ssTranslucentReceivers) ran 9 to 17 times per fragment, at a fraction
-// of the lanes. So, when the renderer peels:
+// of the lanes; without peeling once, but at those lanes (2.6x the
+// full-screen pass below on particles.json). So:
 //   1. the record draw: the translucent receivers once, with the G-buffer's
 //      depth test against the opaque props (early fragment tests), a short
 //      shader that appends each fragment's depth, position, shading normal
@@ -12,10 +13,10 @@
 //   2. the filter pass: a full-screen pass with one fragment per listed
 //      entry runs the lookup of each light slot on it and stores V in the
 //      entry: every lane busy, each fragment filtered once;
-//   3. the peels' shaders hold no lookup: each reads its fragment's V from
-//      its pixel's list, the entry nearest in depth (the same triangles
-//      through the same vertex shader give the same depth: VTK's peeling
-//      itself compares depths across its draws within 1e-7).
+//   3. the shading's shaders (every peel's) hold no lookup: each reads its
+//      fragment's V from its pixel's list, the entry nearest in depth (the
+//      same triangles through the same vertex shader give the same depth:
+//      VTK's peeling itself compares depths across its draws within 1e-7).
 //
 // One shader storage buffer of uints: [0] entries appended, [1] lookups that
 // found no entry within kListDepthTolerance (counted only with the capture

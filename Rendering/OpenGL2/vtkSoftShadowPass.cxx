@@ -533,10 +533,12 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
   in.ListsValid = false;
   in.ListsNote.clear();
   vtkRenderer* ren = s->GetRenderer();
-  if (!in.ShadowsThisFrame || in.FrameTranslucent.empty() || !this->ListTranslucentFragments ||
-    !ren->GetUseDepthPeeling())
+  // Also without depth peeling, where VTK shades each fragment once: there
+  // the filter ran at the lanes the receivers' small triangles fill, 2.6x
+  // the lists' filter pass on particles.json.
+  if (!in.ShadowsThisFrame || in.FrameTranslucent.empty() || !this->ListTranslucentFragments)
   {
-    return; // no peels: each fragment is shaded once, with its own lookup
+    return; // each fragment's shading runs its own lookup
   }
   const auto t0 = Clock::now();
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
@@ -630,8 +632,8 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
   // (llvmpipe runs both sides of a branch: in every other prop's shader, or
   // under PCSS, it ran, masked, for every fragment of every depth peel), so
   // the shaders are rebuilt when the set or the lookups change.
-  // With depth peeling, their V comes from the record draw's lists
-  // (RecordTranslucentReceivers), unless the set or the lookups changed since.
+  // Their V comes from the record draw's lists (RecordTranslucentReceivers),
+  // unless the set or the lookups changed since.
   const std::vector<vtkProp*> recorded = in.FrameTranslucent;
   const int recordedLookups = in.FrameLookups;
   this->FindTranslucentReceivers(s);

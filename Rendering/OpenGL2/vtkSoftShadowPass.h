@@ -424,14 +424,16 @@ public:
   vtkSetMacro(CaptureTranslucentReceivers, int);
   vtkGetMacro(CaptureTranslucentReceivers, int);
   /**
-   * With depth peeling on, a translucent receiver's fragment takes part in
-   * every peel, and llvmpipe runs its whole shader in each. With
-   * ListTranslucentFragments on (default), the pass draws the translucent
-   * receivers once first, their fragments' V (VPCSS's or hard AVSM's
-   * per-fragment lookup) into per-pixel lists, and the peels read it from
-   * there (ssFragmentLists): the same V, the lookup once per fragment. Off,
-   * or without depth peeling, or past the lists' memory budget, every draw
-   * runs the lookup. The stats' "translucent_receivers" tells which.
+   * Translucent receivers' V once per fragment. With depth peeling, a
+   * translucent receiver's fragment takes part in every peel, and llvmpipe
+   * runs its whole shader in each; without, it runs its lookup at the lanes
+   * its small triangles fill. With ListTranslucentFragments on (default),
+   * the pass draws the translucent receivers once first, listing their
+   * fragments per pixel, runs VPCSS's or hard AVSM's per-fragment lookup
+   * once per listed fragment in a full-screen pass, and the shading reads
+   * each fragment's V from the lists (ssFragmentLists): the same V. Off, or
+   * past the lists' memory budget, the shading (every peel) runs the
+   * lookup. The stats' "translucent_receivers" tells which.
    */
   vtkSetMacro(ListTranslucentFragments, bool);
   vtkGetMacro(ListTranslucentFragments, bool);
