@@ -21,7 +21,7 @@ namespace
 // build binds its buffers only while it builds; GL 4.3 guarantees 8).
 constexpr int kListBinding = 6;
 constexpr long long kHeader = 4; // uints before the heads
-// The lists' budget: past it the peels run the filter themselves.
+// The lists' budget: past it the shading (every peel) runs the lookups itself.
 constexpr long long kBudgetBytes = 512ll << 20;
 
 std::string Declarations()
@@ -29,19 +29,30 @@ std::string Declarations()
   return "layout(std430, binding = " + std::to_string(kListBinding) +
     ") buffer ssFragListBuffer { uint ssFL[]; };\n"
     "uniform int ssListWidth;\n"
-                            "uniform int ssListHeight;\n"
-                            "uniform int ssListSlots;    // slots stored per entry\n"
-                            "uniform int ssListChannels; // 1 or 3\n"
-                            "uniform uint ssListCapacity;\n"
-                            "uint ssListEntry(uint i)\n"
-                            "{\n"
-                            "  return 4u + uint(ssListWidth * ssListHeight) + i * uint(11 + ssListSlots * ssListChannels);\n"
-                            "}\n"
-                            "int ssListHead(ivec2 pix)\n"
-                            "{\n"
-                            "  bool inside = all(greaterThanEqual(pix, ivec2(0))) && pix.x < ssListWidth && pix.y < ssListHeight;\n"
-                            "  return inside ? 4 + pix.y * ssListWidth + pix.x : -1;\n"
-                            "}\n";
+    "uniform int ssListHeight;\n"
+    "uniform int ssListSlots;    // slots stored per entry\n"
+    "uniform int ssListChannels; // 1 or 3\n"
+    "uniform uint ssListCapacity;\n"
+    "uint ssListEntry(uint i)\n"
+    "{\n"
+    "  return 4u + uint(ssListWidth * ssListHeight) + i * uint(" + std::to_string(FragmentLists::kEntryHeader) +
+    " + ssListSlots * ssListChannels);\n"
+    "}\n"
+    "int ssListHead(ivec2 pix)\n"
+    "{\n"
+    "  bool inside = all(greaterThanEqual(pix, ivec2(0))) && pix.x < ssListWidth && pix.y < ssListHeight;\n"
+    "  return inside ? 4 + pix.y * ssListWidth + pix.x : -1;\n"
+    "}\n"
+    "// entry `at`'s position, shading normal and facet normal\n"
+    "void ssListPoint(uint at, out vec3 p, out vec3 nrm, out vec3 ng)\n"
+    "{\n"
+    "  for (int c = 0; c < 3; ++c)\n"
+    "  {\n"
+    "    p[c] = uintBitsToFloat(ssFL[at + 2u + uint(c)]);\n"
+    "    nrm[c] = uintBitsToFloat(ssFL[at + 5u + uint(c)]);\n"
+    "    ng[c] = uintBitsToFloat(ssFL[at + 8u + uint(c)]);\n"
+    "  }\n"
+    "}\n";
 }
 }
 
@@ -88,18 +99,9 @@ std::string FragmentLists::FilterCode()
        "  int e = int(gl_FragCoord.y) * ssEntriesWide + int(gl_FragCoord.x);\n"
        "  return (e < ssListCount) ? ssListEntry(uint(e)) : 0xFFFFFFFFu;\n"
        "}\n"
-       "void ssListPoint(uint at, out vec3 p, out vec3 nrm, out vec3 ng)\n"
-       "{\n"
-       "  for (int c = 0; c < 3; ++c)\n"
-       "  {\n"
-       "    p[c] = uintBitsToFloat(ssFL[at + 2u + uint(c)]);\n"
-       "    nrm[c] = uintBitsToFloat(ssFL[at + 5u + uint(c)]);\n"
-       "    ng[c] = uintBitsToFloat(ssFL[at + 8u + uint(c)]);\n"
-       "  }\n"
-       "}\n"
        "void ssListStore(uint at, int slot, vec3 V)\n"
        "{\n"
-       "  uint c = at + 11u + uint(slot * ssListChannels);\n"
+       "  uint c = at + " << FragmentLists::kEntryHeader << "u + uint(slot * ssListChannels);\n"
        "  ssFL[c] = floatBitsToUint(V.x);\n"
        "  if (ssListChannels == 3) { ssFL[c + 1u] = floatBitsToUint(V.y); ssFL[c + 2u] = floatBitsToUint(V.z); }\n"
        "}\n";
@@ -143,7 +145,7 @@ std::string FragmentLists::LookupCode(bool countMisses)
        "{\n"
        "  uint at = ssListFind();\n"
        "  if (at == 0xFFFFFFFFu || slot >= ssListSlots) { return vec3(1.0); }\n"
-       "  uint c = at + 11u + uint(slot * ssListChannels);\n"
+       "  uint c = at + " << FragmentLists::kEntryHeader << "u + uint(slot * ssListChannels);\n"
        "  float r = uintBitsToFloat(ssFL[c]);\n"
        "  return (ssListChannels == 3) ? vec3(r, uintBitsToFloat(ssFL[c + 1u]), uintBitsToFloat(ssFL[c + 2u])) : vec3(r);\n"
        "}\n"
@@ -155,12 +157,7 @@ std::string FragmentLists::LookupCode(bool countMisses)
        "  nPlane = vec3(0.0);\n"
        "  if (at == 0xFFFFFFFFu) { return; }\n"
        "  vec3 nrm, ng;\n"
-       "  for (int c = 0; c < 3; ++c)\n"
-       "  {\n"
-       "    p[c] = uintBitsToFloat(ssFL[at + 2u + uint(c)]);\n"
-       "    nrm[c] = uintBitsToFloat(ssFL[at + 5u + uint(c)]);\n"
-       "    ng[c] = uintBitsToFloat(ssFL[at + 8u + uint(c)]);\n"
-       "  }\n"
+       "  ssListPoint(at, p, nrm, ng);\n"
        "  nPlane = (dot(ng, ng) > 0.5) ? ng : nrm;\n"
        "}\n";
   return o.str();

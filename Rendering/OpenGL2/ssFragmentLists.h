@@ -112,8 +112,9 @@ public:
   int CountGraphicsResources() const;
   void ReleaseGraphicsResources(vtkWindow* w);
 
+  static constexpr int kEntryHeader = 11; ///< uints before V: depth, link, position, two normals
+
 private:
-  static constexpr int kEntryHeader = 11; ///< depth, link, position, two normals
   unsigned int Buffer = 0;
   std::unique_ptr<vtkOpenGLQuadHelper> Quad; ///< the filter pass
   std::string QuadSource;                    ///< ... its fragment shader
