@@ -1,6 +1,7 @@
 #include "ssFragmentLists.h"
 
 #include "ssFullScreenQuad.h"
+#include "ssGLLimits.h"
 
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLQuadHelper.h"
@@ -11,6 +12,7 @@
 #include "vtk_glew.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <sstream>
 
 namespace ss
@@ -167,10 +169,10 @@ bool FragmentLists::Begin(
   vtkOpenGLRenderWindow* win, int width, int height, int slots, int channels, std::string& error)
 {
   win->MakeCurrent();
-  GLint fragmentBlocks = 0, bindings = 0, maxBlock = 0;
+  GLint fragmentBlocks = 0, bindings = 0;
   glGetIntegerv(GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS, &fragmentBlocks);
   glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
-  glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+  const std::int64_t maxBlock = QueryGLLimits().maxSSBOBytes; // (lowerable: SOFTSHADOWS_GL_MAX_SSBO_BYTES)
   // the shaders' #extension lines (ssShadingSubstitution RequireExtensions)
   const bool extensions = GLEW_ARB_shader_storage_buffer_object && GLEW_ARB_shading_language_420pack &&
     GLEW_ARB_shader_bit_encoding && GLEW_ARB_shader_image_load_store;
@@ -187,14 +189,14 @@ bool FragmentLists::Begin(
   this->Channels = channels;
   const long long pixels = static_cast<long long>(width) * height;
   const long long stride = this->Stride();
-  const long long limit = std::min<long long>(kBudgetBytes, static_cast<unsigned int>(maxBlock)) / 4;
+  const long long limit = std::min<long long>(kBudgetBytes, maxBlock) / 4;
   // room for what the last frame appended and a quarter more, 2 per pixel at least
   const long long wanted = std::max(this->Wanted + this->Wanted / 4, 2 * pixels);
   const long long capacity = std::min(wanted, (limit - kHeader - pixels) / stride);
   if (capacity <= 0)
   {
     error = "a " + std::to_string(width) + " x " + std::to_string(height) + " frame's lists exceed " +
-      std::to_string(limit * 4 >> 20) + " MB";
+      std::to_string(limit * 4) + " bytes (the budget or the GL's largest storage block)";
     return false;
   }
   const long long bytes = 4 * (kHeader + pixels + capacity * stride);
@@ -271,14 +273,12 @@ bool FragmentLists::End(bool& retry, std::string& error)
     return true;
   }
   const long long needed = 4 * (kHeader + static_cast<long long>(this->Width) * this->Height + this->Count * this->Stride());
-  GLint maxBlock = 0;
-  glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
-  const long long limit = std::min<long long>(kBudgetBytes, static_cast<unsigned int>(maxBlock));
+  const long long limit = std::min<long long>(kBudgetBytes, QueryGLLimits().maxSSBOBytes);
   retry = needed <= limit;
   if (!retry)
   {
-    error = std::to_string(this->Count) + " translucent receiver fragments need " + std::to_string(needed >> 20) +
-      " MB of lists, over " + std::to_string(limit >> 20) + " MB";
+    error = std::to_string(this->Count) + " translucent receiver fragments need " + std::to_string(needed) +
+      " bytes of lists, over " + std::to_string(limit) + " (the budget or the GL's largest storage block)";
     this->Wanted = 0;
   }
   return false;
