@@ -8,7 +8,8 @@ checks each path gives the result it should (issue 16's audit):
   identical to asking for 1024; PVSM's tiles stay within the limit;
 - an OpenGL 3.2 context: the map methods run, GEARS's GL backend falls back
   to the CPU with the reason in the stats, V identical to the 4.5 context;
-- a small SSBO limit: GEARS's GL backend falls back with the reason;
+- a small SSBO limit: GEARS's GL backend falls back with the reason, and so
+  do the translucent receivers' fragment lists (the same picture);
 - Embree on AVX2 and SSE4.2 kernels (when this CPU has them): the reference's
   V identical to the widest ISA's.
 
@@ -105,6 +106,36 @@ if sa:
     check(g["backend"] == "cpu" and "SSBO limit" in g["backend_note"],
           f"GEARS GL beyond the SSBO limit falls back: {g['backend_note']}")
 identical("gears SSBO-fallback vs CPU", a, b)
+
+# translucent receivers whose fragment lists exceed a small SSBO limit: the
+# shading runs their lookups itself (the way without the lists), with the
+# reason in the stats, and the picture is the lists' picture
+sheet = os.path.join(os.path.dirname(scene), "translucent_sheet.json")
+
+
+def render_sheet(name, env):
+    e = dict(os.environ)
+    e.pop("DISPLAY", None)
+    e.update(env)
+    png, stats = os.path.join(out, name + ".png"), os.path.join(out, name + ".json")
+    r = subprocess.run([cli, "render", sheet, "--method", "vpcss", "--size", "200x150", "--output", png,
+                        "--stats", stats], env=e, capture_output=True, text=True, timeout=600)
+    if r.returncode != 0:
+        failures.append(f"{name}: exit {r.returncode}: {r.stderr.strip()[-400:]}")
+        return None, None, ""
+    with open(stats) as f:
+        return png, json.load(f)["pass"]["translucent_receivers"], r.stderr
+
+
+la, ta, _ = render_sheet("sheet_lists", {})
+lb, tb, errb = render_sheet("sheet_small_ssbo", {"SOFTSHADOWS_GL_MAX_SSBO_BYTES": "100000"})
+if ta and tb:
+    check(ta["listed"] and ta["fragments"] > 0 and ta["note"] == "", f"the sheet's fragments are listed: {ta}")
+    check(not tb["listed"] and "storage block" in tb["note"] and "storage block" in errb,
+          f"lists over a 100 kB SSBO limit fall back with the reason: {tb}")
+    r = subprocess.run(["idiff", "-fail", "0.0040", "-failpercent", "0.01", la, lb], capture_output=True, text=True)
+    check(r.returncode in (0, 1), f"the fallback's picture is the lists' (idiff exit {r.returncode}): "
+          f"{r.stdout.strip()[-200:]}")
 
 # fewer array layers than the lights need: a clear error, not a wrong picture
 e = dict(os.environ)

@@ -10,6 +10,7 @@
 
 #include "ssCasterSet.h"
 #include "ssEffectPlanner.h"
+#include "ssFragmentLists.h"
 #include "ssFrameBudget.h"
 #include "ssFrameState.h"
 #include "ssGBuffer.h"
@@ -39,6 +40,7 @@ enum class PassStage
 {
   Idle,
   GBuffer,
+  Record, ///< the translucent receivers' V into the fragment lists
   Shade
 };
 }
@@ -56,6 +58,7 @@ public:
   ss::VisibilityLayers Visibility;
   ss::StageTimings Timings;
   ss::ReceiverCapture Capture; ///< the translucent receivers' V, when asked (CaptureTranslucentReceivers)
+  ss::FragmentLists Lists;     ///< the translucent receivers' V per fragment, for the peels (ListTranslucentFragments)
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO; // render target of the off-screen stages
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
 
@@ -73,6 +76,14 @@ public:
   ss::Box TranslucentReceivers; // this frame's translucent receivers (absolute bounds), for the plan
   int ShadeLookups = 0;          // ... the lookups it holds (ss::FragmentLookupBits)
   bool ShadeCapture = false;     // ... and its capture (CaptureTranslucentReceivers)
+  bool ShadeListed = false;      // ... read from the fragment lists (their V is listed)
+  // the translucent receivers and the lookups of their lights' solvers (0:
+  // none shades fragments), found once per frame for the record and shading
+  std::vector<vtkProp*> FrameTranslucent;
+  int FrameLookups = 0;
+  bool ListsValid = false;      // the lists hold this view's translucent fragments
+  std::string ListsNote;        // why they are not used, when they could be
+  long long ListMisses = -1;    // peel fragments with no entry (counted with the capture on)
   std::string LastSignature;
   std::string LastFarLightWarning; // warned once until the far lights change
   bool HaveResults = false;
@@ -166,7 +177,7 @@ public:
   {
     int n = this->GBuf.CountGraphicsResources() + this->Maps.CountGraphicsResources() +
       this->Visibility.CountGraphicsResources() + this->Casters.CountGraphicsResources() +
-      this->Capture.CountGraphicsResources();
+      this->Capture.CountGraphicsResources() + this->Lists.CountGraphicsResources();
     for (const auto& solver : this->Solvers)
     {
       n += solver->GetNumberOfGraphicsResources();
@@ -178,7 +189,7 @@ public:
   long long MemoryBytes() const
   {
     long long b = this->GBuf.Bytes() + this->Maps.Bytes() + this->Visibility.Bytes() + this->Casters.Bytes() +
-      this->Capture.Bytes();
+      this->Capture.Bytes() + this->Lists.Bytes();
     for (const auto& solver : this->Solvers)
     {
       b += solver->GetMemoryBytes();
@@ -195,6 +206,8 @@ public:
     }
     this->Visibility.ReleaseGraphicsResources();
     this->Capture.ReleaseGraphicsResources();
+    this->Lists.ReleaseGraphicsResources(w);
+    this->ListsValid = false;
     this->GBuf.ReleaseGraphicsResources(w);
     if (this->FBO)
     {

@@ -252,6 +252,15 @@ std::string vtkSoftShadowPass::GetStatsJSON()
       st.Solvers.emplace_back(GetMethodName(static_cast<int>(solver->GetMethod())), fragment);
     }
   }
+  {
+    // where the translucent receivers' V came from (ListTranslucentFragments)
+    std::ostringstream o;
+    o << "{\"props\": " << in.FrameTranslucent.size() << ", \"lookups\": " << in.FrameLookups << ", \"listed\": " << (in.ShadeListed ? "true" : "false")
+      << ", \"fragments\": " << (in.ShadeListed ? in.Lists.Fragments() : 0)
+      << ", \"list_bytes\": " << in.Lists.Bytes() << ", \"misses\": " << in.ListMisses << ", \"note\": \""
+      << ss::JSONEscape(in.ListsNote) << "\"}";
+    st.Solvers.emplace_back("translucent_receivers", o.str());
+  }
   st.ShadowMapSize = in.Maps.GetArray().Size;
   st.ShadowMapSizeNote = in.Maps.GetSizeNote();
   for (const auto& l : in.Frame.Lights)

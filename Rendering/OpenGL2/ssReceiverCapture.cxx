@@ -34,18 +34,6 @@ std::string ReceiverCapture::Code(bool enabled)
          "}\n";
 }
 
-void ReceiverCapture::RequireImageStores(std::string& fs, bool enabled)
-{
-  // VTK puts its #version line where //VTK::System::Dec is; an #extension
-  // must follow it before any declaration
-  const std::string marker = "//VTK::System::Dec";
-  const std::size_t at = fs.find(marker);
-  if (enabled && at != std::string::npos)
-  {
-    fs.insert(at + marker.size(), "\n#extension GL_ARB_shader_image_load_store : require\n");
-  }
-}
-
 bool ReceiverCapture::Begin(vtkOpenGLRenderWindow* win, int width, int height, int layer, std::string& error)
 {
   this->Layer = -1;

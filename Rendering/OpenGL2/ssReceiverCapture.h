@@ -29,9 +29,6 @@ public:
   /// The shading code's declarations and the store of one fragment
   /// (ssCaptureFragment(layer, V, p, n)); a no-op function when `enabled` is false.
   static std::string Code(bool enabled);
-  /// `fragmentShader` with the extension line image stores need (after
-  /// VTK's version line), when `enabled`.
-  static void RequireImageStores(std::string& fragmentShader, bool enabled);
 
   /// Before the shading stage: the image (width x height, cleared to NaN)
   /// bound to an image unit for `layer` (the shadow light's visibility

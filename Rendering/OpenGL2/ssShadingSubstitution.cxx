@@ -10,7 +10,7 @@
 
 namespace ss
 {
-int InjectVisibility(std::string& fragmentShader, int translucentLookups, bool capture)
+int InjectVisibility(std::string& fragmentShader, int translucentLookups, bool capture, FragmentCode code)
 {
   int lightsInShader = 0;
   while (fragmentShader.find("lightColor" + std::to_string(lightsInShader)) != std::string::npos)
@@ -67,7 +67,7 @@ int InjectVisibility(std::string& fragmentShader, int translucentLookups, bool c
   }
   // props that are not in the G-buffer (translucent ones) get the
   // visibility of their own fragments from the solvers that can give it
-  decl += TranslucentReceiverCode(fragmentShader, capture, translucentLookups);
+  decl += TranslucentReceiverCode(fragmentShader, capture, translucentLookups, code);
   decl += "vec3 ssVisibility(int layer, int colorLayer)\n"
           "{\n"
           "  if (ssUseVis == 0 || layer < 0) { return vec3(1.0); }\n"
@@ -81,8 +81,47 @@ int InjectVisibility(std::string& fragmentShader, int translucentLookups, bool c
           "}\n";
   decl += perLight;
   fragmentShader.insert(fragmentShader.find("void main"), decl);
-  ReceiverCapture::RequireImageStores(fragmentShader, translucentLookups != 0 && capture);
+  const bool listed = translucentLookups != 0 && code == FragmentCode::Listed;
+  const bool captured = translucentLookups != 0 && capture;
+  RequireExtensions(fragmentShader, listed, captured);
   return 0;
+}
+
+void RequireExtensions(std::string& fs, bool storage, bool images)
+{
+  // VTK puts its #version line (150) where //VTK::System::Dec is; an
+  // #extension must follow it before any declaration
+  const std::string marker = "//VTK::System::Dec";
+  const std::size_t at = fs.find(marker);
+  if (at == std::string::npos || (!storage && !images))
+  {
+    return;
+  }
+  std::string lines = "\n";
+  if (storage)
+  {
+    lines += "#extension GL_ARB_shader_storage_buffer_object : require\n"
+             "#extension GL_ARB_shading_language_420pack : require\n"
+             "#extension GL_ARB_shader_bit_encoding : require\n";
+  }
+  if (images)
+  {
+    lines += "#extension GL_ARB_shader_image_load_store : require\n";
+  }
+  fs.insert(at + marker.size(), lines);
+}
+
+void InjectRecord(std::string& fs, std::size_t mainPos, std::size_t endPos, int lookups)
+{
+  fs.insert(endPos, "  ssRecordThisFragment();\n");
+  fs.insert(mainPos, TranslucentReceiverCode(fs, false, lookups, FragmentCode::Record));
+  // early tests need image load/store's layout
+  const bool early = fs.find("gl_FragDepth") == std::string::npos;
+  if (early)
+  {
+    fs.insert(fs.find("void main"), "layout(early_fragment_tests) in;\n");
+  }
+  RequireExtensions(fs, true, early);
 }
 
 void SetVisibilityUniforms(vtkShaderProgram* program, const ShadingUniforms& u, const std::vector<ShadowLight>& lights)

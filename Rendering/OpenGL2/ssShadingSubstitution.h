@@ -11,6 +11,8 @@
 #ifndef ssShadingSubstitution_h
 #define ssShadingSubstitution_h
 
+#include "ssTranslucentReceivers.h"
+
 #include <string>
 #include <vector>
 
@@ -38,8 +40,23 @@ struct ShadowLight;
 /// translucent receivers' code also stores each fragment's V
 /// (ssReceiverCapture). Returns how many lights' terms were not found (0
 /// when all were, or when there was nothing to do); the shader is then not
-/// usable.
-int InjectVisibility(std::string& fragmentShader, int translucentLookups, bool capture);
+/// usable. `code`: where a translucent receiver's V comes from (its filter,
+/// or the record draw's lists while the renderer peels).
+int InjectVisibility(
+  std::string& fragmentShader, int translucentLookups, bool capture, FragmentCode code = FragmentCode::Filter);
+
+/// The record draw's shader (ssFragmentLists): `fragmentShader`, a
+/// translucent receiver's, also lists its fragment's depth, position and
+/// normals in its pixel's list at the end of main(), with early fragment
+/// tests (the occluded fragments, which the peels discard, are not listed)
+/// unless the shader writes its depth. VTK's lighting is left alone: the
+/// draw writes no colour. `translucentLookups`: 0, nothing to list.
+void InjectRecord(std::string& fragmentShader, std::size_t mainPos, std::size_t endPos, int translucentLookups);
+
+/// The #extension lines (after VTK's #version 150) for shader storage
+/// buffers (`storage`: the fragment lists) and image load/store (`images`:
+/// the capture, early fragment tests).
+void RequireExtensions(std::string& fragmentShader, bool storage, bool images);
 
 /// The uniforms of one draw with that code.
 struct ShadingUniforms

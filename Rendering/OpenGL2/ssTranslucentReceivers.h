@@ -60,14 +60,39 @@ bool IsTranslucentReceiver(vtkProp* prop);
 /// The world bounds of the renderer's translucent receivers (empty: none).
 Box TranslucentReceiverBounds(vtkRenderer* renderer);
 
+/// Where a translucent receiver's fragment gets its V (ssFragmentLists):
+/// the filter in its shading shader (no depth peeling: one draw per
+/// fragment), or the filter once in a record draw that lists each
+/// fragment's V per pixel, read by the shaders of the peels.
+enum class FragmentCode
+{
+  Filter, ///< ssFragmentVisibility runs the lookup
+  Record, ///< ssRecordThisFragment() lists the fragment for the filter pass
+  Listed  ///< ssFragmentVisibility reads the fragment's listed V
+};
+
 /// The declarations and the function ssFragmentVisibility(int layer) (vec3)
 /// for a polydata mapper's fragment shader `fragmentShader` (read for which
 /// of VTK's inputs it has); vec3(1) where no slot holds the layer. It holds
 /// the lookups `lookups` (FragmentLookupBits, those of the lights whose
 /// solvers shade fragments; both: two solvers, so two AVSMs), 0: none
-/// (V = 1). With `capture`, each fragment's V also goes to the capture
-/// image (ssReceiverCapture).
-std::string TranslucentReceiverCode(const std::string& fragmentShader, bool capture, int lookups);
+/// (V = 1), or, `Listed`, the read of the lists; `Record`: instead of that
+/// function, the record draw's ssRecordThisFragment(). With `capture`,
+/// each fragment's V also goes to the capture image (ssReceiverCapture),
+/// and a listed read that finds no entry is counted.
+std::string TranslucentReceiverCode(
+  const std::string& fragmentShader, bool capture, int lookups, FragmentCode code = FragmentCode::Filter);
+
+/// The fragment lists' filter pass (ssFragmentLists::Filter): a full-screen
+/// pass's fragment shader that runs the lookups `lookups` of every slot on
+/// each listed fragment and stores its V in the lists; the uniforms are
+/// SetTranslucentReceiverUniforms' and the lists'.
+std::string ListedFilterShader(int lookups);
+
+/// The slots the lights of `lights` whose solvers shade fragments take (at
+/// most kFragmentSlots), and whether one has coloured V.
+int FragmentSlots(const std::vector<ShadowLight>& lights,
+  const std::function<const VisibilitySolver*(Method)>& solverOf, bool& colored);
 
 /// The lookups (FragmentLookupBits) the solvers (`solverOf` a method) of
 /// `lights` need for fragments.

@@ -382,20 +382,23 @@ int TranslucentSolver::SetFragmentUniforms(vtkShaderProgram* p, const ShadowLigh
     static_cast<float>(this->Maps.GetNodes()), this->Maps.GetChannels() == 3 ? 1.0f : 0.0f,
     static_cast<float>(this->Maps.GetLayersPerView()) };
   p->SetUniform4f(name("ssFragAVSM").c_str(), avsm);
-  // Translucent receivers run the filter per fragment and per depth peel: a
-  // coarser VPCSS filter (at most kFragmentQuads quads a side, from coarser
-  // pyramid levels, kFragmentSearch blocker samples, no refinement of quads)
-  // bounds that cost; the G-buffer pixels keep the full filter
-  // (Documentation/vpcss.md, "Translucent receivers"). Measured against the
-  // reference at the fragments' own points (render.VPCSS.
-  // TranslucentReceiversMatchReference, MAE over the sheet, quads/samples):
-  // 1/1, the filter before, 0.107 -- worse than hard AVSM's 0.041: cells as
-  // wide as the search window averaged blockers from well outside it, and
-  // their bias (one texel per texel of cell) passed blockers up to about a
-  // world unit above the receiver; 3/1 0.062; 2/2 0.028; 3/2 and 3/3 0.0133;
-  // 4/4 0.012; 8/8 with refinement (the G-buffer's) 0.0082. The quads set
-  // the error, the samples little beyond 2.
-  constexpr int kFragmentQuads = 3, kFragmentSearch = 2;
+  // Translucent receivers run the filter once per fragment: in the fragment
+  // lists' filter pass with depth peeling (ssFragmentLists), in their
+  // shading otherwise. Until the lists, every depth peel ran it, and a
+  // coarser filter bounded that cost: 3 quads a side and 2 blocker samples.
+  // Now: VPCSS's filter with its quads (FilterQuads, 8), at most
+  // kFragmentSearch blocker samples and no refinement of quads (the
+  // G-buffer pixels refine and take BlockerSearchSamples). Measured against
+  // the reference at the fragments' own points (Documentation/vpcss.md,
+  // "Translucent receivers"; quads/samples, refinement r): the sheet of
+  // render.VPCSS.TranslucentReceiversMatchReference, MAE 1/1 0.107 (the
+  // first filter: cells as wide as the search window), 3/2 0.0133, 8/4
+  // 0.0086, 8/8 0.0082, 8/8 r 0.0082; the self-shadowing cloud of
+  // render.VPCSS.SelfShadowingCloudMatchesReference, 3/2 0.073 (no closer
+  // than hard AVSM's 0.071), 3/8 0.049, 4/8 0.043, 8/4 0.038, 8/8 0.035,
+  // 8/8 r 0.033, at 171, 290, 320, 303, 401 and 735 ms of the filter pass
+  // on particles.json's 184 000 fragments.
+  constexpr int kFragmentQuads = 8, kFragmentSearch = 4;
   const float filter[4] = { this->Hard ? 1.0f : 0.0f,
     static_cast<float>(std::min(this->Opt.FilterQuads, kFragmentQuads)),
     static_cast<float>(std::min(this->Opt.BlockerSearchSamples, kFragmentSearch)),

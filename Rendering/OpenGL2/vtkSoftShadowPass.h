@@ -423,6 +423,21 @@ public:
    */
   vtkSetMacro(CaptureTranslucentReceivers, int);
   vtkGetMacro(CaptureTranslucentReceivers, int);
+  /**
+   * Translucent receivers' V once per fragment. With depth peeling, a
+   * translucent receiver's fragment takes part in every peel, and llvmpipe
+   * runs its whole shader in each; without, it runs its lookup at the lanes
+   * its small triangles fill. With ListTranslucentFragments on (default),
+   * the pass draws the translucent receivers once first, listing their
+   * fragments per pixel, runs VPCSS's or hard AVSM's per-fragment lookup
+   * once per listed fragment in a full-screen pass, and the shading reads
+   * each fragment's V from the lists (ssFragmentLists): the same V. Off, or
+   * past the lists' memory budget, the shading (every peel) runs the
+   * lookup. The stats' "translucent_receivers" tells which.
+   */
+  vtkSetMacro(ListTranslucentFragments, bool);
+  vtkGetMacro(ListTranslucentFragments, bool);
+  vtkBooleanMacro(ListTranslucentFragments, bool);
   bool GetTranslucentReceiverImages(vtkFloatArray* visibility, vtkFloatArray* positions, vtkFloatArray* normals);
   /**
    * PVSM's shadow map tile grid pyramid of the last view solved, as built on
@@ -497,6 +512,7 @@ protected:
   bool AdaptToFrameBudget = true;
   bool KeepRequestedMethod = false;
   int CaptureTranslucentReceivers = -1;
+  bool ListTranslucentFragments = true;
   double InteractiveUpdateRate = 0.1;
 
 private:
@@ -507,6 +523,8 @@ private:
   void PlanFrame(bool unchangedSinceLastFrame, double frameBudgetMs);
   void RenderGBuffer(const vtkRenderState* s);
   void SolveVisibility(const vtkRenderState* s);
+  void FindTranslucentReceivers(const vtkRenderState* s);
+  void RecordTranslucentReceivers(const vtkRenderState* s);
   void Shade(const vtkRenderState* s);
 
   class vtkInternals;

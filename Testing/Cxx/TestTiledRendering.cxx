@@ -121,3 +121,44 @@ TEST(Tiled, ScaleTwoMatchesDirectRender)
     EXPECT_LE(d, 1.0) << name;
   }
 }
+
+// Translucent receivers in tiles, with depth peeling: the fragment lists
+// (ssFragmentLists) are per tile, their pixels the tile's. A translucent
+// sheet over the ground under an opaque ball and a translucent layer.
+TEST(Tiled, TranslucentReceiversWithPeeling)
+{
+  const int W = 160, H = 120;
+  for (const int m : { vtkSoftShadowPass::VPCSS, vtkSoftShadowPass::AVSM })
+  {
+    const std::string name = vtkSoftShadowPass::GetMethodName(m);
+    auto build = [m](Scene& s) {
+      s.renderer->SetUseDepthPeeling(1);
+      s.renderer->SetMaximumNumberOfPeels(8);
+      s.renderer->SetOcclusionRatio(0.0);
+      s.renderer->AddActor(Ground(4.0));
+      s.renderer->AddActor(Quad(0, 0, 0.4, 3.0, 0.5));
+      s.renderer->AddActor(Quad(0.7, 0.3, 1.3, 0.8, 0.4));
+      s.renderer->AddActor(Sphere(-0.5, -0.2, 1.4, 0.35));
+      s.renderer->AddLight(RectLight(1.0, -0.5, 5, 0, 0, 0, 1.0, 1.0));
+      s.Camera(0, -6, 5, 0, 0, 0.5);
+      s.pass->SetMethod(m);
+    };
+    Scene direct(2 * W, 2 * H);
+    build(direct);
+    direct.window->Render();
+    auto full = Grab(direct.window, 1);
+    EXPECT_NE(direct.pass->GetStatsJSON().find("\"listed\": true"), std::string::npos) << name;
+
+    Scene tiled(W, H);
+    build(tiled);
+    tiled.window->Render();
+    auto tiles = Grab(tiled.window, 2);
+    EXPECT_NE(tiled.pass->GetStatsJSON().find("\"listed\": true"), std::string::npos) << name;
+
+    const double d = MeanGreyDifference(full, tiles);
+    std::cout << "tiled translucent receivers, " << name << ": mean grey difference " << d << " levels\n";
+    Write(full, "tiled_translucent_" + name + "_direct.png");
+    Write(tiles, "tiled_translucent_" + name + "_scale2.png");
+    EXPECT_LE(d, 1.0) << name;
+  }
+}
