@@ -83,6 +83,7 @@ public:
   int FrameLookups = 0;
   bool ListsValid = false;      // the lists hold this view's translucent fragments
   std::string ListsNote;        // why they are not used, when they could be
+  bool ListsWarned = false;     // warned once until the lists work again
   long long ListMisses = -1;    // peel fragments with no entry (counted with the capture on)
   std::string LastSignature;
   std::string LastFarLightWarning; // warned once until the far lights change

@@ -601,10 +601,12 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
     in.Timings.Finish();
     in.Timings.Set("fragment_filter", ss::Milliseconds(t1, Clock::now()));
   }
-  if (!in.ListsNote.empty())
+  // warned once until the lists work again (the stats say why every frame)
+  if (!in.ListsNote.empty() && !in.ListsWarned)
   {
     vtkWarningMacro(<< "Translucent receivers: " << in.ListsNote << "; every depth peel runs their lookups.");
   }
+  in.ListsWarned = !in.ListsNote.empty();
   in.Timings.Finish();
   in.Timings.Set("fragment_lists", ss::Milliseconds(t0, Clock::now()));
 }
