@@ -22,11 +22,12 @@ uniform int avsmFilterQuads;  // VPCSS: texel quads per axis of the filter, at m
 // changes across it reads its four children (G-buffer pixels), and the
 // blocker search exits early by blocks of cells; 0: its mean function
 // alone, a mip-mapped lookup (translucent receivers,
-// ssTranslucentReceivers: every fragment of every depth peel runs the
-// filter, so it reads a fixed handful of texels), and the search reads its
-// few cells without the block test (whose 4 x 4 reads cost more there than
+// ssTranslucentReceivers: each of their fragments runs the filter, once,
+// in the fragment lists' filter pass or in its shading), and the search
+// reads its cells without the block test (whose 4 x 4 reads cost more than
 // they save, as every loop runs at least once on llvmpipe: 614 against 641
-// ms of shading on particles.json, the same V). AVSM_COLORED 0: no light
+// ms of shading on particles.json when every depth peel ran the filter;
+// 278-285 against 271-277 ms in the filter pass; the same V). AVSM_COLORED 0: no light
 // of the shader has three channels (avsmColored is 0), so the code of the
 // other two is left out. AVSM_NODES > 0: every light of the shader has that
 // N (avsmNodes), so the loops over its blocks unroll; 0: N is read.
