@@ -28,6 +28,7 @@
 #include "vtkTimeStamp.h"
 #include "vtkWeakPointer.h"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -107,6 +108,31 @@ public:
       }
     }
     return nullptr;
+  }
+
+  /// SolverFor as the function the shading code's helpers take.
+  std::function<const ss::VisibilitySolver*(ss::Method)> SolverOf() const
+  {
+    return [this](ss::Method m) -> const ss::VisibilitySolver* { return this->SolverFor(m); };
+  }
+
+  /// The textures the shading stage's and the fragment lists' filter code
+  /// read: the visibility layers and every solver's own (its AVSM).
+  void BeginShadingInputs(vtkOpenGLRenderWindow* win)
+  {
+    this->Visibility.BindForShading(win);
+    for (const auto& solver : this->Solvers)
+    {
+      solver->BeginShading(win);
+    }
+  }
+  void EndShadingInputs(vtkOpenGLRenderWindow* win)
+  {
+    for (const auto& solver : this->Solvers)
+    {
+      solver->EndShading(win);
+    }
+    this->Visibility.UnbindAfterShading(win);
   }
 
   ss::SolverFrame MakeSolverFrame(vtkRenderer* ren, vtkOpenGLRenderWindow* win, vtkObject* reporter)

@@ -233,17 +233,20 @@ std::string TranslucentReceiverCode(const std::string& fs, bool capture, int loo
   const bool haveVC = fs.find("in vec4 vertexVCVSOutput;") != std::string::npos;
   const bool haveN = fs.find("in vec3 normalVCVSOutput;") != std::string::npos;
   std::ostringstream o;
-  o << "#define SS_SLOTS " << kFragmentSlots << "\n" << kSlotUniforms << "int ssFragSel = 0;\n";
   if (code == FragmentCode::Record)
   {
-    // the record draw lists what the filter pass needs (ListedFilterShader)
-    o << FragmentLists::RecordCode() << "void ssRecordThisFragment()\n"
+    // the record draw lists what the filter pass needs (ListedFilterShader):
+    // the camera's uniforms alone, no slot's
+    o << "uniform mat3 ssVCToWC;\n"
+         "uniform vec3 ssVCToRelOffset;\n"
+      << FragmentLists::RecordCode() << "void ssRecordThisFragment()\n"
       << "{\n"
       << (haveVC ? FragmentGeometry(haveN) + "  ssRecordFragment(p, nrm, ng);\n"
                  : "  // no view-coordinate position in this shader: nothing to list\n")
       << "}\n";
     return o.str();
   }
+  o << "#define SS_SLOTS " << kFragmentSlots << "\n" << kSlotUniforms << "int ssFragSel = 0;\n";
   if (code == FragmentCode::Listed)
   {
     // the peels read what the filter pass stored: no lookup code at all

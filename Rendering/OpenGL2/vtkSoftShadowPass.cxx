@@ -511,9 +511,7 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
 void vtkSoftShadowPass::FindTranslucentReceivers(const vtkRenderState* s)
 {
   auto& in = *this->Internals;
-  in.FrameLookups = in.ShadowsThisFrame
-    ? ss::FragmentLookups(in.Frame.Lights, [&in](ss::Method m) -> const ss::VisibilitySolver* { return in.SolverFor(m); })
-    : 0;
+  in.FrameLookups = in.ShadowsThisFrame ? ss::FragmentLookups(in.Frame.Lights, in.SolverOf()) : 0;
   in.FrameTranslucent.clear();
   for (int i = 0; in.FrameLookups != 0 && i < s->GetPropArrayCount(); ++i)
   {
@@ -544,7 +542,7 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
   auto* win = static_cast<vtkOpenGLRenderWindow*>(ren->GetRenderWindow());
   vtkOpenGLState::ScopedglColorMask colorSaver(win->GetState());
   vtkOpenGLState::ScopedglDepthFunc depthFuncSaver(win->GetState());
-  const auto solverOf = [&in](ss::Method m) -> const ss::VisibilitySolver* { return in.SolverFor(m); };
+  const auto solverOf = in.SolverOf();
   bool colored = false;
   const int slots = ss::FragmentSlots(in.Frame.Lights, solverOf, colored);
   const int w = in.Frame.Width, h = in.Frame.Height;
@@ -581,22 +579,14 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
   {
     // every listed fragment's lookups, once, with every lane busy
     const auto t1 = Clock::now();
-    in.Visibility.BindForShading(win);
-    for (const auto& solver : in.Solvers)
-    {
-      solver->BeginShading(win);
-    }
+    in.BeginShadingInputs(win);
     std::string error;
     in.ListsValid = in.Lists.Filter(win, in.FBO, ss::ListedFilterShader(in.FrameLookups),
       [&](vtkShaderProgram* program) {
         ss::SetTranslucentReceiverUniforms(program, in.GBuf, in.Frame.Lights, solverOf, in.Visibility.GetShadingUnit());
       },
       error);
-    for (const auto& solver : in.Solvers)
-    {
-      solver->EndShading(win);
-    }
-    in.Visibility.UnbindAfterShading(win);
+    in.EndShadingInputs(win);
     in.ListsNote = in.ListsValid ? std::string() : error;
     in.Timings.Finish();
     in.Timings.Set("fragment_filter", ss::Milliseconds(t1, Clock::now()));
@@ -604,7 +594,7 @@ void vtkSoftShadowPass::RecordTranslucentReceivers(const vtkRenderState* s)
   // warned once until the lists work again (the stats say why every frame)
   if (!in.ListsNote.empty() && !in.ListsWarned)
   {
-    vtkWarningMacro(<< "Translucent receivers: " << in.ListsNote << "; every depth peel runs their lookups.");
+    vtkWarningMacro(<< "Translucent receivers: " << in.ListsNote << "; their shading (every depth peel) runs the lookups.");
   }
   in.ListsWarned = !in.ListsNote.empty();
   in.Timings.Finish();
@@ -670,12 +660,8 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
     {
       vtkErrorMacro(<< error);
     }
-    in.Visibility.BindForShading(win);
+    in.BeginShadingInputs(win);
     in.GBuf.Position->Activate();
-    for (const auto& solver : in.Solvers)
-    {
-      solver->BeginShading(win);
-    }
     if (listed)
     {
       in.Lists.Bind();
@@ -700,12 +686,8 @@ void vtkSoftShadowPass::Shade(const vtkRenderState* s)
     {
       in.Lists.Unbind();
     }
-    for (const auto& solver : in.Solvers)
-    {
-      solver->EndShading(win);
-    }
     in.GBuf.Position->Deactivate();
-    in.Visibility.UnbindAfterShading(win);
+    in.EndShadingInputs(win);
   }
 }
 
@@ -776,7 +758,7 @@ bool vtkSoftShadowPass::SetShaderParameters(
     }
     return true;
   }
-  const auto solverOf = [&in](ss::Method m) -> const ss::VisibilitySolver* { return in.SolverFor(m); };
+  const auto solverOf = in.SolverOf();
   if (in.CurrentStage == Stage::Record)
   {
     if (polyMapper)
