@@ -73,6 +73,7 @@ void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLigh
   this->LastGearsStats = GearsStats{};
   this->GearsLights = 0;
   this->PiecesThisFrame = false;
+  this->PiecesAborted = false;
   this->BackendUsed = "cpu";
   this->BackendNote.clear();
 }
@@ -83,6 +84,9 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   const auto t0 = Clock::now();
   const bool reference = this->GetMethod() == Method::Reference;
   const CasterSet& casters = *frame.Casters;
+  // a frame that searches for closed pieces gives the search the first half
+  // of its first light's progress and the solve the second
+  double searchShare = 0.0;
   if (!this->HaveTriangles)
   {
     if (reference && (!this->Reference || this->Version != casters.Version))
@@ -123,11 +127,28 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
       this->PiecesMs = this->PiecesSolverMs = 0.0;
       if (this->Opt.GearsFindPieces)
       {
+        // a render abort stops the search between its stages; the caster set
+        // then counts as not given (Version), so the next frame searches again
+        searchShare = 0.5;
+        const SolveProgress& frameProgress = frame.Progress;
+        SolveProgress progress;
+        if (frameProgress)
+        {
+          progress = [&frameProgress, searchShare](double f) { return frameProgress(searchShare * f); };
+        }
         const auto tp = Clock::now();
-        const GearsPieces pieces = casters.FindPieces(world, this->FoundPieces);
+        const GearsPieces pieces = casters.FindPieces(world, this->FoundPieces, progress);
         const auto ts = Clock::now();
-        this->Gears->SetPieces(pieces);
         this->PiecesMs = ss::Milliseconds(tp, ts);
+        if (this->FoundPieces.aborted)
+        {
+          this->PiecesAborted = true;
+          this->Version = 0;
+          this->Gears.reset();
+          frame.Timings->Add("gears_pieces", this->PiecesMs);
+          return;
+        }
+        this->Gears->SetPieces(pieces);
         this->PiecesSolverMs = ss::Milliseconds(ts, Clock::now());
         this->PiecesThisFrame = true;
         frame.Timings->Add("gears_pieces", this->PiecesMs + this->PiecesSolverMs);
@@ -201,6 +222,13 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
     {
       GearsOptions opt = this->Opt.Gears;
       opt.progress = frame.Progress;
+      if (searchShare > 0.0 && frame.Progress)
+      {
+        const SolveProgress& frameProgress = frame.Progress;
+        opt.progress = [&frameProgress, searchShare](double f) {
+          return frameProgress(searchShare + (1.0 - searchShare) * f);
+        };
+      }
       V = this->Gears->Solve(world, origin, pos, nrm, n, opt, &st);
     }
     this->BackendUsed = onGPU ? "gl" : "cpu";
@@ -282,6 +310,7 @@ std::string TriangleSolver::GetStatsJSON() const
     << ", \"lights\": " << this->GearsLights << ", \"stats\": " << GearsStatsToJSON(this->LastGearsStats)
     << ", \"pieces\": {\"find\": " << (this->PiecesFound ? "true" : "false")
     << ", \"found_this_frame\": " << (this->PiecesThisFrame ? "true" : "false")
+    << ", \"search_aborted\": " << (this->PiecesAborted ? "true" : "false")
     << ", \"pieces_found\": " << this->FoundPieces.pieces << ", \"closed_pieces\": " << this->FoundPieces.closedPieces
     << ", \"closed_triangles\": " << this->FoundPieces.closedTriangles << ", \"find_ms\": " << this->PiecesMs
     << ", \"set_ms\": " << this->PiecesSolverMs
