@@ -46,6 +46,8 @@ const OptionList& TriangleSolver::DeclaredOptions()
       "gears: count Table 9's necessary assignments (slower)"),
     BoolOption("gears_find_pieces", "GearsFindPieces", "Gears Find Pieces", true,
       "gears: find the closed pieces of casters that are not prepared (closed-mesh rule, inner occluders; same V)"),
+    BoolOption("gears_cell_culling", "GearsCellCulling", "Gears Cell Culling", true,
+      "gears: cull clusters and triangles per grid cell and sample group (shaft, horizon, inner occluders; same V)"),
   };
   return options;
 }
@@ -62,6 +64,12 @@ void TriangleSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.Gears.countNecessary = opt("gears_necessary") != 0;
   this->Opt.GearsOnGL = opt("gears_backend") == vtkSoftShadowPass::GEARS_BACKEND_GL;
   this->Opt.GearsFindPieces = opt("gears_find_pieces") != 0;
+  // 0: the paper's assignment (every triangle to every cell its shadow
+  // volume's box covers), for measuring what the culling saves
+  const bool cellCulling = opt("gears_cell_culling") != 0;
+  this->Opt.Gears.shaftCulling = cellCulling;
+  this->Opt.Gears.horizonCulling = cellCulling;
+  this->Opt.Gears.occluderCulling = cellCulling;
 }
 
 void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLight*>& lights)
