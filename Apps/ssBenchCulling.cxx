@@ -205,6 +205,7 @@ int BenchCulling(const std::vector<std::string>& args)
     { "pvsm, prepared clusters, tiles only", "pvsm", true, { "pvsm_map_culling=0", "pvsm_tile_regions=0" } },
     { "pvsm, prepared clusters, whole tiles", "pvsm", true, { "pvsm_tile_regions=0" } },
     { "pvsm, prepared clusters", "pvsm", true, {} },
+    { "gears, no culling", "gears", false, { "gears_cell_culling=0" } },
     { "gears, plain", "gears", false, {} },
     { "gears, prepared (closed pieces)", "gears", true, {} },
   };

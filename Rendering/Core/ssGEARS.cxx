@@ -110,8 +110,11 @@ struct GearsSolver::Impl
     std::vector<float> V;
     std::vector<float> opacity;
     std::vector<std::size_t> input;
-    V.reserve(d.V.size());
-    opacity.reserve(d.opacity.size());
+    // room for the inner occluders AppendOccluders adds after SetPieces
+    // (reserved, not touched: without it the append moved the whole array
+    // to fresh pages, 0.59 s on the 5M assembly)
+    V.reserve(d.V.size() + d.V.size() / kOccluderHeadroom);
+    opacity.reserve(d.opacity.size() + d.opacity.size() / kOccluderHeadroom);
     input.reserve(d.input.size());
     d.clusterFirst.assign(1, 0);
     for (std::size_t c = 0; c + 1 < first.size(); ++c)
@@ -291,6 +294,8 @@ void GearsSolver::SetPieces(const GearsPieces& pieces)
   }
   SolverData& d = P->D;
   const std::size_t ns = d.input.size();
+  d.orient.reserve(ns + ns / kOccluderHeadroom);
+  d.piece.reserve(ns + ns / kOccluderHeadroom);
   d.orient.assign(ns, 0);
   d.piece.assign(ns, 0);
   d.pieceBox.assign(6 * np, 0.0);

@@ -16,6 +16,8 @@
 // left is inside, and is merged greedily into boxes.
 #include "ssGearsInternal.h"
 
+#include <tbb/parallel_for.h>
+
 #include <array>
 #include <cmath>
 
@@ -76,12 +78,18 @@ void BuildOccluders(SolverData& D)
       members[D.piece[t]].push_back(static_cast<std::uint32_t>(t));
     }
   }
-  for (std::size_t p = 0; p < NP; ++p)
+  // each piece on its own (in parallel), its boxes appended in piece order
+  struct PieceBoxes
   {
+    std::vector<float> V;
+    std::vector<double> box;
+  };
+  std::vector<PieceBoxes> found(NP);
+  tbb::parallel_for(std::size_t(0), NP, [&](std::size_t p) {
     const auto& tris = members[p];
     if (tris.size() < kOccluderMinTriangles)
     {
-      continue; // a few large faces fill a mask as fast as a box would
+      return; // a few large faces fill a mask as fast as a box would
     }
     const double* b = &D.pieceBox[6 * p];
     const glm::dvec3 lo(b[0], b[1], b[2]), hi(b[3], b[4], b[5]);
@@ -89,7 +97,7 @@ void BuildOccluders(SolverData& D)
     const double side = std::max({ ext.x, ext.y, ext.z }) / kOccluderGrid;
     if (!(side > 0.0))
     {
-      continue;
+      return;
     }
     // one voxel of outside margin around the piece
     Grid g;
@@ -234,10 +242,15 @@ void BuildOccluders(SolverData& D)
       const double s = 0.01 * side;
       const glm::dvec3 blo = origin + side * glm::dvec3(vb.x0, vb.y0, vb.z0) + s;
       const glm::dvec3 bhi = origin + side * glm::dvec3(vb.x1 + 1, vb.y1 + 1, vb.z1 + 1) - s;
-      EmitBox(blo, bhi, D.occV);
-      D.occPiece.push_back(static_cast<std::uint32_t>(p));
-      D.occBox.insert(D.occBox.end(), { blo.x, blo.y, blo.z, bhi.x, bhi.y, bhi.z });
+      EmitBox(blo, bhi, found[p].V);
+      found[p].box.insert(found[p].box.end(), { blo.x, blo.y, blo.z, bhi.x, bhi.y, bhi.z });
     }
+  });
+  for (std::size_t p = 0; p < NP; ++p)
+  {
+    D.occV.insert(D.occV.end(), found[p].V.begin(), found[p].V.end());
+    D.occBox.insert(D.occBox.end(), found[p].box.begin(), found[p].box.end());
+    D.occPiece.insert(D.occPiece.end(), found[p].box.size() / 6, static_cast<std::uint32_t>(p));
   }
 }
 

@@ -17,6 +17,7 @@
 #define ssGearsPieces_h
 
 #include "ssGEARS.h"
+#include "ssSolveProgress.h"
 
 #include <glm/glm.hpp>
 
@@ -32,6 +33,7 @@ struct GearsPieceCounts
   std::size_t pieces = 0;          ///< pieces appended (closed or open)
   std::size_t closedPieces = 0;    ///< of those, orientation +1 or -1
   std::size_t closedTriangles = 0; ///< triangles of the closed ones
+  bool aborted = false;            ///< `progress` returned false: nothing was added
 };
 
 /// Finds the pieces of the triangles `tris` of a soup `v` (3 vertices a
@@ -50,8 +52,22 @@ struct GearsPieceCounts
 /// welding) gets an open piece of its own. `mayClose` false (a projective
 /// transform, under which the world triangles' winding says nothing) makes
 /// every piece open.
-GearsPieceCounts FindGearsPieces(
-  const std::vector<glm::dvec3>& v, const std::vector<std::uint32_t>& tris, bool mayClose, GearsPieces& out);
+///
+/// `progress` (optional) is called on the calling thread between the
+/// search's stages with the fraction done; when it returns false the search
+/// stops, `out` is left as it was and the counts say `aborted`. It runs in
+/// parallel (TBB); the result does not depend on the number of threads.
+GearsPieceCounts FindGearsPieces(const std::vector<glm::dvec3>& v, const std::vector<std::uint32_t>& tris,
+  bool mayClose, GearsPieces& out, const SolveProgress& progress = {});
+
+namespace detail
+{
+/// FindGearsPieces with the coordinates' hash masked by `hashMask`, so that
+/// a test can make hashes collide (0: every corner collides) and check that
+/// the exact weld they fall back on gives the same pieces.
+GearsPieceCounts FindGearsPieces(const std::vector<glm::dvec3>& v, const std::vector<std::uint32_t>& tris,
+  bool mayClose, GearsPieces& out, const SolveProgress& progress, std::uint64_t hashMask);
+}
 
 /// `mayClose` for a world transform given row-major (vtkMatrix4x4's layout):
 /// true unless its last row is projective.

@@ -412,7 +412,8 @@ void CasterSet::SetPrepared(std::vector<PreparedBlock> prepared)
   }
 }
 
-GearsPieces CasterSet::FindPieces(const std::vector<glm::dvec3>& world, GearsPieceCounts& counts) const
+GearsPieces CasterSet::FindPieces(
+  const std::vector<glm::dvec3>& world, GearsPieceCounts& counts, const SolveProgress& progress) const
 {
   // prepared triangles keep their tables' pieces (SetPrepared); piece 0, the
   // open piece of all the others, is split per actor
@@ -429,11 +430,29 @@ GearsPieces CasterSet::FindPieces(const std::vector<glm::dvec3>& world, GearsPie
     }
   }
   counts = GearsPieceCounts{};
+  std::size_t total = 0, done = 0;
+  for (const auto& b : blocks)
+  {
+    total += b.size();
+  }
   for (std::size_t a = 0; a < blocks.size(); ++a)
   {
     if (!blocks[a].empty())
     {
-      const GearsPieceCounts c = FindGearsPieces(world, blocks[a], this->ActorAffine[a] != 0, out);
+      SolveProgress blockProgress;
+      if (progress)
+      {
+        blockProgress = [&](double f) {
+          return progress((static_cast<double>(done) + f * static_cast<double>(blocks[a].size())) / total);
+        };
+      }
+      const GearsPieceCounts c = FindGearsPieces(world, blocks[a], this->ActorAffine[a] != 0, out, blockProgress);
+      if (c.aborted)
+      {
+        counts.aborted = true;
+        return out;
+      }
+      done += blocks[a].size();
       counts.pieces += c.pieces;
       counts.closedPieces += c.closedPieces;
       counts.closedTriangles += c.closedTriangles;

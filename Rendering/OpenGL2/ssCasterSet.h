@@ -114,7 +114,11 @@ public:
   /// the other triangles, those ss::FindGearsPieces finds per actor in
   /// `world` (WorldVertices(), what GEARS is given), exact welds only.
   /// `counts` gets what was found (prepared pieces not included).
-  GearsPieces FindPieces(const std::vector<glm::dvec3>& world, GearsPieceCounts& counts) const;
+  /// `progress` (optional) gets the fraction done over all actors, weighted
+  /// by their triangles; when it returns false the search stops, counts say
+  /// `aborted` and the pieces returned must not be used.
+  GearsPieces FindPieces(
+    const std::vector<glm::dvec3>& world, GearsPieceCounts& counts, const SolveProgress& progress = {}) const;
 
   // --- clusters (tile culling, vtkSoftShadowPass::PVSMTileCulling)
   /// Orders the triangles into clusters when the set changed since the last

@@ -46,6 +46,8 @@ const OptionList& TriangleSolver::DeclaredOptions()
       "gears: count Table 9's necessary assignments (slower)"),
     BoolOption("gears_find_pieces", "GearsFindPieces", "Gears Find Pieces", true,
       "gears: find the closed pieces of casters that are not prepared (closed-mesh rule, inner occluders; same V)"),
+    BoolOption("gears_cell_culling", "GearsCellCulling", "Gears Cell Culling", true,
+      "gears: cull clusters and triangles per grid cell and sample group (shaft, horizon, inner occluders; same V)"),
   };
   return options;
 }
@@ -62,6 +64,12 @@ void TriangleSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.Gears.countNecessary = opt("gears_necessary") != 0;
   this->Opt.GearsOnGL = opt("gears_backend") == vtkSoftShadowPass::GEARS_BACKEND_GL;
   this->Opt.GearsFindPieces = opt("gears_find_pieces") != 0;
+  // 0: the paper's assignment (every triangle to every cell its shadow
+  // volume's box covers), for measuring what the culling saves
+  const bool cellCulling = opt("gears_cell_culling") != 0;
+  this->Opt.Gears.shaftCulling = cellCulling;
+  this->Opt.Gears.horizonCulling = cellCulling;
+  this->Opt.Gears.occluderCulling = cellCulling;
 }
 
 void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLight*>& lights)
@@ -73,6 +81,7 @@ void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLigh
   this->LastGearsStats = GearsStats{};
   this->GearsLights = 0;
   this->PiecesThisFrame = false;
+  this->PiecesAborted = false;
   this->BackendUsed = "cpu";
   this->BackendNote.clear();
 }
@@ -83,6 +92,9 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   const auto t0 = Clock::now();
   const bool reference = this->GetMethod() == Method::Reference;
   const CasterSet& casters = *frame.Casters;
+  // a frame that searches for closed pieces gives the search the first half
+  // of its first light's progress and the solve the second
+  double searchShare = 0.0;
   if (!this->HaveTriangles)
   {
     if (reference && (!this->Reference || this->Version != casters.Version))
@@ -123,11 +135,28 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
       this->PiecesMs = this->PiecesSolverMs = 0.0;
       if (this->Opt.GearsFindPieces)
       {
+        // a render abort stops the search between its stages; the caster set
+        // then counts as not given (Version), so the next frame searches again
+        searchShare = 0.5;
+        const SolveProgress& frameProgress = frame.Progress;
+        SolveProgress progress;
+        if (frameProgress)
+        {
+          progress = [&frameProgress, searchShare](double f) { return frameProgress(searchShare * f); };
+        }
         const auto tp = Clock::now();
-        const GearsPieces pieces = casters.FindPieces(world, this->FoundPieces);
+        const GearsPieces pieces = casters.FindPieces(world, this->FoundPieces, progress);
         const auto ts = Clock::now();
-        this->Gears->SetPieces(pieces);
         this->PiecesMs = ss::Milliseconds(tp, ts);
+        if (this->FoundPieces.aborted)
+        {
+          this->PiecesAborted = true;
+          this->Version = 0;
+          this->Gears.reset();
+          frame.Timings->Add("gears_pieces", this->PiecesMs);
+          return;
+        }
+        this->Gears->SetPieces(pieces);
         this->PiecesSolverMs = ss::Milliseconds(ts, Clock::now());
         this->PiecesThisFrame = true;
         frame.Timings->Add("gears_pieces", this->PiecesMs + this->PiecesSolverMs);
@@ -201,6 +230,13 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
     {
       GearsOptions opt = this->Opt.Gears;
       opt.progress = frame.Progress;
+      if (searchShare > 0.0 && frame.Progress)
+      {
+        const SolveProgress& frameProgress = frame.Progress;
+        opt.progress = [&frameProgress, searchShare](double f) {
+          return frameProgress(searchShare + (1.0 - searchShare) * f);
+        };
+      }
       V = this->Gears->Solve(world, origin, pos, nrm, n, opt, &st);
     }
     this->BackendUsed = onGPU ? "gl" : "cpu";
@@ -282,6 +318,7 @@ std::string TriangleSolver::GetStatsJSON() const
     << ", \"lights\": " << this->GearsLights << ", \"stats\": " << GearsStatsToJSON(this->LastGearsStats)
     << ", \"pieces\": {\"find\": " << (this->PiecesFound ? "true" : "false")
     << ", \"found_this_frame\": " << (this->PiecesThisFrame ? "true" : "false")
+    << ", \"search_aborted\": " << (this->PiecesAborted ? "true" : "false")
     << ", \"pieces_found\": " << this->FoundPieces.pieces << ", \"closed_pieces\": " << this->FoundPieces.closedPieces
     << ", \"closed_triangles\": " << this->FoundPieces.closedTriangles << ", \"find_ms\": " << this->PiecesMs
     << ", \"set_ms\": " << this->PiecesSolverMs

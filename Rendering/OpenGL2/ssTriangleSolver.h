@@ -71,6 +71,7 @@ private:
   // again when GearsFindPieces changes), for the stats
   bool PiecesFound = false;     ///< found with GearsFindPieces on
   bool PiecesThisFrame = false; ///< found in this frame (not cached)
+  bool PiecesAborted = false;   ///< this frame's search was stopped by a render abort
   GearsPieceCounts FoundPieces;
   double PiecesMs = 0.0;       ///< finding them (CasterSet::FindPieces)
   double PiecesSolverMs = 0.0; ///< GearsSolver::SetPieces (its inner occluders)

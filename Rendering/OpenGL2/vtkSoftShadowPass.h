@@ -181,6 +181,10 @@ public:
   virtual bool GetGearsFindPieces();
   virtual void GearsFindPiecesOn();
   virtual void GearsFindPiecesOff();
+  virtual void SetGearsCellCulling(bool v);
+  virtual bool GetGearsCellCulling();
+  virtual void GearsCellCullingOn();
+  virtual void GearsCellCullingOff();
   virtual void SetGearsBackend(int v);
   virtual int GetGearsBackend();
   // pvsm (ssPVSMSolver)

@@ -531,3 +531,26 @@ TEST(UnpreparedCasters, OpenMeshesGetNoClosedPiece)
   EXPECT_EQ(Number(with.stats, "closed_pieces"), 0.0);
   EXPECT_EQ(Number(with.stats, "dropped_triangles"), 0.0);
 }
+
+// gears_cell_culling=0 (for measuring, bench --culling) gives the paper's
+// assignment: every triangle to every cell its shadow volume's box covers.
+// The culling changes no bit of V and lists far fewer pairs.
+TEST(UnpreparedCasters, GearsCellCullingKeepsVAndListsFewerPairs)
+{
+  const Result culled = RenderPlain(kGears);
+  const Result plain = RenderPlain([](vtkSoftShadowPass* p) {
+    kGears(p);
+    p->GearsCellCullingOff();
+  });
+  ExpectSameV(culled.frame, plain.frame, "gears, cell culling on vs off");
+  // listed: the pairs the per-pixel rejection is given (it then keeps about
+  // the same with or without the culling: the culling saves work, not bits)
+  const double listedCulled = Number(culled.stats, "assignments_listed"),
+               listedPlain = Number(plain.stats, "assignments_listed");
+  std::cout << "assignments with cell culling " << listedCulled << ", without " << listedPlain << "; clusters culled "
+            << Number(culled.stats, "clusters_culled") << " / " << Number(plain.stats, "clusters_culled") << "\n";
+  EXPECT_GT(Number(culled.stats, "clusters_culled"), 0.0);
+  EXPECT_EQ(Number(plain.stats, "clusters_culled"), 0.0);
+  EXPECT_EQ(Number(plain.stats, "triangles_culled"), 0.0);
+  EXPECT_LT(listedCulled, 0.8 * listedPlain);
+}

@@ -7,6 +7,8 @@
 #include "ssGearsTestScenes.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <limits>
@@ -157,4 +159,192 @@ TEST(GearsPieces, DegenerateAndNonFiniteTrianglesArePiecesOfTheirOwn)
   EXPECT_EQ(p.piece[5], 2u);
   EXPECT_EQ(c.closedTriangles, 4u);
   EXPECT_EQ(c.pieces, 3u);
+}
+
+namespace
+{
+// Many pieces at once, each of a known kind, in shuffled triangle order: 24
+// bumpy spheres (every third mirrored, so inward; every fifth with one face
+// dropped, so open), 40 tetrahedra (every fourth with one face flipped, so
+// open), pairs of tetrahedra pinched at a vertex, and NaN triangles. Returns
+// the soup and, per triangle, the orientation its piece must get.
+struct Assembly
+{
+  std::vector<glm::dvec3> v;
+  std::vector<int> expected;
+};
+
+Assembly MixedAssembly()
+{
+  Assembly a;
+  const auto add = [&](const std::vector<glm::dvec3>& tris, int orientation) {
+    a.v.insert(a.v.end(), tris.begin(), tris.end());
+    a.expected.insert(a.expected.end(), tris.size() / 3, orientation);
+  };
+  for (int s = 0; s < 24; ++s)
+  {
+    std::vector<glm::dvec3> sphere = sstest::BumpySphere(glm::dvec3(7.0 * s, 1e3, -2e2), 2.0, 3);
+    int o = 1;
+    if (s % 3 == 0)
+    {
+      for (auto& p : sphere)
+      {
+        p.y = -p.y;
+      }
+      o = -1;
+    }
+    if (s % 5 == 0)
+    {
+      sphere.erase(sphere.begin() + 3 * 17, sphere.begin() + 3 * 18);
+      o = 0;
+    }
+    add(sphere, o);
+  }
+  for (int t = 0; t < 40; ++t)
+  {
+    std::vector<glm::dvec3> tet = Tetrahedron(glm::dvec3(3.0 * t, -50.0, 0.0));
+    if (t % 4 == 0)
+    {
+      std::swap(tet[4], tet[5]);
+    }
+    add(tet, t % 4 == 0 ? 0 : 1);
+  }
+  for (int p = 0; p < 5; ++p)
+  {
+    const glm::dvec3 at(4.0 * p, 80.0, 0.0);
+    std::vector<glm::dvec3> first = Tetrahedron(at), second = first;
+    for (std::size_t t = 0; t < second.size(); t += 3)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        second[t + j] = 2.0 * at - second[t + j];
+      }
+      std::swap(second[t + 1], second[t + 2]);
+    }
+    add(first, 0);
+    add(second, 0);
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  add({ glm::dvec3(nan, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0) }, 0);
+  // shuffle the triangles (a fixed permutation): pieces are not runs of the soup
+  const std::size_t n = a.v.size() / 3;
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::uint64_t state = 12345;
+  for (std::size_t i = n - 1; i > 0; --i)
+  {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    std::swap(order[i], order[(state >> 33) % (i + 1)]);
+  }
+  Assembly s;
+  for (std::size_t i : order)
+  {
+    s.v.insert(s.v.end(), a.v.begin() + 3 * i, a.v.begin() + 3 * i + 3);
+    s.expected.push_back(a.expected[i]);
+  }
+  return s;
+}
+
+GearsPieces FindMasked(const std::vector<glm::dvec3>& v, std::uint64_t mask, GearsPieceCounts& c)
+{
+  GearsPieces p;
+  p.piece.assign(v.size() / 3, ~0u);
+  c = detail::FindGearsPieces(v, All(v), true, p, {}, mask);
+  return p;
+}
+}
+
+TEST(GearsPieces, ManyPiecesOfKnownKindsInAShuffledSoup)
+{
+  const Assembly a = MixedAssembly();
+  GearsPieceCounts c;
+  const GearsPieces p = Find(a.v, &c);
+  std::size_t closed = 0;
+  for (std::size_t t = 0; t < a.expected.size(); ++t)
+  {
+    ASSERT_LT(p.piece[t], p.orientation.size());
+    EXPECT_EQ(int(p.orientation[p.piece[t]]), a.expected[t]) << "triangle " << t;
+    closed += a.expected[t] != 0;
+  }
+  EXPECT_EQ(c.closedTriangles, closed);
+  EXPECT_EQ(c.closedPieces, 24u - 5u + 30u); // spheres without the dropped faces; unflipped tetrahedra
+  // 24 spheres, 40 tetrahedra, 10 pinched ones, 1 NaN triangle
+  EXPECT_EQ(c.pieces, 24u + 40u + 10u + 1u);
+}
+
+// The weld trusts a hash only after checking that every corner equals its
+// vertex's first one; when hashes collide (forced here by masking them) it
+// welds by the exact sort of the points, with the same pieces.
+TEST(GearsPieces, HashCollisionsGiveTheSamePieces)
+{
+  const Assembly a = MixedAssembly();
+  GearsPieceCounts c0;
+  const GearsPieces full = FindMasked(a.v, ~std::uint64_t(0), c0);
+  for (std::uint64_t mask : { std::uint64_t(0), std::uint64_t(0xF), std::uint64_t(0xF) << 60,
+         std::uint64_t(0xFFF) << 52 | std::uint64_t(0x3) })
+  {
+    GearsPieceCounts c;
+    const GearsPieces p = FindMasked(a.v, mask, c);
+    EXPECT_EQ(p.piece, full.piece) << std::hex << mask;
+    EXPECT_EQ(p.orientation, full.orientation) << std::hex << mask;
+    EXPECT_EQ(c.closedTriangles, c0.closedTriangles) << std::hex << mask;
+  }
+}
+
+TEST(GearsPieces, TheSameOnAnyNumberOfThreads)
+{
+  std::vector<glm::dvec3> v = MixedAssembly().v;
+  Append(v, sstest::BumpySphere(glm::dvec3(-40.0, 0, 0), 3.0, 6)); // 32,768 more triangles
+  // workers beyond the machine's cores (2 here), so the larger arenas get them
+  tbb::global_control workers(tbb::global_control::max_allowed_parallelism, 8);
+  GearsPieces reference;
+  tbb::task_arena one(1);
+  one.execute([&] { reference = Find(v); });
+  for (int threads : { 2, 3, 8 })
+  {
+    tbb::task_arena arena(threads);
+    GearsPieces p;
+    arena.execute([&] { p = Find(v); });
+    EXPECT_EQ(p.piece, reference.piece) << threads << " threads";
+    EXPECT_EQ(p.orientation, reference.orientation) << threads << " threads";
+  }
+}
+
+// A render abort (the progress callback returning false) stops the search at
+// any of its stages and leaves the output as it was; progress runs from 0 to
+// 1 without going back.
+TEST(GearsPieces, ProgressAndAbort)
+{
+  const std::vector<glm::dvec3> v = MixedAssembly().v;
+  const GearsPieces plain = Find(v);
+  std::vector<double> seen;
+  GearsPieces p;
+  p.piece.assign(v.size() / 3, ~0u);
+  GearsPieceCounts c = FindGearsPieces(v, All(v), true, p, [&](double f) {
+    seen.push_back(f);
+    return true;
+  });
+  EXPECT_FALSE(c.aborted);
+  EXPECT_EQ(p.piece, plain.piece);
+  EXPECT_EQ(p.orientation, plain.orientation);
+  ASSERT_GE(seen.size(), 4u);
+  EXPECT_EQ(seen.front(), 0.0);
+  EXPECT_EQ(seen.back(), 1.0);
+  for (std::size_t i = 1; i < seen.size(); ++i)
+  {
+    EXPECT_GE(seen[i], seen[i - 1]);
+  }
+  for (std::size_t stop = 0; stop < seen.size(); ++stop)
+  {
+    GearsPieces q;
+    q.piece.assign(v.size() / 3, 7u);
+    q.orientation = { 0, 1 };
+    std::size_t calls = 0;
+    c = FindGearsPieces(v, All(v), true, q, [&](double) { return calls++ < stop; });
+    EXPECT_TRUE(c.aborted) << stop;
+    EXPECT_EQ(calls, stop + 1) << "no call after the one that stopped it";
+    EXPECT_EQ(q.orientation, (std::vector<std::int8_t>{ 0, 1 })) << stop;
+    EXPECT_EQ(q.piece, std::vector<std::uint32_t>(v.size() / 3, 7u)) << stop;
+    EXPECT_EQ(c.pieces + c.closedPieces + c.closedTriangles, 0u) << stop;
+  }
 }

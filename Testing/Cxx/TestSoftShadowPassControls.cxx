@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -190,4 +191,46 @@ TEST(SoftShadowPassControls, InteractiveFramesFitTheBudgetAndTheStillFrameRestor
   j = lightJSON();
   EXPECT_TRUE(Contains(j, "\"interactive\": false")) << j;
   EXPECT_TRUE(Contains(j, "{\"method\": \"reference\"")) << j;
+}
+
+// The first GEARS frame of a caster set searches its closed pieces (a few
+// seconds on millions of triangles); a render abort stops that search too.
+// The frame shows no shadows and says so, and the next render searches again
+// and gives the V of a render that was never stopped.
+TEST(SoftShadowPassControls, AbortStopsTheGearsPieceSearch)
+{
+  Stage fresh;
+  ASSERT_TRUE(fresh.pass->SetMethodByName("gears"));
+  const Frame expected = fresh.Render();
+  ASSERT_FALSE(expected.V.empty());
+  EXPECT_TRUE(Contains(fresh.pass->GetStatsJSON(), "\"found_this_frame\": true"));
+
+  Stage s;
+  ASSERT_TRUE(s.pass->SetMethodByName("gears"));
+  ProgressLog log;
+  log.abortWindow = s.window;
+  const unsigned long tag = ObserveProgress(s.pass, log);
+  s.window->Render();
+  EXPECT_TRUE(s.pass->GetLastFrameAborted());
+  std::string stats = s.pass->GetStatsJSON();
+  EXPECT_TRUE(Contains(stats, "\"search_aborted\": true")) << stats;
+  EXPECT_TRUE(Contains(stats, "\"found_this_frame\": false")) << stats;
+  EXPECT_TRUE(Contains(stats, "\"aborted\": true")) << stats;
+  ASSERT_FALSE(log.values.empty());
+  // the search has the first half of the progress: it stopped inside it
+  EXPECT_LE(log.values.back(), 0.5) << "the solve went on after the abort";
+  s.pass->RemoveObserver(tag);
+  const Frame again = s.Render();
+  EXPECT_FALSE(s.pass->GetLastFrameAborted());
+  stats = s.pass->GetStatsJSON();
+  EXPECT_TRUE(Contains(stats, "\"search_aborted\": false")) << stats;
+  EXPECT_TRUE(Contains(stats, "\"found_this_frame\": true")) << stats;
+  EXPECT_FALSE(Contains(stats, "\"closed_pieces\": 0,")) << stats;
+  ASSERT_EQ(again.V.size(), expected.V.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < again.V.size(); ++i)
+  {
+    differ += !(again.V[i] == expected.V[i] || (std::isnan(again.V[i]) && std::isnan(expected.V[i])));
+  }
+  EXPECT_EQ(differ, 0u);
 }
