@@ -435,16 +435,16 @@ GearsPieceCounts FindGearsPieces(const std::vector<glm::dvec3>& v, const std::ve
   // vertices in the order of their first corners (a vertex's triangles are
   // then near those of the vertices checked before it: 1.27x faster on the
   // 5M assembly than in the hashes' order)
-  tbb::parallel_for(
-    tbb::blocked_range<std::size_t>(0, 3 * m, 1 << 14), [&](const tbb::blocked_range<std::size_t>& br) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, w.ref.empty() ? 0 : 3 * m, 1 << 14),
+    [&](const tbb::blocked_range<std::size_t>& br) {
       std::vector<Link> links;
       std::vector<std::pair<std::uint32_t, std::uint32_t>> ends;
       for (std::size_t first = br.begin(); first < br.end(); ++first)
       {
-        if (!valid[first / 3])
-        {
-          continue;
-        }
+        // vertex k at its first corner; that corner's triangle may have
+        // been dropped since (two equal corners), k not (its other corners'
+        // triangles need it). A non-finite corner is in no vertex (id 0,
+        // which is not its first corner).
         const std::uint32_t k = id[first];
         if (w.ref[w.vertexBegin[k]] != first)
         {
