@@ -353,9 +353,20 @@ void CheckVertex(std::uint32_t k, std::vector<Link>& links, std::vector<std::pai
     }
     e = f;
   }
-  if (!allPaired || d < 3)
+  if (!allPaired)
   {
-    return; // already marked (or fewer than 3: an unpaired edge marked it)
+    // not one fan either: every triangle at k is open, also one of another
+    // piece that meets the unpaired edge only at k (a review found a pinched
+    // piece left closed when an open triangle touched its pinch)
+    for (const Link& l : links)
+    {
+      badCorner[l.r] = 1;
+    }
+    return;
+  }
+  if (d < 3)
+  {
+    return; // two faces back to back: paired, and no volume (open by its sign test)
   }
   // every neighbour once as b and once as c: the links b -> c are a
   // permutation; one fan is one cycle
@@ -394,6 +405,22 @@ GearsPieceCounts FindGearsPieces(const std::vector<glm::dvec3>& v, const std::ve
   const Corners corner{ v, tris };
   if (!go(0.0))
   {
+    return counts;
+  }
+  if (3 * m >= std::size_t(~std::uint32_t(0)))
+  {
+    // corners are numbered in 32 bits: a block this large (1.4 G triangles)
+    // is one open piece (the closed-mesh rule is off for it)
+    if (!go(1.0))
+    {
+      return counts;
+    }
+    for (std::uint32_t t : tris)
+    {
+      out.piece[t] = static_cast<std::uint32_t>(out.orientation.size());
+    }
+    out.orientation.push_back(0);
+    counts.pieces = 1;
     return counts;
   }
   // triangles with a non-finite corner stay out of the weld (NaN has no order)
@@ -435,16 +462,16 @@ GearsPieceCounts FindGearsPieces(const std::vector<glm::dvec3>& v, const std::ve
   // vertices in the order of their first corners (a vertex's triangles are
   // then near those of the vertices checked before it: 1.27x faster on the
   // 5M assembly than in the hashes' order)
-  tbb::parallel_for(
-    tbb::blocked_range<std::size_t>(0, 3 * m, 1 << 14), [&](const tbb::blocked_range<std::size_t>& br) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, w.ref.empty() ? 0 : 3 * m, 1 << 14),
+    [&](const tbb::blocked_range<std::size_t>& br) {
       std::vector<Link> links;
       std::vector<std::pair<std::uint32_t, std::uint32_t>> ends;
       for (std::size_t first = br.begin(); first < br.end(); ++first)
       {
-        if (!valid[first / 3])
-        {
-          continue;
-        }
+        // vertex k at its first corner; that corner's triangle may have
+        // been dropped since (two equal corners), k not (its other corners'
+        // triangles need it). A non-finite corner is in no vertex (id 0,
+        // which is not its first corner).
         const std::uint32_t k = id[first];
         if (w.ref[w.vertexBegin[k]] != first)
         {

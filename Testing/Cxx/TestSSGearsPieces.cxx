@@ -348,3 +348,83 @@ TEST(GearsPieces, ProgressAndAbort)
     EXPECT_EQ(c.pieces + c.closedPieces + c.closedTriangles, 0u) << stop;
   }
 }
+
+// Collapsed triangles (two equal corners) on a closed piece's vertices,
+// before it in the soup: each vertex's first corner is then on a triangle
+// that is dropped after the weld, and the vertex must still be checked and
+// its edges still join the piece (else the sphere falls apart into "closed"
+// bits whose volumes have any sign).
+TEST(GearsPieces, CollapsedTrianglesFirstDoNotHideTheirVertices)
+{
+  const std::vector<glm::dvec3> sphere = sstest::BumpySphere(glm::dvec3(0.5, -2.0, 1.0), 2.0, 2);
+  std::vector<glm::dvec3> v;
+  for (std::size_t t = 0; t < sphere.size(); t += 3)
+  {
+    Append(v, { sphere[t], sphere[t], sphere[t + 1] });
+  }
+  const std::size_t collapsed = v.size() / 3;
+  Append(v, sphere);
+  GearsPieceCounts c;
+  const GearsPieces p = Find(v, &c);
+  EXPECT_EQ(c.closedPieces, 1u);
+  EXPECT_EQ(c.closedTriangles, sphere.size() / 3);
+  for (std::size_t t = collapsed; t < v.size() / 3; ++t)
+  {
+    ASSERT_EQ(p.piece[t], p.piece[collapsed]) << t;
+  }
+  EXPECT_EQ(p.orientation[p.piece[collapsed]], 1);
+  // and a pinched vertex behind a collapsed triangle is still found
+  std::vector<glm::dvec3> pinched = { glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(1, 0, 0) };
+  std::vector<glm::dvec3> first = Tetrahedron(glm::dvec3(0.0)), second = first;
+  for (std::size_t t = 0; t < second.size(); t += 3)
+  {
+    for (int j = 0; j < 3; ++j)
+    {
+      second[t + j] = -second[t + j];
+    }
+    std::swap(second[t + 1], second[t + 2]);
+  }
+  Append(pinched, first);
+  Append(pinched, second);
+  EXPECT_EQ(Find(pinched).orientation, (std::vector<std::int8_t>{ 0, 0, 0 }));
+}
+
+TEST(GearsPieces, OnlyNonFiniteTriangles)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const std::vector<glm::dvec3> v = { glm::dvec3(nan, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0),
+    glm::dvec3(0, 0, 0), glm::dvec3(inf, 0, 0), glm::dvec3(0, 1, 0) };
+  GearsPieceCounts c;
+  const GearsPieces p = Find(v, &c);
+  EXPECT_EQ(p.orientation, (std::vector<std::int8_t>{ 0, 0 }));
+  EXPECT_EQ(p.piece, (std::vector<std::uint32_t>{ 0, 1 }));
+  EXPECT_EQ(c.closedPieces, 0u);
+  GearsPieces empty;
+  c = FindGearsPieces({}, {}, true, empty);
+  EXPECT_EQ(c.pieces, 0u);
+  EXPECT_TRUE(empty.orientation.empty());
+}
+
+// A pinched torus (a tube coned at both ends to one apex; every edge paired,
+// two fans at the apex) is open, also when an open triangle elsewhere touches
+// the apex (found by a review: the unpaired edges there skipped the fan check).
+TEST(GearsPieces, APinchStaysOpenWhenAnOpenTriangleTouchesIt)
+{
+  const glm::dvec3 k(0.0);
+  std::vector<glm::dvec3> v;
+  glm::dvec3 r1[3], r2[3];
+  for (int i = 0; i < 3; ++i)
+  {
+    const double a = 2.0 * M_PI * i / 3.0;
+    r1[i] = k + glm::dvec3(1, 0.3 * std::cos(a), 0.3 * std::sin(a));
+    r2[i] = k + glm::dvec3(0.3 * std::cos(a), 1, 0.3 * std::sin(a));
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    const int j = (i + 1) % 3;
+    Append(v, { k, r1[j], r1[i], r1[i], r1[j], r2[j], r1[i], r2[j], r2[i], k, r2[i], r2[j] });
+  }
+  EXPECT_EQ(Find(v).orientation, std::vector<std::int8_t>{ 0 });
+  Append(v, { k, glm::dvec3(-1, -1, 0), glm::dvec3(-1, -2, 0) });
+  EXPECT_EQ(Find(v).orientation, (std::vector<std::int8_t>{ 0, 0 }));
+}
