@@ -439,14 +439,10 @@ GearsPieces CasterSet::FindPieces(
   {
     if (!blocks[a].empty())
     {
-      SolveProgress blockProgress;
-      if (progress)
-      {
-        blockProgress = [&](double f) {
-          return progress((static_cast<double>(done) + f * static_cast<double>(blocks[a].size())) / total);
-        };
-      }
-      const GearsPieceCounts c = FindGearsPieces(world, blocks[a], this->ActorAffine[a] != 0, out, blockProgress);
+      const double from = static_cast<double>(done) / total,
+                   to = static_cast<double>(done + blocks[a].size()) / total;
+      const GearsPieceCounts c =
+        FindGearsPieces(world, blocks[a], this->ActorAffine[a] != 0, out, SubProgress(progress, from, to));
       if (c.aborted)
       {
         counts.aborted = true;

@@ -135,24 +135,17 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
       this->PiecesMs = this->PiecesSolverMs = 0.0;
       if (this->Opt.GearsFindPieces)
       {
-        // a render abort stops the search between its stages; the caster set
-        // then counts as not given (Version), so the next frame searches again
+        // a render abort stops the search between its stages; Version and
+        // PiecesFound are set only below, so the next frame searches again
         searchShare = 0.5;
-        const SolveProgress& frameProgress = frame.Progress;
-        SolveProgress progress;
-        if (frameProgress)
-        {
-          progress = [&frameProgress, searchShare](double f) { return frameProgress(searchShare * f); };
-        }
         const auto tp = Clock::now();
-        const GearsPieces pieces = casters.FindPieces(world, this->FoundPieces, progress);
+        const GearsPieces pieces =
+          casters.FindPieces(world, this->FoundPieces, SubProgress(frame.Progress, 0.0, searchShare));
         const auto ts = Clock::now();
         this->PiecesMs = ss::Milliseconds(tp, ts);
         if (this->FoundPieces.aborted)
         {
           this->PiecesAborted = true;
-          this->Version = 0;
-          this->Gears.reset();
           frame.Timings->Add("gears_pieces", this->PiecesMs);
           return;
         }
@@ -229,14 +222,7 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
     if (!onGPU)
     {
       GearsOptions opt = this->Opt.Gears;
-      opt.progress = frame.Progress;
-      if (searchShare > 0.0 && frame.Progress)
-      {
-        const SolveProgress& frameProgress = frame.Progress;
-        opt.progress = [&frameProgress, searchShare](double f) {
-          return frameProgress(searchShare + (1.0 - searchShare) * f);
-        };
-      }
+      opt.progress = SubProgress(frame.Progress, searchShare, 1.0);
       V = this->Gears->Solve(world, origin, pos, nrm, n, opt, &st);
     }
     this->BackendUsed = onGPU ? "gl" : "cpu";
