@@ -163,17 +163,7 @@ TEST(GEARSCulling, NoRuleDropsABlockingPair)
 // necessary count equals brute force) and the masks are brute force's.
 TEST(GEARSCulling, RejectionKeepsEveryBlockingPairAtAnyScale)
 {
-  __builtin_cpu_init();
-  std::vector<GearsSimd> isas = { GearsSimd::Scalar };
-  if (__builtin_cpu_supports("avx2"))
-  {
-    isas.push_back(GearsSimd::AVX2);
-  }
-  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-    __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq"))
-  {
-    isas.push_back(GearsSimd::AVX512);
-  }
+  const std::vector<GearsSimd> isas = sstest::RunnableIsas();
   for (double scale : { 1e-15, 1e-6, 1.0, 1e6, 1e15, 1e30 })
   {
     std::mt19937 rng(300);
