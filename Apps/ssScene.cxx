@@ -112,6 +112,9 @@ vtkSmartPointer<vtkPolyData> Transformed(vtkPolyDataAlgorithm* src, vtkTransform
   vtkNew<vtkTransformPolyDataFilter> f;
   f->SetInputConnection(src->GetOutputPort());
   f->SetTransform(t);
+  // double points: far from the origin (a site in UTM metres, a plant in mm)
+  // float would snap a sphere of radius 0.6 at 2e6 to a 0.25 grid
+  f->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);
   f->Update();
   return f->GetOutput();
 }

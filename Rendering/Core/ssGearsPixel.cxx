@@ -265,11 +265,17 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
         *q += c0;
       }
       ga.n = cn;
-      ncand = K.reject(ga, pp, w.keep.data(), cand, w.box.data() + c0, stride);
+      // pairs in rows full at the chunk's start are the raster's covered skips (not
+      // when counting what is necessary)
+      pp.fullRows = necessaryMode ? 0u : fullRows;
+      std::size_t inFullRows = 0;
+      ncand = K.reject(ga, pp, cand, w.box.data() + c0, stride, inFullRows);
       for (std::size_t q = 0; q < ncand; ++q)
       {
         cand[q] += static_cast<std::uint32_t>(c0);
       }
+      cc.total += counts * static_cast<double>(inFullRows);
+      cc.coveredSkips += inFullRows;
     }
     else
     {

@@ -48,7 +48,10 @@ TriangleSelection SelectTriangles(
   }
   s.kept = nt - s.skipped;
   s.center = s.kept ? 0.5 * (lo + hi) : glm::dvec3(0.0);
-  s.extent = s.kept ? std::max(glm::length(hi - lo), 1e-30) : 1.0;
+  // No triangles: nothing to leave behind, so the solvers' ray start offset
+  // (1e-5 of this) is 0. (It was 1 world unit: on a scene of 1e-6 units the
+  // start points were moved past the light and V was 0.)
+  s.extent = s.kept ? std::max(glm::length(hi - lo), 1e-30) : 0.0;
   return s;
 }
 }

@@ -16,7 +16,7 @@ struct TriangleSelection
   std::vector<char> keep;
   std::size_t kept = 0, skipped = 0;
   glm::dvec3 center{ 0.0 };
-  double extent = 1.0; ///< diagonal of the kept triangles' bounds (1 when none)
+  double extent = 0.0; ///< diagonal of the kept triangles' bounds (0 when none)
 };
 
 TriangleSelection SelectTriangles(

@@ -339,6 +339,13 @@ add_test(NAME cli.render.float_overflow_vertex
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_float_overflow.py" ${_ss_cli}
     "${_ss_data}/GoodScenes/float_overflow.json" "${_ss_out}/float_overflow")
 set_tests_properties(cli.render.float_overflow_vertex PROPERTIES LABELS "cli" TIMEOUT 120)
+# A scene 2e6 units from the origin renders as the same scene at the origin
+# (the primitives' points are double).
+add_test(NAME cli.render.far_from_origin
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_far_from_origin.py" ${_ss_cli}
+    "${_ss_data}/GoodScenes/far_origin_reference.json" "${_ss_data}/GoodScenes/far_from_origin.json"
+    "${_ss_out}/far_from_origin")
+set_tests_properties(cli.render.far_from_origin PROPERTIES LABELS "cli" TIMEOUT 300)
 add_test(NAME cli.bench.asm_smoke
   COMMAND env -u DISPLAY ${_ss_cli} bench --asm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json"
     --size 160x120 --out "${_ss_out}/bench_asm_smoke")

@@ -384,3 +384,48 @@ TEST(GEARS, EqualsReferenceAtSelfIntersections)
     EXPECT_LE(maxDiff, 8.0 / (k * k) + 1e-6);
   }
 }
+
+// With no casters nothing can hide the light, at any scene scale: the ray
+// start offset (1e-5 of the casters' size) must not fall back to an absolute
+// length. It did (1e-5 units for an empty set): at 1e-6 units the start
+// points left the light's side and V was 0 everywhere (a baked micro-scale
+// part with no casting object came out black).
+TEST(GEARS, NoCastersSeeTheWholeLightAtAnyScale)
+{
+  for (double scale : { 1e-9, 1e-6, 1e-3, 1.0, 1e6 })
+  {
+    std::vector<float> pos, nrm;
+    for (int j = 0; j < 8; ++j)
+    {
+      for (int i = 0; i < 8; ++i)
+      {
+        pos.insert(pos.end(), { static_cast<float>((i - 3.5) * 0.5 * scale), static_cast<float>((j - 3.5) * 0.5 * scale), 0.0f });
+        nrm.insert(nrm.end(), { 0.0f, 0.0f, 1.0f });
+      }
+    }
+    const std::size_t n = pos.size() / 3;
+    const LightFrame rect =
+      MakeRectLightFrame(glm::dvec3(0.2, -0.1, 3.0) * scale, { 0, 0, -1 }, { 0, 1, 0 }, glm::dvec2(1.0, 0.5) * scale);
+    const LightFrame point = MakePointLightFrame(glm::dvec3(0.2, -0.1, 3.0) * scale);
+    for (const LightFrame& light : { rect, point })
+    {
+      GearsSolver g;
+      g.SetTriangles({}, {});
+      GearsOptions go;
+      go.k = 8;
+      const std::vector<float> Vg = g.Solve(light, glm::dvec3(0.0), pos.data(), nrm.data(), n, go);
+      ReferenceSolver r;
+      r.SetTriangles({}, {});
+      ReferenceOptions ro;
+      ro.k = 8;
+      const std::vector<float> Vr = r.Solve(light, glm::dvec3(0.0), pos.data(), nrm.data(), n, ro);
+      std::size_t notLit = 0;
+      for (std::size_t p = 0; p < n; ++p)
+      {
+        notLit += (Vg[p] != 1.0f) + (Vr[p] != 1.0f);
+      }
+      EXPECT_EQ(notLit, 0u) << "scale " << scale << (light.type == LightType::Point ? " point" : " rect")
+                            << ": GEARS V " << Vg[0] << ", reference V " << Vr[0];
+    }
+  }
+}

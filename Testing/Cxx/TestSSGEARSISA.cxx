@@ -36,23 +36,6 @@ IsaRun Solve(const GearsSolver& g, const LightFrame& light, const glm::dvec3& or
   return r;
 }
 
-// the instruction sets this CPU runs (Scalar always)
-std::vector<GearsSimd> Runnable()
-{
-  __builtin_cpu_init();
-  std::vector<GearsSimd> v = { GearsSimd::Scalar };
-  if (__builtin_cpu_supports("avx2"))
-  {
-    v.push_back(GearsSimd::AVX2);
-  }
-  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-    __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq"))
-  {
-    v.push_back(GearsSimd::AVX512);
-  }
-  return v;
-}
-
 // A closed bumpy surface (1,280 faces after the subdivision: sample groups
 // and long cell lists) and open triangles over a floor; pixels on the floor,
 // on tilted patches and on the closed surface itself.
@@ -69,7 +52,7 @@ sstest::Scene ClosedAndOpen(std::mt19937& rng, const glm::dvec3& offset, std::si
 
 TEST(GEARSISA, EveryInstructionSetGivesTheBaselinesMasksListsAndCounts)
 {
-  const std::vector<GearsSimd> isas = Runnable();
+  const std::vector<GearsSimd> isas = sstest::RunnableIsas();
   std::size_t compared = 0;
   for (unsigned seed = 1; seed <= 2; ++seed)
   {

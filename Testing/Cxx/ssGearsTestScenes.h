@@ -116,6 +116,23 @@ inline ss::GearsPieces ClosedThenOpen(std::size_t triangles, std::size_t closed)
   return pieces;
 }
 
+// The GEARS kernels' instruction sets this CPU runs (Scalar always).
+inline std::vector<ss::GearsSimd> RunnableIsas()
+{
+  __builtin_cpu_init();
+  std::vector<ss::GearsSimd> v = { ss::GearsSimd::Scalar };
+  if (__builtin_cpu_supports("avx2"))
+  {
+    v.push_back(ss::GearsSimd::AVX2);
+  }
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+    __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq"))
+  {
+    v.push_back(ss::GearsSimd::AVX512);
+  }
+  return v;
+}
+
 inline std::vector<ss::LightFrame> Lights(const glm::dvec3& offset)
 {
   using namespace ss;
