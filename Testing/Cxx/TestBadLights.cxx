@@ -109,6 +109,24 @@ TEST(BadLights, RectLightOf1e30)
     });
 }
 
+TEST(BadLights, RectLightBeyondTheFloatRange)
+{
+  // A rect light of 1e39 (finite in double, ParaView's Light Size of 3e38 of
+  // the diagonal): the shaders' float half sizes were inf and PCSS, PVSM and
+  // VPCSS gave V = 0 on every pixel, a black ground. Such a light is
+  // shadowed as one of 1e30 (same V to float precision), with a warning.
+  AgainstGears([](Scene& s) { SphereOverGround(s, RectLight(1, -1, 5, 0, 0, 0, 1.0e39, 1.0e39)); }, 16,
+    { PCSS, PVSM, int(vtkSoftShadowPass::VPCSS) }, [](int m, const Frame& f, const Frame& gears) {
+      const Diff d = Compare(f, gears);
+      std::cout << "1e39 light " << vtkSoftShadowPass::GetMethodName(m) << ": mean V " << d.meanV << ", GEARS "
+                << d.meanRef << ", MAE " << d.mae << " over " << d.compared << " px\n";
+      EXPECT_EQ(d.nonFinite, 0);
+      EXPECT_GT(d.compared, 5000);
+      EXPECT_GT(d.meanRef, 0.2);
+      EXPECT_LE(d.mae, 0.05) << vtkSoftShadowPass::GetMethodName(m);
+    });
+}
+
 TEST(BadLights, LightFarAway)
 {
   // A point light 1e9 above a sphere over a ground plane (8 units wide): in
