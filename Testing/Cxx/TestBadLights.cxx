@@ -127,6 +127,28 @@ TEST(BadLights, RectLightBeyondTheFloatRange)
     });
 }
 
+TEST(BadLights, RectLightWithAZeroSideIsAPointLight)
+{
+  // scene-format.md: a zero size (either side) is a point light. The planner
+  // planned hard shadows for it, but GEARS and the reference were given a
+  // line light of 1.5 x 0: penumbrae (1,443 partial pixels at 256 x 192).
+  AgainstGears([](Scene& s) { SphereOverGround(s, RectLight(1, -1, 5, 0, 0, 0, 1.5, 0.0)); }, 16,
+    { int(vtkSoftShadowPass::REFERENCE) }, [](int m, const Frame& f, const Frame& gears) {
+      int partial = 0, shadow = 0;
+      for (float v : f.V)
+      {
+        partial += (!std::isnan(v) && v > 0.0f && v < 1.0f) ? 1 : 0;
+        shadow += (!std::isnan(v) && v == 0.0f) ? 1 : 0;
+      }
+      const Diff d = Compare(f, gears);
+      std::cout << "1.5 x 0 light " << vtkSoftShadowPass::GetMethodName(m) << ": " << partial << " partial px, "
+                << shadow << " in shadow, MAE against GEARS " << d.mae << "\n";
+      EXPECT_EQ(partial, 0) << vtkSoftShadowPass::GetMethodName(m);
+      EXPECT_GT(shadow, 300) << vtkSoftShadowPass::GetMethodName(m);
+      EXPECT_EQ(d.mae, 0.0);
+    });
+}
+
 TEST(BadLights, LightFarAway)
 {
   // A point light 1e9 above a sphere over a ground plane (8 units wide): in
