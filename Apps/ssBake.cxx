@@ -6,9 +6,11 @@
 
 #include "vtkActor.h"
 #include "vtkActorCollection.h"
+#include "vtkPropCollection.h"
 #include "vtkAppendPolyData.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
+#include "vtkErrorCode.h"
 #include "vtkExecutive.h"
 #include "vtkFloatArray.h"
 #include "vtkLightCollection.h"
@@ -25,12 +27,19 @@
 #include "vtkTransformPolyDataFilter.h"
 #include "vtkXMLPolyDataWriter.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include <unistd.h>
 
@@ -76,6 +85,30 @@ void CheckWritable(const std::string& path)
   }
 }
 
+// --output of bake and prepare: a .vtp file (what is written), not one of the
+// command's inputs (or the other output).
+void CheckOutputPath(const std::string& path, const char* flag, const std::vector<std::string>& others)
+{
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".vtp")
+  {
+    throw std::runtime_error(std::string(flag) + ": expected a .vtp file (VTK XML PolyData is what is written), got '" +
+      path + "'");
+  }
+  for (const std::string& o : others)
+  {
+    std::error_code ec;
+    const bool same = std::filesystem::exists(o, ec) && std::filesystem::exists(path, ec)
+      ? std::filesystem::equivalent(o, path, ec)
+      : std::filesystem::weakly_canonical(o, ec) == std::filesystem::weakly_canonical(path, ec);
+    if (same)
+    {
+      throw std::runtime_error(std::string(flag) + " '" + path + "' is also '" + o + "' (an input or the other output)");
+    }
+  }
+}
+
 void Write(vtkPolyData* pd, const std::string& path)
 {
   vtkNew<vtkXMLPolyDataWriter> w;
@@ -86,7 +119,12 @@ void Write(vtkPolyData* pd, const std::string& path)
   w->SetInputData(pd);
   if (!w->Write() || !errors->Message.empty())
   {
-    throw std::runtime_error("cannot write '" + path + "'" + (errors->Message.empty() ? "" : ": " + errors->Message));
+    // the writer's error code says why; its event text is a dump of VTK's pipeline
+    const unsigned long code = w->GetErrorCode();
+    const std::string why = code == vtkErrorCode::OutOfDiskSpaceError ? std::string("No space left on device")
+      : code != vtkErrorCode::NoError ? std::string(vtkErrorCode::GetStringFromErrorCode(code))
+                                      : errors->Message.substr(0, errors->Message.find('\n'));
+    throw std::runtime_error("cannot write '" + path + "'" + (why.empty() ? "" : ": " + why));
   }
 }
 
@@ -178,31 +216,53 @@ int Bake(const std::vector<std::string>& args)
   {
     throw UsageError("bake: missing --output baked.vtp");
   }
+  CheckOutputPath(output, "--output", { scene });
   CheckWritable(output);
 
   // The scene as the renderer sees it, without a window.
   vtkNew<vtkRenderer> renderer;
   const SceneInfo info = LoadScene(scene, renderer);
-  std::vector<vtkActor*> actors;
+  // objects[i] is the i-th prop (LoadScene adds one per object, in order):
+  // surfaces are vtkActors, `volume` objects vtkVolumes
+  std::vector<vtkProp*> props;
   {
-    vtkActorCollection* ac = renderer->GetActors();
+    vtkPropCollection* pc = renderer->GetViewProps();
     vtkCollectionSimpleIterator it;
-    ac->InitTraversal(it);
-    while (vtkActor* a = ac->GetNextActor(it))
+    pc->InitTraversal(it);
+    while (vtkProp* p = pc->GetNextProp(it))
+    {
+      props.push_back(p);
+    }
+  }
+  if (object >= static_cast<int>(props.size()))
+  {
+    throw UsageError("--object " + std::to_string(object) + ": out of range (the scene has " +
+      std::to_string(props.size()) + " object(s))");
+  }
+  if (!vtkActor::SafeDownCast(props[object]))
+  {
+    throw std::runtime_error(scene + ": objects[" + std::to_string(object) +
+      "]: a volume; bake writes the visible fraction on a surface (pick a surface object)");
+  }
+  std::vector<vtkActor*> actors;
+  for (std::size_t i = 0; i < props.size(); ++i)
+  {
+    if (vtkActor* a = vtkActor::SafeDownCast(props[i]))
     {
       actors.push_back(a);
     }
+    else if (vtkSoftShadowPass::GetCastsShadows(props[i]))
+    {
+      std::cerr << "softshadows: warning: " << scene << ": objects[" << i
+                << "] is a volume; bake does not cast volumes (render --method reference does)\n";
+    }
   }
-  if (object >= static_cast<int>(actors.size()))
-  {
-    throw UsageError("--object " + std::to_string(object) + ": out of range (the scene has " +
-      std::to_string(actors.size()) + " object(s))");
-  }
+  vtkActor* target = vtkActor::SafeDownCast(props[object]);
   if (info.lights == 0)
   {
     throw std::runtime_error(scene + ": lights: the scene has no light to bake");
   }
-  vtkSmartPointer<vtkPolyData> receiver = WorldSurface(actors[object]);
+  vtkSmartPointer<vtkPolyData> receiver = WorldSurface(target);
   if (!receiver || receiver->GetNumberOfPoints() == 0)
   {
     throw std::runtime_error(scene + ": objects[" + std::to_string(object) + "]: no surface to bake");
@@ -333,6 +393,8 @@ int Prepare(const std::vector<std::string>& args)
   {
     throw UsageError("prepare: missing --output prepared.vtp");
   }
+  CheckOutputPath(output, "--output", reportPath.empty() ? std::vector<std::string>{ mesh }
+                                                          : std::vector<std::string>{ mesh, reportPath });
   CheckWritable(output);
   if (!reportPath.empty())
   {
@@ -350,14 +412,35 @@ int Prepare(const std::vector<std::string>& args)
   {
     throw std::runtime_error("prepare: " + errors->Message);
   }
+  if (prep->GetOutput()->GetNumberOfPolys() == 0)
+  {
+    // e.g. one stray vertex far away: the weld tolerance (relative to the
+    // bounds) then merges the whole part
+    std::map<std::string, std::string> r;
+    std::istringstream lines(prep->GetReport());
+    for (std::string line; std::getline(lines, line);)
+    {
+      const std::size_t c = line.find(": ");
+      if (c != std::string::npos)
+      {
+        r[line.substr(0, c)] = line.substr(c + 2);
+      }
+    }
+    throw std::runtime_error("prepare: " + mesh + ": no triangle is left of " + r["InputCells"] + " (" +
+      r["CollapsedTriangles"] + " collapsed by the weld at " + r["WeldToleranceAbsolute"] +
+      " units, the tolerance times the bounds' diagonal; " + r["DegenerateTriangles"] + " degenerate, " +
+      r["NonFiniteCells"] + " non-finite); nothing written");
+  }
   Write(prep->GetOutput(), output);
   std::cout << prep->GetReport();
   if (!reportPath.empty())
   {
     std::ofstream r(reportPath);
-    if (!(r << prep->GetReportJSON() << "\n"))
+    r << prep->GetReportJSON() << "\n";
+    r.close();
+    if (!r)
     {
-      throw std::runtime_error("cannot write '" + reportPath + "'");
+      throw std::runtime_error("cannot write '" + reportPath + "': " + std::strerror(errno));
     }
   }
   std::cout << "softshadows: prepared " << mesh << "; wrote " << output << "\n";

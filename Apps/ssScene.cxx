@@ -9,6 +9,7 @@
 #include "vtkCubeSource.h"
 #include "vtkCylinderSource.h"
 #include "vtkRegularPolygonSource.h"
+#include "vtkReverseSense.h"
 #include "vtkLight.h"
 #include "vtkLogger.h"
 #include "vtkNew.h"
@@ -198,10 +199,17 @@ vtkSmartPointer<vtkPolyData> Primitive(const json& o, const Ctx& c)
     d->SetRadius(r);
     d->GeneratePolygonOn();
     d->GeneratePolylineOff();
+    // vtkRegularPolygonSource winds its polygon clockwise about +z: turned,
+    // so that the winding agrees with `normal` (a baked disk facing the light
+    // came out V = 0: vtkLightVisibilityFilter takes the side from the winding)
+    vtkNew<vtkReverseSense> wind;
+    wind->SetInputConnection(d->GetOutputPort());
+    wind->ReverseCellsOn();
+    wind->ReverseNormalsOff();
     const double z[3] = { 0, 0, 1 };
     AlignAxis(t, z, NonZero(VecOr<3>(o, "normal", c, { 0, 0, 1 }), c / "normal"));
     t->Translate(center.data());
-    return Transformed(d, t);
+    return Transformed(wind, t);
   }
   (c / "primitive").Fail("unknown primitive '" + kind + "' (expected plane, box, sphere, cylinder, disk)");
 }

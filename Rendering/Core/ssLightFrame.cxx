@@ -186,6 +186,19 @@ double DiffuseCosine(const LightFrame& light, const glm::dvec3& p, const glm::dv
   return std::max(0.0, glm::dot(n, l / ll));
 }
 
+bool ClampRectLightSize(LightFrame& light)
+{
+  const double side = std::max(light.width, light.height);
+  if (light.type != LightType::Rect || !(side > kMaxRectLightSize))
+  {
+    return false;
+  }
+  const double f = kMaxRectLightSize / side;
+  light.width = std::min(light.width * f, kMaxRectLightSize);
+  light.height = std::min(light.height * f, kMaxRectLightSize);
+  return true;
+}
+
 bool FarLightAsDirectional(
   const LightFrame& light, const glm::dvec3& sceneCenter, double sceneDiagonal, LightFrame& out)
 {

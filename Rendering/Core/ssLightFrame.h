@@ -59,6 +59,18 @@ constexpr double kFarLightRatio = 1.0e3;
 bool FarLightAsDirectional(
   const LightFrame& light, const glm::dvec3& sceneCenter, double sceneDiagonal, LightFrame& out);
 
+/// Largest rect light side the shadow shaders are given: their float half
+/// sizes, areas and kernels overflow beyond it (a light of 1e39, finite in
+/// double, gave V = 0 on every pixel under PCSS, PVSM and VPCSS).
+constexpr double kMaxRectLightSize = 1.0e30;
+
+/// A rect light with a side beyond kMaxRectLightSize as one whose larger side
+/// is kMaxRectLightSize (both sides scaled alike, so its shape is kept). For
+/// a scene within the float range the two hide the same fraction to float
+/// precision: at 1e30 V is already the light's part above each receiver's
+/// tangent plane (stability.md). False (light untouched) otherwise.
+bool ClampRectLightSize(LightFrame& light);
+
 /// The factor VTK's diffuse lighting multiplies a light's V with at point p
 /// (normal nrm, seen from eye): max(0, n . l), l the unit vector towards the
 /// light's centre (against the direction of a directional light), n = nrm

@@ -59,6 +59,14 @@ std::uint64_t MatrixHash(vtkMatrix4x4* m)
   return h;
 }
 
+// A Points or Wireframe representation is drawn see-through: it casts no
+// shadow (paraview.md), rather than the solid shadow of the surface it shows
+// only the points or edges of.
+bool CastsAsSurface(vtkActor* actor)
+{
+  return vtkSoftShadowPass::GetCastsShadows(actor) && actor->GetProperty()->GetRepresentation() == VTK_SURFACE;
+}
+
 bool Finite3(const double p[3])
 {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
@@ -233,7 +241,7 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
         ++this->ReceiverProps;
       }
     }
-    if (!vtkSoftShadowPass::GetCastsShadows(actor))
+    if (!CastsAsSurface(actor))
     {
       return;
     }
@@ -263,7 +271,7 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
   std::vector<std::uint32_t> actorOf;
   std::vector<char> actorAffine;
   ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
-    if (!vtkSoftShadowPass::GetCastsShadows(actor))
+    if (!CastsAsSurface(actor))
     {
       return;
     }

@@ -70,6 +70,14 @@ std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const
       l.Planner.frame = d;
       far = true;
     }
+    const double w = l.Frame.width, h = l.Frame.height;
+    if (l.Planner.valid && ClampRectLightSize(l.Frame))
+    {
+      sep() << "light " << l.ShaderIndex << " of size " << w << " x " << h << " is shadowed as one of "
+            << l.Frame.width << " x " << l.Frame.height << " (" << kMaxRectLightSize
+            << " is the largest side the float shaders hold; the shadow is the same)";
+      l.Planner.frame = l.Frame;
+    }
     double rgb[3];
     l.Light->GetDiffuseColor(rgb);
     if (l.Light->GetIntensity() * std::max({ rgb[0], rgb[1], rgb[2], 1e-30 }) > FLT_MAX)

@@ -6,6 +6,7 @@
 
 #include "vtkShaderProgram.h"
 
+#include <cctype>
 #include <utility>
 
 namespace ss
@@ -19,7 +20,25 @@ int InjectVisibility(std::string& fragmentShader, int translucentLookups, bool c
   }
   const bool headlightOnly =
     fragmentShader.find("vec3 diffuse = df * diffuseColor * lightColor0;") != std::string::npos;
-  if (lightsInShader == 0 || headlightOnly)
+  // VTK declares the light uniforms for a Points or Wireframe representation
+  // without normals too, and then writes ambient + diffuse colour only: no
+  // light term uses them (a ParaView Wavelet shown as Points logged an error
+  // per frame here)
+  bool used = false;
+  for (int i = 0; i < lightsInShader && !used; ++i)
+  {
+    const std::string name = "lightColor" + std::to_string(i);
+    int uses = 0;
+    for (std::size_t at = fragmentShader.find(name); at != std::string::npos; at = fragmentShader.find(name, at + 1))
+    {
+      const std::size_t end = at + name.size();
+      const bool whole = end >= fragmentShader.size() || !std::isdigit(static_cast<unsigned char>(fragmentShader[end]));
+      const bool declaration = at >= 5 && fragmentShader.compare(at - 5, 5, "vec3 ") == 0;
+      uses += (whole && !declaration) ? 1 : 0;
+    }
+    used = uses > 0;
+  }
+  if (lightsInShader == 0 || headlightOnly || !used)
   {
     return 0; // unlit, or a headlight (which never casts shadows)
   }

@@ -149,7 +149,8 @@ ss::LightFrame vtkSoftShadowLight::MakeLightFrame(vtkLight* light, const double 
   }
   double size[2];
   vtkSoftShadowLight::GetAreaSize(light, size);
-  if (size[0] > 0.0 || size[1] > 0.0)
+  // a zero side is a point light (scene-format.md; the planner's rule too)
+  if (size[0] > 0.0 && size[1] > 0.0)
   {
     double up[3] = { 0, 0, 0 };
     vtkSoftShadowLight::GetAreaUp(light, up);

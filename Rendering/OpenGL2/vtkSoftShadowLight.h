@@ -6,12 +6,12 @@
  * in the light's vtkInformation (vtkLight::GetInformation), so that any
  * vtkLight (also ParaView's) can become an area light without subclassing:
  *
- * - A *positional* light (`SetPositional(true)`) with a non-zero area size is a
+ * - A *positional* light (`SetPositional(true)`) with both area sides non-zero is a
  *   one-sided rectangle: its centre is the light position, it faces its focal
  *   point (`normal = normalize(focal_point - position)`), its height edge is
  *   the "up" vector made orthogonal to the normal (Gram-Schmidt) and its width
  *   edge is `normalize(cross(up, normal))`.
- *   With a zero size (the default) the light is a point light: hard shadows.
+ *   With a zero size (either side; the default) the light is a point light: hard shadows.
  * - A *directional* light (`SetPositional(false)`) may have an angular
  *   diameter (degrees): the light is then a disc-like distant source seen
  *   under that angle (the sun is ~0.53 degrees); zero gives hard shadows.

@@ -295,6 +295,31 @@ ss_cli_error(prepare_not_a_mesh "empty\\.vtp: mesh: could not read" ${_ss_cli} p
 ss_cli_error(prepare_missing_output "prepare: missing --output" ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply")
 ss_cli_error(prepare_tolerance "--tolerance: expected a fraction of the bounding-box diagonal in \\[0, 0.01\\], got '0.5'" ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply" --output "${_ss_out}/x.vtp" --tolerance 0.5)
 ss_cli_error(prepare_boxes "--boxes: expected plane, optimal or aligned, got 'round'" ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply" --output "${_ss_out}/x.vtp" --boxes round)
+# Found by a bad-input sweep (stop 35): objects[i] counts volumes too; a disk
+# is wound as its normal says; outputs are .vtp and no input; a mesh the weld
+# merges away is an error, not an empty file.
+ss_cli_error(bake_volume_object "volume\\.json: objects\\[1\\]: a volume; bake writes" ${_ss_cli} bake "${PROJECT_SOURCE_DIR}/Data/Scenes/volume.json" --object 1 --output "${_ss_out}/x.vtp")
+add_test(NAME cli.bake.object_after_volume
+  COMMAND ${_ss_cli} bake "${PROJECT_SOURCE_DIR}/Data/Scenes/volume.json" --object 2 --output "${_ss_out}/after_volume.vtp" --samples 2)
+set_tests_properties(cli.bake.object_after_volume PROPERTIES LABELS "cli;filters" TIMEOUT 120
+  PASS_REGULAR_EXPRESSION "objects\\[1\\] is a volume; bake does not cast volumes.*baked object 2 \\(24 points\\)")
+add_test(NAME cli.bake.disk_facing_the_light
+  COMMAND ${_ss_cli} bake "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json" --object 4 --output "${_ss_out}/bake_disk.vtp" --samples 8)
+add_test(NAME cli.bake.disk_facing_the_light_check
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bake_mean.py" "${_ss_out}/bake_disk.vtp" LightVisibility_0 0.95 1.0)
+set_tests_properties(cli.bake.disk_facing_the_light PROPERTIES LABELS "cli;filters" TIMEOUT 120 FIXTURES_SETUP bake_disk)
+set_tests_properties(cli.bake.disk_facing_the_light_check PROPERTIES LABELS "cli;filters" FIXTURES_REQUIRED bake_disk)
+ss_cli_error(bake_output_extension "--output: expected a \\.vtp file" ${_ss_cli} bake "${_good}/bake_plane.json" --object 0 --output "${_ss_out}/x.vtk")
+file(COPY "${_good}/bake_plane.json" DESTINATION "${_gen}/bake_self")
+ss_cli_error(bake_output_is_scene "--output: expected a \\.vtp file" ${_ss_cli} bake "${_gen}/bake_self/bake_plane.json" --object 0 --output "${_gen}/bake_self/bake_plane.json")
+ss_cli_error(prepare_report_is_output "--output '.*same\\.vtp' is also" ${_ss_cli} prepare "${PROJECT_SOURCE_DIR}/Data/Meshes/torus.off" --output "${_ss_out}/same.vtp" --report "${_ss_out}/same.vtp")
+file(WRITE "${_gen}/welded_away.off" "OFF\n6 2 0\n0 0 0\n1e-7 0 0\n0 1e-7 0\n1e6 0 0\n1e6 1 0\n1e6 0 1\n3 0 1 2\n3 3 4 5\n")
+# (after the progress lines: an error, exit 2, and no file)
+add_test(NAME cli.error.prepare_welded_away
+  COMMAND sh -c "rm -f \"$1\"; \"$0\" prepare \"$2\" --output \"$1\"; rc=$?; test $rc -eq 2 && test ! -e \"$1\" && echo exit-2-no-file"
+    ${_ss_cli} "${_ss_out}/welded_away.vtp" "${_gen}/welded_away.off")
+set_tests_properties(cli.error.prepare_welded_away PROPERTIES LABELS "cli" TIMEOUT 60
+  PASS_REGULAR_EXPRESSION "softshadows: error: prepare: .*welded_away\\.off: no triangle is left of 2 \\(2 collapsed by the weld.*exit-2-no-file")
 ss_cli_error(bench_filters_no_mesh "bench --filters: missing --mesh" ${_ss_cli} bench --filters)
 
 # A broken mesh (a NaN vertex, a collapsed triangle): the report counts them.

@@ -109,6 +109,46 @@ TEST(BadLights, RectLightOf1e30)
     });
 }
 
+TEST(BadLights, RectLightBeyondTheFloatRange)
+{
+  // A rect light of 1e39 (finite in double, ParaView's Light Size of 3e38 of
+  // the diagonal): the shaders' float half sizes were inf and PCSS, PVSM and
+  // VPCSS gave V = 0 on every pixel, a black ground. Such a light is
+  // shadowed as one of 1e30 (same V to float precision), with a warning.
+  AgainstGears([](Scene& s) { SphereOverGround(s, RectLight(1, -1, 5, 0, 0, 0, 1.0e39, 1.0e39)); }, 16,
+    { PCSS, PVSM, int(vtkSoftShadowPass::VPCSS) }, [](int m, const Frame& f, const Frame& gears) {
+      const Diff d = Compare(f, gears);
+      std::cout << "1e39 light " << vtkSoftShadowPass::GetMethodName(m) << ": mean V " << d.meanV << ", GEARS "
+                << d.meanRef << ", MAE " << d.mae << " over " << d.compared << " px\n";
+      EXPECT_EQ(d.nonFinite, 0);
+      EXPECT_GT(d.compared, 5000);
+      EXPECT_GT(d.meanRef, 0.2);
+      EXPECT_LE(d.mae, 0.05) << vtkSoftShadowPass::GetMethodName(m);
+    });
+}
+
+TEST(BadLights, RectLightWithAZeroSideIsAPointLight)
+{
+  // scene-format.md: a zero size (either side) is a point light. The planner
+  // planned hard shadows for it, but GEARS and the reference were given a
+  // line light of 1.5 x 0: penumbrae (1,443 partial pixels at 256 x 192).
+  AgainstGears([](Scene& s) { SphereOverGround(s, RectLight(1, -1, 5, 0, 0, 0, 1.5, 0.0)); }, 16,
+    { int(vtkSoftShadowPass::REFERENCE) }, [](int m, const Frame& f, const Frame& gears) {
+      int partial = 0, shadow = 0;
+      for (float v : f.V)
+      {
+        partial += (!std::isnan(v) && v > 0.0f && v < 1.0f) ? 1 : 0;
+        shadow += (!std::isnan(v) && v == 0.0f) ? 1 : 0;
+      }
+      const Diff d = Compare(f, gears);
+      std::cout << "1.5 x 0 light " << vtkSoftShadowPass::GetMethodName(m) << ": " << partial << " partial px, "
+                << shadow << " in shadow, MAE against GEARS " << d.mae << "\n";
+      EXPECT_EQ(partial, 0) << vtkSoftShadowPass::GetMethodName(m);
+      EXPECT_GT(shadow, 300) << vtkSoftShadowPass::GetMethodName(m);
+      EXPECT_EQ(d.mae, 0.0);
+    });
+}
+
 TEST(BadLights, LightFarAway)
 {
   // A point light 1e9 above a sphere over a ground plane (8 units wide): in

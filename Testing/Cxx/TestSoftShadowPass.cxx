@@ -7,7 +7,10 @@
 #include "ssLightFrame.h"
 #include "ssPVSM.h"
 
+#include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
+#include "vtkCubeSource.h"
+#include "vtkProperty.h"
 #include "vtkImageData.h"
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
@@ -322,6 +325,60 @@ TEST(SoftShadowPass, NonReceiverStaysLit)
     darker += (a->GetComponent(i, 0) - b->GetComponent(i, 0) > 40) ? 1 : 0;
   }
   EXPECT_GT(darker, 500);
+}
+
+// A Points or Wireframe representation is drawn see-through: it casts no
+// shadow (paraview.md). Before, it cast the solid shadow of its surface, and
+// without normals (a ParaView Wavelet shown as Points) its unlit shader made
+// the pass log "could not find the light terms" every frame.
+TEST(SoftShadowPass, PointsAndWireframeCastNoShadowAndLogNoError)
+{
+  Scene s(200, 150);
+  auto ground = Ground();
+  vtkSoftShadowPass::SetCastsShadows(ground, false);
+  s.renderer->AddActor(ground);
+  vtkNew<vtkCubeSource> cube;
+  cube->SetCenter(0, 0, 1.0);
+  cube->SetXLength(1.2);
+  cube->SetYLength(1.2);
+  cube->SetZLength(1.2);
+  cube->Update();
+  vtkNew<vtkPolyData> bare; // no normals: VTK draws its points unlit
+  bare->DeepCopy(cube->GetOutput());
+  bare->GetPointData()->SetNormals(nullptr);
+  bare->GetPointData()->RemoveArray("Normals");
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(bare);
+  vtkNew<vtkActor> box;
+  box->SetMapper(mapper);
+  s.renderer->AddActor(box);
+  s.renderer->AddLight(RectLight(0, 0, 5, 0, 0, 0, 0.5, 0.5));
+  s.Camera(0, -7, 5);
+  int errors = 0;
+  vtkNew<vtkCallbackCommand> onError;
+  onError->SetClientData(&errors);
+  onError->SetCallback([](vtkObject*, unsigned long, void* count, void*) { ++*static_cast<int*>(count); });
+  s.pass->AddObserver(vtkCommand::ErrorEvent, onError);
+  auto shadowed = [&](int representation) {
+    box->GetProperty()->SetRepresentation(representation);
+    const Frame f = s.Render();
+    int dark = 0;
+    for (float v : f.V)
+    {
+      dark += (!std::isnan(v) && v < 0.5f) ? 1 : 0;
+    }
+    return dark;
+  };
+  const int surface = shadowed(VTK_SURFACE);
+  const int points = shadowed(VTK_POINTS);
+  const int wireframe = shadowed(VTK_WIREFRAME);
+  std::cout << "pixels with V < 0.5: surface " << surface << ", points " << points << ", wireframe " << wireframe
+            << "; errors " << errors << "\n";
+  EXPECT_GT(surface, 300);
+  EXPECT_EQ(points, 0);
+  EXPECT_EQ(wireframe, 0);
+  EXPECT_EQ(errors, 0);
+  EXPECT_GT(shadowed(VTK_SURFACE), 300); // and back
 }
 
 // PBR props receive shadows (VTK's shadow pass misses the PBR light terms).

@@ -83,6 +83,14 @@ view.PVSMQuality = 100
 c.check(view.PVSMQuality == 1.0, "PVSMQuality = 100 refused, 1 kept (got %s)" % view.PVSMQuality)
 view.ShadowMapSize = 10
 c.check(view.ShadowMapSize == 2048, "ShadowMapSize = 10 refused, 2048 kept (got %s)" % view.ShadowMapSize)
+view.Method = "pcss"
+Render(view)
+for bad in (-1, 12, 99):
+    view.Method = bad
+    Render(view)
+    c.check(view.GetPropertyValue("Plan").splitlines()[-1].strip().endswith("requested pcss"),
+            "Method = %d refused, pcss kept (plan: %s)" % (bad, view.GetPropertyValue("Plan").splitlines()[-1]))
+view.Method = "auto"
 view.ShadowLightDirection = [0, 0, float("inf")]
 c.check(list(view.ShadowLightDirection) == [0, 0, 1], "ShadowLightDirection with inf refused")
 light = AddLight(view=view)

@@ -79,6 +79,16 @@ vtkLight* vtkPVSoftShadowView::GetShadowLightObject()
 
 void vtkPVSoftShadowView::SetMethod(int method)
 {
+  // the pass clamps (VTK's convention); a ParaView user setting an index from
+  // Python gets told instead (the enumeration's domain is not checked there)
+  vtkSoftShadowPass* pass = this->ShadowPass;
+  if (method < pass->GetMethodMinValue() || method > pass->GetMethodMaxValue())
+  {
+    vtkErrorMacro("Method must be " << pass->GetMethodMinValue() << " to " << pass->GetMethodMaxValue()
+                                    << " (or its name), got " << method << "; kept "
+                                    << vtkSoftShadowPass::GetMethodName(pass->GetMethod()));
+    return;
+  }
   this->ShadowPass->SetMethod(method);
   this->Modified();
 }
