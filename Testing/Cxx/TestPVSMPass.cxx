@@ -405,11 +405,7 @@ TEST(SoftShadowPass, PVSMConservativeRasterKeepsEdgeOnTriangle)
   vtkNew<vtkPolyData> pd;
   pd->SetPoints(pts);
   pd->SetPolys(polys);
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(pd);
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
-  s.renderer->AddActor(actor);
+  s.renderer->AddActor(ActorOf(pd));
   s.renderer->AddLight(RectLight(0, 0, 2.0, 0, 0, 0, 0.2, 0.2));
   s.Camera(0, -4, 4);
   s.pass->SetMethod(vtkSoftShadowPass::PVSM);

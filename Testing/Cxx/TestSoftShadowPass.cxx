@@ -347,10 +347,7 @@ TEST(SoftShadowPass, PointsAndWireframeCastNoShadowAndLogNoError)
   bare->DeepCopy(cube->GetOutput());
   bare->GetPointData()->SetNormals(nullptr);
   bare->GetPointData()->RemoveArray("Normals");
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(bare);
-  vtkNew<vtkActor> box;
-  box->SetMapper(mapper);
+  auto box = ActorOf(bare);
   s.renderer->AddActor(box);
   s.renderer->AddLight(RectLight(0, 0, 5, 0, 0, 0, 0.5, 0.5));
   s.Camera(0, -7, 5);

@@ -11,6 +11,7 @@
 #include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkPlaneSource.h"
+#include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
@@ -34,6 +35,16 @@ struct Frame
   std::vector<float> P;   // 3*width*height, relative to origin
   double origin[3] = { 0, 0, 0 };
 };
+
+// An actor drawing `pd` as it is (VTK's default material).
+inline vtkSmartPointer<vtkActor> ActorOf(vtkPolyData* pd)
+{
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(pd);
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  return actor;
+}
 
 inline vtkSmartPointer<vtkActor> MakeActor(vtkPolyDataAlgorithm* src, double r = 0.8, double g = 0.8,
   double b = 0.8)
