@@ -62,9 +62,11 @@ std::uint64_t MatrixHash(vtkMatrix4x4* m)
 // A Points or Wireframe representation is drawn see-through: it casts no
 // shadow (paraview.md), rather than the solid shadow of the surface it shows
 // only the points or edges of.
+// An opacity that is not a number: VTK draws nothing, so it casts nothing.
 bool CastsAsSurface(vtkActor* actor)
 {
-  return vtkSoftShadowPass::GetCastsShadows(actor) && actor->GetProperty()->GetRepresentation() == VTK_SURFACE;
+  return vtkSoftShadowPass::GetCastsShadows(actor) && actor->GetProperty()->GetRepresentation() == VTK_SURFACE &&
+    std::isfinite(actor->GetProperty()->GetOpacity());
 }
 
 bool Finite3(const double p[3])
@@ -270,9 +272,11 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
   std::string preparedNote;
   std::vector<std::uint32_t> actorOf;
   std::vector<char> actorAffine;
+  std::size_t nanOpacity = 0;
   ForEachActor(ren, [&](vtkActor* actor, vtkMatrix4x4* m) {
     if (!CastsAsSurface(actor))
     {
+      nanOpacity += vtkSoftShadowPass::GetCastsShadows(actor) && !std::isfinite(actor->GetProperty()->GetOpacity());
       return;
     }
     Appearance look;
@@ -338,6 +342,11 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
       }
     }
   });
+  if (nanOpacity > 0)
+  {
+    vtkWarningWithObjectMacro(reporter, "Caster set: " << nanOpacity
+      << " object(s) with an opacity that is not a number: not drawn, so they cast no shadow.");
+  }
   if (skipped > 0 && skipped != this->Skipped)
   {
     vtkWarningWithObjectMacro(reporter, "Caster set: skipped " << skipped << " zero-area, degenerate or non-finite triangles.");

@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <array>
 #include <functional>
+#include <limits>
 #include <map>
 #include <cstdlib>
 #include <sstream>
@@ -376,6 +377,11 @@ TEST(SoftShadowPass, PointsAndWireframeCastNoShadowAndLogNoError)
   EXPECT_EQ(wireframe, 0);
   EXPECT_EQ(errors, 0);
   EXPECT_GT(shadowed(VTK_SURFACE), 300); // and back
+  // an opacity that is not a number: VTK draws nothing, so nothing casts
+  box->GetProperty()->SetOpacity(std::numeric_limits<double>::quiet_NaN());
+  const int nan = shadowed(VTK_SURFACE);
+  std::cout << "NaN opacity: " << nan << " px with V < 0.5\n";
+  EXPECT_EQ(nan, 0);
 }
 
 // PBR props receive shadows (VTK's shadow pass misses the PBR light terms).
