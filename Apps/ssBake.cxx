@@ -5,13 +5,13 @@
 #include "ssScene.h"
 
 #include "vtkActor.h"
-#include "vtkActorCollection.h"
-#include "vtkPropCollection.h"
 #include "vtkAppendPolyData.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
+#include "vtkDataArray.h"
 #include "vtkErrorCode.h"
 #include "vtkExecutive.h"
+#include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkLightCollection.h"
 #include "vtkLightVisibilityFilter.h"
@@ -19,6 +19,7 @@
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkPropCollection.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkShadowCasterPreparation.h"
@@ -31,12 +32,11 @@
 #include <cctype>
 #include <cerrno>
 #include <chrono>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -416,20 +416,18 @@ int Prepare(const std::vector<std::string>& args)
   {
     // e.g. one stray vertex far away: the weld tolerance (relative to the
     // bounds) then merges the whole part
-    std::map<std::string, std::string> r;
-    std::istringstream lines(prep->GetReport());
-    for (std::string line; std::getline(lines, line);)
-    {
-      const std::size_t c = line.find(": ");
-      if (c != std::string::npos)
-      {
-        r[line.substr(0, c)] = line.substr(c + 2);
-      }
-    }
-    throw std::runtime_error("prepare: " + mesh + ": no triangle is left of " + r["InputCells"] + " (" +
-      r["CollapsedTriangles"] + " collapsed by the weld at " + r["WeldToleranceAbsolute"] +
-      " units, the tolerance times the bounds' diagonal; " + r["DegenerateTriangles"] + " degenerate, " +
-      r["NonFiniteCells"] + " non-finite); nothing written");
+    // the filter's counts (field data)
+    vtkFieldData* fd = prep->GetOutput()->GetFieldData();
+    auto count = [fd](const char* name) {
+      std::ostringstream v;
+      vtkDataArray* a = fd->GetArray(name);
+      v << (a && a->GetNumberOfTuples() > 0 ? a->GetTuple1(0) : 0.0);
+      return v.str();
+    };
+    throw std::runtime_error("prepare: " + mesh + ": no triangle is left of " + count("InputCells") + " (" +
+      count("CollapsedTriangles") + " collapsed by the weld at " + count("WeldToleranceAbsolute") +
+      " units, the tolerance times the bounds' diagonal; " + count("DegenerateTriangles") + " degenerate, " +
+      count("NonFiniteCells") + " non-finite); nothing written");
   }
   Write(prep->GetOutput(), output);
   std::cout << prep->GetReport();

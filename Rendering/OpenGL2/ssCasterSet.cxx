@@ -61,8 +61,8 @@ std::uint64_t MatrixHash(vtkMatrix4x4* m)
 
 // A Points or Wireframe representation is drawn see-through: it casts no
 // shadow (paraview.md), rather than the solid shadow of the surface it shows
-// only the points or edges of.
-// An opacity that is not a number: VTK draws nothing, so it casts nothing.
+// only the points or edges of. An actor whose opacity is not a number is not
+// drawn, so it casts nothing either.
 bool CastsAsSurface(vtkActor* actor)
 {
   return vtkSoftShadowPass::GetCastsShadows(actor) && actor->GetProperty()->GetRepresentation() == VTK_SURFACE &&
