@@ -339,7 +339,6 @@ std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, dou
   const ss::LightFrame& L = f.light;
   const int kk = L.type == ss::LightType::Point ? 1 : k;
   const int ns = kk * kk;
-  const double eps = 1e-5 * sel.extent;
   const std::size_t n = f.pos.size() / 3;
   std::vector<float> V(n, std::numeric_limits<float>::quiet_NaN());
   std::atomic<long long> count{ 0 };
@@ -363,6 +362,7 @@ std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, dou
         V[i] = 0.0f;
         continue;
       }
+      const double eps = ss::StartOffset(p - sel.center, sel.scale);
       const glm::dvec3 S = p + N * eps;
       const glm::dvec3 So = S - sel.center;
       int visible = 0;

@@ -70,7 +70,7 @@ const std::vector<PassOption>& PassOptions()
         [](P* p, S v, S w) { p->SetShadowMapSize(ParseInt(v, w, 64, 16384)); } },
       { "constant_bias", "number", "depth bias, shadow-map texels", false,
         [](P* p, S v, S w) { p->SetConstantBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
-      { "slope_bias", "number", "slope-scaled depth bias, texels", false,
+      { "slope_bias", "number", "slope-scaled depth bias, texels (hard, asm, avsm, vpcss; pcf, pcss and pvsm test the receiver's plane instead)", false,
         [](P* p, S v, S w) { p->SetSlopeBias(ParseDouble(v, w, -Unbounded, Unbounded)); } },
       { "normal_offset", "0..16", "normal-offset lookup, texels along the triangle's normal (0: off)", false,
         [](P* p, S v, S w) { p->SetNormalOffset(ParseDouble(v, w, 0.0, 16.0)); } },

@@ -18,6 +18,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
+#include "vtkPropCollection.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkSoftShadowLight.h"
@@ -331,6 +332,85 @@ vtkSmartPointer<vtkPolyData> Inline(const json& o, const Ctx& c)
   return pd;
 }
 
+// The camera's clipping range from the cells it can see, not from every
+// prop's bounds. VTK's ResetCameraClippingRange() spans all bounds and keeps
+// the near plane at least 1/1000 of the far one: one stray triangle 1e5
+// units away (a lost vertex, an exporter's marker) put the near plane
+// hundreds of units out and the picture came out empty (issue 17). A cell
+// counts when its bounds are not wholly outside one of the frustum's four
+// side planes; what lies outside the view cannot be drawn and does not set
+// the range. A volume, or an actor with a transform, counts by its bounds.
+void ResetClippingRangeToVisible(vtkRenderer* renderer, double aspect)
+{
+  double planes[24];
+  renderer->GetActiveCamera()->GetFrustumPlanes(aspect, planes); // inward normals
+  auto outside = [&](const double b[6]) {
+    for (int q = 0; q < 4; ++q)
+    {
+      const double* P = planes + 4 * q;
+      bool allOut = true;
+      for (int corner = 0; corner < 8 && allOut; ++corner)
+      {
+        const double x = b[corner & 1], y = b[2 + ((corner >> 1) & 1)], z = b[4 + (corner >> 2)];
+        allOut = P[0] * x + P[1] * y + P[2] * z + P[3] < 0.0;
+      }
+      if (allOut)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  double box[6] = { DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX };
+  auto grow = [&](const double b[6]) {
+    if (!(std::isfinite(b[0]) && std::isfinite(b[1]) && std::isfinite(b[2]) && std::isfinite(b[3]) &&
+          std::isfinite(b[4]) && std::isfinite(b[5])) || b[0] > b[1] || outside(b))
+    {
+      return;
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      box[2 * a] = std::min(box[2 * a], b[2 * a]);
+      box[2 * a + 1] = std::max(box[2 * a + 1], b[2 * a + 1]);
+    }
+  };
+  vtkPropCollection* props = renderer->GetViewProps();
+  vtkCollectionSimpleIterator it;
+  props->InitTraversal(it);
+  while (vtkProp* prop = props->GetNextProp(it))
+  {
+    if (!prop->GetVisibility())
+    {
+      continue;
+    }
+    vtkActor* actor = vtkActor::SafeDownCast(prop);
+    vtkPolyData* pd =
+      (actor && actor->GetMapper()) ? vtkPolyData::SafeDownCast(actor->GetMapper()->GetInput()) : nullptr;
+    if (!pd || !actor->GetIsIdentity())
+    {
+      if (const double* b = prop->GetBounds())
+      {
+        grow(b);
+      }
+      continue;
+    }
+    double cb[6];
+    for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
+    {
+      pd->GetCellBounds(c, cb);
+      grow(cb);
+    }
+  }
+  if (box[0] <= box[1])
+  {
+    renderer->ResetCameraClippingRange(box);
+  }
+  else
+  {
+    renderer->ResetCameraClippingRange(); // nothing in view
+  }
+}
+
 }
 
 SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
@@ -567,7 +647,7 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
   {
     renderer->ResetCamera();
   }
-  renderer->ResetCameraClippingRange();
+  ResetClippingRangeToVisible(renderer, static_cast<double>(info.width) / info.height);
   return info;
 }
 

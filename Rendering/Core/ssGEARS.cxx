@@ -59,6 +59,7 @@ struct GearsSolver::Impl
   struct Scratch
   {
     std::vector<glm::dvec3> start, normal;
+    std::vector<double> eps; ///< per pixel: its start offset
     std::vector<std::int8_t> face;
     FaceGrid grid;
     FaceTriangles tris;
@@ -169,6 +170,7 @@ void GearsSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::vect
   d = SolverData{};
   d.center = sel.center;
   d.extent = sel.extent;
+  d.scale = sel.scale;
   d.skipped = sel.skipped;
   d.V.reserve(9 * sel.kept);
   d.opacity.reserve(sel.kept);
@@ -379,7 +381,7 @@ glm::dvec3 GearsSolver::RayStart(const glm::dvec3& p, const glm::dvec3& normal) 
   glm::dvec3 N = normal;
   const double l = glm::length(N);
   N = (l > 0.0 && std::isfinite(l)) ? N / l : glm::dvec3(0.0);
-  return p + N * (1e-5 * P->D.extent);
+  return p + N * StartOffset(p - P->D.center, P->D.scale);
 }
 
 std::array<glm::dvec3, 3> GearsSolver::Triangle(std::size_t t) const
@@ -397,6 +399,7 @@ GearsTriangleData GearsSolver::Data() const
   r.count = d.real;
   r.center = d.center;
   r.extent = d.extent;
+  r.scale = d.scale;
   r.translucent = d.translucent;
   r.version = d.version;
   return r;
@@ -416,7 +419,6 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   Impl::Scratch& WS = I.Work;
   const int k = (light.type == LightType::Point) ? 1 : std::clamp(opt.k, 1, 32);
   const std::uint32_t fullRow = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
-  const double eps = 1e-5 * D.extent;
   const Isa isa = ResolveIsa(opt.simd);
   st.simd = IsaName(isa);
   st.triangles = D.real;
@@ -450,9 +452,11 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   // --- step 2: pixel samples (ray starts), with the reference's rules
   auto& start = WS.start;
   auto& normal = WS.normal;
+  auto& eps = WS.eps;
   auto& face = WS.face;
   start.resize(n);
   normal.resize(n);
+  eps.assign(n, 0.0);
   face.assign(n, -1);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i)
@@ -479,7 +483,8 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
         }
         continue;
       }
-      start[i] = p + N * eps;
+      eps[i] = StartOffset(p, D.scale); // p is relative to the centre
+      start[i] = p + N * eps[i];
       normal[i] = N;
       if (L.type == LightType::Point)
       {
@@ -571,7 +576,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     job.opt = &opt;
     job.k = k;
     job.fullRow = fullRow;
-    job.eps = eps;
+    job.eps = eps.data();
     job.dir = L.type == LightType::Directional;
     job.W = job.dir ? T : L.width;
     job.H = job.dir ? T : L.height;

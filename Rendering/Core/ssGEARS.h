@@ -153,7 +153,8 @@ struct GearsTriangleData
   const float* opacity = nullptr;
   std::size_t count = 0;
   glm::dvec3 center{ 0.0 };
-  double extent = 1.0;  ///< scene size; eps = 1e-5 extent
+  double extent = 1.0;  ///< all triangles' diagonal (culling margins)
+  double scale = 1.0;   ///< the bulk's diagonal: start offsets (ssTriangleSet.h StartOffset)
   bool translucent = false;
   std::uint64_t version = 0; ///< changes with every SetTriangles (for caches)
 };

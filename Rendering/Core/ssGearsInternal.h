@@ -263,7 +263,8 @@ void BuildFaceGrid(const LightFrame& L, int face, const std::vector<glm::dvec3>&
 struct SolverData
 {
   glm::dvec3 center{ 0.0 };
-  double extent = 1.0;
+  double extent = 1.0; ///< all triangles' diagonal (culling margins)
+  double scale = 1.0;  ///< the bulk's diagonal (start offsets; ssTriangleSet.h)
   std::vector<float> V;                ///< 9 floats per triangle, relative to center, in cluster order
   std::vector<float> opacity;          ///< per triangle
   std::vector<std::size_t> input;      ///< input index per triangle
@@ -447,7 +448,8 @@ struct CellJob
   const GearsOptions* opt;
   int k;
   std::uint32_t fullRow;
-  double eps, W, H;
+  const double* eps; ///< per pixel: its start offset (ssTriangleSet.h StartOffset)
+  double W, H;
   bool dir;
   const HalfPlaneLUT* lut;
   Isa isa;

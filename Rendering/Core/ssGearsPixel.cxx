@@ -130,7 +130,7 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
   ep.Sx = S.x;
   ep.Sy = S.y;
   ep.Sz = S.z;
-  ep.eps = job.eps;
+  ep.eps = job.eps[w.pixel[sq]];
   ep.W = job.W;
   ep.H = job.H;
   ep.invK = lf.s.invK;
@@ -187,7 +187,7 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       const glm::dvec3 B0 = ft.ToLight(D.Vertex(t, 0)), B1 = ft.ToLight(D.Vertex(t, 1)),
         B2 = ft.ToLight(D.Vertex(t, 2));
       // the start rule tests only samples not known to be hidden
-      hit = kind == 2 ? RasterizeNearTriangle(lf, B0, B1, B2, job.eps, target, target == rows ? rows : below)
+      hit = kind == 2 ? RasterizeNearTriangle(lf, B0, B1, B2, ep.eps, target, target == rows ? rows : below)
                       : RasterizeTriangle(lf, S, B0, B1, B2, job.lut, target, j0, j1, fallback);
     }
     cc.lutFallbacks += fallback ? 1 : 0;

@@ -129,7 +129,7 @@ struct ReferenceSolver::Impl
   RTCDevice Device = nullptr;
   RTCScene Scene = nullptr;
   glm::dvec3 Center{ 0.0 };
-  double Extent = 1.0;
+  double Scale = 1.0; ///< the bulk's diagonal (ssTriangleSet.h)
   std::size_t Triangles = 0, Skipped = 0;
   std::vector<float> Opacity;
   bool Translucent = false;
@@ -179,10 +179,15 @@ void ReferenceSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::
   P->Skipped = sel.skipped;
   P->Triangles = sel.kept;
   P->Center = sel.center;
-  P->Extent = sel.extent;
+  P->Scale = sel.scale;
   P->Opacity.clear();
   P->Translucent = false;
   P->Scene = rtcNewScene(P->Device);
+  // Robust traversal and intersection: without it, rays through an edge two
+  // triangles share slipped between them (a box standing on a plane let 4 of
+  // 256 samples through its top to the point under its centre; GEARS' exact
+  // raster is watertight). Cost: stability.md.
+  rtcSetSceneFlags(P->Scene, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(P->Scene, RTC_BUILD_QUALITY_HIGH);
   if (P->Triangles > 0)
   {
@@ -257,7 +262,6 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
   {
     const_cast<ReferenceSolver*>(this)->SetTriangles({}, {});
   }
-  const double eps = 1e-5 * P->Extent;
   const bool directional = light.type == LightType::Directional;
   const bool regular = opt.pattern == LightSamplePattern::Regular || k == 1;
   const double T = std::tan(0.5 * light.angularDiameter) * 2.0;
@@ -355,7 +359,9 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
         V[pix] = 0.0f; // behind a one-sided light
         continue;
       }
-      // Push the start off the surface; scaled to the scene so it works at any size.
+      // Push the start off the surface by the offset GEARS uses, scaled to
+      // the casters and to the distance from their centre (ssTriangleSet.h).
+      const double eps = StartOffset(p - P->Center, P->Scale);
       const glm::dvec3 start = p + N * eps - P->Center;
       const float sx = static_cast<float>(start.x), sy = static_cast<float>(start.y), sz = static_cast<float>(start.z);
       const float nx = static_cast<float>(N.x), ny = static_cast<float>(N.y), nz = static_cast<float>(N.z);
@@ -454,7 +460,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
           ctx.opacity = P->Opacity.data();
           ctx.transmittance = transmittance;
           std::fill(std::begin(ctx.seenCount), std::end(ctx.seenCount), 0);
-          ctx.tEpsilon = static_cast<float>(1e-6 * P->Extent);
+          ctx.tEpsilon = static_cast<float>(0.1 * eps);
           rtcOccluded16(valid, P->Scene, &ctx.context, &rays);
         }
         else

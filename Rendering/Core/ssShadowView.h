@@ -143,8 +143,8 @@ std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& recei
 
 /// The plane PCSS searches for blockers on (a light-space depth of `view`):
 /// the nearest caster vertex in front of the view (z > 0), at least
-/// 1e-4 * `diagonal`; `diagonal` (the scene's size) when no vertex is in
-/// front. `xyz` holds `count` floats (x, y, z per vertex) relative to
+/// 1e-4 * `diagonal`; `diagonal` (the casters' size: the pass gives their
+/// bulk's, ssTriangleSet.h) when no vertex is in front. `xyz` holds `count` floats (x, y, z per vertex) relative to
 /// `offset`, which is added in double.
 double BlockerSearchDepth(
   const ShadowView& view, const float* xyz, std::size_t count, const glm::dvec3& offset, double diagonal);

@@ -11,6 +11,72 @@ float TriangleOpacity(const std::vector<float>& opacity, std::size_t t)
   return (t < opacity.size()) ? std::clamp(opacity[t], 0.0f, 1.0f) : 1.0f;
 }
 
+TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector<char>& keep)
+{
+  const std::size_t nt = v.size() / 3;
+  auto kept = [&](std::size_t t) { return keep.empty() || keep[t]; };
+  // the centroids' interquartile box B, then every triangle near B relative
+  // to its own size or B's
+  std::vector<glm::dvec3> centroid;
+  centroid.reserve(nt);
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    if (kept(t))
+    {
+      centroid.push_back((v[3 * t] + v[3 * t + 1] + v[3 * t + 2]) / 3.0);
+    }
+  }
+  TriangleBulk r;
+  const std::size_t n = centroid.size();
+  if (n == 0)
+  {
+    return r;
+  }
+  glm::dvec3 qlo, qhi;
+  std::vector<double> axis(n);
+  for (int a = 0; a < 3; ++a)
+  {
+    for (std::size_t t = 0; t < n; ++t)
+    {
+      axis[t] = centroid[t][a];
+    }
+    const auto q1 = axis.begin() + static_cast<std::ptrdiff_t>(n / 4);
+    std::nth_element(axis.begin(), q1, axis.end());
+    qlo[a] = *q1;
+    const auto q3 = axis.begin() + static_cast<std::ptrdiff_t>((3 * n) / 4);
+    std::nth_element(axis.begin(), q3, axis.end());
+    qhi[a] = *q3;
+  }
+  const double qDiag = glm::length(qhi - qlo);
+  glm::dvec3 blo(std::numeric_limits<double>::max()), bhi(-std::numeric_limits<double>::max());
+  glm::dvec3 alo = blo, ahi = bhi;
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    if (!kept(t))
+    {
+      continue;
+    }
+    const glm::dvec3 tlo = glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+    const glm::dvec3 thi = glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+    alo = glm::min(alo, tlo);
+    ahi = glm::max(ahi, thi);
+    const glm::dvec3 gap = glm::max(glm::max(qlo - thi, tlo - qhi), glm::dvec3(0.0));
+    if (glm::length(gap) <= 4.0 * std::max(qDiag, glm::length(thi - tlo)))
+    {
+      blo = glm::min(blo, tlo);
+      bhi = glm::max(bhi, thi);
+    }
+  }
+  if (!(blo.x <= bhi.x))
+  {
+    blo = alo; // no triangle near B (not seen): all of them
+    bhi = ahi;
+  }
+  r.center = 0.5 * (blo + bhi);
+  r.scale = std::max(glm::length(bhi - blo), 1e-30);
+  return r;
+}
+
 TriangleSelection SelectTriangles(
   const std::vector<glm::dvec3>& v, const std::vector<float>& opacity, bool dropTransparent)
 {
@@ -47,11 +113,17 @@ TriangleSelection SelectTriangles(
     }
   }
   s.kept = nt - s.skipped;
-  s.center = s.kept ? 0.5 * (lo + hi) : glm::dvec3(0.0);
-  // No triangles: nothing to leave behind, so the solvers' ray start offset
-  // (1e-5 of this) is 0. (It was 1 world unit: on a scene of 1e-6 units the
-  // start points were moved past the light and V was 0.)
-  s.extent = s.kept ? std::max(glm::length(hi - lo), 1e-30) : 0.0;
+  if (!s.kept)
+  {
+    // No triangles: nothing to leave behind, so the start offset is 0. (It
+    // was 1 world unit: on a scene of 1e-6 units the start points were moved
+    // past the light and V was 0.)
+    return s;
+  }
+  s.extent = std::max(glm::length(hi - lo), 1e-30);
+  const TriangleBulk bulk = BulkOfTriangles(v, s.keep);
+  s.center = bulk.center;
+  s.scale = bulk.scale;
   return s;
 }
 }

@@ -8,21 +8,52 @@
 
 namespace ss
 {
-/// Which triangles of a caster list (3 world vertices each) the CPU solvers
-/// keep: finite vertices, non-zero area and, when asked, opacity > 0 — and the
-/// bounds of the kept ones (their centre is the solvers' float origin).
+/// Where the bulk of a list of triangles (3 world vertices each) lies.
+/// A few small triangles far from the rest (a lost vertex, an exporter's
+/// marker) must not move the solvers' float origin off the scene, nor scale
+/// the ray start offset to their distance (issue 17: at 1e5 units every
+/// shadow was wrong). The bulk is every triangle whose bounds lie within
+/// 4 x max(its own diagonal, the diagonal of the centroids' interquartile
+/// box) of that box. A large triangle near the scene (a ground plane)
+/// belongs to it; a small one far away does not, and its own float rounding
+/// is covered by StartOffset's distance term: a triangle outside the bulk
+/// lies at least 4 of its diagonals from it, so its vertices' magnitudes are
+/// within 1.25 x the distance of any of its points from `center`.
+struct TriangleBulk
+{
+  glm::dvec3 center{ 0.0 }; ///< centre of the bulk's bounds
+  double scale = 0.0;       ///< diagonal of the bulk's bounds (0: no triangles)
+};
+/// `keep`, when not empty, has one flag per triangle (0: left out).
+TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& vertices, const std::vector<char>& keep = {});
+
+/// Which triangles of a caster list the CPU solvers keep: finite vertices,
+/// non-zero area and, when asked, opacity > 0 — and where their bulk lies
+/// (`center` is the solvers' float origin).
 struct TriangleSelection
 {
   std::vector<char> keep;
   std::size_t kept = 0, skipped = 0;
-  glm::dvec3 center{ 0.0 };
-  double extent = 0.0; ///< diagonal of the kept triangles' bounds (0 when none)
+  glm::dvec3 center{ 0.0 }; ///< BulkOfTriangles' centre
+  double extent = 0.0; ///< diagonal of all kept triangles' bounds (0 when none; conservative margins)
+  double scale = 0.0;  ///< BulkOfTriangles' scale (0 when none; start offsets)
 };
 
 TriangleSelection SelectTriangles(
   const std::vector<glm::dvec3>& vertices, const std::vector<float>& opacity, bool dropTransparent);
 /// Opacity of triangle t clamped to [0, 1]; 1 when the list is shorter.
 float TriangleOpacity(const std::vector<float>& opacity, std::size_t t);
+
+/// The ray start offset of both CPU solvers, GEARS' GL backend and the bake:
+/// 1e-5 x max(scale, |p - center|), with p - center given as `fromCenter`.
+/// Well above the float rounding of the casters' coordinates around p
+/// (about 1e-7 of their magnitude), and 0 when there are no casters (nothing
+/// to leave behind; an absolute floor would move micro-scale receivers past
+/// the light).
+inline double StartOffset(const glm::dvec3& fromCenter, double scale)
+{
+  return scale > 0.0 ? 1e-5 * glm::max(scale, glm::length(fromCenter)) : 0.0;
+}
 }
 
 #endif

@@ -1,6 +1,7 @@
 #include "ssCasterSet.h"
 
 #include "ssEffectPlanner.h"
+#include "ssTriangleSet.h"
 
 #include "vtkSoftShadowPass.h"
 
@@ -358,7 +359,12 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
   {
     this->Bounds.Add(p);
   }
-  this->Origin = this->Bounds.Empty() ? glm::dvec3(0.0) : this->Bounds.Center();
+  // the float origin at the bulk of the casters, not at their bounds' centre:
+  // one stray triangle 1e5 away put it 5e4 out, and the scene's vertices on a
+  // 0.004 grid (issue 17; ssTriangleSet.h)
+  const TriangleBulk bulk = this->Bounds.Empty() ? TriangleBulk{} : BulkOfTriangles(tris);
+  this->Origin = bulk.center;
+  this->BulkScale = bulk.scale;
   this->Triangles.resize(tris.size() * 3);
   for (std::size_t i = 0; i < tris.size(); ++i)
   {

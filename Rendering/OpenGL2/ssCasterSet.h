@@ -72,7 +72,8 @@ public:
   std::vector<float> TCoords;
   std::vector<int> TextureIndex;
   std::vector<vtkTexture*> AlphaTextures;
-  glm::dvec3 Origin{ 0.0 };     ///< world; the centre of Bounds
+  glm::dvec3 Origin{ 0.0 };     ///< world; the centre of the casters' bulk (ssTriangleSet.h BulkOfTriangles)
+  double BulkScale = 0.0;       ///< the diagonal of that bulk (0: no casters)
   Box Bounds;                   ///< absolute
   bool Translucent = false;     ///< some caster has opacity < 1 or an alpha texture
   Box TranslucentBounds;        ///< absolute bounds of those casters' triangles

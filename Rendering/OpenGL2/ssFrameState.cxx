@@ -80,7 +80,14 @@ std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const
     }
     double rgb[3];
     l.Light->GetDiffuseColor(rgb);
-    if (l.Light->GetIntensity() * std::max({ rgb[0], rgb[1], rgb[2], 1e-30 }) > FLT_MAX)
+    const double intensity = l.Light->GetIntensity();
+    if (std::isnan(intensity) || std::isnan(rgb[0]) || std::isnan(rgb[1]) || std::isnan(rgb[2]))
+    {
+      // VTK shades with it all the same: NaN in every lit pixel, drawn black
+      sep() << "light " << l.ShaderIndex << " has an intensity or a colour that is not a number"
+            << " (VTK's shading turns every lit pixel black)";
+    }
+    else if (intensity * std::max({ rgb[0], rgb[1], rgb[2], 1e-30 }) > FLT_MAX)
     {
       // VTK's shaders get colour x intensity as a float: inf, then NaN
       sep() << "light " << l.ShaderIndex << " has intensity " << l.Light->GetIntensity()

@@ -414,7 +414,6 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   GearsStats st;
   st.triangles = NT;
   const std::uint32_t fullRow = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
-  const double eps = 1e-5 * D.extent;
   LightFrame L = light;
   L.center -= D.center;
   if (L.type == LightType::Directional)
@@ -451,7 +450,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   {
     I.Fill(I.Buf[BNrm], 12 * n, 0u);
   }
-  I.Ensure(I.Buf[BSmp], 48 * n);
+  I.Ensure(I.Buf[BSmp], 56 * n);
   I.Ensure(I.Buf[BFace], 4 * n);
   const float nanf = std::numeric_limits<float>::quiet_NaN();
   std::uint32_t nanBits;
@@ -485,7 +484,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   I.U3("uRel", rel);
   I.U3("uLc", L.center);
   I.U3("uLn", L.n);
-  I.Ud("uEps", eps);
+  I.Ud("uScale", D.scale);
   I.U("uType", type);
   I.Uu("uFullRow", fullRow);
   I.Items(n);
@@ -701,7 +700,6 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Uu("uFullRow", fullRow);
     I.Ud("uW", W);
     I.Ud("uH", H);
-    I.Ud("uEps", eps);
     I.Ud("uXlo", -hx - slackX);
     I.Ud("uXhi", hx + slackX);
     I.Ud("uYlo", -hy - slackY);

@@ -19,8 +19,12 @@ void FitShadowViews(ShadowLight& l, const Box& receivers, const Box& casters, co
 {
   const double diag = std::max(casters.Diagonal(), receivers.Diagonal());
   const glm::dvec3 offset = set.Origin - origin;
+  // the search depth's floor (1e-4 of this) from the casters' bulk: from all
+  // bounds, one stray triangle 1e5 away raised it to 37 units, past every
+  // blocker, and PCSS lost its penumbrae (issue 17)
+  const double searchScale = set.BulkScale > 0.0 ? set.BulkScale : diag;
   auto searchDepth = [&](const ShadowView& v) {
-    return BlockerSearchDepth(v, set.Triangles.data(), set.Triangles.size(), offset, diag);
+    return BlockerSearchDepth(v, set.Triangles.data(), set.Triangles.size(), offset, searchScale);
   };
   // A rect light's main view looks along its normal: the nearest caster
   // there is its search depth and bounds the reach of what can shadow a

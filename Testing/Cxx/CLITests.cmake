@@ -367,10 +367,28 @@ set_tests_properties(cli.render.float_overflow_vertex PROPERTIES LABELS "cli" TI
 # A scene 2e6 units from the origin renders as the same scene at the origin
 # (the primitives' points are double).
 add_test(NAME cli.render.far_from_origin
-  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_far_from_origin.py" ${_ss_cli}
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
     "${_ss_data}/GoodScenes/far_origin_reference.json" "${_ss_data}/GoodScenes/far_from_origin.json"
     "${_ss_out}/far_from_origin")
 set_tests_properties(cli.render.far_from_origin PROPERTIES LABELS "cli" TIMEOUT 300)
+# One stray triangle 4e5 units away, out of view, changes nothing in the
+# frame under any method (the clipping range, the float origin, the start
+# offset and the search depth come from what is seen and the casters' bulk).
+add_test(NAME cli.render.stray_triangle
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
+    "${_ss_data}/GoodScenes/stray_reference.json" "${_ss_data}/GoodScenes/stray_triangle.json"
+    "${_ss_out}/stray_triangle" "hard,pcf,pcss,pvsm,hardavg,asm,vpcss,avsm,gears,reference")
+set_tests_properties(cli.render.stray_triangle PROPERTIES LABELS "cli" TIMEOUT 300)
+add_test(NAME cli.bake.stray_triangle_without
+  COMMAND ${_ss_cli} bake "${_ss_data}/GoodScenes/stray_reference.json" --object 1 --output "${_ss_out}/bake_stray_ref.vtp")
+add_test(NAME cli.bake.stray_triangle_with
+  COMMAND ${_ss_cli} bake "${_ss_data}/GoodScenes/stray_triangle.json" --object 1 --output "${_ss_out}/bake_stray.vtp")
+add_test(NAME cli.bake.stray_triangle
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bake_mean.py" "${_ss_out}/bake_stray.vtp"
+    LightVisibility_0 --same-as "${_ss_out}/bake_stray_ref.vtp")
+set_tests_properties(cli.bake.stray_triangle_without cli.bake.stray_triangle_with PROPERTIES
+  LABELS "cli;filters" TIMEOUT 120 FIXTURES_SETUP bake_stray)
+set_tests_properties(cli.bake.stray_triangle PROPERTIES LABELS "cli;filters" FIXTURES_REQUIRED bake_stray)
 add_test(NAME cli.bench.asm_smoke
   COMMAND env -u DISPLAY ${_ss_cli} bench --asm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json"
     --size 160x120 --out "${_ss_out}/bench_asm_smoke")

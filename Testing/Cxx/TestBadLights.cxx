@@ -4,10 +4,15 @@
 // in Documentation/stability.md.
 #include "ssRenderTestUtilities.h"
 
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <string>
 #include <vector>
 #include <iostream>
 
@@ -176,4 +181,40 @@ TEST(BadLights, LightFarAway)
       EXPECT_EQ(d.nonFinite, 0);
       EXPECT_LE(d.mae, 0.02) << vtkSoftShadowPass::GetMethodName(m);
     });
+}
+
+TEST(BadLights, NaNIntensityIsNamedInAWarning)
+{
+  // A light whose intensity is not a number (pvpython: light.Intensity =
+  // float('nan')): VTK shades with it all the same and every lit pixel is
+  // black. The shadows are unaffected, and the pass now says why the picture
+  // is black; before, it said nothing.
+  for (const bool nan : { false, true })
+  {
+    Scene s(160, 120);
+    vtkSmartPointer<vtkLight> light = RectLight(1, -1, 5, 0, 0, 0, 1.0, 1.0);
+    if (nan)
+    {
+      light->SetIntensity(std::numeric_limits<double>::quiet_NaN());
+    }
+    SphereOverGround(s, light);
+    std::string warnings;
+    vtkNew<vtkCallbackCommand> onWarning;
+    onWarning->SetClientData(&warnings);
+    onWarning->SetCallback([](vtkObject*, unsigned long, void* out, void* text) {
+      *static_cast<std::string*>(out) += static_cast<const char*>(text);
+    });
+    s.pass->AddObserver(vtkCommand::WarningEvent, onWarning);
+    const Frame f = s.Render();
+    int finite = 0, shadow = 0;
+    for (float v : f.V)
+    {
+      finite += std::isfinite(v) ? 1 : 0;
+      shadow += (std::isfinite(v) && v < 0.5f) ? 1 : 0;
+    }
+    std::cout << (nan ? "NaN" : "finite") << " intensity: " << shadow << " px in shadow; warnings: '" << warnings << "'\n";
+    EXPECT_GT(finite, 5000);
+    EXPECT_GT(shadow, 300); // the shadow itself is computed as always
+    EXPECT_EQ(warnings.find("not a number") != std::string::npos, nan) << warnings;
+  }
 }

@@ -107,6 +107,21 @@ TEST(GearsGL, IdenticalBitmasksToTheCPUBackend)
     const glm::dvec3 offset = seed == 3 ? glm::dvec3(1e5, -2e5, 3e5) : glm::dvec3(0.0);
     sstest::Scene s = sstest::RandomScene(rng, 300, 1500, offset);
     AddSamplesOnCasters(rng, s, offset, 500);
+    if (seed == 2)
+    {
+      // a stray triangle far from the bulk, and samples on it: their start
+      // offsets grow with the distance from the casters' centre
+      // (ssTriangleSet.h StartOffset), in the shader as on the CPU
+      for (const glm::dvec3& v : { glm::dvec3(300, 100, 40), glm::dvec3(305, 100, 40), glm::dvec3(300, 104, 41) })
+      {
+        s.tris.push_back(offset + v);
+      }
+      for (int i = 0; i < 50; ++i)
+      {
+        s.pos.insert(s.pos.end(), { 301.0f + 0.05f * static_cast<float>(i), 101.0f, 40.25f });
+        s.nrm.insert(s.nrm.end(), { 0.0f, -0.242f, 0.970f });
+      }
+    }
     GearsSolver cpu;
     cpu.SetTriangles(s.tris, {});
     for (const LightFrame& light : sstest::Lights(offset))

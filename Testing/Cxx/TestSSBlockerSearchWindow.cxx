@@ -339,7 +339,7 @@ void RunScene(unsigned seed, int lightKind, Totals& tot)
       tot.culled += 1;
       for (std::size_t t = clusters.first[c]; t < clusters.first[c + 1]; ++t)
       {
-        glm::dvec2 tri2[3];
+        glm::dvec2 tri2[3]{};
         bool all = false;
         if (!TriangleInTexels(view, &tris[3 * t], bp.mapSize, tri2, all))
         {

@@ -429,3 +429,84 @@ TEST(GEARS, NoCastersSeeTheWholeLightAtAnyScale)
     }
   }
 }
+
+// One stray triangle far from a unit-sized scene (a mesh with a lost vertex,
+// an exporter's origin marker) must change no shadow of the scene. It did:
+// both solvers started their rays 1e-5 of the casters' whole diagonal off the
+// surface and stored vertices in float around the bounds' centre, so at 1e5
+// units the offset was 1 unit (every contact shadow lost) and at 1e6 the
+// scene's vertices lay on a 0.03 grid. The offset and the float origin now
+// come from the bulk of the casters, and the offset grows with the distance
+// from it (ssTriangleSet.h, StartOffset).
+TEST(GEARS, AStrayFarTriangleChangesNoShadow)
+{
+  std::mt19937 rng(23);
+  Scene s;
+  s.tris = sstest::BumpySphere(glm::dvec3(0.1, 0.0, 0.55), 0.45, 4);
+  const std::size_t sphere = s.tris.size() / 3;
+  for (const glm::dvec3& v : { glm::dvec3(-2, -2, 0), glm::dvec3(2, -2, 0), glm::dvec3(2, 2, 0),
+         glm::dvec3(-2, -2, 0), glm::dvec3(2, 2, 0), glm::dvec3(-2, 2, 0) })
+  {
+    s.tris.push_back(v); // the ground, touching the sphere: contact shadows
+  }
+  sstest::PixelsOnTriangles(s, sphere, glm::dvec3(0.0), 1500, rng);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (int i = 0; i < 2500; ++i)
+  {
+    const double x = 0.6 * U(rng), y = 0.6 * U(rng);
+    s.pos.insert(s.pos.end(), { float(0.1 + x), float(y), 0.0f });
+    s.nrm.insert(s.nrm.end(), { 0.0f, 0.0f, 1.0f });
+  }
+  const std::size_t n = s.pos.size() / 3;
+  const int k = 16;
+  const std::vector<LightFrame> lights = { MakeRectLightFrame({ 0.3, -0.2, 3.0 }, { -0.1, 0.05, -1 }, { 0, 1, 0 }, { 1.2, 0.7 }),
+    MakeDirectionalLightFrame({ 0.3, 0.1, -1 }, 0.1), MakePointLightFrame({ 0.2, 0.1, 2.5 }) };
+  auto solve = [&](const std::vector<glm::dvec3>& tris, const LightFrame& light, bool gears) {
+    if (gears)
+    {
+      GearsSolver g;
+      g.SetTriangles(tris, {});
+      GearsOptions o;
+      o.k = k;
+      return g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, o);
+    }
+    ReferenceSolver r;
+    r.SetTriangles(tris, {});
+    ReferenceOptions o;
+    o.k = k;
+    return r.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, o);
+  };
+  for (double far : { 1e3, 1e5, 1e6 })
+  {
+    std::vector<glm::dvec3> stray = s.tris;
+    // below the ground and off to the side: it can shadow none of the pixels
+    const glm::dvec3 c = far * glm::normalize(glm::dvec3(1.0, 0.7, -1.0));
+    for (const glm::dvec3& d : { glm::dvec3(0, 0, 0), glm::dvec3(0.01, 0, 0), glm::dvec3(0, 0.01, 0) })
+    {
+      stray.push_back(c + d);
+    }
+    for (const LightFrame& light : lights)
+    {
+      for (bool gears : { true, false })
+      {
+        const std::vector<float> V0 = solve(s.tris, light, gears), V1 = solve(stray, light, gears);
+        std::size_t equal = 0, shadowed = 0;
+        double maxDiff = 0.0;
+        for (std::size_t i = 0; i < n; ++i)
+        {
+          ASSERT_TRUE(std::isfinite(V1[i]));
+          const double d = std::abs(double(V0[i]) - V1[i]);
+          equal += d < 1e-6;
+          shadowed += V0[i] < 1.0f;
+          maxDiff = std::max(maxDiff, d);
+        }
+        const int kk = light.type == LightType::Point ? 1 : k;
+        const std::string what = std::string(gears ? "GEARS" : "reference") + ", light type " +
+          std::to_string(int(light.type)) + ", stray triangle at " + std::to_string(far);
+        EXPECT_GT(shadowed, n / 5) << what; // the scene really shadows itself
+        EXPECT_GE(equal, 0.999 * n) << what;
+        EXPECT_LE(maxDiff, 2.0 / (kk * kk) + 1e-6) << what;
+      }
+    }
+  }
+}

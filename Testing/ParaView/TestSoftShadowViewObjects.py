@@ -91,6 +91,11 @@ for bad in (-1, 12, 99):
     c.check(view.GetPropertyValue("Plan").splitlines()[-1].strip().endswith("requested pcss"),
             "Method = %d refused, pcss kept (plan: %s)" % (bad, view.GetPropertyValue("Plan").splitlines()[-1]))
 view.Method = "auto"
+for flag in ("CastShadows", "ReceiveShadows"):
+    for bad in (5, -1):
+        dsphere.SetPropertyWithName(flag, bad)
+        c.check(dsphere.GetPropertyValue(flag) == 1, "%s = %d refused, 1 kept (got %s)" % (
+            flag, bad, dsphere.GetPropertyValue(flag)))
 view.ShadowLightDirection = [0, 0, float("inf")]
 c.check(list(view.ShadowLightDirection) == [0, 0, 1], "ShadowLightDirection with inf refused")
 light = AddLight(view=view)

@@ -37,7 +37,7 @@ void SharedFlush()
 // normal, one-sided rect light, point light's cube faces); per face the 3-D
 // AABB of the starts and the farthest depth, rounded outwards.
 uniform dvec3 uRel, uLn;   // frame origin - caster centre; light normal
-uniform double uEps;
+uniform double uScale;      // the casters' bulk diagonal: StartOffset (ssTriangleSet.h)
 uniform int uType;          // 0 rect, 1 directional, 2 point
 uniform uint uFullRow;
 void main()
@@ -65,7 +65,8 @@ void main()
       }
       else
       {
-        precise dvec3 S = p + N * uEps;
+        precise double eps = uScale > 0.0 ? 1e-5LF * max(uScale, sqrt(Dot(p, p))) : 0.0LF;
+        precise dvec3 S = p + N * eps;
         int face = 0;
         dvec3 n = uLn;
         bool ok = true;
@@ -86,12 +87,13 @@ void main()
         if (ok)
         {
           pixFace[i] = face;
-          smp[6 * i] = S.x;
-          smp[6 * i + 1] = S.y;
-          smp[6 * i + 2] = S.z;
-          smp[6 * i + 3] = N.x;
-          smp[6 * i + 4] = N.y;
-          smp[6 * i + 5] = N.z;
+          smp[7 * i] = S.x;
+          smp[7 * i + 1] = S.y;
+          smp[7 * i + 2] = S.z;
+          smp[7 * i + 3] = N.x;
+          smp[7 * i + 4] = N.y;
+          smp[7 * i + 5] = N.z;
+          smp[7 * i + 6] = eps;
           uint b = uint(8 * face);
           for (int c = 0; c < 3; ++c)
           {

@@ -140,7 +140,7 @@ layout(std430, binding = 2) readonly buffer InPos { float inPos[]; };   // 3 per
 layout(std430, binding = 3) readonly buffer InNrm { float inNrm[]; };   // 3 per pixel
 #endif
 #ifdef USE_Smp
-layout(std430, binding = 4) buffer Smp { double smp[]; };              // start xyz, normal xyz
+layout(std430, binding = 4) buffer Smp { double smp[]; };              // start xyz, normal xyz, start offset
 #endif
 #ifdef USE_Face
 layout(std430, binding = 5) buffer Face { int pixFace[]; };
@@ -307,7 +307,7 @@ uint CellOf(dvec2 g)
 #ifdef USE_Smp
 dvec3 Start(uint i)
 {
-  return dvec3(smp[6 * i], smp[6 * i + 1], smp[6 * i + 2]);
+  return dvec3(smp[7 * i], smp[7 * i + 1], smp[7 * i + 2]);
 }
 #endif
 

@@ -30,7 +30,7 @@ void main()
 uniform int uK, uDir, uCountNecessary, uHand;
 uniform int uPre; // the triangles' light-frame vertices are in triL (K_TOLIGHT)
 uniform uint uFullRow;
-uniform double uW, uH, uEps, uInvK, uXlo, uXhi, uYlo, uYhi;
+uniform double uW, uH, uInvK, uXlo, uXhi, uYlo, uYhi;
 
 struct Affine
 {
@@ -233,6 +233,7 @@ bool RasterizeTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
 // only if its Moeller-Trumbore hit lies at least eps from S (the reference's
 // start rule)
 dvec3 gE1, gE2, gTv, gQ;
+double gEps; // the pixel's start offset (smp)
 bool NearSample(int i, double sv)
 {
   precise double su = (double(i) + 0.5LF) / double(uK) - 0.5LF;
@@ -245,7 +246,7 @@ bool NearSample(int i, double sv)
   }
   precise double t = Dot(gE2, gQ) / det;
   precise double tl = t * sqrt(Dot(d, d));
-  return tl >= uEps;
+  return tl >= gEps;
 }
 // the samples of a row are written out, not looped over: llvmpipe ends any
 // invocation after 65535 loop iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS)
@@ -321,7 +322,8 @@ void main()
   {
     belowRows[j] = 0u;
   }
-  dvec3 Nw = dvec3(smp[6 * i + 3], smp[6 * i + 4], smp[6 * i + 5]);
+  dvec3 Nw = dvec3(smp[7 * i + 3], smp[7 * i + 4], smp[7 * i + 5]);
+  gEps = smp[7 * i + 6];
   if (Nw != dvec3(0.0))
   {
     dvec3 N = dvec3(Dot(Nw, uU), Dot(Nw, uV), Dot(Nw, uNrm));
@@ -387,7 +389,7 @@ void main()
       continue;
     }
     precise double pl = sqrt(Dot(pn, pn));
-    precise double lim = uEps * pl;
+    precise double lim = gEps * pl;
     bool near = pl > 0.0 && abs(sigma) < lim;
     if (near)
     {
