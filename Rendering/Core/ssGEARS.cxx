@@ -145,6 +145,7 @@ struct GearsSolver::Impl
     }
     d.real = d.input.size();
     d.realClusters = d.clusterFirst.size() - 1;
+    BuildNeighbours(d);
     d.orient.clear();
     d.piece.clear();
     d.pieceBox.clear();
@@ -628,6 +629,10 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   st.cpuPixels = counters.msExact;
   st.cellsInUmbra = counters.cellsInUmbra;
   st.lutFallbacks = counters.lutFallbacks;
+  st.windingPixels = counters.windingPixels;
+  st.windingDeclined = counters.windingDeclined;
+  st.windingMembers = counters.windingMembers;
+  st.windingContour = counters.windingContour;
   st.msTotal = Ms(tStart, Clock::now());
   if (statsOut)
   {
@@ -658,7 +663,8 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"assignments_listed\": " << s.assignmentsListed << ", \"assignments_rasterised\": " << s.assignmentsRasterised
     << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists
     << ", \"groups\": " << s.cpuGroups << ", \"pixels\": " << s.cpuPixels << "}, \"cells_in_umbra\": " << s.cellsInUmbra
-    << "}";
+    << ", \"winding\": {\"pixels\": " << s.windingPixels << ", \"declined\": " << s.windingDeclined
+    << ", \"members\": " << s.windingMembers << ", \"contour_edges\": " << s.windingContour << "}}";
   return o.str();
 }
 }

@@ -49,6 +49,12 @@ struct GearsOptions
   bool occluderCulling = true;   ///< cull clusters every segment to which passes through a drawn inner occluder
   int groupSize = 8;             ///< split a cell's samples into groups of at most this many
   int groupMinTriangles = 48;    ///< ... when its culled list has at least this many triangles
+  /// A pixel's mask from the contour edges of the triangles of its list that
+  /// lie between it and the light (a winding count; same bits as the raster,
+  /// gears.md "The winding count") for lists of at least windingMinList
+  /// triangles; opaque casters, a rect or directional light, k > 1.
+  bool windingCount = true;
+  int windingMinList = 32;
   GearsSimd simd = GearsSimd::Auto;
   SolveProgress progress;        ///< optional: called between chunks of step 4's cells; false stops
 };
@@ -100,6 +106,10 @@ struct GearsStats
   /// sample groups, and the pixels (rejection, exact raster, V).
   double cpuCellLists = 0, cpuGroups = 0, cpuPixels = 0;
   std::size_t cellsInUmbra = 0; ///< cells whose samples the horizon and inner occluders left in umbra
+  // the winding count (windingCount): pixels it solved, pixels it declined
+  // (rasterised instead), members counted and contour edges set up exactly
+  std::size_t windingPixels = 0, windingDeclined = 0;
+  double windingMembers = 0, windingContour = 0;
 };
 
 /// One pixel's light bitmask: row j (light v axis), bit i (light u axis);
