@@ -47,9 +47,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <atomic>
 #include <cstring>
-#include <memory>
 
 namespace ss
 {
@@ -94,6 +92,12 @@ inline bool Equal(const std::uint32_t* x, const std::uint32_t* y)
 
 void BuildNeighbours(SolverData& d)
 {
+  // Any symmetric pairing of half-edges between the same two bit-identical
+  // vertices lets their steps cancel (an edge held by three triangles keeps
+  // one in the contour), so half-edges are paired first within chunks of the
+  // cluster order (spatially coherent: most edges are inside one), in a small
+  // hash table each, and what is left (the chunks' borders) in one global
+  // pass of hash buckets.
   const std::size_t nt = d.real;
   d.clusterOf.assign(nt, 0);
   for (std::size_t c = 0; c + 1 < d.clusterFirst.size() && c < d.realClusters; ++c)
@@ -108,78 +112,116 @@ void BuildNeighbours(SolverData& d)
     return; // (ids and flags share 32 bits: a mesh this large is counted without neighbours)
   }
   const float* V = d.V.data();
-  // the undirected edge's hash (the smaller vertex first) into buckets
+  std::uint32_t* nbr = d.nbr.data();
+  auto hashOf = [&](std::size_t h) {
+    const EdgeKey e = HalfEdge(V, h);
+    const std::uint32_t* lo = Less(e.b, e.a) ? e.b : e.a;
+    const std::uint32_t* hi = lo == e.a ? e.b : e.a;
+    std::uint64_t x = Mix(lo[0] | (std::uint64_t(lo[1]) << 32));
+    x = Mix(x ^ (lo[2] | (std::uint64_t(hi[0]) << 32)));
+    return Mix(x ^ (hi[1] | (std::uint64_t(hi[2]) << 32)));
+  };
+  // pairs x and y if they hold the same edge; returns whether it did
+  auto pair = [&](std::uint32_t x, std::uint32_t y) {
+    const EdgeKey ex = HalfEdge(V, x), ey = HalfEdge(V, y);
+    const bool sameDir = Equal(ex.a, ey.a) && Equal(ex.b, ey.b);
+    if (!sameDir && !(Equal(ex.a, ey.b) && Equal(ex.b, ey.a)))
+    {
+      return false;
+    }
+    const std::uint32_t flag = sameDir ? kSameDirection : 0u;
+    nbr[x] = (y / 3) | flag;
+    nbr[y] = (x / 3) | flag;
+    return true;
+  };
+  // --- within chunks
+  constexpr std::size_t kChunkTris = 4096, kTable = 1 << 14; // (>= 2 x 3 x kChunkTris half-edges... open slots)
+  constexpr std::uint32_t kEmpty = 0xFFFFFFFFu, kTaken = 0xFFFFFFFEu;
+  const std::size_t chunks = (nt + kChunkTris - 1) / kChunkTris;
+  std::vector<std::vector<std::uint32_t>> left(chunks);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<std::uint32_t> table(kTable);
+    for (std::size_t c = r.begin(); c != r.end(); ++c)
+    {
+      std::fill(table.begin(), table.end(), kEmpty);
+      const std::size_t h0 = 3 * c * kChunkTris, h1 = std::min(nh, h0 + 3 * kChunkTris);
+      for (std::size_t h = h0; h < h1; ++h)
+      {
+        std::size_t slot = hashOf(h) & (kTable - 1);
+        bool paired = false;
+        while (table[slot] != kEmpty)
+        {
+          if (table[slot] != kTaken && pair(table[slot], static_cast<std::uint32_t>(h)))
+          {
+            table[slot] = kTaken;
+            paired = true;
+            break;
+          }
+          slot = (slot + 1) & (kTable - 1);
+        }
+        if (!paired)
+        {
+          table[slot] = static_cast<std::uint32_t>(h);
+        }
+      }
+      for (std::uint32_t v : table)
+      {
+        if (v < kTaken)
+        {
+          left[c].push_back(v);
+        }
+      }
+    }
+  });
+  // --- the chunks' borders: hash buckets over what is left
+  std::vector<std::uint32_t> rest;
+  for (const auto& l : left)
+  {
+    rest.insert(rest.end(), l.begin(), l.end());
+  }
+  const std::size_t nr = rest.size();
+  if (nr < 2)
+  {
+    return;
+  }
   int bits = 1;
-  while ((std::size_t(1) << bits) < nh / 2 && bits < 30)
+  while ((std::size_t(1) << bits) < nr / 2 && bits < 30)
   {
     ++bits;
   }
   const std::size_t NB = std::size_t(1) << bits;
-  std::vector<std::uint32_t> bucket(nh);
-  std::unique_ptr<std::atomic<std::uint32_t>[]> count(new std::atomic<std::uint32_t>[NB + 1]);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NB + 1, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t b = r.begin(); b != r.end(); ++b)
+  std::vector<std::uint32_t> bucket(nr), start(NB + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nr, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t q = r.begin(); q != r.end(); ++q)
     {
-      count[b].store(0, std::memory_order_relaxed);
+      bucket[q] = static_cast<std::uint32_t>(hashOf(rest[q]) >> (64 - bits));
     }
   });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nh, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t h = r.begin(); h != r.end(); ++h)
-    {
-      EdgeKey e = HalfEdge(V, h);
-      const std::uint32_t* lo = Less(e.b, e.a) ? e.b : e.a;
-      const std::uint32_t* hi = lo == e.a ? e.b : e.a;
-      std::uint64_t x = Mix(lo[0] | (std::uint64_t(lo[1]) << 32));
-      x = Mix(x ^ (lo[2] | (std::uint64_t(hi[0]) << 32)));
-      x = Mix(x ^ (hi[1] | (std::uint64_t(hi[2]) << 32)));
-      bucket[h] = static_cast<std::uint32_t>(x >> (64 - bits));
-      count[bucket[h] + 1].fetch_add(1, std::memory_order_relaxed);
-    }
-  });
-  std::vector<std::uint32_t> start(NB + 1, 0);
+  for (std::size_t q = 0; q < nr; ++q)
+  {
+    ++start[bucket[q] + 1];
+  }
   for (std::size_t b = 0; b < NB; ++b)
   {
-    start[b + 1] = start[b] + count[b + 1].load(std::memory_order_relaxed);
-    count[b + 1].store(start[b + 1] - start[b], std::memory_order_relaxed);
-    count[b].store(start[b], std::memory_order_relaxed);
+    start[b + 1] += start[b];
   }
-  // scatter (the order within a bucket does not matter: an edge is linked
-  // only when exactly two half-edges hold it, whatever their order)
-  std::vector<std::uint32_t> sorted(nh);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nh, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t h = r.begin(); h != r.end(); ++h)
-    {
-      sorted[count[bucket[h]].fetch_add(1, std::memory_order_relaxed)] = static_cast<std::uint32_t>(h);
-    }
-  });
-  std::uint32_t* nbr = d.nbr.data();
+  std::vector<std::uint32_t> sorted(nr), fill(start.begin(), start.end() - 1);
+  for (std::size_t q = 0; q < nr; ++q)
+  {
+    sorted[fill[bucket[q]]++] = rest[q];
+  }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NB, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t b = r.begin(); b != r.end(); ++b)
     {
+      // pair in order: each half-edge with the first unpaired one holding its edge
       for (std::uint32_t x = start[b]; x < start[b + 1]; ++x)
       {
-        const EdgeKey ex = HalfEdge(V, sorted[x]);
-        int matches = 0;
-        std::uint32_t partner = 0;
-        bool same = false;
-        for (std::uint32_t y = start[b]; y < start[b + 1]; ++y)
+        for (std::uint32_t y = start[b]; y < x && nbr[sorted[x]] == kNoNeighbour; ++y)
         {
-          if (y == x)
+          if (nbr[sorted[y]] == kNoNeighbour)
           {
-            continue;
+            pair(sorted[y], sorted[x]);
           }
-          const EdgeKey ey = HalfEdge(V, sorted[y]);
-          const bool sameDir = Equal(ex.a, ey.a) && Equal(ex.b, ey.b);
-          if (sameDir || (Equal(ex.a, ey.b) && Equal(ex.b, ey.a)))
-          {
-            ++matches;
-            partner = sorted[y];
-            same = sameDir;
-          }
-        }
-        if (matches == 1)
-        {
-          nbr[sorted[x]] = (partner / 3) | (same ? kSameDirection : 0u);
         }
       }
     }
