@@ -438,10 +438,11 @@ struct CellCounters
   double trianglesBelowHorizon = 0;     ///< horizon rule, per group
   std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0;
   // the winding count (ssGearsWinding.cxx): pixels solved by it and declined
-  // (a contour vertex on a sample row, an edge along one), members (summed
-  // over groups) and contour edges stepped (summed over pixels)
+  // (a contour vertex on a sample row, an edge along one), members and the
+  // rest of the lists (summed over groups), contour edges stepped (summed
+  // over pixels)
   std::size_t windingPixels = 0, windingDeclined = 0;
-  double windingMembers = 0, windingContour = 0;
+  double windingMembers = 0, windingRest = 0, windingContour = 0;
   // thread time (ms, summed over threads) of the parts of step 4: cell
   // lists with their kernel arrays (and the occluders' pre-pass), the
   // groups, and the pixels (rejection and exact raster)

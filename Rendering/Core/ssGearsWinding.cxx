@@ -430,6 +430,7 @@ std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& 
     members += w.status[q] != 0;
   }
   w.counters.windingMembers += static_cast<double>(members);
+  w.counters.windingRest += static_cast<double>(nrest);
 
   // the members' contour
   const std::size_t cap = 3 * ng + kPad;
