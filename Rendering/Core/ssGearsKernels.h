@@ -162,6 +162,7 @@ struct KernelTable
   std::size_t (*contourPixel)(const ContourEdgeList& e, const PixelParams& p, std::uint32_t* out);
   int (*steps)(const ExactSource& src, const std::int32_t* ia, const std::int32_t* ib, const double* sg, std::size_t n,
     const ExactPixel& p, std::int16_t* delta);
+  bool (*count)(const std::int16_t* delta, int k, std::uint32_t* rows);
   /// Group lists: the entries that may reach the shaft (null: all) and lie
   /// above one of the np horizon planes (4 floats each; 0 planes: all):
   /// their ids to out, their 15 columns to dst; below += those in the
@@ -825,7 +826,7 @@ static inline void SetupBatch(ExactBatch& b, const ExactSource& src, const std::
 static inline const KernelTable& Table(const char* name)
 {
   static const KernelTable t = { name, kRowLanes, RejectPairs, WindingMembers, ContourEdges, ContourPixel, ContourSteps,
-    GroupFilter, ClusterFilter, SetupBatch, RowsSpan };
+    CountRows, GroupFilter, ClusterFilter, SetupBatch, RowsSpan };
   return t;
 }
 }

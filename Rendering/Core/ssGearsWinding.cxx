@@ -357,24 +357,9 @@ bool WindingMask(const CellJob& job, const KernelTable& K, CellScratch& w, const
     return false;
   }
   cc.windingContour += stepped;
-  // --- the counts along the rows
-  int low = 0;
-  for (int j = 0; j < k; ++j)
-  {
-    const std::int16_t* row = delta + j * (k + 1);
-    int c = 0;
-    std::uint32_t bits = 0;
-    for (int i = 0; i < k; ++i)
-    {
-      c += row[i];
-      bits |= c > 0 ? 1u << i : 0u;
-      low = std::min(low, c);
-    }
-    rowsOut[j] = bits;
-  }
-  // a negative count would mean a contour that does not close: never seen,
-  // but then the raster decides
-  return low >= 0;
+  // --- the counts along the rows (a negative count would mean a contour
+  // that does not close: never seen, but then the raster decides)
+  return K.count(delta, k, rowsOut);
 }
 }
 

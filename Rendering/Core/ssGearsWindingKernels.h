@@ -220,13 +220,15 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
     for (int v = 0; v < 2; ++v)
     {
       const std::int32_t* idx = v == 0 ? ia : ib;
-      VD X[3] = { VD{}, VD{}, VD{} };
+      double x[3][8];
+      VD X[3];
       for (int a = 0; a < 3; ++a)
       {
         for (int q = 0; q < kRowLanes; ++q)
         {
-          X[a][q] = double(src.V[idx[e0 + (q < count ? q : 0)] + a]);
+          x[a][q] = double(src.V[idx[e0 + (q < count ? q : 0)] + a]);
         }
+        __builtin_memcpy(&X[a], x[a], sizeof(VD));
       }
       const VD rx = X[0] - src.Lc[0], ry = X[1] - src.Lc[1], rz = X[2] - src.Lc[2];
       B[v][0] = (rx * src.u[0] + ry * src.u[1]) + rz * src.u[2];
@@ -325,4 +327,41 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
     }
   }
   return stepped;
+}
+
+// CountRows: the winding count's rows from its steps (delta: k rows of k + 1,
+// at least 32 x 33 readable), a row at a time in 32 16-bit lanes: a log-step
+// prefix sum, then the lanes with a positive count. Returns false when a
+// count is negative (a contour that does not close).
+typedef std::int16_t VS __attribute__((vector_size(64)));
+static inline bool CountRows(const std::int16_t* delta, int k, std::uint32_t* rows)
+{
+  const VS z = VS{};
+  const std::uint32_t use = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
+  std::uint32_t negative = 0;
+  for (int j = 0; j < k; ++j)
+  {
+    VS v;
+    __builtin_memcpy(&v, delta + j * (k + 1), sizeof(v));
+    v += __builtin_shufflevector(v, z, 32, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30);
+    v += __builtin_shufflevector(v, z, 32, 33, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29);
+    v += __builtin_shufflevector(v, z, 32, 33, 34, 35, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27);
+    v += __builtin_shufflevector(v, z, 32, 33, 34, 35, 36, 37, 38, 39, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23);
+    v += __builtin_shufflevector(v, z, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    const VS pos = v > z, neg = v < z;
+    std::uint32_t bits = 0, nb = 0;
+#if SS_GEARS_LANES == 16
+    bits = _mm512_movepi16_mask(reinterpret_cast<const __m512i&>(pos));
+    nb = _mm512_movepi16_mask(reinterpret_cast<const __m512i&>(neg));
+#else
+    for (int q = 0; q < 32; ++q)
+    {
+      bits |= pos[q] ? 1u << q : 0u;
+      nb |= neg[q] ? 1u << q : 0u;
+    }
+#endif
+    rows[j] = bits & use;
+    negative |= nb & use;
+  }
+  return negative == 0;
 }
