@@ -145,6 +145,7 @@ struct GearsSolver::Impl
     }
     d.real = d.input.size();
     d.realClusters = d.clusterFirst.size() - 1;
+    BuildNeighbours(d);
     d.orient.clear();
     d.piece.clear();
     d.pieceBox.clear();
@@ -406,13 +407,20 @@ GearsTriangleData GearsSolver::Data() const
 }
 
 std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3& origin,
-  const float* positions, const float* normals, std::size_t n, const GearsOptions& opt,
+  const float* positions, const float* normals, std::size_t n, const GearsOptions& options,
   GearsStats* statsOut, std::vector<GearsMask>* masksOut, GearsAssignment* assignOut) const
 {
   const auto tStart = Clock::now();
   GearsStats st;
   const Impl& I = *P;
   const SolverData& D = I.D;
+  // automatic grid and group sizes: coarser where the winding count runs
+  // (its cost per pixel does not grow with the lists; gears.md, measured)
+  GearsOptions opt = options;
+  const bool winding = opt.windingCount && !D.translucent && opt.raster == GearsRaster::EdgePlane &&
+    light.type != LightType::Point && opt.k > 1 && !opt.countNecessary && !D.nbr.empty();
+  opt.grid = opt.grid > 0 ? opt.grid : (winding ? 64 : 128);
+  opt.groupSize = opt.groupSize > 0 ? opt.groupSize : (winding ? 16 : 8);
   // Buffers are kept between solves: re-mapping fresh pages every frame
   // cost more than some stages themselves. One solve at a time per solver.
   std::lock_guard<std::mutex> solveLock(I.SolveMutex);
@@ -421,6 +429,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   const std::uint32_t fullRow = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
   const Isa isa = ResolveIsa(opt.simd);
   st.simd = IsaName(isa);
+  st.grid = opt.grid;
   st.triangles = D.real;
   st.clusters = D.Clusters();
   std::vector<float> V(n, std::numeric_limits<float>::quiet_NaN());
@@ -628,6 +637,11 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   st.cpuPixels = counters.msExact;
   st.cellsInUmbra = counters.cellsInUmbra;
   st.lutFallbacks = counters.lutFallbacks;
+  st.windingPixels = counters.windingPixels;
+  st.windingDeclined = counters.windingDeclined;
+  st.windingMembers = counters.windingMembers;
+  st.windingRest = counters.windingRest;
+  st.windingContour = counters.windingContour;
   st.msTotal = Ms(tStart, Clock::now());
   if (statsOut)
   {
@@ -642,7 +656,7 @@ std::string GearsStatsToJSON(const GearsStats& s)
   o << "{\"ms\": {\"project\": " << s.msProject << ", \"prefix_sum\": " << s.msPrefixSum
     << ", \"relate\": " << s.msRelate << ", \"sort\": " << s.msSort << ", \"raster\": " << s.msRaster
     << ", \"total\": " << s.msTotal << "}, \"triangles\": " << s.triangles << ", \"samples\": " << s.samples
-    << ", \"grid_cells\": " << s.gridCells << ", \"non_empty_cells\": " << s.nonEmptyCells
+    << ", \"grid\": " << s.grid << ", \"grid_cells\": " << s.gridCells << ", \"non_empty_cells\": " << s.nonEmptyCells
     << ", \"pairs\": " << s.pairs << ", \"triangles_per_cell\": {\"max\": " << s.trianglesPerCellMax
     << ", \"avg\": " << s.trianglesPerCellAvg << "}, \"samples_per_cell\": {\"max\": " << s.samplesPerCellMax
     << ", \"avg\": " << s.samplesPerCellAvg << "}, \"assignments\": {\"total\": " << s.assignmentsTotal
@@ -658,7 +672,9 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"assignments_listed\": " << s.assignmentsListed << ", \"assignments_rasterised\": " << s.assignmentsRasterised
     << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists
     << ", \"groups\": " << s.cpuGroups << ", \"pixels\": " << s.cpuPixels << "}, \"cells_in_umbra\": " << s.cellsInUmbra
-    << "}";
+    << ", \"winding\": {\"pixels\": " << s.windingPixels << ", \"declined\": " << s.windingDeclined
+    << ", \"members\": " << s.windingMembers << ", \"rest\": " << s.windingRest
+    << ", \"contour_edges\": " << s.windingContour << "}}";
   return o.str();
 }
 }

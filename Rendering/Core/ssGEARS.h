@@ -34,7 +34,9 @@ enum class GearsSimd
 struct GearsOptions
 {
   int k = 16;                    ///< k x k regular light samples, 1..32 (point lights: 1)
-  int grid = 128;                ///< grid G resolution (G x G cells) [§4.3 Table 7: 128 best]
+  /// grid G resolution (G x G cells); 0: automatic, 64 where the winding
+  /// count runs, else 128 (§4.3 Table 7's best for the raster; gears.md)
+  int grid = 0;
   double eyeDistance = 1.0;      ///< |C L_m| in light diagonals [§3.1]
   bool retractToFarthest = true; ///< the P_far optimisation [§3.1, Fig. 5]
   bool countNecessary = false;   ///< Table 9 "necessary" assignments (no early exit, slower)
@@ -47,8 +49,14 @@ struct GearsOptions
   bool depthOrder = true;        ///< blockers nearest the receivers first (masks fill early)
   bool horizonCulling = true;    ///< cull clusters (per cell) and triangles (per group) below every sample's tangent plane
   bool occluderCulling = true;   ///< cull clusters every segment to which passes through a drawn inner occluder
-  int groupSize = 8;             ///< split a cell's samples into groups of at most this many
+  int groupSize = 0;             ///< split a cell's samples into groups of at most this many (0: 16 with the winding count, else 8)
   int groupMinTriangles = 48;    ///< ... when its culled list has at least this many triangles
+  /// A pixel's mask from the contour edges of the triangles of its list that
+  /// lie between it and the light (a winding count; same bits as the raster,
+  /// gears.md "The winding count") for lists of at least windingMinList
+  /// triangles; opaque casters, a rect or directional light, k > 1.
+  bool windingCount = true;
+  int windingMinList = 32;
   GearsSimd simd = GearsSimd::Auto;
   SolveProgress progress;        ///< optional: called between chunks of step 4's cells; false stops
 };
@@ -67,6 +75,7 @@ struct GearsStats
   std::size_t triangles = 0;     ///< triangles in the solver
   std::size_t samples = 0;       ///< pixel samples lit by the light (in front of it)
   std::size_t gridCells = 0;     ///< G x G (x faces for a point light)
+  int grid = 0;                  ///< G as used (GearsOptions::grid 0: automatic)
   std::size_t nonEmptyCells = 0; ///< cells with at least one pixel sample
   std::size_t pairs = 0;         ///< (triID, cellID) pairs
   std::size_t trianglesPerCellMax = 0;
@@ -100,6 +109,12 @@ struct GearsStats
   /// sample groups, and the pixels (rejection, exact raster, V).
   double cpuCellLists = 0, cpuGroups = 0, cpuPixels = 0;
   std::size_t cellsInUmbra = 0; ///< cells whose samples the horizon and inner occluders left in umbra
+  // the winding count (windingCount): pixels it solved, pixels it declined
+  // (rasterised instead), members counted and the rest of the lists
+  // rasterised (summed over sample groups), contour edges stepped exactly
+  // (summed over pixels)
+  std::size_t windingPixels = 0, windingDeclined = 0;
+  double windingMembers = 0, windingRest = 0, windingContour = 0;
 };
 
 /// One pixel's light bitmask: row j (light v axis), bit i (light u axis);

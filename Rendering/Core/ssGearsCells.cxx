@@ -49,6 +49,11 @@ void CellCounters::Add(const CellCounters& o)
   coveredSkips += o.coveredSkips;
   cellsInUmbra += o.cellsInUmbra;
   lutFallbacks += o.lutFallbacks;
+  windingPixels += o.windingPixels;
+  windingDeclined += o.windingDeclined;
+  windingMembers += o.windingMembers;
+  windingRest += o.windingRest;
+  windingContour += o.windingContour;
   msLists += o.msLists;
   msGroups += o.msGroups;
   msReject += o.msReject;
@@ -170,6 +175,11 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     groupLists.resize(NC);
     groupPixels.resize(NC);
   }
+  // the winding count (ssGearsWinding.cxx) where a group's list is long: for
+  // opaque casters, a finite light's k x k samples, the exact raster
+  const bool winding = opt.windingCount && !D.translucent && !job.lut && job.k > 1 && W > 0.0 && H > 0.0 &&
+    !opt.countNecessary && !D.nbr.empty();
+  const std::size_t windingMin = static_cast<std::size_t>(std::max(1, opt.windingMinList));
   const FaceColumns fc = ft.Columns();
   const ExactSource exact = ft.Exact(D, corner, dir);
   // a cluster's live triangles that may reach the shaft into the cell's
@@ -317,7 +327,10 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       // the inner-occluder rule (ssGearsCull.cxx): only where the boxes'
       // faces were drawn into every open mask (not when counting necessary
       // pairs, nor for the assignment output, which lists every blocker)
-      const bool fusion = opt.occluderCulling && drawn && !assign && !w.drawnBoxes.empty();
+      // With the winding count the rule is not used: a cluster behind a box
+      // costs a group little (its edges cancel), and the test per cluster and
+      // box cost more than it saved (the 5M assembly: 9% of a solve).
+      const bool fusion = opt.occluderCulling && drawn && !assign && !w.drawnBoxes.empty() && !winding;
       std::size_t lastBox = 0;
       auto BehindOccluder = [&](std::uint32_t cl) {
         const std::size_t nb = w.drawnBoxes.size();
@@ -334,6 +347,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         }
         return false;
       };
+      w.runs.clear();
       for (std::uint32_t a = a0; a < pairs.cellBegin[c + 1]; ++a)
       {
         const std::uint32_t cl = pairs.clusters[a];
@@ -355,7 +369,17 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         }
         // its live triangles (the closed-mesh rule drops faces away from the
         // whole light) against the shaft, with their kernel arrays
+        const std::size_t before = nl;
         appendCluster(w, cl, cellShaft, of, nl, tested);
+        if (nl > before)
+        {
+          w.runs.push_back({ cl, static_cast<std::uint32_t>(before), static_cast<std::uint32_t>(nl - before) });
+        }
+      }
+      const bool cellWinding = winding && nl >= windingMin;
+      if (cellWinding)
+      {
+        CellNeighbours(D, w, nl);
       }
       cc.trianglesTested += tested;
       cc.trianglesCulled += tested - nl;
@@ -430,7 +454,19 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
               dst[q] = w.gf[q].data();
             }
             std::size_t below = 0;
-            ng = K.group(Arrays(w.f, nl), w.list.data(), split ? &gshaft : nullptr, planes, np, dst, w.glist.data(), below);
+            // the kernel gives the kept entries' cell indices; their triangles follow
+            if (w.iota.size() < nl + kPad)
+            {
+              const std::size_t from = w.iota.size();
+              w.iota.resize(nl + kPad);
+              std::iota(w.iota.begin() + static_cast<std::ptrdiff_t>(from), w.iota.end(), static_cast<std::uint32_t>(from));
+            }
+            Grow(w.gcell, nl + kPad);
+            ng = K.group(Arrays(w.f, nl), w.iota.data(), split ? &gshaft : nullptr, planes, np, dst, w.gcell.data(), below);
+            for (std::size_t q = 0; q < ng; ++q)
+            {
+              w.glist[q] = w.list[w.gcell[q]];
+            }
             cc.trianglesBelowHorizon += static_cast<double>(below);
           }
           if (ng < nl)
@@ -438,15 +474,22 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
             gv.ng = ng;
             gv.ga = Arrays(w.gf, gv.ng);
             gv.tri = w.glist.data();
+            if (cellWinding && ng >= windingMin)
+            {
+              GroupNeighbours(w, nl, ng);
+              gv.nbr = w.gnbr.data();
+            }
           }
           else
           {
             gv.ga = Arrays(w.f, nl);
+            gv.nbr = cellWinding ? w.cellNbr.data() : nullptr;
           }
         }
         else
         {
           gv.ga = Arrays(w.f, nl);
+          gv.nbr = cellWinding ? w.cellNbr.data() : nullptr;
         }
         if (assign)
         {
@@ -465,11 +508,27 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         Grow(w.cand, gv.ng + kPad);
         Grow(w.box, 4 * (gv.ng + kPad));
         lap(cc.msGroups);
-        // --- per pixel
+        // --- per pixel (the winding count: the group's members once, then
+        // per pixel their contour and the raster of the rest of the list)
+        GroupView rest;
+        const bool groupWinding = gv.nbr && !groupFull;
+        if (groupWinding)
+        {
+          WindingGroup(job, K, w, gv, w.sampleOrder.data() + gbegin, gend - gbegin, rest);
+        }
         for (std::uint32_t q = gbegin; q < gend; ++q)
         {
           const std::uint32_t sq = w.sampleOrder[q];
-          DrawPixel(job, K, w, gv, sq);
+          if (groupWinding && !w.state[sq].full)
+          {
+            const bool counted = WindingPixel(job, K, w, gv, sq);
+            cc.listed += counted ? static_cast<double>(gv.ng) : 0.0;
+            DrawPixel(job, K, w, counted ? rest : gv, sq);
+          }
+          else
+          {
+            DrawPixel(job, K, w, gv, sq);
+          }
           PixelFinish(job, w, sq);
         }
         lap(cc.msExact);

@@ -8,6 +8,7 @@
 //   ssGearsCull.cxx    culling rules beyond the shafts: horizon, inner occluders
 //   ssGearsRaster.cxx  the exact bitmask of one triangle (edge planes, LUT) [§4.2, §4.3]
 //   ssGearsSIMD*.cxx   the per-pixel rejection and row raster in AVX2 / AVX-512
+//   ssGearsWinding.cxx a sample group's members, their contour edges, a pixel's count (kernels in ssGearsWindingKernels.h)
 //   ssGearsSilhouette.cxx  a closed piece's mask from its silhouette edges (own header; not called by Solve yet)
 //   ssGEARS.cxx        GearsSolver: input, options, statistics
 // Not installed; not part of the API.
@@ -282,6 +283,12 @@ struct SolverData
   std::vector<double> occBox;          ///< per box: min xyz, max xyz (solver frame)
   bool translucent = false;
   std::uint64_t version = 0;
+  /// Per real triangle t and edge m (vertices m, m + 1 mod 3): the one other
+  /// triangle with an edge between the same two bit-identical vertices
+  /// (kSameDirection: running the same way), or kNoNeighbour (a boundary,
+  /// or three or more triangles at the edge). ssGearsWinding.cxx.
+  std::vector<std::uint32_t> nbr;
+  std::vector<std::uint32_t> clusterOf; ///< per real triangle: its cluster
   std::size_t Triangles() const { return opacity.size(); }
   std::size_t Clusters() const { return clusterFirst.empty() ? 0 : clusterFirst.size() - 1; }
   glm::dvec3 Vertex(std::size_t t, int j) const
@@ -290,6 +297,11 @@ struct SolverData
     return { p[0], p[1], p[2] };
   }
 };
+
+constexpr std::uint32_t kNoNeighbour = 0xFFFFFFFFu, kSameDirection = 0x80000000u;
+/// SolverData::nbr and clusterOf for its real triangles (after they were
+/// arranged in clusters).
+void BuildNeighbours(SolverData& d);
 
 // ---------------------------------------------------------------------------
 // Per-solve triangle data
@@ -425,6 +437,12 @@ struct CellCounters
   std::size_t clustersBehindOccluders = 0; ///< inner-occluder rule, per cell
   double trianglesBelowHorizon = 0;     ///< horizon rule, per group
   std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0;
+  // the winding count (ssGearsWinding.cxx): pixels solved by it and declined
+  // (a contour vertex on a sample row, an edge along one), members and the
+  // rest of the lists (summed over groups), contour edges stepped (summed
+  // over pixels)
+  std::size_t windingPixels = 0, windingDeclined = 0;
+  double windingMembers = 0, windingRest = 0, windingContour = 0;
   // thread time (ms, summed over threads) of the parts of step 4: cell
   // lists with their kernel arrays (and the occluders' pre-pass), the
   // groups, and the pixels (rejection and exact raster)
@@ -501,9 +519,33 @@ struct HorizonPlanes
   bool usable = false; ///< every open sample has a normal, and one is open
 };
 
+/// A cluster's run of surviving triangles in a cell's list.
+struct CellRun
+{
+  std::uint32_t cluster, start, count;
+};
+
 /// A thread's buffers for the cells stage, kept between cells.
 struct CellScratch
 {
+  // the winding count (ssGearsWinding.cxx): the cell list's cluster runs
+  // (runOf is indexed by cluster and validated against runs, never cleared),
+  // their slots, per cell entry and per group entry the list index of each
+  // edge's neighbour, the group entries' cell indices, and per entry its
+  // member status; the group's other entries (the rest), its contour edges,
+  // and a pixel's contour edges with their steps
+  std::vector<CellRun> runs;
+  std::vector<std::uint32_t> runOf, runBase, gcell, iota;
+  std::vector<std::int32_t> slot, c2g, cellNbr, gnbr, status;
+  std::vector<float> rf[15];           ///< the rest of a group's list (GroupArrays order)
+  std::vector<std::uint32_t> rtri;     ///< ... its triangles
+  std::vector<std::uint32_t> edgeId;   ///< the group's contour edges: q | m << 30
+  std::vector<float> edgeP[6];         ///< ... their vertices
+  std::size_t edgeCount = 0;
+  std::vector<std::uint32_t> kept;     ///< a pixel's contour edges that may step its count
+  std::vector<std::int32_t> stepA, stepB; ///< ... their vertices (float offsets into SolverData::V)
+  std::vector<double> stepSg;          ///< ... and the side of S their raster takes
+  std::int16_t delta[32 * 33];         ///< a pixel's count steps, k rows of k + 1
   std::vector<glm::dvec3> S, N;         ///< the cell's starts and normals (light frame)
   std::vector<std::size_t> pixel;       ///< the cell's pixels
   std::vector<PixelState> state;
@@ -532,7 +574,29 @@ struct GroupView
   std::size_t ng;
   glm::dvec3 o;
   bool counting; ///< false for the inner occluders' faces (not the scene's triangles)
+  bool countListed = true; ///< false: a winding count's rest (its group's list was counted)
+  /// per edge m a column (stride ng + kPad) of the entries' neighbours'
+  /// indices in this list (kNbrIndex, kNbrSameDirection) or -1; null: no
+  /// winding count for this list
+  const std::int32_t* nbr = nullptr;
 };
+
+/// ssGearsWinding.cxx: the neighbours of the cell's list (w.list[0, nl), its
+/// runs in w.runs) into w.cellNbr; a group's (w.gcell[0, ng): its entries'
+/// cell indices) into w.gnbr; 3 columns of stride (length + kPad) each.
+void CellNeighbours(const SolverData& D, CellScratch& w, std::size_t nl);
+void GroupNeighbours(CellScratch& w, std::size_t nl, std::size_t ng);
+/// A sample group's winding count: its members (w.status, for the open
+/// samples among samples[0, count)), their contour edges (w.edgeId, edgeP,
+/// edgeCount: returned) and the rest of its list (w.rf, rtri) as `rest`, which
+/// each pixel rasterises after WindingPixel.
+std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv,
+  const std::uint32_t* samples, std::size_t count, GroupView& rest);
+/// Sample sq's count from the group's contour edges ORed into its mask;
+/// false (mask untouched) when the pixel is declined: rasterise gv instead.
+bool WindingPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv, std::uint32_t sq);
+/// The rejection kernel's parameters for sample sq of the list gv.
+PixelParams MakePixelParams(const CellJob& job, const CellScratch& w, const GroupView& gv, std::uint32_t sq);
 
 /// The planes of samples ids[0..count) (null: 0..count-1) of w not full yet.
 void CollectHorizons(const CellScratch& w, const std::uint32_t* ids, std::size_t count, HorizonPlanes& h);

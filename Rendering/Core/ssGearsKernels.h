@@ -49,13 +49,19 @@ struct GroupArrays
   std::size_t n;
 };
 
+/// A cell's or group's neighbour entries (the winding count, ssGearsWinding.cxx):
+/// the list index, kNbrSameDirection when the edge runs the same way; -1: none.
+constexpr std::int32_t kNbrIndex = 0x3FFFFFFF, kNbrSameDirection = 0x40000000;
+
 /// Candidates whose sample box is at most kPointRows x kPointCols get their
 /// bits by evaluating the constraints at each sample (SetupBatch).
 constexpr int kPointRows = 6, kPointCols = 6;
 
 /// FaceColumns::flags bits: not dropped by the closed-mesh rule; every light
-/// sample in front of the plane (or the rule, outward); every one behind it.
-constexpr std::int32_t kFlagLive = 1, kFlagFront = 2, kFlagBack = 4;
+/// sample in front of the plane (or the rule, outward); every one behind it;
+/// a sliver whose float plane is not trusted to the margin (its front column
+/// in a cell's arrays is then -1: never a member of a winding count).
+constexpr std::int32_t kFlagLive = 1, kFlagFront = 2, kFlagBack = 4, kFlagSliver = 8;
 
 /// A face's triangles for the cell kernels, one column per quantity, in
 /// float, in the face's light frame: the vertices (x0 y0 z0 x1 .. z2), the
@@ -117,6 +123,25 @@ struct PixelParams
   int project;         ///< the projection test applies (k > 1, W > 0, H > 0)
   std::uint32_t fullRows = 0; ///< bit j: mask row j is full (0: no covered test)
 };
+/// A sample group's start points for the winding count's members (in float,
+/// relative to the cell's centre): their box, the largest start offset, the
+/// margin; a finite light's depth (cz: the centre's depth in front of it).
+struct WindingBox
+{
+  float lo[3], hi[3];
+  float cz, eps, m;
+  int dir;
+};
+/// A group's contour edges (ssGearsWinding.cxx): per edge its entry q and
+/// edge m (q | m << 30) and its two vertices (relative to the cell's centre),
+/// one column each (room for 3 entries' worth plus SS_GEARS_LANES).
+struct ContourEdgeList
+{
+  std::uint32_t* id;
+  float* p[6];   ///< xa ya za xb yb zb
+  std::size_t n; ///< edges (ContourPixel); ContourEdges returns it
+};
+
 /// The kernels compiled for one instruction set.
 struct KernelTable
 {
@@ -125,6 +150,19 @@ struct KernelTable
   /// box: 4 columns of `stride` floats (i0, i1, j0, j1 per entry)
   std::size_t (*reject)(
     const GroupArrays&, const PixelParams&, std::uint32_t* out, float* box, std::size_t stride, std::size_t& covered);
+  /// The winding count (ssGearsWindingKernels.h): a sample group's members
+  /// (status per entry; the other entries' ids and 15 columns compacted into
+  /// restIds / rest, as GroupFilter does, their count returned), their
+  /// contour, a pixel's contour edges that may step its count, and their
+  /// exact steps (-1: the pixel is declined).
+  std::size_t (*members)(const GroupArrays&, const WindingBox&, const std::int32_t* const* nbr, std::int32_t* status,
+    const std::uint32_t* ids, float* const* rest, std::uint32_t* restIds);
+  std::size_t (*contour)(
+    const GroupArrays&, const std::int32_t* status, const std::int32_t* const* nbr, ContourEdgeList& out);
+  std::size_t (*contourPixel)(const ContourEdgeList& e, const PixelParams& p, std::uint32_t* out);
+  int (*steps)(const ExactSource& src, const std::int32_t* ia, const std::int32_t* ib, const double* sg, std::size_t n,
+    const ExactPixel& p, std::int16_t* delta);
+  bool (*count)(const std::int16_t* delta, int k, std::uint32_t* rows);
   /// Group lists: the entries that may reach the shaft (null: all) and lie
   /// above one of the np horizon planes (4 floats each; 0 planes: all):
   /// their ids to out, their 15 columns to dst; below += those in the
@@ -469,7 +507,7 @@ static inline std::size_t ClusterFilter(const FaceColumns& f, std::uint32_t firs
     Compact(ny, k, out[10] + count);
     Compact(nz, k, out[11] + count);
     Compact(Load(f.nd + t) - ((nx * o[0] + ny * o[1]) + nz * o[2]), k, out[12] + count);
-    Compact((fl & kFlagFront) != 0 ? one : zero, k, out[13] + count);
+    Compact((fl & kFlagSliver) != 0 ? -one : ((fl & kFlagFront) != 0 ? one : zero), k, out[13] + count);
     Compact((fl & kFlagBack) != 0 ? one : zero, k, out[14] + count);
     count += static_cast<std::size_t>(Compact((VUI)(lane + static_cast<int>(t)), k, list + count));
   }
@@ -783,9 +821,12 @@ static inline void SetupBatch(ExactBatch& b, const ExactSource& src, const std::
   }
 }
 
+#include "ssGearsWindingKernels.h"
+
 static inline const KernelTable& Table(const char* name)
 {
-  static const KernelTable t = { name, kRowLanes, RejectPairs, GroupFilter, ClusterFilter, SetupBatch, RowsSpan };
+  static const KernelTable t = { name, kRowLanes, RejectPairs, WindingMembers, ContourEdges, ContourPixel, ContourSteps,
+    CountRows, GroupFilter, ClusterFilter, SetupBatch, RowsSpan };
   return t;
 }
 }

@@ -229,7 +229,12 @@ void PrepareFaceTriangles(
       // the rejection kernel's plane test needs the light on one side by more than the margin
       const double scale = len > 0.0 ? (dir ? 1e-6 : margin) * len : 1e300;
       const bool front = ft.closed[t] > 0 || lo1 > scale, back = ft.closed[t] < 0 || hi1 < -scale;
-      ft.flags[t] = (ft.drop[t] ? 0 : kFlagLive) | (front ? kFlagFront : 0) | (back ? kFlagBack : 0);
+      // the float unit normal is good to the margin unless the triangle is a
+      // sliver: |e1 x e2| below 1e-9 |e1| |e2| (its double cross product then
+      // errs by more than 1e-7 relative)
+      const bool sliver = !(len > 1e-9 * glm::length(B[1] - B[0]) * glm::length(B[2] - B[0]));
+      ft.flags[t] = (ft.drop[t] ? 0 : kFlagLive) | (front ? kFlagFront : 0) | (back ? kFlagBack : 0) |
+        (sliver ? kFlagSliver : 0);
     }
   });
   // cluster boxes over the kept triangles

@@ -87,25 +87,11 @@ void PixelFinish(const CellJob& job, CellScratch& w, std::uint32_t sq)
   }
 }
 
-void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv, std::uint32_t sq)
+PixelParams MakePixelParams(const CellJob& job, const CellScratch& w, const GroupView& gv, std::uint32_t sq)
 {
-  const SolverData& D = *job.D;
-  const GearsOptions& opt = *job.opt;
   const int k = job.k;
-  const bool necessaryMode = opt.countNecessary;
-  CellCounters& cc = w.counters;
-  PixelState& ps = w.state[sq];
-  std::uint32_t* rows = ps.rows;
-  const std::uint32_t* below = ps.below;
   const glm::dvec3 S = w.S[sq], N = w.N[sq];
-  const LightSpace lf = MakeLightSpace(S, job.W, job.H, job.dir, k);
   const bool project = k > 1 && job.W > 0.0 && job.H > 0.0;
-  const double counts = gv.counting ? 1.0 : 0.0;
-  cc.listed += counts * static_cast<double>(gv.ng);
-  if (ps.full && !necessaryMode)
-  {
-    return; // every light sample hidden already (horizon, occluders)
-  }
   PixelParams pp;
   pp.sx = static_cast<float>(S.x - gv.o.x);
   pp.sy = static_cast<float>(S.y - gv.o.y);
@@ -126,6 +112,29 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
   pp.m = static_cast<float>(job.ft->margin);
   pp.dir = job.dir ? 1 : 0;
   pp.project = project ? 1 : 0;
+  return pp;
+}
+
+void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv, std::uint32_t sq)
+{
+  const SolverData& D = *job.D;
+  const GearsOptions& opt = *job.opt;
+  const int k = job.k;
+  const bool necessaryMode = opt.countNecessary;
+  CellCounters& cc = w.counters;
+  PixelState& ps = w.state[sq];
+  std::uint32_t* rows = ps.rows;
+  const std::uint32_t* below = ps.below;
+  const glm::dvec3 S = w.S[sq];
+  const LightSpace lf = MakeLightSpace(S, job.W, job.H, job.dir, k);
+  const bool project = k > 1 && job.W > 0.0 && job.H > 0.0;
+  const double counts = gv.counting ? 1.0 : 0.0;
+  cc.listed += gv.countListed ? counts * static_cast<double>(gv.ng) : 0.0;
+  if (ps.full && !necessaryMode)
+  {
+    return; // every light sample hidden already (horizon, occluders)
+  }
+  PixelParams pp = MakePixelParams(job, w, gv, sq);
   ExactPixel ep;
   ep.Sx = S.x;
   ep.Sy = S.y;

@@ -352,7 +352,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     }
     return false;
   }
-  if (std::clamp(opt.grid, 1, 4096) > kMaxGrid)
+  if (std::clamp(opt.grid > 0 ? opt.grid : 128, 1, 4096) > kMaxGrid)
   {
     if (why)
     {
@@ -385,7 +385,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   };
   const GearsTriangleData D = solver.Data();
   const std::size_t NT = D.count;
-  const int G = std::clamp(opt.grid, 1, 4096);
+  const int G = std::clamp(opt.grid > 0 ? opt.grid : 128, 1, 4096); // 0: automatic, the raster's 128
   const std::size_t NC = static_cast<std::size_t>(G) * G;
   int levels = 1;
   while ((1 << levels) <= G)

@@ -37,7 +37,8 @@ const OptionList& TriangleSolver::DeclaredOptions()
     EnumOption("reference_pattern", "ReferencePattern", "Reference Pattern", { "regular", "stratified" }, 0,
       "reference: light sample pattern"),
     IntOption("gears_samples", "GearsSamples", "Gears Samples", 1, 32, 16, "gears: k x k light samples"),
-    IntOption("gears_grid", "GearsGrid", "Gears Grid", 8, 1024, 128, "gears: grid cells a side"),
+    IntOption("gears_grid", "GearsGrid", "Gears Grid", 0, 1024, 0,
+      "gears: grid cells a side (0: automatic, 64 with the winding count, else 128)"),
     EnumOption("gears_raster", "GearsRaster", "Gears Raster", { "edge", "lut" }, 0,
       "gears: exact edge planes or the lookup table"),
     EnumOption("gears_backend", "GearsBackend", "Gears Backend", { "cpu", "gl" }, 0,
@@ -46,6 +47,8 @@ const OptionList& TriangleSolver::DeclaredOptions()
       "gears: count Table 9's necessary assignments (slower)"),
     BoolOption("gears_find_pieces", "GearsFindPieces", "Gears Find Pieces", true,
       "gears: find the closed pieces of casters that are not prepared (closed-mesh rule, inner occluders; same V)"),
+    BoolOption("gears_winding", "GearsWinding", "Gears Winding", true,
+      "gears: on dense meshes, each pixel's mask from the contour edges of the triangles between it and the light (a winding count; same V)"),
     BoolOption("gears_cell_culling", "GearsCellCulling", "Gears Cell Culling", true,
       "gears: cull clusters and triangles per grid cell and sample group (shaft, horizon, inner occluders; same V)"),
   };
@@ -60,6 +63,7 @@ void TriangleSolver::Configure(vtkSoftShadowPass* pass)
     opt("reference_pattern") == 1 ? LightSamplePattern::Stratified : LightSamplePattern::Regular;
   this->Opt.Gears.k = opt("gears_samples");
   this->Opt.Gears.grid = opt("gears_grid");
+  this->Opt.Gears.windingCount = opt("gears_winding") != 0;
   this->Opt.Gears.raster = opt("gears_raster") == 1 ? GearsRaster::LUT : GearsRaster::EdgePlane;
   this->Opt.Gears.countNecessary = opt("gears_necessary") != 0;
   this->Opt.GearsOnGL = opt("gears_backend") == vtkSoftShadowPass::GEARS_BACKEND_GL;

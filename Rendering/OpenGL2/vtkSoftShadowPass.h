@@ -185,6 +185,10 @@ public:
   virtual bool GetGearsCellCulling();
   virtual void GearsCellCullingOn();
   virtual void GearsCellCullingOff();
+  virtual void SetGearsWinding(bool v);
+  virtual bool GetGearsWinding();
+  virtual void GearsWindingOn();
+  virtual void GearsWindingOff();
   virtual void SetGearsBackend(int v);
   virtual int GetGearsBackend();
   // pvsm (ssPVSMSolver)

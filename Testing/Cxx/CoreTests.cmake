@@ -13,6 +13,7 @@ add_executable(TestSoftShadowsCore
   TestSSGEARSCulling.cxx
   TestSSGEARSISA.cxx
   TestSSGEARSSilhouette.cxx
+  TestSSGEARSWinding.cxx
   TestSSGearsPieces.cxx
   TestSSPVSM.cxx
   TestSSMetrics.cxx

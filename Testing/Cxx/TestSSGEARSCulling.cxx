@@ -382,6 +382,7 @@ TEST(GEARSCulling, InnerOccluderRuleChangesNoBit)
     GearsOptions opt;
     opt.k = 8;
     opt.grid = 48;
+    opt.windingCount = false; // (with it the rule is not used: ssGearsCells.cxx)
     std::vector<GearsMask> on, off;
     GearsStats son, soff;
     const std::size_t n = s.pos.size() / 3;

@@ -1,0 +1,367 @@
+// The winding count's kernels (ssGearsWinding.cxx), included by
+// ssGearsKernels.h inside each instruction set's namespace: no include guard.
+//
+// WindingMembers: a sample group's members, the entries that lie strictly
+//   between every start point of the group and the light and whose plane has
+//   every start point on one side (status 1: in front, 2: behind), by more
+//   than the margin and the largest start offset, with a neighbour in the
+//   list (a triangle without one adds three contour edges: the raster is
+//   cheaper); not slivers (front column -1). Entries that hide no light
+//   sample from any start point of the group (wholly beyond them, behind the
+//   light, or the plane test of RejectPairs for every one: S and the light on
+//   one side, the closed-mesh rule) are neither members nor in the rest.
+// ContourEdges: the members' edges that do not cancel against a neighbour
+//   member (the contour of the set), with their vertices.
+// ContourPixel: of those, the edges that may step one pixel's count at a
+//   sample: by the projected vertices in float with the rejection kernel's
+//   margins, the edge spans a sample row and does not lie right of every
+//   sample.
+
+// Lane q of the result is base[idx[q]] where mask is set, else 0.
+static inline VI GatherI(const std::int32_t* base, VI idx, VI mask)
+{
+#if SS_GEARS_LANES == 16
+  const __m512i r = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(),
+    _mm512_movepi32_mask(reinterpret_cast<const __m512i&>(mask)), reinterpret_cast<const __m512i&>(idx), base, 4);
+  VI v;
+  __builtin_memcpy(&v, &r, sizeof(v));
+  return v;
+#elif SS_GEARS_LANES == 8
+  const __m256i r = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), base, reinterpret_cast<const __m256i&>(idx),
+    reinterpret_cast<const __m256i&>(mask), 4);
+  VI v;
+  __builtin_memcpy(&v, &r, sizeof(v));
+  return v;
+#else
+  VI v;
+  for (int q = 0; q < SS_GEARS_LANES; ++q)
+  {
+    v[q] = mask[q] ? base[idx[q]] : 0;
+  }
+  return v;
+#endif
+}
+
+static inline std::size_t WindingMembers(const GroupArrays& g, const WindingBox& b, const std::int32_t* const* nbr,
+  std::int32_t* status, const std::uint32_t* ids, float* const* rest, std::uint32_t* restIds)
+{
+  const float* const src[15] = { g.x0, g.y0, g.z0, g.x1, g.y1, g.z1, g.x2, g.y2, g.z2, g.nx, g.ny, g.nz, g.nd,
+    g.front, g.back };
+  std::size_t c = 0;
+  VI lane;
+  for (int q = 0; q < SS_GEARS_LANES; ++q)
+  {
+    lane[q] = q;
+  }
+  const float m = b.m;
+  const float cx = 0.5f * (b.lo[0] + b.hi[0]), cy = 0.5f * (b.lo[1] + b.hi[1]), cz = 0.5f * (b.lo[2] + b.hi[2]);
+  const float hx = 0.5f * (b.hi[0] - b.lo[0]), hy = 0.5f * (b.hi[1] - b.lo[1]), hz = 0.5f * (b.hi[2] - b.lo[2]);
+  const float reach = b.eps + m;
+  const std::size_t n = g.n;
+  for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
+  {
+    const VF Z0 = Load(g.z0 + i), Z1 = Load(g.z1 + i), Z2 = Load(g.z2 + i);
+    // strictly between every start point and the light
+    VI between = (b.lo[2] - Z0 > m) & (b.lo[2] - Z1 > m) & (b.lo[2] - Z2 > m);
+    if (!b.dir)
+    {
+      between &= (b.cz + Z0 > m) & (b.cz + Z1 > m) & (b.cz + Z2 > m);
+    }
+    // every start point on one side of the plane
+    const VF nx = Load(g.nx + i), ny = Load(g.ny + i), nz = Load(g.nz + i);
+    const VF sigma = nx * cx + ny * cy + nz * cz - Load(g.nd + i);
+    const VF ext = Abs(nx) * hx + Abs(ny) * hy + Abs(nz) * hz;
+    const VF front = Load(g.front + i), back = Load(g.back + i);
+    // the plane test for every start point: it hides nothing from the group
+    const VI oneSide = ((sigma - ext > m) & (front > 0.5f)) | ((sigma + ext < -m) & (back > 0.5f));
+    const VI inFront = sigma - ext > reach, behind = sigma + ext < -reach;
+    VI nb0, nb1, nb2;
+    __builtin_memcpy(&nb0, nbr[0] + i, sizeof(nb0));
+    __builtin_memcpy(&nb1, nbr[1] + i, sizeof(nb1));
+    __builtin_memcpy(&nb2, nbr[2] + i, sizeof(nb2));
+    const VI linked = (nb0 >= 0) | (nb1 >= 0) | (nb2 >= 0);
+    const VI inRange = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
+    const VI ok = between & linked & (front >= 0.0f) & ~oneSide & inRange;
+    const VI st = ok ? (inFront ? VI{} + 1 : (behind ? VI{} + 2 : VI{})) : VI{};
+    __builtin_memcpy(status + i, &st, sizeof(st));
+    // wholly beyond every start point, or behind the light
+    VI useless = oneSide | ((Z0 - b.hi[2] > m) & (Z1 - b.hi[2] > m) & (Z2 - b.hi[2] > m));
+    if (!b.dir)
+    {
+      useless |= (b.cz + Z0 < -m) & (b.cz + Z1 < -m) & (b.cz + Z2 < -m);
+    }
+    const VI other = inRange & (st == 0) & ~useless;
+    if (LaneMask(other))
+    {
+      for (int col = 0; col < 15; ++col)
+      {
+        Compact(Load(src[col] + i), other, rest[col] + c);
+      }
+      VUI idx;
+      __builtin_memcpy(&idx, ids + i, sizeof(idx));
+      c += static_cast<std::size_t>(Compact(idx, other, restIds + c));
+    }
+  }
+  return c;
+}
+
+static inline std::size_t ContourEdges(
+  const GroupArrays& g, const std::int32_t* status, const std::int32_t* const* nbr, ContourEdgeList& out)
+{
+  VI lane;
+  for (int q = 0; q < SS_GEARS_LANES; ++q)
+  {
+    lane[q] = q;
+  }
+  const float* const P[9] = { g.x0, g.y0, g.z0, g.x1, g.y1, g.z1, g.x2, g.y2, g.z2 };
+  std::size_t c = 0;
+  const std::size_t n = g.n;
+  for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
+  {
+    VI st;
+    __builtin_memcpy(&st, status + i, sizeof(st));
+    const VI member = (st != 0) & (lane + static_cast<int>(i) < VI{} + static_cast<int>(n));
+    if (!LaneMask(member))
+    {
+      continue;
+    }
+    for (int m = 0; m < 3; ++m)
+    {
+      VI nb;
+      __builtin_memcpy(&nb, nbr[m] + i, sizeof(nb));
+      const VI has = member & (nb >= 0);
+      const VI sn = GatherI(status, nb & kNbrIndex, has);
+      const VI same = (nb & kNbrSameDirection) != 0;
+      // exact negations (ssGearsWinding.cxx): same side and opposite
+      // traversal, or opposite sides and the same traversal
+      const VI cancel = has & (sn != 0) & (same ? sn != st : sn == st);
+      const VI keep = member & ~cancel;
+      if (!LaneMask(keep))
+      {
+        continue;
+      }
+      const int b = (m + 1) % 3;
+      for (int a = 0; a < 3; ++a)
+      {
+        Compact(Load(P[3 * m + a] + i), keep, out.p[a] + c);
+        Compact(Load(P[3 * b + a] + i), keep, out.p[3 + a] + c);
+      }
+      c += static_cast<std::size_t>(Compact((VUI)((lane + static_cast<int>(i)) | (m << 30)), keep, out.id + c));
+    }
+  }
+  return c;
+}
+
+static inline std::size_t ContourPixel(const ContourEdgeList& e, const PixelParams& p, std::uint32_t* out)
+{
+  VI lane;
+  for (int q = 0; q < SS_GEARS_LANES; ++q)
+  {
+    lane[q] = q;
+  }
+  const float m = p.m;
+  const float gnum = p.dir ? 1.0f : p.Sz;
+  const float Sxo = p.dir ? 0.0f : p.Sx, Syo = p.dir ? 0.0f : p.Sy;
+  const float bx = Sxo * p.kx + p.off, by = Syo * p.ky + p.off;
+  const float ax = std::abs(Sxo * p.kx), ay = std::abs(Syo * p.ky);
+  const VF zero = VF{} + 0.0f, last = zero + p.last;
+  const std::size_t n = e.n;
+  std::size_t c = 0;
+  for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
+  {
+    // every vertex lies between S and the light (members): d > 0
+    const VF da = p.sz - Load(e.p[2] + i), db = p.sz - Load(e.p[5] + i);
+    const VI inRange = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
+    const VF qa = gnum / (inRange ? da : zero + 1.0f), qb = gnum / (inRange ? db : zero + 1.0f);
+    const VF ua = (Load(e.p[0] + i) - p.sx) * qa * p.kx, ub = (Load(e.p[3] + i) - p.sx) * qb * p.kx;
+    const VF va = (Load(e.p[1] + i) - p.sy) * qa * p.ky, vb = (Load(e.p[4] + i) - p.sy) * qb * p.ky;
+    const VF qm = Max(qa, qb);
+    const VF mu = 1e-4f * (Max(Abs(ua), Abs(ub)) + ax) + m * qm * p.kx + 1e-3f;
+    const VF mv = 1e-4f * (Max(Abs(va), Abs(vb)) + ay) + m * qm * p.ky + 1e-3f;
+    // [ylo, yhi] holds an integer of 0 .. k - 1, and not right of every sample
+    const VF ylo = Min(va, vb) + by - mv, yhi = Max(va, vb) + by + mv;
+    const VF lo = Max(ylo, zero - 1.0f), hi = Min(yhi, last + 1.0f);
+    const VF fhi = __builtin_convertvector(__builtin_convertvector(hi + 2.0f, VI), VF) - 2.0f; // floor
+    const VF flo = __builtin_convertvector(__builtin_convertvector(lo + 2.0f, VI), VF) - 2.0f;
+    const VF clo = flo + (flo < lo ? VF{} + 1.0f : zero); // ceil
+    const VI rows = (clo <= fhi) & (fhi >= zero) & (clo <= last);
+    const VI right = Min(ua, ub) + bx - mu > last;
+    const VI keep = inRange & rows & ~right;
+    if (LaneMask(keep))
+    {
+      c += static_cast<std::size_t>(Compact((VUI)(lane + static_cast<int>(i)), keep, out + c));
+    }
+  }
+  return c;
+}
+
+// ContourSteps: the exact steps of kept contour edges for one pixel, kRowLanes
+// edges at a time, with the operations of WindingMask's scalar form (and of
+// SetupTriangle, MakeAffine, RowBound): per edge the light-frame vertices from
+// the solver's floats (ia, ib: float offsets of its two vertices), their
+// projections (the rows the edge spans, half-open per vertex), its function
+// sg (a x b) and per row its bound, +1 / -1 into delta (k rows of k + 1).
+// Returns the number of edges that stepped a row, or -1 when the pixel is
+// declined (a vertex within rounding of a row near the samples, an edge
+// along the rows).
+static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, const std::int32_t* ib,
+  const double* sgs, std::size_t n, const ExactPixel& p, std::int16_t* delta)
+{
+  const int k = p.k;
+  const double kx = double(k) / p.W, ky = double(k) / p.H, hk = 0.5 * k - 0.5;
+  const double D0x = p.dir ? 0.0 : -p.Sx, D0y = p.dir ? 0.0 : -p.Sy, D0z = p.dir ? -1.0 : -p.Sz;
+  const double h = 0.5 * p.invK - 0.5;
+  const VD zero = VD{} + 0.0, one = VD{} + 1.0, kmax = VD{} + (k - 1.0);
+  int stepped = 0;
+  for (std::size_t e0 = 0; e0 < n; e0 += kRowLanes)
+  {
+    const int count = static_cast<int>(std::min<std::size_t>(kRowLanes, n - e0));
+    VD B[2][3];
+    for (int v = 0; v < 2; ++v)
+    {
+      const std::int32_t* idx = v == 0 ? ia : ib;
+      double x[3][8];
+      VD X[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        for (int q = 0; q < kRowLanes; ++q)
+        {
+          x[a][q] = double(src.V[idx[e0 + (q < count ? q : 0)] + a]);
+        }
+        __builtin_memcpy(&X[a], x[a], sizeof(VD));
+      }
+      const VD rx = X[0] - src.Lc[0], ry = X[1] - src.Lc[1], rz = X[2] - src.Lc[2];
+      B[v][0] = (rx * src.u[0] + ry * src.u[1]) + rz * src.u[2];
+      B[v][1] = (rx * src.v[0] + ry * src.v[1]) + rz * src.v[2];
+      B[v][2] = (rx * src.n[0] + ry * src.n[1]) + rz * src.n[2];
+    }
+    // projections in sample units (WindingMask's Project)
+    VD px[2], py[2];
+    for (int v = 0; v < 2; ++v)
+    {
+      const VD q = (p.dir ? VD{} + 1.0 : VD{} + p.Sz) / (p.Sz - B[v][2]);
+      const double ox = p.dir ? 0.0 : p.Sx, oy = p.dir ? 0.0 : p.Sy;
+      px[v] = (ox + (B[v][0] - p.Sx) * q) * kx + hk;
+      py[v] = (oy + (B[v][1] - p.Sy) * q) * ky + hk;
+    }
+    // a vertex within rounding of a row near the samples: declined
+    for (int v = 0; v < 2; ++v)
+    {
+      const VD yr = __builtin_convertvector(__builtin_convertvector(py[v] + 0.5 + 4.0, VJ), VD) - 4.0; // round (y > -4.5)
+      const VD ad = py[v] - yr;
+      const VL near = (yr >= 0.0) & (yr <= k - 1.0) & ((ad < 0.0 ? -ad : ad) <= 1e-7 * (1.0 + (py[v] < 0.0 ? -py[v] : py[v]))) &
+        (px[v] >= -1.0) & (px[v] <= double(k));
+      for (int q = 0; q < count; ++q)
+      {
+        if (near[q])
+        {
+          return -1;
+        }
+      }
+    }
+    const VD y0 = py[0] < py[1] ? py[0] : py[1], y1 = py[0] < py[1] ? py[1] : py[0];
+    const VD xmin = px[0] < px[1] ? px[0] : px[1];
+    const VD ax0 = px[0] < 0.0 ? -px[0] : px[0], ax1 = px[1] < 0.0 ? -px[1] : px[1];
+    // rows j0 .. j1 (clamped to the samples; y within [-2, k + 1] or out)
+    const VD c0 = y0 < -2.0 ? zero - 2.0 : (y0 > k + 1.0 ? VD{} + (k + 1.0) : y0);
+    const VD c1 = y1 < -2.0 ? zero - 2.0 : (y1 > k + 1.0 ? VD{} + (k + 1.0) : y1);
+    const VD t0 = __builtin_convertvector(__builtin_convertvector(c0, VJ), VD);
+    const VD t1 = __builtin_convertvector(__builtin_convertvector(c1, VJ), VD);
+    const VD ceil0 = t0 + (t0 < c0 ? one : zero), ceil1 = t1 + (t1 < c1 ? one : zero);
+    const VD j0 = ceil0 < 0.0 ? zero : ceil0;
+    const VD j1 = (ceil1 - 1.0) > kmax ? kmax : ceil1 - 1.0;
+    const VL live = (j0 <= j1) & !(xmin > (k - 1.0) + 1e-7 * (1.0 + ax0 + ax1));
+    // the edge's function as SetupTriangle computes it: sg (a x b)
+    VD sg;
+    for (int q = 0; q < kRowLanes; ++q)
+    {
+      sg[q] = sgs[e0 + (q < count ? q : 0)];
+    }
+    const VD axv = B[0][0] - p.Sx, ayv = B[0][1] - p.Sy, azv = B[0][2] - p.Sz;
+    const VD bxv = B[1][0] - p.Sx, byv = B[1][1] - p.Sy, bzv = B[1][2] - p.Sz;
+    const VD ex = sg * (ayv * bzv - byv * azv), ey = sg * (azv * bxv - bzv * axv), ez = sg * (axv * byv - bxv * ayv);
+    const VD du = (ex * p.W + ey * 0.0) + ez * 0.0, dv = (ex * 0.0 + ey * p.H) + ez * 0.0;
+    const VD A = (0.0 + ((ex * D0x + ey * D0y) + ez * D0z)) + h * (du + dv);
+    const VD Bc = du * p.invK, C = dv * p.invK;
+    for (int q = 0; q < count; ++q)
+    {
+      if (live[q] && !(Bc[q] != 0.0))
+      {
+        return -1;
+      }
+    }
+    const VD Bs = Bc != 0.0 ? Bc : one;
+    const VD P = -A / Bs, Q = -C / Bs;
+    const VL steep = !(((P < 0.0 ? -P : P) <= kSteepKernel) & ((Q < 0.0 ? -Q : Q) <= kSteepKernel));
+    int rows = 0;
+    for (int q = 0; q < count; ++q)
+    {
+      if (live[q])
+      {
+        ++stepped;
+        rows = std::max(rows, static_cast<int>(j1[q] - j0[q]) + 1);
+      }
+    }
+    for (int r = 0; r < rows; ++r)
+    {
+      const VD jv = j0 + double(r);
+      const VL on = live & (jv <= j1);
+      // RowBound, both signs of B at once
+      const VD ej = A + C * jv;
+      VD x = steep ? -ej / Bs : P + Q * jv;
+      x = x < -2.0 ? zero - 2.0 : (x > k + 1.0 ? VD{} + (k + 1.0) : x);
+      const VD t = __builtin_convertvector(__builtin_convertvector(x, VJ), VD);
+      const VD cu = t + (t < x ? one : zero), cd = t - (t > x ? one : zero); // ceil, floor
+      const VD emL = ej + Bc * (cu - 1.0), e0L = ej + Bc * cu;
+      const VD lo = emL >= 0.0 ? cu - 1.0 : (e0L >= 0.0 ? cu : cu + 1.0);
+      const VD epU = ej + Bc * (cd + 1.0), e0U = ej + Bc * cd;
+      const VD hi = epU >= 0.0 ? cd + 1.0 : (e0U >= 0.0 ? cd : cd - 1.0);
+      const VD at = Bc > 0.0 ? lo : hi + 1.0;
+      for (int q = 0; q < count; ++q)
+      {
+        if (on[q] && at[q] <= k - 1.0)
+        {
+          delta[static_cast<int>(jv[q]) * (k + 1) + static_cast<int>(at[q] < 0.0 ? 0.0 : at[q])] += Bc[q] > 0.0 ? 1 : -1;
+        }
+      }
+    }
+  }
+  return stepped;
+}
+
+// CountRows: the winding count's rows from its steps (delta: k rows of k + 1,
+// at least 32 x 33 readable), a row at a time in 32 16-bit lanes: a log-step
+// prefix sum, then the lanes with a positive count. Returns false when a
+// count is negative (a contour that does not close).
+typedef std::int16_t VS __attribute__((vector_size(64)));
+static inline bool CountRows(const std::int16_t* delta, int k, std::uint32_t* rows)
+{
+  const VS z = VS{};
+  const std::uint32_t use = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
+  std::uint32_t negative = 0;
+  for (int j = 0; j < k; ++j)
+  {
+    VS v;
+    __builtin_memcpy(&v, delta + j * (k + 1), sizeof(v));
+    v += __builtin_shufflevector(v, z, 32, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30);
+    v += __builtin_shufflevector(v, z, 32, 33, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29);
+    v += __builtin_shufflevector(v, z, 32, 33, 34, 35, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27);
+    v += __builtin_shufflevector(v, z, 32, 33, 34, 35, 36, 37, 38, 39, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23);
+    v += __builtin_shufflevector(v, z, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    const VS pos = v > z, neg = v < z;
+    std::uint32_t bits = 0, nb = 0;
+#if SS_GEARS_LANES == 16
+    bits = _mm512_movepi16_mask(reinterpret_cast<const __m512i&>(pos));
+    nb = _mm512_movepi16_mask(reinterpret_cast<const __m512i&>(neg));
+#else
+    for (int q = 0; q < 32; ++q)
+    {
+      bits |= pos[q] ? 1u << q : 0u;
+      nb |= neg[q] ? 1u << q : 0u;
+    }
+#endif
+    rows[j] = bits & use;
+    negative |= nb & use;
+  }
+  return negative == 0;
+}

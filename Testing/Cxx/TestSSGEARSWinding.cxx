@@ -1,0 +1,301 @@
+// GEARS' winding count (ssGearsWinding.cxx): a pixel's mask from the contour
+// edges of the triangles of its list that lie between it and the light must
+// be the exact raster's, bit for bit, on every mesh a user brings:
+//  - connected meshes (a closed bumpy surface that shadows itself, an open
+//    wavy sheet like an isosurface, a torus cutting through a sphere) over a
+//    meshed floor, receivers on the floor and on the casters themselves;
+//  - broken meshes: flipped triangles (inconsistent orientation), an edge
+//    held by three triangles, an unwelded seam, a duplicated triangle,
+//    slivers;
+//  - every light kind with an area (tilted rects, a directional light), k = 4
+//    to 32, every instruction set, far from the origin and at small and
+//    large scales;
+//  - vertices exactly on sample rows (declined: rasterised as before).
+// Each compares Solve's masks with the winding count on and off (the raster
+// alone, itself checked against brute force in TestSSGEARS), and requires
+// that the winding count ran on most pixels.
+#include "ssGEARS.h"
+#include "ssGearsPieces.h"
+#include "ssGearsTestScenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+
+using namespace ss;
+
+namespace {
+struct Mesh {
+  std::vector<glm::dvec3> tris;
+  sstest::Scene pixels; // pos, nrm (relative to the offset)
+};
+
+void AddQuad(std::vector<glm::dvec3> &t, const glm::dvec3 &a,
+             const glm::dvec3 &b, const glm::dvec3 &c, const glm::dvec3 &d) {
+  t.insert(t.end(), {a, b, c, a, c, d});
+}
+
+// A connected grid of nx x ny quads over [x0, x1] x [y0, y1] at height h(x, y).
+template <typename F>
+std::vector<glm::dvec3> Sheet(int nx, int ny, double x0, double x1, double y0,
+                              double y1, F h) {
+  std::vector<glm::dvec3> t;
+  auto P = [&](int i, int j) {
+    const double x = x0 + (x1 - x0) * i / nx, y = y0 + (y1 - y0) * j / ny;
+    return glm::dvec3(x, y, h(x, y));
+  };
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      AddQuad(t, P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j + 1));
+    }
+  }
+  return t;
+}
+
+std::vector<glm::dvec3> Torus(const glm::dvec3 &c, double R, double r, int nu,
+                              int nv) {
+  std::vector<glm::dvec3> t;
+  auto P = [&](int a, int b) {
+    const double u = 2.0 * M_PI * (a % nu) / nu, v = 2.0 * M_PI * (b % nv) / nv;
+    return c + glm::dvec3((R + r * std::cos(v)) * std::cos(u),
+                          (R + r * std::cos(v)) * std::sin(u) * 0.8,
+                          r * std::sin(v) +
+                              0.3 * (R + r * std::cos(v)) * std::sin(u));
+  };
+  for (int a = 0; a < nu; ++a) {
+    for (int b = 0; b < nv; ++b) {
+      AddQuad(t, P(a, b), P(a + 1, b), P(a + 1, b + 1), P(a, b + 1));
+    }
+  }
+  return t;
+}
+
+// Pixel samples: on the floor grid (z = 0) and on random caster triangles.
+void AddPixels(Mesh &m, std::size_t casterTris, int onFloor, int onCasters,
+               std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1.4, 1.4);
+  for (int i = 0; i < onFloor; ++i) {
+    m.pixels.pos.insert(m.pixels.pos.end(),
+                        {float(U(rng)), float(U(rng)), 0.0f});
+    m.pixels.nrm.insert(m.pixels.nrm.end(), {0.0f, 0.0f, 1.0f});
+  }
+  sstest::Scene s;
+  s.tris = m.tris;
+  sstest::PixelsOnTriangles(s, casterTris, glm::dvec3(0.0), onCasters, rng);
+  m.pixels.pos.insert(m.pixels.pos.end(), s.pos.begin(), s.pos.end());
+  m.pixels.nrm.insert(m.pixels.nrm.end(), s.nrm.begin(), s.nrm.end());
+}
+
+// The casters first (so that pixels can sit on them), then a meshed floor.
+Mesh WithFloor(std::vector<glm::dvec3> casters, std::uint32_t seed) {
+  Mesh m;
+  m.tris = std::move(casters);
+  const std::size_t n = m.tris.size() / 3;
+  const std::vector<glm::dvec3> floor =
+      Sheet(24, 24, -1.6, 1.6, -1.6, 1.6, [](double, double) { return 0.0; });
+  m.tris.insert(m.tris.end(), floor.begin(), floor.end());
+  AddPixels(m, n, 300, 200, seed);
+  return m;
+}
+
+Mesh BumpyAndWavy() {
+  std::vector<glm::dvec3> t = sstest::BumpySphere({0.3, 0.1, 1.0}, 0.45, 4);
+  const std::vector<glm::dvec3> sheet =
+      Sheet(40, 40, -1.2, 1.2, -1.2, 1.2, [](double x, double y) {
+        return 1.8 + 0.25 * std::sin(5.0 * x) * std::cos(4.0 * y) +
+               0.1 * std::sin(13.0 * x * y);
+      });
+  t.insert(t.end(), sheet.begin(), sheet.end());
+  return WithFloor(t, 7);
+}
+
+Mesh TorusThroughSphere() {
+  std::vector<glm::dvec3> t = Torus({0.0, 0.0, 1.1}, 0.6, 0.2, 48, 16);
+  const std::vector<glm::dvec3> s =
+      sstest::BumpySphere({0.55, 0.0, 1.1}, 0.3, 3, 0.1, 0.05);
+  t.insert(t.end(), s.begin(), s.end());
+  return WithFloor(t, 11);
+}
+
+// A wavy sheet with defects: flipped triangles, an edge held by three
+// triangles (a fin), an unwelded seam (one half shifted by a hair), a
+// duplicated triangle, and a strip of slivers.
+Mesh Broken() {
+  std::vector<glm::dvec3> t =
+      Sheet(30, 30, -1.2, 0.0, -1.2, 1.2, [](double x, double y) {
+        return 1.5 + 0.2 * std::sin(6.0 * x + 2.0 * y);
+      });
+  const std::vector<glm::dvec3> right =
+      Sheet(30, 30, 1e-7, 1.2, -1.2, 1.2, [](double x, double y) {
+        return 1.5 + 0.2 * std::sin(6.0 * x + 2.0 * y);
+      });
+  t.insert(t.end(), right.begin(), right.end());
+  for (std::size_t f = 5; f < t.size() / 3; f += 17) {
+    std::swap(t[3 * f + 1], t[3 * f + 2]); // flipped
+  }
+  const glm::dvec3 a = t[3 * 100], b = t[3 * 100 + 1];
+  t.insert(
+      t.end(),
+      {a, b, 0.5 * (a + b) + glm::dvec3(0.0, 0.0, 0.3)}); // a fin on an edge
+  t.insert(t.end(), {t[3 * 200], t[3 * 200 + 1], t[3 * 200 + 2]}); // duplicated
+  for (int i = 0; i < 40; ++i) {
+    // slivers: a fan of needles sharing edges
+    const double y = -1.0 + 0.05 * i;
+    t.insert(t.end(), {glm::dvec3(-0.8, y, 2.2), glm::dvec3(0.8, y + 1e-6, 2.2),
+                       glm::dvec3(0.8, y + 0.05, 2.2)});
+    t.insert(t.end(), {glm::dvec3(-0.8, y, 2.2), glm::dvec3(0.8, y + 0.05, 2.2),
+                       glm::dvec3(-0.8, y + 0.05, 2.2)});
+  }
+  return WithFloor(t, 13);
+}
+
+GearsPieces PiecesOf(const std::vector<glm::dvec3> &tris) {
+  GearsPieces p;
+  p.piece.assign(tris.size() / 3, 0);
+  std::vector<std::uint32_t> all(tris.size() / 3);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    all[i] = static_cast<std::uint32_t>(i);
+  }
+  FindGearsPieces(tris, all, true, p);
+  return p;
+}
+
+std::vector<LightFrame> AreaLights(const glm::dvec3 &o, double s) {
+  return {MakeRectLightFrame(o + s * glm::dvec3(0.3, -0.2, 3.2),
+                             {-0.1, 0.05, -1}, {0, 1, 0}, {1.2 * s, 0.7 * s}),
+          MakeRectLightFrame(o + s * glm::dvec3(-2.5, 0.5, 2.6),
+                             {0.7, -0.2, -0.6}, {0, 0, 1}, {0.9 * s, 0.9 * s}),
+          MakeRectLightFrame(o + s * glm::dvec3(0.1, 0.0, 4.0), {0, 0, -1},
+                             {0, 1, 0}, {0.15 * s, 0.15 * s}),
+          MakeDirectionalLightFrame({0.2, 0.1, -1}, 0.15)};
+}
+
+struct Result {
+  std::size_t pixels = 0, differing = 0, winding = 0, declined = 0,
+              penumbra = 0;
+};
+
+// Solve's masks with the winding count against the raster alone.
+Result Compare(const Mesh &m, const glm::dvec3 &offset, double scale,
+               const std::vector<int> &ks, GearsSimd simd = GearsSimd::Auto) {
+  std::vector<glm::dvec3> tris = m.tris;
+  for (auto &v : tris) {
+    v = offset + scale * v;
+  }
+  std::vector<float> pos = m.pixels.pos;
+  for (auto &p : pos) {
+    p = static_cast<float>(scale * p);
+  }
+  GearsSolver g;
+  g.SetTriangles(tris, {});
+  g.SetPieces(PiecesOf(tris));
+  Result r;
+  for (const LightFrame &L : AreaLights(offset, scale)) {
+    for (int k : ks) {
+      GearsOptions on, off;
+      on.k = off.k = k;
+      on.simd = off.simd = simd;
+      on.windingMinList = 1; // the small test lists too
+      off.windingCount = false;
+      GearsStats st;
+      std::vector<GearsMask> a, b;
+      const std::size_t n = pos.size() / 3;
+      const std::vector<float> Va =
+          g.Solve(L, offset, pos.data(), m.pixels.nrm.data(), n, on, &st, &a);
+      const std::vector<float> Vb = g.Solve(
+          L, offset, pos.data(), m.pixels.nrm.data(), n, off, nullptr, &b);
+      for (std::size_t p = 0; p < n; ++p) {
+        ++r.pixels;
+        const bool same =
+            a[p] == b[p] &&
+            (Va[p] == Vb[p] || (std::isnan(Va[p]) && std::isnan(Vb[p])));
+        r.differing += same ? 0 : 1;
+        r.penumbra += Va[p] > 0.0f && Va[p] < 1.0f;
+      }
+      r.winding += st.windingPixels;
+      r.declined += st.windingDeclined;
+    }
+  }
+  std::printf(
+      "pixels %zu (penumbra %zu): differing %zu, winding %zu, declined %zu\n",
+      r.pixels, r.penumbra, r.differing, r.winding, r.declined);
+  return r;
+}
+} // namespace
+
+TEST(GEARSWinding, MasksEqualTheRasterOnConnectedMeshes) {
+  for (const Mesh &m : {BumpyAndWavy(), TorusThroughSphere()}) {
+    const Result r = Compare(m, glm::dvec3(0.0), 1.0, {4, 8, 16, 32});
+    EXPECT_EQ(r.differing, 0u);
+    EXPECT_GT(r.winding, r.pixels / 2)
+        << "the winding count should solve most pixels";
+    EXPECT_GT(r.penumbra, r.pixels / 10) << "the scenes should have penumbrae";
+    EXPECT_LT(r.declined, r.pixels / 100);
+  }
+}
+
+TEST(GEARSWinding, MasksEqualTheRasterOnBrokenMeshes) {
+  const Result r = Compare(Broken(), glm::dvec3(0.0), 1.0, {8, 16, 32});
+  EXPECT_EQ(r.differing, 0u);
+  EXPECT_GT(r.winding, r.pixels / 2);
+}
+
+TEST(GEARSWinding, EveryInstructionSetGivesTheRasterMasks) {
+  const Mesh m = BumpyAndWavy();
+  for (GearsSimd isa : sstest::RunnableIsas()) {
+    const Result r = Compare(m, glm::dvec3(0.0), 1.0, {16, 32}, isa);
+    EXPECT_EQ(r.differing, 0u) << "instruction set " << static_cast<int>(isa);
+    EXPECT_GT(r.winding, r.pixels / 2);
+  }
+}
+
+TEST(GEARSWinding, AnyScaleAndFarFromTheOrigin) {
+  const Mesh m = TorusThroughSphere();
+  for (double scale : {1e-4, 1e4}) {
+    const Result r = Compare(m, glm::dvec3(0.0), scale, {16});
+    EXPECT_EQ(r.differing, 0u) << "scale " << scale;
+    EXPECT_GT(r.winding, r.pixels / 2);
+  }
+  const Result far = Compare(m, glm::dvec3(3e5, -1e5, 2e4), 1.0, {16});
+  EXPECT_EQ(far.differing, 0u);
+  EXPECT_GT(far.winding, far.pixels / 2);
+}
+
+TEST(GEARSWinding, VerticesOnSampleRowsAreDeclined) {
+  // A flat grid halfway between a rect light and start points below it
+  // (without normals: no start offset), so that at k = 8 its vertex rows
+  // project exactly onto sample rows (v = 8 y + 3.5 with y on a grid of
+  // 1/8 from -1 - 1/16: all dyadic), where the half-open rule and the
+  // raster's closed triangles could disagree: those pixels are rasterised.
+  Mesh m;
+  m.tris = Sheet(16, 16, -1.0625, 0.9375, -1.0625, 0.9375,
+                 [](double, double) { return 1.0; });
+  for (int i = 0; i < 9; ++i) {
+    const float x = -0.5f + 0.125f * i;
+    m.pixels.pos.insert(m.pixels.pos.end(), {x, 0.0f, 0.0f});
+    m.pixels.nrm.insert(m.pixels.nrm.end(), {0.0f, 0.0f, 0.0f});
+  }
+  const LightFrame L =
+      MakeRectLightFrame({0.0, 0.0, 2.0}, {0, 0, -1}, {0, 1, 0}, {2.0, 2.0});
+  GearsSolver g;
+  g.SetTriangles(m.tris, {});
+  GearsOptions on, off;
+  on.k = off.k = 8;
+  on.windingMinList = 1;
+  off.windingCount = false;
+  GearsStats st;
+  std::vector<GearsMask> a, b;
+  const std::size_t n = m.pixels.pos.size() / 3;
+  g.Solve(L, glm::dvec3(0.0), m.pixels.pos.data(), m.pixels.nrm.data(), n, on,
+          &st, &a);
+  g.Solve(L, glm::dvec3(0.0), m.pixels.pos.data(), m.pixels.nrm.data(), n, off,
+          nullptr, &b);
+  EXPECT_GT(st.windingDeclined, 0u);
+  for (std::size_t p = 0; p < n; ++p) {
+    EXPECT_EQ(a[p], b[p]) << "pixel " << p;
+  }
+}
