@@ -53,6 +53,7 @@ void CellCounters::Add(const CellCounters& o)
   windingDeclined += o.windingDeclined;
   windingMembers += o.windingMembers;
   windingRest += o.windingRest;
+  filtered += o.filtered;
   windingContour += o.windingContour;
   msLists += o.msLists;
   msGroups += o.msGroups;

@@ -442,6 +442,7 @@ struct CellCounters
   // rest of the lists (summed over groups), contour edges stepped (summed
   // over pixels)
   std::size_t windingPixels = 0, windingDeclined = 0;
+  std::size_t filtered = 0; ///< pairs whose bits the filtered float test gave (ssGearsSmallKernels.h)
   double windingMembers = 0, windingRest = 0, windingContour = 0;
   // thread time (ms, summed over threads) of the parts of step 4: cell
   // lists with their kernel arrays (and the occluders' pre-pass), the
@@ -559,6 +560,7 @@ struct CellScratch
   std::vector<std::int32_t> keep;
   std::vector<float> box;
   std::vector<std::uint32_t> cand;
+  std::vector<std::uint32_t> smallBits; ///< the filtered float test's bits per candidate
   ExactBatch batch;
   CellCounters counters;
   HorizonPlanes horizons; ///< the cell's or the group's (horizon rule)

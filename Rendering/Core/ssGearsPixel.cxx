@@ -112,6 +112,7 @@ PixelParams MakePixelParams(const CellJob& job, const CellScratch& w, const Grou
   pp.m = static_cast<float>(job.ft->margin);
   pp.dir = job.dir ? 1 : 0;
   pp.project = project ? 1 : 0;
+  pp.nearEps = static_cast<float>(job.eps[w.pixel[sq]]);
   return pp;
 }
 
@@ -135,6 +136,9 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     return; // every light sample hidden already (horizon, occluders)
   }
   PixelParams pp = MakePixelParams(job, w, gv, sq);
+  // the filtered float test for small candidates (opaque casters, the exact
+  // raster, not when counting what is necessary: that needs every pair drawn)
+  const bool filtered = opt.filteredRaster && !necessaryMode && !D.translucent && !job.lut && project;
   ExactPixel ep;
   ep.Sx = S.x;
   ep.Sy = S.y;
@@ -298,6 +302,37 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       }
     }
     cc.total += counts * static_cast<double>(ncand);
+    // --- small candidates between S and the light: their bits from the
+    // filtered float test (ssGearsSmallKernels.h), the others go on
+    if (filtered && ncand > 0)
+    {
+      Grow(w.smallBits, ncand + kPad);
+      K.small(gv.ga, pp, cand, ncand, boxCols, w.smallBits.data());
+      std::size_t undecided = 0;
+      for (std::size_t q = 0; q < ncand; ++q)
+      {
+        const std::uint32_t bits = w.smallBits[q], gi = cand[q];
+        if (bits == kUndecided)
+        {
+          cand[undecided++] = gi;
+          continue;
+        }
+        const int i0 = static_cast<int>(boxCols[0][gi]), j0 = static_cast<int>(boxCols[2][gi]);
+        const int j1 = static_cast<int>(boxCols[3][gi]);
+        for (int r = 0; r <= j1 - j0; ++r)
+        {
+          rows[j0 + r] |= ((bits >> (kSmallSide * r)) & ((1u << kSmallSide) - 1u)) << i0;
+        }
+      }
+      cc.rasterised += counts * static_cast<double>(ncand - undecided);
+      cc.filtered += ncand - undecided;
+      ncand = undecided;
+      for (int j = 0; j < k; ++j)
+      {
+        fullRows |= rows[j] == job.fullRow ? 1u << j : 0u;
+      }
+      ps.full = fullRows == allRows;
+    }
     // --- the exact raster, K.lanes candidates at a time
     std::size_t next = 0;
     while (next < ncand && !(ps.full && !necessaryMode))
