@@ -561,6 +561,9 @@ struct CellScratch
   std::vector<float> box;
   std::vector<std::uint32_t> cand;
   std::vector<std::uint32_t> smallBits; ///< the filtered float test's bits per candidate
+  std::uint64_t groupSerial = 0;               ///< counts the thread's sample groups (GroupView::serial)
+  std::uint64_t filteredGroup = 0;             ///< the group whose last pixel tried the filtered test ...
+  bool filteredPaid = true;                    ///< ... and whether it decided enough candidates
   ExactBatch batch;
   CellCounters counters;
   HorizonPlanes horizons; ///< the cell's or the group's (horizon rule)
@@ -577,6 +580,7 @@ struct GroupView
   glm::dvec3 o;
   bool counting; ///< false for the inner occluders' faces (not the scene's triangles)
   bool countListed = true; ///< false: a winding count's rest (its group's list was counted)
+  std::uint64_t serial = 0; ///< the sample group (CellScratch::groupSerial; 0: none)
   /// per edge m a column (stride ng + kPad) of the entries' neighbours'
   /// indices in this list (kNbrIndex, kNbrSameDirection) or -1; null: no
   /// winding count for this list
