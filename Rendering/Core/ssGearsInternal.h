@@ -283,10 +283,11 @@ struct SolverData
   std::vector<double> occBox;          ///< per box: min xyz, max xyz (solver frame)
   bool translucent = false;
   std::uint64_t version = 0;
-  /// Per real triangle t and edge m (vertices m, m + 1 mod 3): the one other
-  /// triangle with an edge between the same two bit-identical vertices
-  /// (kSameDirection: running the same way), or kNoNeighbour (a boundary,
-  /// or three or more triangles at the edge). ssGearsWinding.cxx.
+  /// Per real triangle t and edge m (vertices m, m + 1 mod 3): the triangle
+  /// on the other side, with an edge between the same two bit-identical
+  /// vertices (kSameDirection: running the same way), as its index in t's
+  /// cluster (kSameCluster) or its id, or kNoNeighbour (a boundary; an edge
+  /// held by three triangles pairs two of them). ssGearsWinding.cxx.
   std::vector<std::uint32_t> nbr;
   std::vector<std::uint32_t> clusterOf; ///< per real triangle: its cluster
   std::size_t Triangles() const { return opacity.size(); }
@@ -298,7 +299,8 @@ struct SolverData
   }
 };
 
-constexpr std::uint32_t kNoNeighbour = 0xFFFFFFFFu, kSameDirection = 0x80000000u;
+constexpr std::uint32_t kNoNeighbour = 0xFFFFFFFFu, kSameDirection = 0x80000000u, kSameCluster = 0x40000000u,
+                        kNeighbourId = 0x3FFFFFFFu;
 /// SolverData::nbr and clusterOf for its real triangles (after they were
 /// arranged in clusters).
 void BuildNeighbours(SolverData& d);
