@@ -641,6 +641,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   st.windingDeclined = counters.windingDeclined;
   st.windingMembers = counters.windingMembers;
   st.windingRest = counters.windingRest;
+  st.filteredPairs = counters.filtered;
   st.windingContour = counters.windingContour;
   st.msTotal = Ms(tStart, Clock::now());
   if (statsOut)
@@ -674,7 +675,7 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"groups\": " << s.cpuGroups << ", \"pixels\": " << s.cpuPixels << "}, \"cells_in_umbra\": " << s.cellsInUmbra
     << ", \"winding\": {\"pixels\": " << s.windingPixels << ", \"declined\": " << s.windingDeclined
     << ", \"members\": " << s.windingMembers << ", \"rest\": " << s.windingRest
-    << ", \"contour_edges\": " << s.windingContour << "}}";
+    << ", \"contour_edges\": " << s.windingContour << "}, \"filtered_pairs\": " << s.filteredPairs << "}";
   return o.str();
 }
 }

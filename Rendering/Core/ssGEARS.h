@@ -57,6 +57,11 @@ struct GearsOptions
   /// triangles; opaque casters, a rect or directional light, k > 1.
   bool windingCount = true;
   int windingMinList = 32;
+  /// Small candidates wholly between S and the light get their bits from
+  /// their projection in float where every sample is decided beyond the
+  /// rounding bound (same bits; gears.md "Small triangles in float"), the
+  /// others from the exact raster.
+  bool filteredRaster = true;
   GearsSimd simd = GearsSimd::Auto;
   SolveProgress progress;        ///< optional: called between chunks of step 4's cells; false stops
 };
@@ -114,6 +119,7 @@ struct GearsStats
   // rasterised (summed over sample groups), contour edges stepped exactly
   // (summed over pixels)
   std::size_t windingPixels = 0, windingDeclined = 0;
+  std::size_t filteredPairs = 0; ///< pairs whose bits the filtered float test gave (filteredRaster)
   double windingMembers = 0, windingRest = 0, windingContour = 0;
 };
 

@@ -53,6 +53,7 @@ void CellCounters::Add(const CellCounters& o)
   windingDeclined += o.windingDeclined;
   windingMembers += o.windingMembers;
   windingRest += o.windingRest;
+  filtered += o.filtered;
   windingContour += o.windingContour;
   msLists += o.msLists;
   msGroups += o.msGroups;
@@ -409,6 +410,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       {
         // the group's list: the cell's, culled against the group's shaft
         GroupView gv;
+        gv.serial = ++w.groupSerial;
         gv.o = o;
         gv.ng = nl;
         gv.tri = w.list.data();

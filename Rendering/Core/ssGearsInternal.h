@@ -283,10 +283,11 @@ struct SolverData
   std::vector<double> occBox;          ///< per box: min xyz, max xyz (solver frame)
   bool translucent = false;
   std::uint64_t version = 0;
-  /// Per real triangle t and edge m (vertices m, m + 1 mod 3): the one other
-  /// triangle with an edge between the same two bit-identical vertices
-  /// (kSameDirection: running the same way), or kNoNeighbour (a boundary,
-  /// or three or more triangles at the edge). ssGearsWinding.cxx.
+  /// Per real triangle t and edge m (vertices m, m + 1 mod 3): the triangle
+  /// on the other side, with an edge between the same two bit-identical
+  /// vertices (kSameDirection: running the same way), as its index in t's
+  /// cluster (kSameCluster) or its id, or kNoNeighbour (a boundary; an edge
+  /// held by three triangles pairs two of them). ssGearsWinding.cxx.
   std::vector<std::uint32_t> nbr;
   std::vector<std::uint32_t> clusterOf; ///< per real triangle: its cluster
   std::size_t Triangles() const { return opacity.size(); }
@@ -298,7 +299,8 @@ struct SolverData
   }
 };
 
-constexpr std::uint32_t kNoNeighbour = 0xFFFFFFFFu, kSameDirection = 0x80000000u;
+constexpr std::uint32_t kNoNeighbour = 0xFFFFFFFFu, kSameDirection = 0x80000000u, kSameCluster = 0x40000000u,
+                        kNeighbourId = 0x3FFFFFFFu;
 /// SolverData::nbr and clusterOf for its real triangles (after they were
 /// arranged in clusters).
 void BuildNeighbours(SolverData& d);
@@ -442,6 +444,7 @@ struct CellCounters
   // rest of the lists (summed over groups), contour edges stepped (summed
   // over pixels)
   std::size_t windingPixels = 0, windingDeclined = 0;
+  std::size_t filtered = 0; ///< pairs whose bits the filtered float test gave (ssGearsSmallKernels.h)
   double windingMembers = 0, windingRest = 0, windingContour = 0;
   // thread time (ms, summed over threads) of the parts of step 4: cell
   // lists with their kernel arrays (and the occluders' pre-pass), the
@@ -559,6 +562,10 @@ struct CellScratch
   std::vector<std::int32_t> keep;
   std::vector<float> box;
   std::vector<std::uint32_t> cand;
+  std::vector<std::uint32_t> smallBits; ///< the filtered float test's bits per candidate
+  std::uint64_t groupSerial = 0;               ///< counts the thread's sample groups (GroupView::serial)
+  std::uint64_t filteredGroup = 0;             ///< the group whose last pixel tried the filtered test ...
+  bool filteredPaid = true;                    ///< ... and whether it decided enough candidates
   ExactBatch batch;
   CellCounters counters;
   HorizonPlanes horizons; ///< the cell's or the group's (horizon rule)
@@ -575,6 +582,7 @@ struct GroupView
   glm::dvec3 o;
   bool counting; ///< false for the inner occluders' faces (not the scene's triangles)
   bool countListed = true; ///< false: a winding count's rest (its group's list was counted)
+  std::uint64_t serial = 0; ///< the sample group (CellScratch::groupSerial; 0: none)
   /// per edge m a column (stride ng + kPad) of the entries' neighbours'
   /// indices in this list (kNbrIndex, kNbrSameDirection) or -1; null: no
   /// winding count for this list

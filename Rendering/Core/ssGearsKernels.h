@@ -53,6 +53,12 @@ struct GroupArrays
 /// the list index, kNbrSameDirection when the edge runs the same way; -1: none.
 constexpr std::int32_t kNbrIndex = 0x3FFFFFFF, kNbrSameDirection = 0x40000000;
 
+/// The exact raster's filtered fast path (ssGearsSmallKernels.h): candidates
+/// whose sample box is at most kSmallSide a side; their bits (bit
+/// kSmallSide r + c: row j0 + r, column i0 + c) or kUndecided.
+constexpr int kSmallSide = 5;
+constexpr std::uint32_t kUndecided = 0xFFFFFFFFu;
+
 /// Candidates whose sample box is at most kPointRows x kPointCols get their
 /// bits by evaluating the constraints at each sample (SetupBatch).
 constexpr int kPointRows = 6, kPointCols = 6;
@@ -122,6 +128,7 @@ struct PixelParams
   int dir;             ///< directional light (samples are directions)
   int project;         ///< the projection test applies (k > 1, W > 0, H > 0)
   std::uint32_t fullRows = 0; ///< bit j: mask row j is full (0: no covered test)
+  float nearEps = 0.0f;       ///< the pixel's start offset (the start rule's reach)
 };
 /// A sample group's start points for the winding count's members (in float,
 /// relative to the cell's centre): their box, the largest start offset, the
@@ -163,6 +170,10 @@ struct KernelTable
   int (*steps)(const ExactSource& src, const std::int32_t* ia, const std::int32_t* ib, const double* sg, std::size_t n,
     const ExactPixel& p, std::int16_t* delta);
   bool (*count)(const std::int16_t* delta, int k, std::uint32_t* rows);
+  /// The exact raster's bits of small candidates (cand: group indices, box:
+  /// the 4 box columns) or kUndecided, per candidate into bits.
+  void (*small)(const GroupArrays&, const PixelParams&, const std::uint32_t* cand, std::size_t n, const float* const* box,
+    std::uint32_t* bits);
   /// Group lists: the entries that may reach the shaft (null: all) and lie
   /// above one of the np horizon planes (4 floats each; 0 planes: all):
   /// their ids to out, their 15 columns to dst; below += those in the
@@ -821,12 +832,13 @@ static inline void SetupBatch(ExactBatch& b, const ExactSource& src, const std::
   }
 }
 
+#include "ssGearsSmallKernels.h"
 #include "ssGearsWindingKernels.h"
 
 static inline const KernelTable& Table(const char* name)
 {
   static const KernelTable t = { name, kRowLanes, RejectPairs, WindingMembers, ContourEdges, ContourPixel, ContourSteps,
-    CountRows, GroupFilter, ClusterFilter, SetupBatch, RowsSpan };
+    CountRows, SmallBits, GroupFilter, ClusterFilter, SetupBatch, RowsSpan };
   return t;
 }
 }

@@ -15,6 +15,9 @@ namespace
 {
 constexpr std::size_t kChunk = 512; // list entries per rejection call: a full mask stops early
 constexpr std::size_t kPrefetch = 12; // candidates ahead whose vertices are prefetched
+// the filtered float test on at least this many candidates (below, its set-up
+// costs more than it saves: the 5M assembly's few large candidates)
+constexpr std::size_t kFilteredMin = 16, kFilteredBatch = 64;
 }
 
 void PixelStart(const CellJob& job, CellScratch& w, std::uint32_t sq)
@@ -112,6 +115,7 @@ PixelParams MakePixelParams(const CellJob& job, const CellScratch& w, const Grou
   pp.m = static_cast<float>(job.ft->margin);
   pp.dir = job.dir ? 1 : 0;
   pp.project = project ? 1 : 0;
+  pp.nearEps = static_cast<float>(job.eps[w.pixel[sq]]);
   return pp;
 }
 
@@ -135,6 +139,12 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     return; // every light sample hidden already (horizon, occluders)
   }
   PixelParams pp = MakePixelParams(job, w, gv, sq);
+  // the filtered float test for small candidates (opaque casters, the exact
+  // raster, not when counting what is necessary: that needs every pair drawn)
+  const bool filtered = opt.filteredRaster && !necessaryMode && !D.translucent && !job.lut && project;
+  // (a group whose last pixel's candidates were mostly left undecided is not
+  // tried again)
+  bool tryFiltered = !(w.filteredGroup == gv.serial && !w.filteredPaid);
   ExactPixel ep;
   ep.Sx = S.x;
   ep.Sy = S.y;
@@ -298,6 +308,56 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       }
     }
     cc.total += counts * static_cast<double>(ncand);
+    // --- small candidates between S and the light: their bits from the
+    // filtered float test (ssGearsSmallKernels.h), the others go on
+    if (filtered && tryFiltered && ncand >= kFilteredMin)
+    {
+      // in batches, so that a mask that fills stops it as it stops the raster
+      Grow(w.smallBits, kFilteredBatch + kPad);
+      std::size_t undecided = 0, decided = 0;
+      for (std::size_t b0 = 0; b0 < ncand; b0 += kFilteredBatch)
+      {
+        const std::size_t bn = std::min(kFilteredBatch, ncand - b0);
+        if (ps.full || !tryFiltered)
+        {
+          for (std::size_t q = b0; q < b0 + bn; ++q)
+          {
+            cand[undecided++] = cand[q]; // (the raster skips them: full)
+          }
+          continue;
+        }
+        K.small(gv.ga, pp, cand + b0, bn, boxCols, w.smallBits.data());
+        for (std::size_t q = 0; q < bn; ++q)
+        {
+          const std::uint32_t bits = w.smallBits[q], gi = cand[b0 + q];
+          if (bits == kUndecided)
+          {
+            cand[undecided++] = gi;
+            continue;
+          }
+          ++decided;
+          const int i0 = static_cast<int>(boxCols[0][gi]), j0 = static_cast<int>(boxCols[2][gi]);
+          const int j1 = static_cast<int>(boxCols[3][gi]);
+          for (int r = 0; r <= j1 - j0; ++r)
+          {
+            rows[j0 + r] |= ((bits >> (kSmallSide * r)) & ((1u << kSmallSide) - 1u)) << i0;
+          }
+        }
+        for (int j = 0; j < k; ++j)
+        {
+          fullRows |= rows[j] == job.fullRow ? 1u << j : 0u;
+        }
+        ps.full = fullRows == allRows;
+        // a pixel whose candidates are mostly large or undecided leaves the
+        // rest of its list to the raster (the test costs without paying)
+        tryFiltered = 4 * decided >= b0 + bn;
+      }
+      cc.rasterised += counts * static_cast<double>(decided);
+      cc.filtered += decided;
+      w.filteredGroup = gv.serial;
+      w.filteredPaid = tryFiltered;
+      ncand = undecided;
+    }
     // --- the exact raster, K.lanes candidates at a time
     std::size_t next = 0;
     while (next < ncand && !(ps.full && !necessaryMode))

@@ -90,6 +90,30 @@ inline bool Equal(const std::uint32_t* x, const std::uint32_t* y)
 }
 }
 
+namespace
+{
+// Neighbours in the same cluster as their local index (kSameCluster): a cell's
+// list finds them in the run it is reading, without the cluster lookup.
+void LocalNeighbours(SolverData& d)
+{
+  std::uint32_t* nbr = d.nbr.data();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, d.real, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t t = r.begin(); t != r.end(); ++t)
+    {
+      const std::uint32_t c = d.clusterOf[t];
+      for (int m = 0; m < 3; ++m)
+      {
+        const std::uint32_t v = nbr[3 * t + m];
+        if (v != kNoNeighbour && d.clusterOf[v & kNeighbourId] == c)
+        {
+          nbr[3 * t + m] = (v & kSameDirection) | kSameCluster | ((v & kNeighbourId) - d.clusterFirst[c]);
+        }
+      }
+    }
+  });
+}
+}
+
 void BuildNeighbours(SolverData& d)
 {
   // Any symmetric pairing of half-edges between the same two bit-identical
@@ -182,6 +206,7 @@ void BuildNeighbours(SolverData& d)
   const std::size_t nr = rest.size();
   if (nr < 2)
   {
+    LocalNeighbours(d);
     return;
   }
   int bits = 1;
@@ -226,6 +251,7 @@ void BuildNeighbours(SolverData& d)
       }
     }
   });
+  LocalNeighbours(d);
 }
 
 void CellNeighbours(const SolverData& D, CellScratch& w, std::size_t nl)
@@ -261,25 +287,41 @@ void CellNeighbours(const SolverData& D, CellScratch& w, std::size_t nl)
   const std::size_t stride = nl + kPad;
   Grow(w.cellNbr, 3 * stride);
   const std::uint32_t* nbrs = D.nbr.data();
-  for (std::size_t i = 0; i < nl; ++i)
+  std::int32_t* out = w.cellNbr.data();
+  for (std::size_t r = 0; r < nr; ++r)
   {
-    const std::uint32_t t = list[i];
-    for (int m = 0; m < 3; ++m)
+    const CellRun& run = w.runs[r];
+    const std::int32_t* own = w.slot.data() + w.runBase[r];
+    if (r + 1 < nr)
     {
-      const std::uint32_t v = t < D.real ? nbrs[3 * static_cast<std::size_t>(t) + m] : kNoNeighbour;
-      std::int32_t found = -1;
-      if (v != kNoNeighbour)
+      __builtin_prefetch(&nbrs[3 * static_cast<std::size_t>(list[w.runs[r + 1].start])]);
+    }
+    for (std::uint32_t i = run.start; i < run.start + run.count; ++i)
+    {
+      const std::uint32_t t = list[i];
+      for (int m = 0; m < 3; ++m)
       {
-        const std::uint32_t n = v & ~kSameDirection;
-        const std::uint32_t c = D.clusterOf[n];
-        const std::uint32_t r = w.runOf[c];
-        if (r < nr && w.runs[r].cluster == c)
+        const std::uint32_t v = t < D.real ? nbrs[3 * static_cast<std::size_t>(t) + m] : kNoNeighbour;
+        std::int32_t at = -1;
+        if (v != kNoNeighbour)
         {
-          const std::int32_t at = w.slot[w.runBase[r] + (n - D.clusterFirst[c])];
-          found = at < 0 ? -1 : (at | ((v & kSameDirection) ? kNbrSameDirection : 0));
+          if (v & kSameCluster)
+          {
+            at = own[v & kNeighbourId];
+          }
+          else
+          {
+            const std::uint32_t n = v & kNeighbourId;
+            const std::uint32_t c = D.clusterOf[n];
+            const std::uint32_t rn = w.runOf[c];
+            if (rn < nr && w.runs[rn].cluster == c)
+            {
+              at = w.slot[w.runBase[rn] + (n - D.clusterFirst[c])];
+            }
+          }
         }
+        out[m * stride + i] = at < 0 ? -1 : (at | ((v & kSameDirection) ? kNbrSameDirection : 0));
       }
-      w.cellNbr[m * stride + i] = found;
     }
   }
 }

@@ -14,6 +14,7 @@ add_executable(TestSoftShadowsCore
   TestSSGEARSISA.cxx
   TestSSGEARSSilhouette.cxx
   TestSSGEARSWinding.cxx
+  TestSSGEARSFiltered.cxx
   TestSSGearsPieces.cxx
   TestSSPVSM.cxx
   TestSSMetrics.cxx

@@ -1,0 +1,177 @@
+// The exact raster's filtered fast path for small triangles (ssGearsPixel.cxx),
+// included by ssGearsKernels.h inside each instruction set's namespace: no
+// include guard.
+//
+// SmallBits: for candidates whose box of samples is at most kSmallSide a side
+// and that lie strictly between S and the light, not near S (the start rule),
+// the bits the exact raster would set, from the triangle's projection onto
+// the light plane in float: a sample is inside when every edge function of
+// the projected triangle is positive beyond a bound on the float rounding,
+// outside when one is negative beyond it. For a triangle between S and the
+// light the projection holds exactly the samples whose segment from S crosses
+// it, so a decided sample gets the raster's bit (whose own rounding is far
+// below the bound); a candidate with any sample within the bound of an edge
+// (ties included), or whose projection is too thin to orient, gets
+// kUndecided and goes through the exact raster.
+//
+// The bound: the float vertices relative to the cell's centre err by a few
+// float ulps of the light-frame coordinates (at most 1e-6 of the extent R =
+// 1e5 m and the light's distance), S by a few ulps of its own; through the
+// projection that is 0.1 m q k / W plus 1e-6 of the coordinates in sample
+// units (mu, mv below, per vertex at most), and an edge function
+// E = du (sv - va) - dv (su - ua) over spans Wu, Wv errs by less than
+// 3 (Wu mv + Wv mu) + 4 mu mv + 4e-7 Wu Wv.
+
+static inline VI GatherF32(const float* base, VI idx)
+{
+  // (masked forms: GCC 12's plain ones warn of an uninitialised operand)
+#if SS_GEARS_LANES == 16
+  const __m512 r = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xFFFF, reinterpret_cast<const __m512i&>(idx), base, 4);
+  VI v;
+  __builtin_memcpy(&v, &r, sizeof(v));
+  return v;
+#elif SS_GEARS_LANES == 8
+  const __m256 r = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, reinterpret_cast<const __m256i&>(idx),
+    _mm256_castsi256_ps(_mm256_set1_epi32(-1)), 4);
+  VI v;
+  __builtin_memcpy(&v, &r, sizeof(v));
+  return v;
+#else
+  VI v;
+  for (int q = 0; q < SS_GEARS_LANES; ++q)
+  {
+    float f = base[idx[q]];
+    __builtin_memcpy(&v[q], &f, 4);
+  }
+  return v;
+#endif
+}
+static inline VF GatherVF(const float* base, VI idx)
+{
+  const VI v = GatherF32(base, idx);
+  VF f;
+  __builtin_memcpy(&f, &v, sizeof(f));
+  return f;
+}
+
+static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const std::uint32_t* cand, std::size_t n,
+  const float* const* box, std::uint32_t* bits)
+{
+  VI lane;
+  for (int q = 0; q < SS_GEARS_LANES; ++q)
+  {
+    lane[q] = q;
+  }
+  const VF zero = VF{} + 0.0f, one = zero + 1.0f;
+  const float m = p.m;
+  const float gnum = p.dir ? 1.0f : p.Sz;
+  const float Sxo = p.dir ? 0.0f : p.Sx, Syo = p.dir ? 0.0f : p.Sy;
+  const float bx = Sxo * p.kx + p.off, by = Syo * p.ky + p.off;
+  const float ax = std::abs(Sxo * p.kx) + p.off, ay = std::abs(Syo * p.ky) + p.off;
+  const float* const P[9] = { g.x0, g.y0, g.z0, g.x1, g.y1, g.z1, g.x2, g.y2, g.z2 };
+  for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
+  {
+    const VI inRange = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
+    VI idx;
+    for (int q = 0; q < SS_GEARS_LANES; ++q)
+    {
+      idx[q] = static_cast<int>(cand[i + q < n ? i + q : i]);
+    }
+    const VF i0 = GatherVF(box[0], idx), i1 = GatherVF(box[1], idx), j0 = GatherVF(box[2], idx),
+             j1 = GatherVF(box[3], idx);
+    VI ok = inRange & (i1 - i0 < float(kSmallSide)) & (j1 - j0 < float(kSmallSide)) & (VI{} + (p.project ? -1 : 0));
+    VUI out = VUI{} + kUndecided;
+    if (LaneMask(ok))
+    {
+      VF X[3], Y[3], Z[3];
+      for (int v = 0; v < 3; ++v)
+      {
+        X[v] = GatherVF(P[3 * v], idx);
+        Y[v] = GatherVF(P[3 * v + 1], idx);
+        Z[v] = GatherVF(P[3 * v + 2], idx);
+      }
+      // strictly between S and the light, S off the plane beyond the start rule's reach
+      VF d[3];
+      for (int v = 0; v < 3; ++v)
+      {
+        d[v] = p.sz - Z[v];
+        ok &= d[v] > m;
+        if (!p.dir)
+        {
+          ok &= p.cz + Z[v] > m;
+        }
+      }
+      const VF sigma = GatherVF(g.nx, idx) * p.sx + GatherVF(g.ny, idx) * p.sy + GatherVF(g.nz, idx) * p.sz -
+        GatherVF(g.nd, idx);
+      ok &= Abs(sigma) > p.nearEps + m;
+      // projections in sample units and their rounding bounds
+      VF u[3], w[3], mu = zero, mv = zero, qm = zero;
+      for (int v = 0; v < 3; ++v)
+      {
+        const VF q = gnum / (ok ? d[v] : one);
+        const VF du = (X[v] - p.sx) * q * p.kx, dv = (Y[v] - p.sy) * q * p.ky;
+        u[v] = du + bx;
+        w[v] = dv + by;
+        mu = Max(mu, Abs(du));
+        mv = Max(mv, Abs(dv));
+        qm = Max(qm, q);
+      }
+      mu = 0.1f * m * qm * p.kx + 1e-6f * (mu + ax + 1.0f);
+      mv = 0.1f * m * qm * p.ky + 1e-6f * (mv + ay + 1.0f);
+      const VF Wu = Max(Max(u[0], u[1]), u[2]) - Min(Min(u[0], u[1]), u[2]) + (i1 - i0) + 2.0f;
+      const VF Wv = Max(Max(w[0], w[1]), w[2]) - Min(Min(w[0], w[1]), w[2]) + (j1 - j0) + 2.0f;
+      const VF tol = 3.0f * (Wu * mv + Wv * mu) + 4.0f * mu * mv + 4e-7f * Wu * Wv;
+      // orientation of the projected triangle
+      const VF area = (u[1] - u[0]) * (w[2] - w[0]) - (w[1] - w[0]) * (u[2] - u[0]);
+      ok &= Abs(area) > tol;
+      if (LaneMask(ok))
+      {
+        const VF sgn = area > 0.0f ? one : zero - 1.0f;
+        VF eu[3], ev[3];
+        for (int e = 0; e < 3; ++e)
+        {
+          const int b = (e + 1) % 3;
+          eu[e] = (u[b] - u[e]) * sgn;
+          ev[e] = (w[b] - w[e]) * sgn;
+        }
+        int rows = 0, cols = 0;
+        for (int q = 0; q < SS_GEARS_LANES; ++q)
+        {
+          if (ok[q])
+          {
+            rows = std::max(rows, static_cast<int>(j1[q] - j0[q]) + 1);
+            cols = std::max(cols, static_cast<int>(i1[q] - i0[q]) + 1);
+          }
+        }
+        VUI b = VUI{} + 0u;
+        VI undecided = VI{};
+        for (int r = 0; r < rows; ++r)
+        {
+          const VF sv = j0 + float(r);
+          const VI rowIn = sv <= j1;
+          for (int c = 0; c < cols; ++c)
+          {
+            const VF su = i0 + float(c);
+            const VI at = rowIn & (su <= i1);
+            VI in = at, outside = VI{};
+            for (int e = 0; e < 3; ++e)
+            {
+              const VF E = eu[e] * (sv - w[e]) - ev[e] * (su - u[e]);
+              in &= E > tol;
+              outside |= E < -tol;
+            }
+            undecided |= at & ~in & ~outside;
+            b |= (VUI)in & ((VUI{} + 1u) << static_cast<unsigned>(kSmallSide * r + c));
+          }
+        }
+        ok &= ~undecided;
+        out = ok != 0 ? b : VUI{} + kUndecided;
+      }
+    }
+    const int count = static_cast<int>(std::min<std::size_t>(SS_GEARS_LANES, n - i));
+    for (int q = 0; q < count; ++q)
+    {
+      bits[i + q] = out[q];
+    }
+  }
+}
