@@ -17,31 +17,6 @@
 //   margins, the edge spans a sample row and does not lie right of every
 //   sample.
 
-// Lane q of the result is base[idx[q]] where mask is set, else 0.
-static inline VI GatherI(const std::int32_t* base, VI idx, VI mask)
-{
-#if SS_GEARS_LANES == 16
-  const __m512i r = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(),
-    _mm512_movepi32_mask(reinterpret_cast<const __m512i&>(mask)), reinterpret_cast<const __m512i&>(idx), base, 4);
-  VI v;
-  __builtin_memcpy(&v, &r, sizeof(v));
-  return v;
-#elif SS_GEARS_LANES == 8
-  const __m256i r = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), base, reinterpret_cast<const __m256i&>(idx),
-    reinterpret_cast<const __m256i&>(mask), 4);
-  VI v;
-  __builtin_memcpy(&v, &r, sizeof(v));
-  return v;
-#else
-  VI v;
-  for (int q = 0; q < SS_GEARS_LANES; ++q)
-  {
-    v[q] = mask[q] ? base[idx[q]] : 0;
-  }
-  return v;
-#endif
-}
-
 static inline std::size_t WindingMembers(const GroupArrays& g, const WindingBox& b, const std::int32_t* const* nbr,
   std::int32_t* status, const std::uint32_t* ids, float* const* rest, std::uint32_t* restIds)
 {
