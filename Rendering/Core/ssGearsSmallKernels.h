@@ -22,17 +22,20 @@
 // E = du (sv - va) - dv (su - ua) over spans Wu, Wv errs by less than
 // 3 (Wu mv + Wv mu) + 4 mu mv + 4e-7 Wu Wv.
 
-static inline VI GatherF32(const float* base, VI idx)
+// Lane q of the result is base[idx[q]] where mask is set, else 0 (32-bit
+// lanes; the winding count's kernels use it too).
+static inline VI GatherI(const std::int32_t* base, VI idx, VI mask)
 {
   // (masked forms: GCC 12's plain ones warn of an uninitialised operand)
 #if SS_GEARS_LANES == 16
-  const __m512 r = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xFFFF, reinterpret_cast<const __m512i&>(idx), base, 4);
+  const __m512i r = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(),
+    _mm512_movepi32_mask(reinterpret_cast<const __m512i&>(mask)), reinterpret_cast<const __m512i&>(idx), base, 4);
   VI v;
   __builtin_memcpy(&v, &r, sizeof(v));
   return v;
 #elif SS_GEARS_LANES == 8
-  const __m256 r = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, reinterpret_cast<const __m256i&>(idx),
-    _mm256_castsi256_ps(_mm256_set1_epi32(-1)), 4);
+  const __m256i r = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), base, reinterpret_cast<const __m256i&>(idx),
+    reinterpret_cast<const __m256i&>(mask), 4);
   VI v;
   __builtin_memcpy(&v, &r, sizeof(v));
   return v;
@@ -40,15 +43,20 @@ static inline VI GatherF32(const float* base, VI idx)
   VI v;
   for (int q = 0; q < SS_GEARS_LANES; ++q)
   {
-    float f = base[idx[q]];
-    __builtin_memcpy(&v[q], &f, 4);
+    std::int32_t x = 0;
+    if (mask[q])
+    {
+      __builtin_memcpy(&x, base + idx[q], 4); // (bytes: base may hold floats)
+    }
+    v[q] = x;
   }
   return v;
 #endif
 }
+// Lane q of the result is base[idx[q]].
 static inline VF GatherVF(const float* base, VI idx)
 {
-  const VI v = GatherF32(base, idx);
+  const VI v = GatherI(reinterpret_cast<const std::int32_t*>(base), idx, VI{} - 1);
   VF f;
   __builtin_memcpy(&f, &v, sizeof(f));
   return f;

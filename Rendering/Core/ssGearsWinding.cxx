@@ -375,9 +375,17 @@ bool WindingMask(const CellJob& job, const KernelTable& K, CellScratch& w, const
     const std::uint32_t q = id & 0x3FFFFFFFu;
     const int m = static_cast<int>(id >> 30);
     const std::int32_t base = static_cast<std::int32_t>(9 * gv.tri[q]);
+    __builtin_prefetch(gv.exact->V + base); // (the kernel gathers them at random)
     w.stepA[e] = base + 3 * m;
     w.stepB[e] = base + 3 * ((m + 1) % 3);
     w.stepSg[e] = status[q] == 1 ? -1.0 : 1.0;
+  }
+  for (std::size_t e = nk; e < nk + kPad && nk > 0; ++e)
+  {
+    // (the kernel reads whole vectors: valid vertices past the end)
+    w.stepA[e] = w.stepA[0];
+    w.stepB[e] = w.stepB[0];
+    w.stepSg[e] = 1.0;
   }
   // delta[j * (k + 1) + i]: the count's step at sample i of row j
   std::int16_t* delta = w.delta;

@@ -17,31 +17,6 @@
 //   margins, the edge spans a sample row and does not lie right of every
 //   sample.
 
-// Lane q of the result is base[idx[q]] where mask is set, else 0.
-static inline VI GatherI(const std::int32_t* base, VI idx, VI mask)
-{
-#if SS_GEARS_LANES == 16
-  const __m512i r = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(),
-    _mm512_movepi32_mask(reinterpret_cast<const __m512i&>(mask)), reinterpret_cast<const __m512i&>(idx), base, 4);
-  VI v;
-  __builtin_memcpy(&v, &r, sizeof(v));
-  return v;
-#elif SS_GEARS_LANES == 8
-  const __m256i r = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), base, reinterpret_cast<const __m256i&>(idx),
-    reinterpret_cast<const __m256i&>(mask), 4);
-  VI v;
-  __builtin_memcpy(&v, &r, sizeof(v));
-  return v;
-#else
-  VI v;
-  for (int q = 0; q < SS_GEARS_LANES; ++q)
-  {
-    v[q] = mask[q] ? base[idx[q]] : 0;
-  }
-  return v;
-#endif
-}
-
 static inline std::size_t WindingMembers(const GroupArrays& g, const WindingBox& b, const std::int32_t* const* nbr,
   std::int32_t* status, const std::uint32_t* ids, float* const* rest, std::uint32_t* restIds)
 {
@@ -204,6 +179,34 @@ static inline std::size_t ContourPixel(const ContourEdgeList& e, const PixelPara
 // Returns the number of edges that stepped a row, or -1 when the pixel is
 // declined (a vertex within rounding of a row near the samples, an edge
 // along the rows).
+// Lanes q of the result are base[idx[q]] widened to double (idx holds
+// kRowLanes readable entries).
+static inline VD GatherAt(const float* base, const std::int32_t* idx)
+{
+#if SS_GEARS_LANES == 16
+  const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(idx));
+  const __m512d g = _mm512_maskz_cvtps_pd(
+    0xFF, _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, v, _mm256_castsi256_ps(_mm256_set1_epi32(-1)), 4));
+  VD r;
+  __builtin_memcpy(&r, &g, sizeof(r));
+  return r;
+#elif SS_GEARS_LANES == 8
+  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(idx));
+  const __m256d g =
+    _mm256_cvtps_pd(_mm_mask_i32gather_ps(_mm_setzero_ps(), base, v, _mm_castsi128_ps(_mm_set1_epi32(-1)), 4));
+  VD r;
+  __builtin_memcpy(&r, &g, sizeof(r));
+  return r;
+#else
+  VD r;
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    r[q] = base[idx[q]];
+  }
+  return r;
+#endif
+}
+
 static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, const std::int32_t* ib,
   const double* sgs, std::size_t n, const ExactPixel& p, std::int16_t* delta)
 {
@@ -219,17 +222,9 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
     VD B[2][3];
     for (int v = 0; v < 2; ++v)
     {
-      const std::int32_t* idx = v == 0 ? ia : ib;
-      double x[3][8];
-      VD X[3];
-      for (int a = 0; a < 3; ++a)
-      {
-        for (int q = 0; q < kRowLanes; ++q)
-        {
-          x[a][q] = double(src.V[idx[e0 + (q < count ? q : 0)] + a]);
-        }
-        __builtin_memcpy(&X[a], x[a], sizeof(VD));
-      }
+      // (the arrays hold kRowLanes valid entries past n: the caller repeats one)
+      const std::int32_t* idx = (v == 0 ? ia : ib) + e0;
+      const VD X[3] = { GatherAt(src.V, idx), GatherAt(src.V + 1, idx), GatherAt(src.V + 2, idx) };
       const VD rx = X[0] - src.Lc[0], ry = X[1] - src.Lc[1], rz = X[2] - src.Lc[2];
       B[v][0] = (rx * src.u[0] + ry * src.u[1]) + rz * src.u[2];
       B[v][1] = (rx * src.v[0] + ry * src.v[1]) + rz * src.v[2];
@@ -251,12 +246,14 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
       const VD ad = py[v] - yr;
       const VL near = (yr >= 0.0) & (yr <= k - 1.0) & ((ad < 0.0 ? -ad : ad) <= 1e-7 * (1.0 + (py[v] < 0.0 ? -py[v] : py[v]))) &
         (px[v] >= -1.0) & (px[v] <= double(k));
+      long long bad = 0;
       for (int q = 0; q < count; ++q)
       {
-        if (near[q])
-        {
-          return -1;
-        }
+        bad |= near[q];
+      }
+      if (bad)
+      {
+        return -1;
       }
     }
     const VD y0 = py[0] < py[1] ? py[0] : py[1], y1 = py[0] < py[1] ? py[1] : py[0];
