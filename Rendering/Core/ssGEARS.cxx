@@ -82,6 +82,7 @@ struct GearsSolver::Impl
     }
     PairScratch pairs;
     FacePairs facePairs;
+    GearsNeighbours neighbours; ///< the winding count's, built by the first solve that uses it
   };
   mutable std::mutex SolveMutex;
   mutable Scratch Work;
@@ -145,7 +146,8 @@ struct GearsSolver::Impl
     }
     d.real = d.input.size();
     d.realClusters = d.clusterFirst.size() - 1;
-    BuildNeighbours(d);
+    static std::atomic<std::uint64_t> arrangements{ 0 };
+    d.arrangement = ++arrangements;
     d.orient.clear();
     d.piece.clear();
     d.pieceBox.clear();
@@ -414,17 +416,27 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   GearsStats st;
   const Impl& I = *P;
   const SolverData& D = I.D;
-  // automatic grid and group sizes: coarser where the winding count runs
-  // (its cost per pixel does not grow with the lists; gears.md, measured)
-  GearsOptions opt = options;
-  const bool winding = opt.windingCount && !D.translucent && opt.raster == GearsRaster::EdgePlane &&
-    light.type != LightType::Point && opt.k > 1 && !opt.countNecessary && !D.nbr.empty();
-  opt.grid = opt.grid > 0 ? opt.grid : (winding ? 64 : 128);
-  opt.groupSize = opt.groupSize > 0 ? opt.groupSize : (winding ? 16 : 8);
   // Buffers are kept between solves: re-mapping fresh pages every frame
   // cost more than some stages themselves. One solve at a time per solver.
   std::lock_guard<std::mutex> solveLock(I.SolveMutex);
   Impl::Scratch& WS = I.Work;
+  // the winding count's neighbours, once per arrangement of the triangles
+  // and only where it runs (not for the GL backend, translucent casters, ...)
+  GearsOptions opt = options;
+  bool winding = opt.windingCount && !D.translucent && opt.raster == GearsRaster::EdgePlane &&
+    light.type != LightType::Point && opt.k > 1 && !opt.countNecessary;
+  if (winding && WS.neighbours.arrangement != D.arrangement)
+  {
+    const auto tn = Clock::now();
+    BuildNeighbours(D, WS.neighbours);
+    WS.neighbours.arrangement = D.arrangement;
+    st.msPrepare += Ms(tn, Clock::now());
+  }
+  winding = winding && !WS.neighbours.nbr.empty();
+  // automatic grid and group sizes: coarser where the winding count runs
+  // (its cost per pixel does not grow with the lists; gears.md, measured)
+  opt.grid = opt.grid > 0 ? opt.grid : (winding ? 64 : 128);
+  opt.groupSize = opt.groupSize > 0 ? opt.groupSize : (winding ? 16 : 8);
   const int k = (light.type == LightType::Point) ? 1 : std::clamp(opt.k, 1, 32);
   const std::uint32_t fullRow = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
   const Isa isa = ResolveIsa(opt.simd);
@@ -593,6 +605,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     job.isa = isa;
     job.V = V.data();
     job.masks = masksOut ? masksOut->data() : nullptr;
+    job.neighbours = winding ? &WS.neighbours : nullptr;
     job.face = f;
     job.numFaces = numFaces;
     CellCounters cc;

@@ -178,8 +178,8 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
   }
   // the winding count (ssGearsWinding.cxx) where a group's list is long: for
   // opaque casters, a finite light's k x k samples, the exact raster
-  const bool winding = opt.windingCount && !D.translucent && !job.lut && job.k > 1 && W > 0.0 && H > 0.0 &&
-    !opt.countNecessary && !D.nbr.empty();
+  const bool winding = job.neighbours && !D.translucent && !job.lut && job.k > 1 && W > 0.0 && H > 0.0 &&
+    !opt.countNecessary;
   const std::size_t windingMin = static_cast<std::size_t>(std::max(1, opt.windingMinList));
   const FaceColumns fc = ft.Columns();
   const ExactSource exact = ft.Exact(D, corner, dir);
@@ -380,7 +380,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       const bool cellWinding = winding && nl >= windingMin;
       if (cellWinding)
       {
-        CellNeighbours(D, w, nl);
+        CellNeighbours(D, *job.neighbours, w, nl);
       }
       cc.trianglesTested += tested;
       cc.trianglesCulled += tested - nl;

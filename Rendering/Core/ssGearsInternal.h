@@ -283,13 +283,7 @@ struct SolverData
   std::vector<double> occBox;          ///< per box: min xyz, max xyz (solver frame)
   bool translucent = false;
   std::uint64_t version = 0;
-  /// Per real triangle t and edge m (vertices m, m + 1 mod 3): the triangle
-  /// on the other side, with an edge between the same two bit-identical
-  /// vertices (kSameDirection: running the same way), as its index in t's
-  /// cluster (kSameCluster) or its id, or kNoNeighbour (a boundary; an edge
-  /// held by three triangles pairs two of them). ssGearsWinding.cxx.
-  std::vector<std::uint32_t> nbr;
-  std::vector<std::uint32_t> clusterOf; ///< per real triangle: its cluster
+  std::uint64_t arrangement = 0; ///< changes whenever the triangles are arranged (GearsNeighbours)
   std::size_t Triangles() const { return opacity.size(); }
   std::size_t Clusters() const { return clusterFirst.empty() ? 0 : clusterFirst.size() - 1; }
   glm::dvec3 Vertex(std::size_t t, int j) const
@@ -301,9 +295,21 @@ struct SolverData
 
 constexpr std::uint32_t kNoNeighbour = 0xFFFFFFFFu, kSameDirection = 0x80000000u, kSameCluster = 0x40000000u,
                         kNeighbourId = 0x3FFFFFFFu;
-/// SolverData::nbr and clusterOf for its real triangles (after they were
-/// arranged in clusters).
-void BuildNeighbours(SolverData& d);
+/// The winding count's edge neighbours of a SolverData's real triangles
+/// (ssGearsWinding.cxx), built by the first solve that uses them.
+struct GearsNeighbours
+{
+  /// Per real triangle t and edge m (vertices m, m + 1 mod 3): the triangle
+  /// on the other side, with an edge between the same two bit-identical
+  /// vertices (kSameDirection: running the same way), as its index in t's
+  /// cluster (kSameCluster) or its id, or kNoNeighbour (a boundary; an edge
+  /// held by three triangles pairs two of them). Empty: none (too many
+  /// triangles for the kernels' 32-bit offsets).
+  std::vector<std::uint32_t> nbr;
+  std::vector<std::uint32_t> clusterOf; ///< per real triangle: its cluster
+  std::uint64_t arrangement = 0;        ///< the SolverData::arrangement they are of (0: none)
+};
+void BuildNeighbours(const SolverData& d, GearsNeighbours& out);
 
 // ---------------------------------------------------------------------------
 // Per-solve triangle data
@@ -476,6 +482,7 @@ struct CellJob
   Isa isa;
   float* V;
   GearsMask* masks;
+  const GearsNeighbours* neighbours = nullptr; ///< the winding count's (null: it does not run)
   int face = 0, numFaces = 1; ///< for the progress fraction (opt->progress)
 };
 /// Returns false when opt->progress asked to stop (cells not reached keep V).
@@ -592,7 +599,7 @@ struct GroupView
 /// ssGearsWinding.cxx: the neighbours of the cell's list (w.list[0, nl), its
 /// runs in w.runs) into w.cellNbr; a group's (w.gcell[0, ng): its entries'
 /// cell indices) into w.gnbr; 3 columns of stride (length + kPad) each.
-void CellNeighbours(const SolverData& D, CellScratch& w, std::size_t nl);
+void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& w, std::size_t nl);
 void GroupNeighbours(CellScratch& w, std::size_t nl, std::size_t ng);
 /// A sample group's winding count: its members (w.status, for the open
 /// samples among samples[0, count)), their contour edges (w.edgeId, edgeP,

@@ -630,20 +630,21 @@ static inline bool RowsSpan(const ExactBatch& b, int which, int k, std::uint32_t
   return hit;
 }
 
-// Lane q of the result is base[9 ids[q]], widened to double (hardware
-// gathers where there are).
-static inline VD GatherV(const float* base, const std::uint32_t* ids)
+// Lane q of the result is base[idx[q]], widened to double (idx holds kRowLanes
+// readable entries; hardware gathers where there are).
+static inline VD GatherAt(const float* base, const std::int32_t* idx)
 {
 #if SS_GEARS_LANES == 16
-  const __m256i v = _mm256_mullo_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids)), _mm256_set1_epi32(9));
-  // (masked forms: GCC 12's plain ones warn of an uninitialised operand)
-  const __m512d g = _mm512_maskz_cvtps_pd(0xFF, _mm256_i32gather_ps(base, v, 4));
+  const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(idx));
+  const __m512d g = _mm512_maskz_cvtps_pd(
+    0xFF, _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, v, _mm256_castsi256_ps(_mm256_set1_epi32(-1)), 4));
   VD r;
   __builtin_memcpy(&r, &g, sizeof(r));
   return r;
 #elif SS_GEARS_LANES == 8
-  const __m128i v = _mm_mullo_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(ids)), _mm_set1_epi32(9));
-  const __m256d g = _mm256_cvtps_pd(_mm_i32gather_ps(base, v, 4));
+  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(idx));
+  const __m256d g =
+    _mm256_cvtps_pd(_mm_mask_i32gather_ps(_mm_setzero_ps(), base, v, _mm_castsi128_ps(_mm_set1_epi32(-1)), 4));
   VD r;
   __builtin_memcpy(&r, &g, sizeof(r));
   return r;
@@ -651,9 +652,30 @@ static inline VD GatherV(const float* base, const std::uint32_t* ids)
   VD r;
   for (int q = 0; q < kRowLanes; ++q)
   {
+    r[q] = base[idx[q]];
+  }
+  return r;
+#endif
+}
+
+// Lane q of the result is base[9 ids[q]], widened to double: a coordinate of
+// triangle ids[q] in the solver's floats.
+static inline VD GatherV(const float* base, const std::uint32_t* ids)
+{
+#if SS_GEARS_LANES == 4
+  VD r;
+  for (int q = 0; q < kRowLanes; ++q)
+  {
     r[q] = base[9 * static_cast<std::size_t>(ids[q])];
   }
   return r;
+#else
+  std::int32_t idx[kRowLanes];
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    idx[q] = static_cast<std::int32_t>(9 * ids[q]);
+  }
+  return GatherAt(base, idx);
 #endif
 }
 static inline VD GatherF(const float* col, const std::uint32_t* ids)

@@ -94,17 +94,17 @@ namespace
 {
 // Neighbours in the same cluster as their local index (kSameCluster): a cell's
 // list finds them in the run it is reading, without the cluster lookup.
-void LocalNeighbours(SolverData& d)
+void LocalNeighbours(const SolverData& d, GearsNeighbours& out)
 {
-  std::uint32_t* nbr = d.nbr.data();
+  std::uint32_t* nbr = out.nbr.data();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, d.real, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t t = r.begin(); t != r.end(); ++t)
     {
-      const std::uint32_t c = d.clusterOf[t];
+      const std::uint32_t c = out.clusterOf[t];
       for (int m = 0; m < 3; ++m)
       {
         const std::uint32_t v = nbr[3 * t + m];
-        if (v != kNoNeighbour && d.clusterOf[v & kNeighbourId] == c)
+        if (v != kNoNeighbour && out.clusterOf[v & kNeighbourId] == c)
         {
           nbr[3 * t + m] = (v & kSameDirection) | kSameCluster | ((v & kNeighbourId) - d.clusterFirst[c]);
         }
@@ -114,7 +114,7 @@ void LocalNeighbours(SolverData& d)
 }
 }
 
-void BuildNeighbours(SolverData& d)
+void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
 {
   // Any symmetric pairing of half-edges between the same two bit-identical
   // vertices lets their steps cancel (an edge held by three triangles keeps
@@ -123,20 +123,24 @@ void BuildNeighbours(SolverData& d)
   // hash table each, and what is left (the chunks' borders) in one global
   // pass of hash buckets.
   const std::size_t nt = d.real;
-  d.clusterOf.assign(nt, 0);
+  out.nbr.clear();
+  out.clusterOf.clear();
+  if (nt == 0 || 9 * nt > 0x7FFFFFFFu)
+  {
+    // (the kernels address a triangle's floats with 32-bit offsets: a mesh
+    // this large is rasterised without the winding count)
+    return;
+  }
+  out.clusterOf.assign(nt, 0);
   for (std::size_t c = 0; c + 1 < d.clusterFirst.size() && c < d.realClusters; ++c)
   {
-    std::fill(d.clusterOf.begin() + d.clusterFirst[c], d.clusterOf.begin() + d.clusterFirst[c + 1],
+    std::fill(out.clusterOf.begin() + d.clusterFirst[c], out.clusterOf.begin() + d.clusterFirst[c + 1],
       static_cast<std::uint32_t>(c));
   }
   const std::size_t nh = 3 * nt;
-  d.nbr.assign(nh, kNoNeighbour);
-  if (nt == 0 || nt >= (std::size_t(1) << 30))
-  {
-    return; // (ids and flags share 32 bits: a mesh this large is counted without neighbours)
-  }
+  out.nbr.assign(nh, kNoNeighbour);
   const float* V = d.V.data();
-  std::uint32_t* nbr = d.nbr.data();
+  std::uint32_t* nbr = out.nbr.data();
   auto hashOf = [&](std::size_t h) {
     const EdgeKey e = HalfEdge(V, h);
     const std::uint32_t* lo = Less(e.b, e.a) ? e.b : e.a;
@@ -206,7 +210,7 @@ void BuildNeighbours(SolverData& d)
   const std::size_t nr = rest.size();
   if (nr < 2)
   {
-    LocalNeighbours(d);
+    LocalNeighbours(d, out);
     return;
   }
   int bits = 1;
@@ -251,10 +255,10 @@ void BuildNeighbours(SolverData& d)
       }
     }
   });
-  LocalNeighbours(d);
+  LocalNeighbours(d, out);
 }
 
-void CellNeighbours(const SolverData& D, CellScratch& w, std::size_t nl)
+void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& w, std::size_t nl)
 {
   // the cell's list is its clusters' runs of surviving triangles; per run a
   // slot per triangle of its cluster gets the triangle's list index (-1: not
@@ -286,7 +290,7 @@ void CellNeighbours(const SolverData& D, CellScratch& w, std::size_t nl)
   }
   const std::size_t stride = nl + kPad;
   Grow(w.cellNbr, 3 * stride);
-  const std::uint32_t* nbrs = D.nbr.data();
+  const std::uint32_t* nbrs = N.nbr.data();
   std::int32_t* out = w.cellNbr.data();
   for (std::size_t r = 0; r < nr; ++r)
   {
@@ -312,7 +316,7 @@ void CellNeighbours(const SolverData& D, CellScratch& w, std::size_t nl)
           else
           {
             const std::uint32_t n = v & kNeighbourId;
-            const std::uint32_t c = D.clusterOf[n];
+            const std::uint32_t c = N.clusterOf[n];
             const std::uint32_t rn = w.runOf[c];
             if (rn < nr && w.runs[rn].cluster == c)
             {

@@ -179,34 +179,6 @@ static inline std::size_t ContourPixel(const ContourEdgeList& e, const PixelPara
 // Returns the number of edges that stepped a row, or -1 when the pixel is
 // declined (a vertex within rounding of a row near the samples, an edge
 // along the rows).
-// Lanes q of the result are base[idx[q]] widened to double (idx holds
-// kRowLanes readable entries).
-static inline VD GatherAt(const float* base, const std::int32_t* idx)
-{
-#if SS_GEARS_LANES == 16
-  const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(idx));
-  const __m512d g = _mm512_maskz_cvtps_pd(
-    0xFF, _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, v, _mm256_castsi256_ps(_mm256_set1_epi32(-1)), 4));
-  VD r;
-  __builtin_memcpy(&r, &g, sizeof(r));
-  return r;
-#elif SS_GEARS_LANES == 8
-  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(idx));
-  const __m256d g =
-    _mm256_cvtps_pd(_mm_mask_i32gather_ps(_mm_setzero_ps(), base, v, _mm_castsi128_ps(_mm_set1_epi32(-1)), 4));
-  VD r;
-  __builtin_memcpy(&r, &g, sizeof(r));
-  return r;
-#else
-  VD r;
-  for (int q = 0; q < kRowLanes; ++q)
-  {
-    r[q] = base[idx[q]];
-  }
-  return r;
-#endif
-}
-
 static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, const std::int32_t* ib,
   const double* sgs, std::size_t n, const ExactPixel& p, std::int16_t* delta)
 {
