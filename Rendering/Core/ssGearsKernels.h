@@ -248,6 +248,18 @@ static inline unsigned LaneMask(VI v)
 #endif
 }
 
+// Bit q set where lane q of a double comparison result (0 or -1) is set.
+static inline unsigned RowMask(VL v)
+{
+#if SS_GEARS_LANES == 16
+  return _mm512_movepi64_mask(reinterpret_cast<const __m512i&>(v));
+#elif SS_GEARS_LANES == 8
+  return static_cast<unsigned>(_mm256_movemask_pd(reinterpret_cast<const __m256d&>(v)));
+#else
+  return static_cast<unsigned>(_mm_movemask_pd(reinterpret_cast<const __m128d&>(v)));
+#endif
+}
+
 // The lanes of v where keep is set, stored contiguously from dst (which
 // must hold SS_GEARS_LANES writable entries: whole vectors are written);
 // returns their count.

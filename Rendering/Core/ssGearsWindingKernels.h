@@ -187,10 +187,16 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
   const double D0x = p.dir ? 0.0 : -p.Sx, D0y = p.dir ? 0.0 : -p.Sy, D0z = p.dir ? -1.0 : -p.Sz;
   const double h = 0.5 * p.invK - 0.5;
   const VD zero = VD{} + 0.0, one = VD{} + 1.0, kmax = VD{} + (k - 1.0);
+  VD lane;
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    lane[q] = double(q);
+  }
   int stepped = 0;
   for (std::size_t e0 = 0; e0 < n; e0 += kRowLanes)
   {
     const int count = static_cast<int>(std::min<std::size_t>(kRowLanes, n - e0));
+    const VL valid = lane < double(count);
     VD B[2][3];
     for (int v = 0; v < 2; ++v)
     {
@@ -218,12 +224,7 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
       const VD ad = py[v] - yr;
       const VL near = (yr >= 0.0) & (yr <= k - 1.0) & ((ad < 0.0 ? -ad : ad) <= 1e-7 * (1.0 + (py[v] < 0.0 ? -py[v] : py[v]))) &
         (px[v] >= -1.0) & (px[v] <= double(k));
-      long long bad = 0;
-      for (int q = 0; q < count; ++q)
-      {
-        bad |= near[q];
-      }
-      if (bad)
+      if (RowMask(near & valid))
       {
         return -1;
       }
@@ -239,7 +240,12 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
     const VD ceil0 = t0 + (t0 < c0 ? one : zero), ceil1 = t1 + (t1 < c1 ? one : zero);
     const VD j0 = ceil0 < 0.0 ? zero : ceil0;
     const VD j1 = (ceil1 - 1.0) > kmax ? kmax : ceil1 - 1.0;
-    const VL live = (j0 <= j1) & !(xmin > (k - 1.0) + 1e-7 * (1.0 + ax0 + ax1));
+    const VL live = valid & (j0 <= j1) & !(xmin > (k - 1.0) + 1e-7 * (1.0 + ax0 + ax1));
+    const unsigned liveBits = RowMask(live);
+    if (!liveBits)
+    {
+      continue;
+    }
     // the edge's function as SetupTriangle computes it: sg (a x b)
     VD sg;
     for (int q = 0; q < kRowLanes; ++q)
@@ -252,24 +258,27 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
     const VD du = (ex * p.W + ey * 0.0) + ez * 0.0, dv = (ex * 0.0 + ey * p.H) + ez * 0.0;
     const VD A = (0.0 + ((ex * D0x + ey * D0y) + ez * D0z)) + h * (du + dv);
     const VD Bc = du * p.invK, C = dv * p.invK;
-    for (int q = 0; q < count; ++q)
+    if (RowMask(live & !(Bc != 0.0)))
     {
-      if (live[q] && !(Bc[q] != 0.0))
-      {
-        return -1;
-      }
+      return -1;
     }
     const VD Bs = Bc != 0.0 ? Bc : one;
     const VD P = -A / Bs, Q = -C / Bs;
     const VL steep = !(((P < 0.0 ? -P : P) <= kSteepKernel) & ((Q < 0.0 ? -Q : Q) <= kSteepKernel));
-    int rows = 0;
-    for (int q = 0; q < count; ++q)
+    // (the division per row only where a live edge needs it: steep is rare)
+    const bool anySteep = RowMask(live & steep) != 0;
+    const VD span = live ? j1 - j0 : zero - 1.0;
+    double most = -1.0;
+    for (int q = 0; q < kRowLanes; ++q)
     {
-      if (live[q])
-      {
-        ++stepped;
-        rows = std::max(rows, static_cast<int>(j1[q] - j0[q]) + 1);
-      }
+      most = std::max(most, span[q]);
+    }
+    stepped += __builtin_popcount(liveBits);
+    const int rows = static_cast<int>(most) + 1;
+    std::int16_t step[kRowLanes];
+    for (int q = 0; q < kRowLanes; ++q)
+    {
+      step[q] = Bc[q] > 0.0 ? 1 : -1;
     }
     for (int r = 0; r < rows; ++r)
     {
@@ -277,7 +286,11 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
       const VL on = live & (jv <= j1);
       // RowBound, both signs of B at once
       const VD ej = A + C * jv;
-      VD x = steep ? -ej / Bs : P + Q * jv;
+      VD x = P + Q * jv;
+      if (anySteep)
+      {
+        x = steep ? -ej / Bs : x;
+      }
       x = x < -2.0 ? zero - 2.0 : (x > k + 1.0 ? VD{} + (k + 1.0) : x);
       const VD t = __builtin_convertvector(__builtin_convertvector(x, VJ), VD);
       const VD cu = t + (t < x ? one : zero), cd = t - (t > x ? one : zero); // ceil, floor
@@ -286,12 +299,17 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
       const VD epU = ej + Bc * (cd + 1.0), e0U = ej + Bc * cd;
       const VD hi = epU >= 0.0 ? cd + 1.0 : (e0U >= 0.0 ? cd : cd - 1.0);
       const VD at = Bc > 0.0 ? lo : hi + 1.0;
-      for (int q = 0; q < count; ++q)
+      unsigned put = RowMask(on & (at <= k - 1.0));
+      if (!put)
       {
-        if (on[q] && at[q] <= k - 1.0)
-        {
-          delta[static_cast<int>(jv[q]) * (k + 1) + static_cast<int>(at[q] < 0.0 ? 0.0 : at[q])] += Bc[q] > 0.0 ? 1 : -1;
-        }
+        continue;
+      }
+      const VJ cell = __builtin_convertvector(jv, VJ) * (k + 1) + __builtin_convertvector(at < 0.0 ? zero : at, VJ);
+      while (put)
+      {
+        const int q = __builtin_ctz(put);
+        put &= put - 1;
+        delta[cell[q]] += step[q];
       }
     }
   }
