@@ -302,12 +302,19 @@ struct GearsNeighbours
   /// Per real triangle t and edge m (vertices m, m + 1 mod 3): the triangle
   /// on the other side, with an edge between the same two bit-identical
   /// vertices (kSameDirection: running the same way), as its index in t's
-  /// cluster (kSameCluster) or its id, or kNoNeighbour (a boundary; an edge
-  /// held by three triangles pairs two of them). Empty: none (too many
-  /// triangles for the kernels' 32-bit offsets).
+  /// cluster (kSameCluster) or as an index into `across`, or kNoNeighbour (a
+  /// boundary; an edge held by three triangles pairs two of them). Empty:
+  /// none (too many triangles for the kernels' 32-bit offsets).
   std::vector<std::uint32_t> nbr;
-  std::vector<std::uint32_t> clusterOf; ///< per real triangle: its cluster
-  std::uint64_t arrangement = 0;        ///< the SolverData::arrangement they are of (0: none)
+  /// A neighbour in another cluster: that cluster and the neighbour's index
+  /// in it (a cell's list finds it without a lookup per triangle id; in
+  /// triangle order, so a cell reads it nearly in sequence).
+  struct Across
+  {
+    std::uint32_t cluster, local;
+  };
+  std::vector<Across> across;
+  std::uint64_t arrangement = 0; ///< the SolverData::arrangement they are of (0: none)
 };
 void BuildNeighbours(const SolverData& d, GearsNeighbours& out);
 

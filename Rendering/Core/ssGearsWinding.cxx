@@ -92,21 +92,58 @@ inline bool Equal(const std::uint32_t* x, const std::uint32_t* y)
 
 namespace
 {
-// Neighbours in the same cluster as their local index (kSameCluster): a cell's
-// list finds them in the run it is reading, without the cluster lookup.
-void LocalNeighbours(const SolverData& d, GearsNeighbours& out)
+// Neighbours in the same cluster as their local index (kSameCluster), the
+// others as an entry of `across` (their cluster and local index): a cell's
+// list finds either without a lookup per triangle id.
+void LocalNeighbours(const SolverData& d, const std::vector<std::uint32_t>& clusterOf, GearsNeighbours& out)
 {
   std::uint32_t* nbr = out.nbr.data();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, d.real, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t t = r.begin(); t != r.end(); ++t)
+  const std::size_t nt = d.real, block = 1 << 14, blocks = (nt + block - 1) / block;
+  std::vector<std::uint32_t> crossing(blocks + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t b = r.begin(); b != r.end(); ++b)
     {
-      const std::uint32_t c = out.clusterOf[t];
-      for (int m = 0; m < 3; ++m)
+      std::uint32_t n = 0;
+      for (std::size_t t = b * block; t < std::min(nt, (b + 1) * block); ++t)
       {
-        const std::uint32_t v = nbr[3 * t + m];
-        if (v != kNoNeighbour && out.clusterOf[v & kNeighbourId] == c)
+        for (int m = 0; m < 3; ++m)
         {
-          nbr[3 * t + m] = (v & kSameDirection) | kSameCluster | ((v & kNeighbourId) - d.clusterFirst[c]);
+          const std::uint32_t v = nbr[3 * t + m];
+          n += v != kNoNeighbour && clusterOf[v & kNeighbourId] != clusterOf[t];
+        }
+      }
+      crossing[b + 1] = n;
+    }
+  });
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    crossing[b + 1] += crossing[b];
+  }
+  out.across.resize(crossing[blocks]);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t b = r.begin(); b != r.end(); ++b)
+    {
+      std::uint32_t at = crossing[b];
+      for (std::size_t t = b * block; t < std::min(nt, (b + 1) * block); ++t)
+      {
+        const std::uint32_t c = clusterOf[t];
+        for (int m = 0; m < 3; ++m)
+        {
+          const std::uint32_t v = nbr[3 * t + m];
+          if (v == kNoNeighbour)
+          {
+            continue;
+          }
+          const std::uint32_t n = v & kNeighbourId, cn = clusterOf[n];
+          if (cn == c)
+          {
+            nbr[3 * t + m] = (v & kSameDirection) | kSameCluster | (n - d.clusterFirst[c]);
+          }
+          else
+          {
+            out.across[at] = { cn, n - d.clusterFirst[cn] };
+            nbr[3 * t + m] = (v & kSameDirection) | at++;
+          }
         }
       }
     }
@@ -124,17 +161,17 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
   // pass of hash buckets.
   const std::size_t nt = d.real;
   out.nbr.clear();
-  out.clusterOf.clear();
+  out.across.clear();
   if (nt == 0 || 9 * nt > 0x7FFFFFFFu)
   {
     // (the kernels address a triangle's floats with 32-bit offsets: a mesh
     // this large is rasterised without the winding count)
     return;
   }
-  out.clusterOf.assign(nt, 0);
+  std::vector<std::uint32_t> clusterOf(nt, 0);
   for (std::size_t c = 0; c + 1 < d.clusterFirst.size() && c < d.realClusters; ++c)
   {
-    std::fill(out.clusterOf.begin() + d.clusterFirst[c], out.clusterOf.begin() + d.clusterFirst[c + 1],
+    std::fill(clusterOf.begin() + d.clusterFirst[c], clusterOf.begin() + d.clusterFirst[c + 1],
       static_cast<std::uint32_t>(c));
   }
   const std::size_t nh = 3 * nt;
@@ -210,7 +247,7 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
   const std::size_t nr = rest.size();
   if (nr < 2)
   {
-    LocalNeighbours(d, out);
+    LocalNeighbours(d, clusterOf, out);
     return;
   }
   int bits = 1;
@@ -255,7 +292,7 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
       }
     }
   });
-  LocalNeighbours(d, out);
+  LocalNeighbours(d, clusterOf, out);
 }
 
 void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& w, std::size_t nl)
@@ -291,37 +328,42 @@ void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& 
   const std::size_t stride = nl + kPad;
   Grow(w.cellNbr, 3 * stride);
   const std::uint32_t* nbrs = N.nbr.data();
+  const GearsNeighbours::Across* across = N.across.data();
+  const std::uint32_t* runOf = w.runOf.data();
+  const std::uint32_t* runBase = w.runBase.data();
+  const std::int32_t* slots = w.slot.data();
+  const CellRun* runs = w.runs.data();
+  const std::uint32_t real = static_cast<std::uint32_t>(D.real);
   std::int32_t* out = w.cellNbr.data();
   for (std::size_t r = 0; r < nr; ++r)
   {
-    const CellRun& run = w.runs[r];
-    const std::int32_t* own = w.slot.data() + w.runBase[r];
+    const CellRun& run = runs[r];
+    const std::int32_t* own = slots + runBase[r];
     if (r + 1 < nr)
     {
-      __builtin_prefetch(&nbrs[3 * static_cast<std::size_t>(list[w.runs[r + 1].start])]);
+      __builtin_prefetch(&nbrs[3 * static_cast<std::size_t>(list[runs[r + 1].start])]);
     }
     for (std::uint32_t i = run.start; i < run.start + run.count; ++i)
     {
       const std::uint32_t t = list[i];
       for (int m = 0; m < 3; ++m)
       {
-        const std::uint32_t v = t < D.real ? nbrs[3 * static_cast<std::size_t>(t) + m] : kNoNeighbour;
+        const std::uint32_t v = t < real ? nbrs[3 * static_cast<std::size_t>(t) + m] : kNoNeighbour;
         std::int32_t at = -1;
-        if (v != kNoNeighbour)
+        if (v == kNoNeighbour)
         {
-          if (v & kSameCluster)
+        }
+        else if (v & kSameCluster)
+        {
+          at = own[v & kNeighbourId];
+        }
+        else
+        {
+          const GearsNeighbours::Across a = across[v & kNeighbourId];
+          const std::uint32_t rn = runOf[a.cluster];
+          if (rn < nr && runs[rn].cluster == a.cluster)
           {
-            at = own[v & kNeighbourId];
-          }
-          else
-          {
-            const std::uint32_t n = v & kNeighbourId;
-            const std::uint32_t c = N.clusterOf[n];
-            const std::uint32_t rn = w.runOf[c];
-            if (rn < nr && w.runs[rn].cluster == c)
-            {
-              at = w.slot[w.runBase[rn] + (n - D.clusterFirst[c])];
-            }
+            at = slots[runBase[rn] + a.local];
           }
         }
         out[m * stride + i] = at < 0 ? -1 : (at | ((v & kSameDirection) ? kNbrSameDirection : 0));
@@ -333,11 +375,14 @@ void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& 
 void GroupNeighbours(CellScratch& w, std::size_t nl, std::size_t ng)
 {
   const std::size_t cellStride = nl + kPad, stride = ng + kPad;
-  Grow(w.c2g, nl);
+  // (c2g holds -1 between calls: only the group's entries are set and reset)
+  if (w.c2g.size() < nl)
+  {
+    w.c2g.resize(nl, -1);
+  }
   Grow(w.gnbr, 3 * stride);
   const std::uint32_t* gcell = w.gcell.data();
   std::int32_t* c2g = w.c2g.data();
-  std::fill(c2g, c2g + nl, -1);
   for (std::size_t q = 0; q < ng; ++q)
   {
     c2g[gcell[q]] = static_cast<std::int32_t>(q);
@@ -352,6 +397,10 @@ void GroupNeighbours(CellScratch& w, std::size_t nl, std::size_t ng)
       const std::int32_t g = v < 0 ? -1 : c2g[v & kNbrIndex];
       out[q] = g < 0 ? -1 : (g | (v & kNbrSameDirection));
     }
+  }
+  for (std::size_t q = 0; q < ng; ++q)
+  {
+    c2g[gcell[q]] = -1;
   }
 }
 
