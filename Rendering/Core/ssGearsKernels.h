@@ -139,7 +139,30 @@ struct WindingBox
   float cz, eps, m;
   int dir;
 };
-/// A group's contour edges (ssGearsWinding.cxx): per edge its entry q and
+/// A sample group's winding count over its cell's list (WindingMembers):
+/// the group's filter (GroupFilter's shaft and horizon planes) and its
+/// start points; out, per cell entry its status (0: no member, 1: a member
+/// in front of every start point, 2: behind), the members' columns and the
+/// rest of the group's list (GroupFilter's 15 columns).
+struct MemberSplit
+{
+  const Shaft* shaft = nullptr;  ///< the group's shaft (null: the cell's)
+  const float* planes = nullptr; ///< np horizon planes (4 floats each)
+  int np = 0;
+  WindingBox box;
+  const std::int32_t* nbr[3];  ///< the cell entries' neighbours (cell indices) per edge
+  std::int32_t* status;        ///< per cell entry (every one written)
+  float* member[9];            ///< the members' vertices (x0 y0 z0 x1 ... z2)
+  std::int32_t* memberNbr[3];  ///< ... their neighbours (cell indices)
+  std::int32_t* memberStatus;  ///< ... their status
+  std::uint32_t* memberIds;    ///< ... their triangles
+  float* rest[15];
+  std::uint32_t* restIds;
+  std::size_t memberCount = 0, restCount = 0; ///< out: the counts
+  std::size_t kept = 0;               ///< out: the group's list (entries the filter keeps)
+  std::size_t below = 0;              ///< out: entries in the shaft dropped by the planes
+};
+/// A group's contour edges (ssGearsWinding.cxx): per edge its member q and
 /// edge m (q | m << 30) and its two vertices (relative to the cell's centre),
 /// one column each (room for 3 entries' worth plus SS_GEARS_LANES).
 struct ContourEdgeList
@@ -162,10 +185,8 @@ struct KernelTable
   /// restIds / rest, as GroupFilter does, their count returned), their
   /// contour, a pixel's contour edges that may step its count, and their
   /// exact steps (-1: the pixel is declined).
-  std::size_t (*members)(const GroupArrays&, const WindingBox&, const std::int32_t* const* nbr, std::int32_t* status,
-    const std::uint32_t* ids, float* const* rest, std::uint32_t* restIds);
-  std::size_t (*contour)(
-    const GroupArrays&, const std::int32_t* status, const std::int32_t* const* nbr, ContourEdgeList& out);
+  void (*members)(const GroupArrays& cell, const std::uint32_t* ids, MemberSplit& s);
+  std::size_t (*contour)(const MemberSplit& s, ContourEdgeList& out);
   std::size_t (*contourPixel)(const ContourEdgeList& e, const PixelParams& p, std::uint32_t* out);
   int (*steps)(const ExactSource& src, const std::int32_t* ia, const std::int32_t* ib, const double* sg, std::size_t n,
     const ExactPixel& p, std::int16_t* delta);

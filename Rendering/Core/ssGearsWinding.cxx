@@ -372,38 +372,6 @@ void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& 
   }
 }
 
-void GroupNeighbours(CellScratch& w, std::size_t nl, std::size_t ng)
-{
-  const std::size_t cellStride = nl + kPad, stride = ng + kPad;
-  // (c2g holds -1 between calls: only the group's entries are set and reset)
-  if (w.c2g.size() < nl)
-  {
-    w.c2g.resize(nl, -1);
-  }
-  Grow(w.gnbr, 3 * stride);
-  const std::uint32_t* gcell = w.gcell.data();
-  std::int32_t* c2g = w.c2g.data();
-  for (std::size_t q = 0; q < ng; ++q)
-  {
-    c2g[gcell[q]] = static_cast<std::int32_t>(q);
-  }
-  for (int m = 0; m < 3; ++m)
-  {
-    const std::int32_t* cn = w.cellNbr.data() + m * cellStride;
-    std::int32_t* out = w.gnbr.data() + m * stride;
-    for (std::size_t q = 0; q < ng; ++q)
-    {
-      const std::int32_t v = cn[gcell[q]];
-      const std::int32_t g = v < 0 ? -1 : c2g[v & kNbrIndex];
-      out[q] = g < 0 ? -1 : (g | (v & kNbrSameDirection));
-    }
-  }
-  for (std::size_t q = 0; q < ng; ++q)
-  {
-    c2g[gcell[q]] = -1;
-  }
-}
-
 namespace
 {
 // The count's mask from contour edges kept[0, nk) (indices into w.edgeId) for
@@ -415,7 +383,7 @@ bool WindingMask(const CellJob& job, const KernelTable& K, CellScratch& w, const
   const glm::dvec3 S = w.S[sq];
   CellCounters& cc = w.counters;
   const std::uint32_t* edges = w.edgeId.data();
-  const std::int32_t* status = w.status.data();
+  const std::int32_t* status = w.mstatus.data();
   // the kept edges' vertices (float offsets into the solver's array) and the
   // side of S their triangle's raster takes: S in front of the plane
   // (status 1, decided in float beyond the margin) is det < 0, sg = -1
@@ -466,12 +434,14 @@ bool WindingMask(const CellJob& job, const KernelTable& K, CellScratch& w, const
 }
 }
 
-std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv,
-  const std::uint32_t* samples, std::size_t count, GroupView& rest)
+std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& cell,
+  const GroupFilterSpec& filter, const std::uint32_t* samples, std::size_t count, GroupView& members,
+  GroupView& rest, std::size_t& kept, std::size_t& below)
 {
   // the group's start points still open, in float relative to the cell's
   // centre (the margin is far above this rounding), and their largest offset
-  WindingBox b;
+  MemberSplit ms;
+  WindingBox& b = ms.box;
   glm::dvec3 lo(1e300), hi(-1e300);
   double eps = 0.0;
   for (std::size_t q = 0; q < count; ++q)
@@ -486,42 +456,62 @@ std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& 
   }
   for (int a = 0; a < 3; ++a)
   {
-    b.lo[a] = static_cast<float>(lo[a] - gv.o[a]);
-    b.hi[a] = static_cast<float>(hi[a] - gv.o[a]);
+    b.lo[a] = static_cast<float>(lo[a] - cell.o[a]);
+    b.hi[a] = static_cast<float>(hi[a] - cell.o[a]);
   }
-  b.cz = static_cast<float>(gv.o.z);
+  b.cz = static_cast<float>(cell.o.z);
   b.eps = static_cast<float>(eps);
   b.m = static_cast<float>(job.ft->margin);
   b.dir = job.dir ? 1 : 0;
-  const std::size_t ng = gv.ng, stride = ng + kPad;
+  ms.shaft = filter.shaft;
+  ms.planes = filter.planes;
+  ms.np = filter.np;
+  const std::size_t nl = cell.ng, stride = nl + kPad;
+  for (int m = 0; m < 3; ++m)
+  {
+    ms.nbr[m] = w.cellNbr.data() + m * stride;
+  }
   Grow(w.status, stride);
+  ms.status = w.status.data();
+  for (int c = 0; c < 9; ++c)
+  {
+    Grow(w.mf[c], stride);
+    ms.member[c] = w.mf[c].data();
+  }
+  for (int m = 0; m < 3; ++m)
+  {
+    Grow(w.mnbr[m], stride);
+    ms.memberNbr[m] = w.mnbr[m].data();
+  }
+  Grow(w.mstatus, stride);
+  Grow(w.mtri, stride);
+  ms.memberStatus = w.mstatus.data();
+  ms.memberIds = w.mtri.data();
   Grow(w.rtri, stride);
-  float* restCols[15];
   for (int c = 0; c < 15; ++c)
   {
     Grow(w.rf[c], stride);
-    restCols[c] = w.rf[c].data();
+    ms.rest[c] = w.rf[c].data();
   }
-  const std::int32_t* nbr[3] = { gv.nbr, gv.nbr + stride, gv.nbr + 2 * stride };
-  const std::size_t nrest = K.members(gv.ga, b, nbr, w.status.data(), gv.tri, restCols, w.rtri.data());
-  rest = gv;
-  rest.ng = nrest;
+  ms.restIds = w.rtri.data();
+  K.members(cell.ga, cell.tri, ms);
+  kept = ms.kept;
+  below += ms.below;
+  rest = cell;
+  rest.ng = ms.restCount;
   rest.tri = w.rtri.data();
   rest.ga = { w.rf[0].data(), w.rf[1].data(), w.rf[2].data(), w.rf[3].data(), w.rf[4].data(), w.rf[5].data(),
     w.rf[6].data(), w.rf[7].data(), w.rf[8].data(), w.rf[9].data(), w.rf[10].data(), w.rf[11].data(),
-    w.rf[12].data(), w.rf[13].data(), w.rf[14].data(), nrest };
-  rest.nbr = nullptr;
+    w.rf[12].data(), w.rf[13].data(), w.rf[14].data(), ms.restCount };
   rest.countListed = false;
-  std::size_t members = 0;
-  for (std::size_t q = 0; q < ng; ++q)
-  {
-    members += w.status[q] != 0;
-  }
-  w.counters.windingMembers += static_cast<double>(members);
-  w.counters.windingRest += static_cast<double>(nrest);
+  members = cell;
+  members.ng = ms.memberCount;
+  members.tri = w.mtri.data();
+  w.counters.windingMembers += static_cast<double>(ms.memberCount);
+  w.counters.windingRest += static_cast<double>(ms.restCount);
 
   // the members' contour
-  const std::size_t cap = 3 * ng + kPad;
+  const std::size_t cap = 3 * ms.memberCount + kPad;
   Grow(w.edgeId, cap);
   ContourEdgeList e;
   e.id = w.edgeId.data();
@@ -530,12 +520,13 @@ std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& 
     Grow(w.edgeP[c], cap);
     e.p[c] = w.edgeP[c].data();
   }
-  e.n = K.contour(gv.ga, w.status.data(), nbr, e);
+  e.n = K.contour(ms, e);
   w.edgeCount = e.n;
   return e.n;
 }
 
-bool WindingPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv, std::uint32_t sq)
+bool WindingPixel(
+  const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& members, std::uint32_t sq)
 {
   ContourEdgeList e;
   e.id = w.edgeId.data();
@@ -545,10 +536,10 @@ bool WindingPixel(const CellJob& job, const KernelTable& K, CellScratch& w, cons
   }
   e.n = w.edgeCount;
   Grow(w.kept, e.n + kPad);
-  const PixelParams pp = MakePixelParams(job, w, gv, sq);
+  const PixelParams pp = MakePixelParams(job, w, members, sq);
   const std::size_t nk = K.contourPixel(e, pp, w.kept.data());
   std::uint32_t count[32];
-  if (!WindingMask(job, K, w, gv, w.kept.data(), nk, sq, count))
+  if (!WindingMask(job, K, w, members, w.kept.data(), nk, sq, count))
   {
     ++w.counters.windingDeclined;
     return false;
