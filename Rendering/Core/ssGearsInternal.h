@@ -435,6 +435,11 @@ struct PairScratch
   std::vector<std::uint32_t> cellsN, pairItem, pairCell, hist;
   std::vector<std::size_t> offset;
 };
+/// The grid cells (C's) the shadow volume of the light-frame box cb (x0 y0
+/// z0 x1 y1 z1, grown by m) may reach up to depth far [§3.1, Fig. 4]: the box
+/// of its projected corners and their extrusions from the light's corners.
+Box2 VolumeGridBox(
+  const GearsGridCamera& C, const LightFrame& L, const FaceTriangles& ft, const float* cb, double m, double far);
 void BuildPairs(const SolverData& D, const LightFrame& L, const FaceGrid& g, const FaceTriangles& ft,
   const GearsOptions& opt, PairScratch& w, FacePairs& out, GearsStats& st);
 
