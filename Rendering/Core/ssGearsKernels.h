@@ -448,6 +448,35 @@ static inline VI InShaftV(const Shaft& s, const VF* x, const VF* y, const VF* z)
   return (o0 < three) & (o1 < three) & (o2 < three) & (o3 < three) & (o4 < three) & (o5 < three);
 }
 
+// The lanes of `valid` (triangles x, y, z) that may reach the shaft s (null:
+// all) and are not below every one of the np planes (a x + b y + c z < d at
+// all three vertices); below += those the planes drop. GroupFilter's and
+// WindingMembers' test of a group's list.
+static inline VI GroupKeep(
+  const Shaft* s, const float* planes, int np, const VF* x, const VF* y, const VF* z, VI valid, int& below)
+{
+  VI k = s ? valid & InShaftV(*s, x, y, z) : valid;
+  if (np > 0)
+  {
+    VI b = k;
+    for (int q = 0; q < np; ++q)
+    {
+      const float* P = planes + 4 * q;
+      for (int m = 0; m < 3; ++m)
+      {
+        b &= (P[0] * x[m] + P[1] * y[m]) + P[2] * z[m] < P[3];
+      }
+      if (!LaneMask(b))
+      {
+        break; // every lane is above some plane: kept
+      }
+    }
+    below += __builtin_popcount(LaneMask(b));
+    k &= ~b;
+  }
+  return k;
+}
+
 // Entries of a group's arrays that may reach the shaft s (null: all) and
 // are not below every one of the np planes (a x + b y + c z < d at all
 // three vertices; the horizon rule, ssGearsCull.cxx, with its margin in d),
@@ -473,25 +502,7 @@ static inline std::size_t GroupFilter(const GroupArrays& g, const std::uint32_t*
     const VF y[3] = { Load(g.y0 + i), Load(g.y1 + i), Load(g.y2 + i) };
     const VF z[3] = { Load(g.z0 + i), Load(g.z1 + i), Load(g.z2 + i) };
     const VI valid = (lane + static_cast<int>(i)) < static_cast<int>(n);
-    VI k = s ? valid & InShaftV(*s, x, y, z) : valid;
-    if (np > 0)
-    {
-      VI b = k;
-      for (int q = 0; q < np; ++q)
-      {
-        const float* P = planes + 4 * q;
-        for (int m = 0; m < 3; ++m)
-        {
-          b &= (P[0] * x[m] + P[1] * y[m]) + P[2] * z[m] < P[3];
-        }
-        if (!LaneMask(b))
-        {
-          break; // every lane is above some plane: kept
-        }
-      }
-      below += __builtin_popcount(LaneMask(b));
-      k &= ~b;
-    }
+    const VI k = GroupKeep(s, planes, np, x, y, z, valid, below);
     if (!LaneMask(k))
     {
       continue;

@@ -43,25 +43,7 @@ static inline void WindingMembers(const GroupArrays& g, const std::uint32_t* ids
     const VF z[3] = { Load(g.z0 + i), Load(g.z1 + i), Load(g.z2 + i) };
     // the group's list: GroupFilter's tests
     const VI valid = (lane + static_cast<int>(i)) < static_cast<int>(n);
-    VI k = s.shaft ? valid & InShaftV(*s.shaft, x, y, z) : valid;
-    if (s.np > 0)
-    {
-      VI bm = k;
-      for (int q = 0; q < s.np; ++q)
-      {
-        const float* P = s.planes + 4 * q;
-        for (int v = 0; v < 3; ++v)
-        {
-          bm &= (P[0] * x[v] + P[1] * y[v]) + P[2] * z[v] < P[3];
-        }
-        if (!LaneMask(bm))
-        {
-          break; // every lane is above some plane: kept
-        }
-      }
-      below += __builtin_popcount(LaneMask(bm));
-      k &= ~bm;
-    }
+    const VI k = GroupKeep(s.shaft, s.planes, s.np, x, y, z, valid, below);
     kept += static_cast<std::size_t>(__builtin_popcount(LaneMask(k)));
     // strictly between every start point and the light
     VI between = (b.lo[2] - z[0] > m) & (b.lo[2] - z[1] > m) & (b.lo[2] - z[2] > m);
