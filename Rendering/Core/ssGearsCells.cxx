@@ -414,6 +414,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         gv.o = o;
         gv.ng = nl;
         gv.tri = w.list.data();
+        gv.ga = Arrays(w.f, nl);
         gv.exact = &exact;
         gv.counting = true;
         bool groupFull = true;
@@ -422,12 +423,13 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           groupFull = groupFull && w.state[w.sampleOrder[q]].full;
         }
         const bool split = w.groupEnd.size() > 1;
-        if ((split || opt.horizonCulling) && !(groupFull && !opt.countNecessary && !assign))
+        const bool filter = (split || opt.horizonCulling) && !(groupFull && !opt.countNecessary && !assign);
+        // the group's shaft and its samples' horizon planes (ssGearsCull.cxx)
+        Shaft gshaft;
+        float planes[4 * kMaxHorizonPlanes];
+        GroupFilterSpec spec;
+        if (filter)
         {
-          Grow(w.glist, nl + kPad);
-          Grow(w.keep, nl + kPad);
-          std::size_t ng = nl;
-          Shaft gshaft;
           if (split)
           {
             glm::dvec3 glo(1e300), ghi(-1e300);
@@ -437,61 +439,61 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
               ghi = glm::max(ghi, w.S[w.sampleOrder[q]]);
             }
             gshaft = RelativeShaft(glo, ghi, W, H, dir, m, o);
+            spec.shaft = &gshaft;
           }
-          // triangles below every open sample's horizon in the group (ssGearsCull.cxx)
-          float planes[4 * kMaxHorizonPlanes];
-          int np = 0;
           if (opt.horizonCulling)
           {
             CollectHorizons(w, w.sampleOrder.data() + gbegin, gend - gbegin, w.horizons);
-            np = HorizonPlanesFloat(w.horizons, o, 2.0 * m, planes);
+            spec.np = HorizonPlanesFloat(w.horizons, o, 2.0 * m, planes);
+            spec.planes = planes;
           }
-          if (split || np > 0)
+        }
+        // the winding count (not for the assignment output, which lists each
+        // group's triangles): the group's list is filtered by its kernel and
+        // never gathered; a declined pixel rasterises the cell's list (a
+        // superset: what the group's filter drops sets no bit not set)
+        const bool groupWinding = cellWinding && !assign && !groupFull;
+        GroupView members, rest;
+        std::size_t groupListed = nl;
+        if (groupWinding)
+        {
+          std::size_t below = 0;
+          WindingGroup(
+            job, K, w, gv, spec, w.sampleOrder.data() + gbegin, gend - gbegin, members, rest, groupListed, below);
+          cc.trianglesBelowHorizon += static_cast<double>(below);
+        }
+        else if (spec.shaft || spec.np > 0)
+        {
+          // the group's entries and their arrays, gathered by the kernel
+          Grow(w.glist, nl + kPad);
+          float* dst[15];
+          for (int q = 0; q < 15; ++q)
           {
-            // the group's entries and their arrays, gathered by the kernel
-            float* dst[15];
-            for (int q = 0; q < 15; ++q)
-            {
-              Grow(w.gf[q], nl + kPad);
-              dst[q] = w.gf[q].data();
-            }
-            std::size_t below = 0;
-            // the kernel gives the kept entries' cell indices; their triangles follow
-            if (w.iota.size() < nl + kPad)
-            {
-              const std::size_t from = w.iota.size();
-              w.iota.resize(nl + kPad);
-              std::iota(w.iota.begin() + static_cast<std::ptrdiff_t>(from), w.iota.end(), static_cast<std::uint32_t>(from));
-            }
-            Grow(w.gcell, nl + kPad);
-            ng = K.group(Arrays(w.f, nl), w.iota.data(), split ? &gshaft : nullptr, planes, np, dst, w.gcell.data(), below);
-            for (std::size_t q = 0; q < ng; ++q)
-            {
-              w.glist[q] = w.list[w.gcell[q]];
-            }
-            cc.trianglesBelowHorizon += static_cast<double>(below);
+            Grow(w.gf[q], nl + kPad);
+            dst[q] = w.gf[q].data();
           }
+          std::size_t below = 0;
+          // the kernel gives the kept entries' cell indices; their triangles follow
+          if (w.iota.size() < nl + kPad)
+          {
+            const std::size_t from = w.iota.size();
+            w.iota.resize(nl + kPad);
+            std::iota(w.iota.begin() + static_cast<std::ptrdiff_t>(from), w.iota.end(), static_cast<std::uint32_t>(from));
+          }
+          Grow(w.gcell, nl + kPad);
+          const std::size_t ng = K.group(Arrays(w.f, nl), w.iota.data(), spec.shaft, planes, spec.np, dst,
+            w.gcell.data(), below);
+          for (std::size_t q = 0; q < ng; ++q)
+          {
+            w.glist[q] = w.list[w.gcell[q]];
+          }
+          cc.trianglesBelowHorizon += static_cast<double>(below);
           if (ng < nl)
           {
             gv.ng = ng;
             gv.ga = Arrays(w.gf, gv.ng);
             gv.tri = w.glist.data();
-            if (cellWinding && ng >= windingMin)
-            {
-              GroupNeighbours(w, nl, ng);
-              gv.nbr = w.gnbr.data();
-            }
           }
-          else
-          {
-            gv.ga = Arrays(w.f, nl);
-            gv.nbr = cellWinding ? w.cellNbr.data() : nullptr;
-          }
-        }
-        else
-        {
-          gv.ga = Arrays(w.f, nl);
-          gv.nbr = cellWinding ? w.cellNbr.data() : nullptr;
         }
         if (assign)
         {
@@ -512,19 +514,13 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         lap(cc.msGroups);
         // --- per pixel (the winding count: the group's members once, then
         // per pixel their contour and the raster of the rest of the list)
-        GroupView rest;
-        const bool groupWinding = gv.nbr && !groupFull;
-        if (groupWinding)
-        {
-          WindingGroup(job, K, w, gv, w.sampleOrder.data() + gbegin, gend - gbegin, rest);
-        }
         for (std::uint32_t q = gbegin; q < gend; ++q)
         {
           const std::uint32_t sq = w.sampleOrder[q];
           if (groupWinding && !w.state[sq].full)
           {
-            const bool counted = WindingPixel(job, K, w, gv, sq);
-            cc.listed += counted ? static_cast<double>(gv.ng) : 0.0;
+            const bool counted = WindingPixel(job, K, w, members, sq);
+            cc.listed += counted ? static_cast<double>(groupListed) : 0.0;
             DrawPixel(job, K, w, counted ? rest : gv, sq);
           }
           else

@@ -302,12 +302,19 @@ struct GearsNeighbours
   /// Per real triangle t and edge m (vertices m, m + 1 mod 3): the triangle
   /// on the other side, with an edge between the same two bit-identical
   /// vertices (kSameDirection: running the same way), as its index in t's
-  /// cluster (kSameCluster) or its id, or kNoNeighbour (a boundary; an edge
-  /// held by three triangles pairs two of them). Empty: none (too many
-  /// triangles for the kernels' 32-bit offsets).
+  /// cluster (kSameCluster) or as an index into `across`, or kNoNeighbour (a
+  /// boundary; an edge held by three triangles pairs two of them). Empty:
+  /// none (too many triangles for the kernels' 32-bit offsets).
   std::vector<std::uint32_t> nbr;
-  std::vector<std::uint32_t> clusterOf; ///< per real triangle: its cluster
-  std::uint64_t arrangement = 0;        ///< the SolverData::arrangement they are of (0: none)
+  /// A neighbour in another cluster: that cluster and the neighbour's index
+  /// in it (a cell's list finds it without a lookup per triangle id; in
+  /// triangle order, so a cell reads it nearly in sequence).
+  struct Across
+  {
+    std::uint32_t cluster, local;
+  };
+  std::vector<Across> across;
+  std::uint64_t arrangement = 0; ///< the SolverData::arrangement they are of (0: none)
 };
 void BuildNeighbours(const SolverData& d, GearsNeighbours& out);
 
@@ -428,6 +435,11 @@ struct PairScratch
   std::vector<std::uint32_t> cellsN, pairItem, pairCell, hist;
   std::vector<std::size_t> offset;
 };
+/// The grid cells (C's) the shadow volume of the light-frame box cb (x0 y0
+/// z0 x1 y1 z1, grown by m) may reach up to depth far [§3.1, Fig. 4]: the box
+/// of its projected corners and their extrusions from the light's corners.
+Box2 VolumeGridBox(
+  const GearsGridCamera& C, const LightFrame& L, const FaceTriangles& ft, const float* cb, double m, double far);
 void BuildPairs(const SolverData& D, const LightFrame& L, const FaceGrid& g, const FaceTriangles& ft,
   const GearsOptions& opt, PairScratch& w, FacePairs& out, GearsStats& st);
 
@@ -540,16 +552,19 @@ struct CellScratch
 {
   // the winding count (ssGearsWinding.cxx): the cell list's cluster runs
   // (runOf is indexed by cluster and validated against runs, never cleared),
-  // their slots, per cell entry and per group entry the list index of each
-  // edge's neighbour, the group entries' cell indices, and per entry its
-  // member status; the group's other entries (the rest), its contour edges,
-  // and a pixel's contour edges with their steps
+  // their slots, per cell entry the list index of each edge's neighbour and
+  // its member status in the current group; the group's members, the other
+  // entries of its list (the rest), its contour edges, and a pixel's contour
+  // edges with their steps
   std::vector<CellRun> runs;
   std::vector<std::uint32_t> runOf, runBase, gcell, iota;
-  std::vector<std::int32_t> slot, c2g, cellNbr, gnbr, status;
+  std::vector<std::int32_t> slot, cellNbr, status;
+  std::vector<float> mf[9];            ///< the group's members' vertices
+  std::vector<std::int32_t> mnbr[3], mstatus; ///< ... their neighbours (cell indices) and status
+  std::vector<std::uint32_t> mtri;     ///< ... their triangles
   std::vector<float> rf[15];           ///< the rest of a group's list (GroupArrays order)
   std::vector<std::uint32_t> rtri;     ///< ... its triangles
-  std::vector<std::uint32_t> edgeId;   ///< the group's contour edges: q | m << 30
+  std::vector<std::uint32_t> edgeId;   ///< the group's contour edges: member q | m << 30
   std::vector<float> edgeP[6];         ///< ... their vertices
   std::size_t edgeCount = 0;
   std::vector<std::uint32_t> kept;     ///< a pixel's contour edges that may step its count
@@ -590,26 +605,32 @@ struct GroupView
   bool counting; ///< false for the inner occluders' faces (not the scene's triangles)
   bool countListed = true; ///< false: a winding count's rest (its group's list was counted)
   std::uint64_t serial = 0; ///< the sample group (CellScratch::groupSerial; 0: none)
-  /// per edge m a column (stride ng + kPad) of the entries' neighbours'
-  /// indices in this list (kNbrIndex, kNbrSameDirection) or -1; null: no
-  /// winding count for this list
-  const std::int32_t* nbr = nullptr;
 };
 
 /// ssGearsWinding.cxx: the neighbours of the cell's list (w.list[0, nl), its
-/// runs in w.runs) into w.cellNbr; a group's (w.gcell[0, ng): its entries'
-/// cell indices) into w.gnbr; 3 columns of stride (length + kPad) each.
+/// runs in w.runs) into w.cellNbr, 3 columns of stride nl + kPad.
 void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& w, std::size_t nl);
-void GroupNeighbours(CellScratch& w, std::size_t nl, std::size_t ng);
-/// A sample group's winding count: its members (w.status, for the open
-/// samples among samples[0, count)), their contour edges (w.edgeId, edgeP,
-/// edgeCount: returned) and the rest of its list (w.rf, rtri) as `rest`, which
-/// each pixel rasterises after WindingPixel.
-std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv,
-  const std::uint32_t* samples, std::size_t count, GroupView& rest);
+/// A sample group's winding count over its cell's list `cell` (with its
+/// neighbours in w.cellNbr): the group's list (the entries the group shaft
+/// and the horizon planes keep; its length into `kept`, below += those the
+/// planes dropped), its members (w.mf ..., for the open samples among
+/// samples[0, count)) as `members`, their contour edges (w.edgeId, edgeP,
+/// edgeCount: returned) and the rest of the list (w.rf, rtri) as `rest`,
+/// which each pixel rasterises after WindingPixel.
+struct GroupFilterSpec
+{
+  const Shaft* shaft = nullptr; ///< null: the cell's list is the group's
+  const float* planes = nullptr;
+  int np = 0;
+};
+std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& cell,
+  const GroupFilterSpec& filter, const std::uint32_t* samples, std::size_t count, GroupView& members,
+  GroupView& rest, std::size_t& kept, std::size_t& below);
 /// Sample sq's count from the group's contour edges ORed into its mask;
-/// false (mask untouched) when the pixel is declined: rasterise gv instead.
-bool WindingPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv, std::uint32_t sq);
+/// false (mask untouched) when the pixel is declined: rasterise the group's
+/// list (or the cell's) instead. members: WindingGroup's.
+bool WindingPixel(
+  const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& members, std::uint32_t sq);
 /// The rejection kernel's parameters for sample sq of the list gv.
 PixelParams MakePixelParams(const CellJob& job, const CellScratch& w, const GroupView& gv, std::uint32_t sq);
 

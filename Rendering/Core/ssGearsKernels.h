@@ -139,7 +139,30 @@ struct WindingBox
   float cz, eps, m;
   int dir;
 };
-/// A group's contour edges (ssGearsWinding.cxx): per edge its entry q and
+/// A sample group's winding count over its cell's list (WindingMembers):
+/// the group's filter (GroupFilter's shaft and horizon planes) and its
+/// start points; out, per cell entry its status (0: no member, 1: a member
+/// in front of every start point, 2: behind), the members' columns and the
+/// rest of the group's list (GroupFilter's 15 columns).
+struct MemberSplit
+{
+  const Shaft* shaft = nullptr;  ///< the group's shaft (null: the cell's)
+  const float* planes = nullptr; ///< np horizon planes (4 floats each)
+  int np = 0;
+  WindingBox box;
+  const std::int32_t* nbr[3];  ///< the cell entries' neighbours (cell indices) per edge
+  std::int32_t* status;        ///< per cell entry (every one written)
+  float* member[9];            ///< the members' vertices (x0 y0 z0 x1 ... z2)
+  std::int32_t* memberNbr[3];  ///< ... their neighbours (cell indices)
+  std::int32_t* memberStatus;  ///< ... their status
+  std::uint32_t* memberIds;    ///< ... their triangles
+  float* rest[15];
+  std::uint32_t* restIds;
+  std::size_t memberCount = 0, restCount = 0; ///< out: the counts
+  std::size_t kept = 0;               ///< out: the group's list (entries the filter keeps)
+  std::size_t below = 0;              ///< out: entries in the shaft dropped by the planes
+};
+/// A group's contour edges (ssGearsWinding.cxx): per edge its member q and
 /// edge m (q | m << 30) and its two vertices (relative to the cell's centre),
 /// one column each (room for 3 entries' worth plus SS_GEARS_LANES).
 struct ContourEdgeList
@@ -162,10 +185,8 @@ struct KernelTable
   /// restIds / rest, as GroupFilter does, their count returned), their
   /// contour, a pixel's contour edges that may step its count, and their
   /// exact steps (-1: the pixel is declined).
-  std::size_t (*members)(const GroupArrays&, const WindingBox&, const std::int32_t* const* nbr, std::int32_t* status,
-    const std::uint32_t* ids, float* const* rest, std::uint32_t* restIds);
-  std::size_t (*contour)(
-    const GroupArrays&, const std::int32_t* status, const std::int32_t* const* nbr, ContourEdgeList& out);
+  void (*members)(const GroupArrays& cell, const std::uint32_t* ids, MemberSplit& s);
+  std::size_t (*contour)(const MemberSplit& s, ContourEdgeList& out);
   std::size_t (*contourPixel)(const ContourEdgeList& e, const PixelParams& p, std::uint32_t* out);
   int (*steps)(const ExactSource& src, const std::int32_t* ia, const std::int32_t* ib, const double* sg, std::size_t n,
     const ExactPixel& p, std::int16_t* delta);
@@ -245,6 +266,18 @@ static inline unsigned LaneMask(VI v)
   return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<const __m256&>(v)));
 #else
   return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<const __m128&>(v)));
+#endif
+}
+
+// Bit q set where lane q of a double comparison result (0 or -1) is set.
+static inline unsigned RowMask(VL v)
+{
+#if SS_GEARS_LANES == 16
+  return _mm512_movepi64_mask(reinterpret_cast<const __m512i&>(v));
+#elif SS_GEARS_LANES == 8
+  return static_cast<unsigned>(_mm256_movemask_pd(reinterpret_cast<const __m256d&>(v)));
+#else
+  return static_cast<unsigned>(_mm_movemask_pd(reinterpret_cast<const __m128d&>(v)));
 #endif
 }
 
@@ -415,6 +448,35 @@ static inline VI InShaftV(const Shaft& s, const VF* x, const VF* y, const VF* z)
   return (o0 < three) & (o1 < three) & (o2 < three) & (o3 < three) & (o4 < three) & (o5 < three);
 }
 
+// The lanes of `valid` (triangles x, y, z) that may reach the shaft s (null:
+// all) and are not below every one of the np planes (a x + b y + c z < d at
+// all three vertices); below += those the planes drop. GroupFilter's and
+// WindingMembers' test of a group's list.
+static inline VI GroupKeep(
+  const Shaft* s, const float* planes, int np, const VF* x, const VF* y, const VF* z, VI valid, int& below)
+{
+  VI k = s ? valid & InShaftV(*s, x, y, z) : valid;
+  if (np > 0)
+  {
+    VI b = k;
+    for (int q = 0; q < np; ++q)
+    {
+      const float* P = planes + 4 * q;
+      for (int m = 0; m < 3; ++m)
+      {
+        b &= (P[0] * x[m] + P[1] * y[m]) + P[2] * z[m] < P[3];
+      }
+      if (!LaneMask(b))
+      {
+        break; // every lane is above some plane: kept
+      }
+    }
+    below += __builtin_popcount(LaneMask(b));
+    k &= ~b;
+  }
+  return k;
+}
+
 // Entries of a group's arrays that may reach the shaft s (null: all) and
 // are not below every one of the np planes (a x + b y + c z < d at all
 // three vertices; the horizon rule, ssGearsCull.cxx, with its margin in d),
@@ -440,25 +502,7 @@ static inline std::size_t GroupFilter(const GroupArrays& g, const std::uint32_t*
     const VF y[3] = { Load(g.y0 + i), Load(g.y1 + i), Load(g.y2 + i) };
     const VF z[3] = { Load(g.z0 + i), Load(g.z1 + i), Load(g.z2 + i) };
     const VI valid = (lane + static_cast<int>(i)) < static_cast<int>(n);
-    VI k = s ? valid & InShaftV(*s, x, y, z) : valid;
-    if (np > 0)
-    {
-      VI b = k;
-      for (int q = 0; q < np; ++q)
-      {
-        const float* P = planes + 4 * q;
-        for (int m = 0; m < 3; ++m)
-        {
-          b &= (P[0] * x[m] + P[1] * y[m]) + P[2] * z[m] < P[3];
-        }
-        if (!LaneMask(b))
-        {
-          break; // every lane is above some plane: kept
-        }
-      }
-      below += __builtin_popcount(LaneMask(b));
-      k &= ~b;
-    }
+    const VI k = GroupKeep(s, planes, np, x, y, z, valid, below);
     if (!LaneMask(k))
     {
       continue;

@@ -43,6 +43,92 @@ LightCorners MakeCorners(const LightFrame& L)
 }
 }
 
+Box2 VolumeGridBox(
+  const GearsGridCamera& C, const LightFrame& L, const FaceTriangles& ft, const float* cb, double m, double far)
+{
+  const int G = C.G;
+  // The shadow volume of a cluster's light-frame box [§3.1, Fig. 4]: its 8
+  // corners (the box cut at depth `far`) and their extrusions from the light
+  // corners to `far`, projected on the grid. The central projections keep
+  // convex sets convex, so the box of these points holds the shadow volume
+  // of every triangle in the cluster.
+  double bx0 = std::numeric_limits<double>::max(), by0 = bx0, bx1 = -bx0, by1 = -bx0;
+  const double z1 = std::min(double(cb[5]) + m, far);
+  if (!C.ortho)
+  {
+    // A finite light's camera shares the face's frame (ft.Lc = C.Lc, the
+    // same axes): (x, y, z) projects to ((x - ex) / (z + d), (y - ey) /
+    // (z + d)), increasing in x (y) and monotonic in z; an extrusion from a
+    // light corner (lx, ly, 0) to depth far, lx + (far / z) (x - lx), is
+    // increasing in x and monotonic in z and in lx. So the box of the 8
+    // corners and their 32 extrusions is the box of these extremes, 24
+    // quotients instead of 40 projections (the same points; the padding
+    // below absorbs the rounding). A point light's corners are its centre.
+    const glm::dvec3 eye(glm::dot(C.E - ft.Lc, ft.u), glm::dot(C.E - ft.Lc, ft.v), -C.eyeDepth);
+    const bool rect = L.type == LightType::Rect;
+    const double lxs[2] = { rect ? -0.5 * L.width : 0.0, rect ? 0.5 * L.width : 0.0 };
+    const double lys[2] = { rect ? -0.5 * L.height : 0.0, rect ? 0.5 * L.height : 0.0 };
+    const double za = double(cb[2]) - m, zb = z1;
+    const double qa = 1.0 / (za - eye.z), qb = 1.0 / (zb - eye.z), qf = 1.0 / (far - eye.z);
+    // [lo, hi] along one axis: the box from a to b, the corners at ls, the eye at e
+    auto extremes = [&](double a, double b, const double* ls, double e, double& lo, double& hi) {
+      lo = std::min((a - e) * qa, (a - e) * qb);
+      hi = std::max((b - e) * qa, (b - e) * qb);
+      for (int c = 0; c < 2; ++c)
+      {
+        const double l = ls[c];
+        lo = std::min({ lo, (l + (far / za) * (a - l) - e) * qf, (l + (far / zb) * (a - l) - e) * qf });
+        hi = std::max({ hi, (l + (far / za) * (b - l) - e) * qf, (l + (far / zb) * (b - l) - e) * qf });
+      }
+    };
+    double plo, phi;
+    extremes(double(cb[0]) - m, double(cb[3]) + m, lxs, eye.x, plo, phi);
+    const double gx0 = (plo - C.gx0) * C.sx, gx1 = (phi - C.gx0) * C.sx;
+    bx0 = std::min(gx0, gx1);
+    bx1 = std::max(gx0, gx1);
+    extremes(double(cb[1]) - m, double(cb[4]) + m, lys, eye.y, plo, phi);
+    const double gy0 = (plo - C.gy0) * C.sy, gy1 = (phi - C.gy0) * C.sy;
+    by0 = std::min(gy0, gy1);
+    by1 = std::max(gy0, gy1);
+  }
+  else
+  {
+    const LightCorners lc = MakeCorners(L);
+    for (int q = 0; q < 8; ++q)
+    {
+      const double x = (q & 1) ? double(cb[3]) + m : double(cb[0]) - m;
+      const double y = (q & 2) ? double(cb[4]) + m : double(cb[1]) - m;
+      const double z = (q & 4) ? z1 : double(cb[2]) - m;
+      const glm::dvec3 X = ft.Lc + x * ft.u + y * ft.v + z * ft.n;
+      auto add = [&](const glm::dvec3& P) {
+        const glm::dvec2 p = C.ToGrid(C.Project(P));
+        bx0 = std::min(bx0, p.x);
+        bx1 = std::max(bx1, p.x);
+        by0 = std::min(by0, p.y);
+        by1 = std::max(by1, p.y);
+      };
+      add(X);
+      for (int c = 0; c < 4; ++c)
+      {
+        add(X + (far - z) * lc.away[c]);
+      }
+    }
+  }
+  // a hair of padding absorbs rounding; cells are closed on the low side
+  const double e = 1e-7 * G;
+  Box2 r;
+  r.x0 = std::max(static_cast<int>(std::floor(std::max(bx0 - e, -1.0))), 0);
+  r.y0 = std::max(static_cast<int>(std::floor(std::max(by0 - e, -1.0))), 0);
+  r.x1 = std::min(static_cast<int>(std::floor(std::min(bx1 + e, static_cast<double>(G)))), G - 1);
+  r.y1 = std::min(static_cast<int>(std::floor(std::min(by1 + e, static_cast<double>(G)))), G - 1);
+  if (!(bx1 + e >= 0.0 && by1 + e >= 0.0 && bx0 - e < G && by0 - e < G))
+  {
+    r.x0 = 1;
+    r.x1 = 0;
+  }
+  return r;
+}
+
 Shaft MakeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double H, bool dir, double m)
 {
   // Finite light: the convex hull of the light's rectangle (z = 0) and the
@@ -313,52 +399,10 @@ void BuildPairs(const SolverData& D, const LightFrame& L, const FaceGrid& g, con
   {
     w.rmax.Build(g.cellDepth, G);
   }
-  const LightCorners lc = MakeCorners(L);
-  const int nCorners = (L.type == LightType::Point) ? 1 : 4;
   const std::size_t NCl = D.Clusters();
   w.box.assign(NCl, Box2{ 1, 1, 0, 0 });
   w.cellsN.assign(NCl, 0);
-  // The shadow volume of a cluster's light-frame box [§3.1, Fig. 4]: its 8
-  // corners (the box cut at depth `far`) and their extrusions from the light
-  // corners to `far`, projected on the grid. The central projections keep
-  // convex sets convex, so the box of these points holds the shadow volume
-  // of every triangle in the cluster.
-  auto volumeBox = [&](const float* cb, double far) -> Box2 {
-    double bx0 = std::numeric_limits<double>::max(), by0 = bx0, bx1 = -bx0, by1 = -bx0;
-    const double z1 = std::min(double(cb[5]) + m, far);
-    for (int q = 0; q < 8; ++q)
-    {
-      const double x = (q & 1) ? double(cb[3]) + m : double(cb[0]) - m;
-      const double y = (q & 2) ? double(cb[4]) + m : double(cb[1]) - m;
-      const double z = (q & 4) ? z1 : double(cb[2]) - m;
-      const glm::dvec3 X = ft.Lc + x * ft.u + y * ft.v + z * ft.n;
-      auto add = [&](const glm::dvec3& P) {
-        const glm::dvec2 p = C.ToGrid(C.Project(P));
-        bx0 = std::min(bx0, p.x);
-        bx1 = std::max(bx1, p.x);
-        by0 = std::min(by0, p.y);
-        by1 = std::max(by1, p.y);
-      };
-      add(X);
-      for (int c = 0; c < nCorners; ++c)
-      {
-        add(C.ortho ? X + (far - z) * lc.away[c] : lc.p[c] + (far / z) * (X - lc.p[c]));
-      }
-    }
-    // a hair of padding absorbs rounding; cells are closed on the low side
-    const double e = 1e-7 * G;
-    Box2 r;
-    r.x0 = std::max(static_cast<int>(std::floor(std::max(bx0 - e, -1.0))), 0);
-    r.y0 = std::max(static_cast<int>(std::floor(std::max(by0 - e, -1.0))), 0);
-    r.x1 = std::min(static_cast<int>(std::floor(std::min(bx1 + e, static_cast<double>(G)))), G - 1);
-    r.y1 = std::min(static_cast<int>(std::floor(std::min(by1 + e, static_cast<double>(G)))), G - 1);
-    if (!(bx1 + e >= 0.0 && by1 + e >= 0.0 && bx0 - e < G && by0 - e < G))
-    {
-      r.x0 = 1;
-      r.x1 = 0;
-    }
-    return r;
-  };
+  auto volumeBox = [&](const float* cb, double far) { return VolumeGridBox(C, L, ft, cb, m, far); };
   std::atomic<std::size_t> fullGrid{ 0 };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NCl, 64), [&](const tbb::blocked_range<std::size_t>& r) {
     std::size_t localFull = 0;

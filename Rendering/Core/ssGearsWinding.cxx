@@ -92,21 +92,58 @@ inline bool Equal(const std::uint32_t* x, const std::uint32_t* y)
 
 namespace
 {
-// Neighbours in the same cluster as their local index (kSameCluster): a cell's
-// list finds them in the run it is reading, without the cluster lookup.
-void LocalNeighbours(const SolverData& d, GearsNeighbours& out)
+// Neighbours in the same cluster as their local index (kSameCluster), the
+// others as an entry of `across` (their cluster and local index): a cell's
+// list finds either without a lookup per triangle id.
+void LocalNeighbours(const SolverData& d, const std::vector<std::uint32_t>& clusterOf, GearsNeighbours& out)
 {
   std::uint32_t* nbr = out.nbr.data();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, d.real, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t t = r.begin(); t != r.end(); ++t)
+  const std::size_t nt = d.real, block = 1 << 14, blocks = (nt + block - 1) / block;
+  std::vector<std::uint32_t> crossing(blocks + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t b = r.begin(); b != r.end(); ++b)
     {
-      const std::uint32_t c = out.clusterOf[t];
-      for (int m = 0; m < 3; ++m)
+      std::uint32_t n = 0;
+      for (std::size_t t = b * block; t < std::min(nt, (b + 1) * block); ++t)
       {
-        const std::uint32_t v = nbr[3 * t + m];
-        if (v != kNoNeighbour && out.clusterOf[v & kNeighbourId] == c)
+        for (int m = 0; m < 3; ++m)
         {
-          nbr[3 * t + m] = (v & kSameDirection) | kSameCluster | ((v & kNeighbourId) - d.clusterFirst[c]);
+          const std::uint32_t v = nbr[3 * t + m];
+          n += v != kNoNeighbour && clusterOf[v & kNeighbourId] != clusterOf[t];
+        }
+      }
+      crossing[b + 1] = n;
+    }
+  });
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    crossing[b + 1] += crossing[b];
+  }
+  out.across.resize(crossing[blocks]);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t b = r.begin(); b != r.end(); ++b)
+    {
+      std::uint32_t at = crossing[b];
+      for (std::size_t t = b * block; t < std::min(nt, (b + 1) * block); ++t)
+      {
+        const std::uint32_t c = clusterOf[t];
+        for (int m = 0; m < 3; ++m)
+        {
+          const std::uint32_t v = nbr[3 * t + m];
+          if (v == kNoNeighbour)
+          {
+            continue;
+          }
+          const std::uint32_t n = v & kNeighbourId, cn = clusterOf[n];
+          if (cn == c)
+          {
+            nbr[3 * t + m] = (v & kSameDirection) | kSameCluster | (n - d.clusterFirst[c]);
+          }
+          else
+          {
+            out.across[at] = { cn, n - d.clusterFirst[cn] };
+            nbr[3 * t + m] = (v & kSameDirection) | at++;
+          }
         }
       }
     }
@@ -124,17 +161,17 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
   // pass of hash buckets.
   const std::size_t nt = d.real;
   out.nbr.clear();
-  out.clusterOf.clear();
+  out.across.clear();
   if (nt == 0 || 9 * nt > 0x7FFFFFFFu)
   {
     // (the kernels address a triangle's floats with 32-bit offsets: a mesh
     // this large is rasterised without the winding count)
     return;
   }
-  out.clusterOf.assign(nt, 0);
+  std::vector<std::uint32_t> clusterOf(nt, 0);
   for (std::size_t c = 0; c + 1 < d.clusterFirst.size() && c < d.realClusters; ++c)
   {
-    std::fill(out.clusterOf.begin() + d.clusterFirst[c], out.clusterOf.begin() + d.clusterFirst[c + 1],
+    std::fill(clusterOf.begin() + d.clusterFirst[c], clusterOf.begin() + d.clusterFirst[c + 1],
       static_cast<std::uint32_t>(c));
   }
   const std::size_t nh = 3 * nt;
@@ -210,7 +247,7 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
   const std::size_t nr = rest.size();
   if (nr < 2)
   {
-    LocalNeighbours(d, out);
+    LocalNeighbours(d, clusterOf, out);
     return;
   }
   int bits = 1;
@@ -255,7 +292,7 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
       }
     }
   });
-  LocalNeighbours(d, out);
+  LocalNeighbours(d, clusterOf, out);
 }
 
 void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& w, std::size_t nl)
@@ -291,66 +328,46 @@ void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& 
   const std::size_t stride = nl + kPad;
   Grow(w.cellNbr, 3 * stride);
   const std::uint32_t* nbrs = N.nbr.data();
+  const GearsNeighbours::Across* across = N.across.data();
+  const std::uint32_t* runOf = w.runOf.data();
+  const std::uint32_t* runBase = w.runBase.data();
+  const std::int32_t* slots = w.slot.data();
+  const CellRun* runs = w.runs.data();
+  const std::uint32_t real = static_cast<std::uint32_t>(D.real);
   std::int32_t* out = w.cellNbr.data();
   for (std::size_t r = 0; r < nr; ++r)
   {
-    const CellRun& run = w.runs[r];
-    const std::int32_t* own = w.slot.data() + w.runBase[r];
+    const CellRun& run = runs[r];
+    const std::int32_t* own = slots + runBase[r];
     if (r + 1 < nr)
     {
-      __builtin_prefetch(&nbrs[3 * static_cast<std::size_t>(list[w.runs[r + 1].start])]);
+      __builtin_prefetch(&nbrs[3 * static_cast<std::size_t>(list[runs[r + 1].start])]);
     }
     for (std::uint32_t i = run.start; i < run.start + run.count; ++i)
     {
       const std::uint32_t t = list[i];
       for (int m = 0; m < 3; ++m)
       {
-        const std::uint32_t v = t < D.real ? nbrs[3 * static_cast<std::size_t>(t) + m] : kNoNeighbour;
+        const std::uint32_t v = t < real ? nbrs[3 * static_cast<std::size_t>(t) + m] : kNoNeighbour;
         std::int32_t at = -1;
-        if (v != kNoNeighbour)
+        if (v == kNoNeighbour)
         {
-          if (v & kSameCluster)
+        }
+        else if (v & kSameCluster)
+        {
+          at = own[v & kNeighbourId];
+        }
+        else
+        {
+          const GearsNeighbours::Across a = across[v & kNeighbourId];
+          const std::uint32_t rn = runOf[a.cluster];
+          if (rn < nr && runs[rn].cluster == a.cluster)
           {
-            at = own[v & kNeighbourId];
-          }
-          else
-          {
-            const std::uint32_t n = v & kNeighbourId;
-            const std::uint32_t c = N.clusterOf[n];
-            const std::uint32_t rn = w.runOf[c];
-            if (rn < nr && w.runs[rn].cluster == c)
-            {
-              at = w.slot[w.runBase[rn] + (n - D.clusterFirst[c])];
-            }
+            at = slots[runBase[rn] + a.local];
           }
         }
         out[m * stride + i] = at < 0 ? -1 : (at | ((v & kSameDirection) ? kNbrSameDirection : 0));
       }
-    }
-  }
-}
-
-void GroupNeighbours(CellScratch& w, std::size_t nl, std::size_t ng)
-{
-  const std::size_t cellStride = nl + kPad, stride = ng + kPad;
-  Grow(w.c2g, nl);
-  Grow(w.gnbr, 3 * stride);
-  const std::uint32_t* gcell = w.gcell.data();
-  std::int32_t* c2g = w.c2g.data();
-  std::fill(c2g, c2g + nl, -1);
-  for (std::size_t q = 0; q < ng; ++q)
-  {
-    c2g[gcell[q]] = static_cast<std::int32_t>(q);
-  }
-  for (int m = 0; m < 3; ++m)
-  {
-    const std::int32_t* cn = w.cellNbr.data() + m * cellStride;
-    std::int32_t* out = w.gnbr.data() + m * stride;
-    for (std::size_t q = 0; q < ng; ++q)
-    {
-      const std::int32_t v = cn[gcell[q]];
-      const std::int32_t g = v < 0 ? -1 : c2g[v & kNbrIndex];
-      out[q] = g < 0 ? -1 : (g | (v & kNbrSameDirection));
     }
   }
 }
@@ -366,7 +383,7 @@ bool WindingMask(const CellJob& job, const KernelTable& K, CellScratch& w, const
   const glm::dvec3 S = w.S[sq];
   CellCounters& cc = w.counters;
   const std::uint32_t* edges = w.edgeId.data();
-  const std::int32_t* status = w.status.data();
+  const std::int32_t* status = w.mstatus.data();
   // the kept edges' vertices (float offsets into the solver's array) and the
   // side of S their triangle's raster takes: S in front of the plane
   // (status 1, decided in float beyond the margin) is det < 0, sg = -1
@@ -417,12 +434,14 @@ bool WindingMask(const CellJob& job, const KernelTable& K, CellScratch& w, const
 }
 }
 
-std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv,
-  const std::uint32_t* samples, std::size_t count, GroupView& rest)
+std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& cell,
+  const GroupFilterSpec& filter, const std::uint32_t* samples, std::size_t count, GroupView& members,
+  GroupView& rest, std::size_t& kept, std::size_t& below)
 {
   // the group's start points still open, in float relative to the cell's
   // centre (the margin is far above this rounding), and their largest offset
-  WindingBox b;
+  MemberSplit ms;
+  WindingBox& b = ms.box;
   glm::dvec3 lo(1e300), hi(-1e300);
   double eps = 0.0;
   for (std::size_t q = 0; q < count; ++q)
@@ -437,42 +456,62 @@ std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& 
   }
   for (int a = 0; a < 3; ++a)
   {
-    b.lo[a] = static_cast<float>(lo[a] - gv.o[a]);
-    b.hi[a] = static_cast<float>(hi[a] - gv.o[a]);
+    b.lo[a] = static_cast<float>(lo[a] - cell.o[a]);
+    b.hi[a] = static_cast<float>(hi[a] - cell.o[a]);
   }
-  b.cz = static_cast<float>(gv.o.z);
+  b.cz = static_cast<float>(cell.o.z);
   b.eps = static_cast<float>(eps);
   b.m = static_cast<float>(job.ft->margin);
   b.dir = job.dir ? 1 : 0;
-  const std::size_t ng = gv.ng, stride = ng + kPad;
+  ms.shaft = filter.shaft;
+  ms.planes = filter.planes;
+  ms.np = filter.np;
+  const std::size_t nl = cell.ng, stride = nl + kPad;
+  for (int m = 0; m < 3; ++m)
+  {
+    ms.nbr[m] = w.cellNbr.data() + m * stride;
+  }
   Grow(w.status, stride);
+  ms.status = w.status.data();
+  for (int c = 0; c < 9; ++c)
+  {
+    Grow(w.mf[c], stride);
+    ms.member[c] = w.mf[c].data();
+  }
+  for (int m = 0; m < 3; ++m)
+  {
+    Grow(w.mnbr[m], stride);
+    ms.memberNbr[m] = w.mnbr[m].data();
+  }
+  Grow(w.mstatus, stride);
+  Grow(w.mtri, stride);
+  ms.memberStatus = w.mstatus.data();
+  ms.memberIds = w.mtri.data();
   Grow(w.rtri, stride);
-  float* restCols[15];
   for (int c = 0; c < 15; ++c)
   {
     Grow(w.rf[c], stride);
-    restCols[c] = w.rf[c].data();
+    ms.rest[c] = w.rf[c].data();
   }
-  const std::int32_t* nbr[3] = { gv.nbr, gv.nbr + stride, gv.nbr + 2 * stride };
-  const std::size_t nrest = K.members(gv.ga, b, nbr, w.status.data(), gv.tri, restCols, w.rtri.data());
-  rest = gv;
-  rest.ng = nrest;
+  ms.restIds = w.rtri.data();
+  K.members(cell.ga, cell.tri, ms);
+  kept = ms.kept;
+  below += ms.below;
+  rest = cell;
+  rest.ng = ms.restCount;
   rest.tri = w.rtri.data();
   rest.ga = { w.rf[0].data(), w.rf[1].data(), w.rf[2].data(), w.rf[3].data(), w.rf[4].data(), w.rf[5].data(),
     w.rf[6].data(), w.rf[7].data(), w.rf[8].data(), w.rf[9].data(), w.rf[10].data(), w.rf[11].data(),
-    w.rf[12].data(), w.rf[13].data(), w.rf[14].data(), nrest };
-  rest.nbr = nullptr;
+    w.rf[12].data(), w.rf[13].data(), w.rf[14].data(), ms.restCount };
   rest.countListed = false;
-  std::size_t members = 0;
-  for (std::size_t q = 0; q < ng; ++q)
-  {
-    members += w.status[q] != 0;
-  }
-  w.counters.windingMembers += static_cast<double>(members);
-  w.counters.windingRest += static_cast<double>(nrest);
+  members = cell;
+  members.ng = ms.memberCount;
+  members.tri = w.mtri.data();
+  w.counters.windingMembers += static_cast<double>(ms.memberCount);
+  w.counters.windingRest += static_cast<double>(ms.restCount);
 
   // the members' contour
-  const std::size_t cap = 3 * ng + kPad;
+  const std::size_t cap = 3 * ms.memberCount + kPad;
   Grow(w.edgeId, cap);
   ContourEdgeList e;
   e.id = w.edgeId.data();
@@ -481,12 +520,13 @@ std::size_t WindingGroup(const CellJob& job, const KernelTable& K, CellScratch& 
     Grow(w.edgeP[c], cap);
     e.p[c] = w.edgeP[c].data();
   }
-  e.n = K.contour(gv.ga, w.status.data(), nbr, e);
+  e.n = K.contour(ms, e);
   w.edgeCount = e.n;
   return e.n;
 }
 
-bool WindingPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv, std::uint32_t sq)
+bool WindingPixel(
+  const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& members, std::uint32_t sq)
 {
   ContourEdgeList e;
   e.id = w.edgeId.data();
@@ -496,10 +536,10 @@ bool WindingPixel(const CellJob& job, const KernelTable& K, CellScratch& w, cons
   }
   e.n = w.edgeCount;
   Grow(w.kept, e.n + kPad);
-  const PixelParams pp = MakePixelParams(job, w, gv, sq);
+  const PixelParams pp = MakePixelParams(job, w, members, sq);
   const std::size_t nk = K.contourPixel(e, pp, w.kept.data());
   std::uint32_t count[32];
-  if (!WindingMask(job, K, w, gv, w.kept.data(), nk, sq, count))
+  if (!WindingMask(job, K, w, members, w.kept.data(), nk, sq, count))
   {
     ++w.counters.windingDeclined;
     return false;

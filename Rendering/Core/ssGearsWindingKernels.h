@@ -1,15 +1,17 @@
 // The winding count's kernels (ssGearsWinding.cxx), included by
 // ssGearsKernels.h inside each instruction set's namespace: no include guard.
 //
-// WindingMembers: a sample group's members, the entries that lie strictly
-//   between every start point of the group and the light and whose plane has
-//   every start point on one side (status 1: in front, 2: behind), by more
-//   than the margin and the largest start offset, with a neighbour in the
-//   list (a triangle without one adds three contour edges: the raster is
-//   cheaper); not slivers (front column -1). Entries that hide no light
-//   sample from any start point of the group (wholly beyond them, behind the
-//   light, or the plane test of RejectPairs for every one: S and the light on
-//   one side, the closed-mesh rule) are neither members nor in the rest.
+// WindingMembers: over the cell's list, the group's list (GroupFilter's
+//   tests, fused: the group's list is never gathered) and of it the members,
+//   the entries that lie strictly between every start point of the group and
+//   the light and whose plane has every start point on one side (status 1:
+//   in front, 2: behind), by more than the margin and the largest start
+//   offset, with a neighbour in the cell's list (a triangle without one adds
+//   three contour edges: the raster is cheaper); not slivers (front column
+//   -1). Entries that hide no light sample from any start point of the group
+//   (wholly beyond them, behind the light, or the plane test of RejectPairs
+//   for every one: S and the light on one side, the closed-mesh rule) are
+//   neither members nor in the rest.
 // ContourEdges: the members' edges that do not cancel against a neighbour
 //   member (the contour of the set), with their vertices.
 // ContourPixel: of those, the edges that may step one pixel's count at a
@@ -17,12 +19,13 @@
 //   margins, the edge spans a sample row and does not lie right of every
 //   sample.
 
-static inline std::size_t WindingMembers(const GroupArrays& g, const WindingBox& b, const std::int32_t* const* nbr,
-  std::int32_t* status, const std::uint32_t* ids, float* const* rest, std::uint32_t* restIds)
+static inline void WindingMembers(const GroupArrays& g, const std::uint32_t* ids, MemberSplit& s)
 {
   const float* const src[15] = { g.x0, g.y0, g.z0, g.x1, g.y1, g.z1, g.x2, g.y2, g.z2, g.nx, g.ny, g.nz, g.nd,
     g.front, g.back };
-  std::size_t c = 0;
+  const WindingBox& b = s.box;
+  std::size_t nm = 0, nr = 0, kept = 0;
+  int below = 0;
   VI lane;
   for (int q = 0; q < SS_GEARS_LANES; ++q)
   {
@@ -35,12 +38,18 @@ static inline std::size_t WindingMembers(const GroupArrays& g, const WindingBox&
   const std::size_t n = g.n;
   for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
   {
-    const VF Z0 = Load(g.z0 + i), Z1 = Load(g.z1 + i), Z2 = Load(g.z2 + i);
+    const VF x[3] = { Load(g.x0 + i), Load(g.x1 + i), Load(g.x2 + i) };
+    const VF y[3] = { Load(g.y0 + i), Load(g.y1 + i), Load(g.y2 + i) };
+    const VF z[3] = { Load(g.z0 + i), Load(g.z1 + i), Load(g.z2 + i) };
+    // the group's list: GroupFilter's tests
+    const VI valid = (lane + static_cast<int>(i)) < static_cast<int>(n);
+    const VI k = GroupKeep(s.shaft, s.planes, s.np, x, y, z, valid, below);
+    kept += static_cast<std::size_t>(__builtin_popcount(LaneMask(k)));
     // strictly between every start point and the light
-    VI between = (b.lo[2] - Z0 > m) & (b.lo[2] - Z1 > m) & (b.lo[2] - Z2 > m);
+    VI between = (b.lo[2] - z[0] > m) & (b.lo[2] - z[1] > m) & (b.lo[2] - z[2] > m);
     if (!b.dir)
     {
-      between &= (b.cz + Z0 > m) & (b.cz + Z1 > m) & (b.cz + Z2 > m);
+      between &= (b.cz + z[0] > m) & (b.cz + z[1] > m) & (b.cz + z[2] > m);
     }
     // every start point on one side of the plane
     const VF nx = Load(g.nx + i), ny = Load(g.ny + i), nz = Load(g.nz + i);
@@ -50,67 +59,86 @@ static inline std::size_t WindingMembers(const GroupArrays& g, const WindingBox&
     // the plane test for every start point: it hides nothing from the group
     const VI oneSide = ((sigma - ext > m) & (front > 0.5f)) | ((sigma + ext < -m) & (back > 0.5f));
     const VI inFront = sigma - ext > reach, behind = sigma + ext < -reach;
-    VI nb0, nb1, nb2;
-    __builtin_memcpy(&nb0, nbr[0] + i, sizeof(nb0));
-    __builtin_memcpy(&nb1, nbr[1] + i, sizeof(nb1));
-    __builtin_memcpy(&nb2, nbr[2] + i, sizeof(nb2));
-    const VI linked = (nb0 >= 0) | (nb1 >= 0) | (nb2 >= 0);
-    const VI inRange = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
-    const VI ok = between & linked & (front >= 0.0f) & ~oneSide & inRange;
+    VI nb[3];
+    for (int e = 0; e < 3; ++e)
+    {
+      __builtin_memcpy(&nb[e], s.nbr[e] + i, sizeof(nb[e]));
+    }
+    // (a neighbour in the cell's list: one outside the group's adds a
+    // contour edge that does not cancel, which is still exact)
+    const VI linked = (nb[0] >= 0) | (nb[1] >= 0) | (nb[2] >= 0);
+    const VI ok = k & between & linked & (front >= 0.0f) & ~oneSide;
     const VI st = ok ? (inFront ? VI{} + 1 : (behind ? VI{} + 2 : VI{})) : VI{};
-    __builtin_memcpy(status + i, &st, sizeof(st));
+    __builtin_memcpy(s.status + i, &st, sizeof(st));
+    if (!LaneMask(k))
+    {
+      continue;
+    }
+    const VI member = st != 0;
+    if (LaneMask(member))
+    {
+      for (int col = 0; col < 9; ++col)
+      {
+        Compact(Load(src[col] + i), member, s.member[col] + nm);
+      }
+      for (int e = 0; e < 3; ++e)
+      {
+        Compact(nb[e], member, s.memberNbr[e] + nm);
+      }
+      Compact(st, member, s.memberStatus + nm);
+      VUI idx;
+      __builtin_memcpy(&idx, ids + i, sizeof(idx));
+      nm += static_cast<std::size_t>(Compact(idx, member, s.memberIds + nm));
+    }
     // wholly beyond every start point, or behind the light
-    VI useless = oneSide | ((Z0 - b.hi[2] > m) & (Z1 - b.hi[2] > m) & (Z2 - b.hi[2] > m));
+    VI useless = oneSide | ((z[0] - b.hi[2] > m) & (z[1] - b.hi[2] > m) & (z[2] - b.hi[2] > m));
     if (!b.dir)
     {
-      useless |= (b.cz + Z0 < -m) & (b.cz + Z1 < -m) & (b.cz + Z2 < -m);
+      useless |= (b.cz + z[0] < -m) & (b.cz + z[1] < -m) & (b.cz + z[2] < -m);
     }
-    const VI other = inRange & (st == 0) & ~useless;
+    const VI other = k & (st == 0) & ~useless;
     if (LaneMask(other))
     {
       for (int col = 0; col < 15; ++col)
       {
-        Compact(Load(src[col] + i), other, rest[col] + c);
+        Compact(Load(src[col] + i), other, s.rest[col] + nr);
       }
       VUI idx;
       __builtin_memcpy(&idx, ids + i, sizeof(idx));
-      c += static_cast<std::size_t>(Compact(idx, other, restIds + c));
+      nr += static_cast<std::size_t>(Compact(idx, other, s.restIds + nr));
     }
   }
-  return c;
+  s.memberCount = nm;
+  s.restCount = nr;
+  s.kept = kept;
+  s.below += static_cast<std::size_t>(below);
 }
 
-static inline std::size_t ContourEdges(
-  const GroupArrays& g, const std::int32_t* status, const std::int32_t* const* nbr, ContourEdgeList& out)
+static inline std::size_t ContourEdges(const MemberSplit& s, ContourEdgeList& out)
 {
   VI lane;
   for (int q = 0; q < SS_GEARS_LANES; ++q)
   {
     lane[q] = q;
   }
-  const float* const P[9] = { g.x0, g.y0, g.z0, g.x1, g.y1, g.z1, g.x2, g.y2, g.z2 };
   std::size_t c = 0;
-  const std::size_t n = g.n;
+  const std::size_t n = s.memberCount;
   for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
   {
     VI st;
-    __builtin_memcpy(&st, status + i, sizeof(st));
-    const VI member = (st != 0) & (lane + static_cast<int>(i) < VI{} + static_cast<int>(n));
-    if (!LaneMask(member))
-    {
-      continue;
-    }
+    __builtin_memcpy(&st, s.memberStatus + i, sizeof(st));
+    const VI valid = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
     for (int m = 0; m < 3; ++m)
     {
       VI nb;
-      __builtin_memcpy(&nb, nbr[m] + i, sizeof(nb));
-      const VI has = member & (nb >= 0);
-      const VI sn = GatherI(status, nb & kNbrIndex, has);
+      __builtin_memcpy(&nb, s.memberNbr[m] + i, sizeof(nb));
+      const VI has = valid & (nb >= 0);
+      const VI sn = GatherI(s.status, nb & kNbrIndex, has);
       const VI same = (nb & kNbrSameDirection) != 0;
       // exact negations (ssGearsWinding.cxx): same side and opposite
       // traversal, or opposite sides and the same traversal
       const VI cancel = has & (sn != 0) & (same ? sn != st : sn == st);
-      const VI keep = member & ~cancel;
+      const VI keep = valid & ~cancel;
       if (!LaneMask(keep))
       {
         continue;
@@ -118,8 +146,8 @@ static inline std::size_t ContourEdges(
       const int b = (m + 1) % 3;
       for (int a = 0; a < 3; ++a)
       {
-        Compact(Load(P[3 * m + a] + i), keep, out.p[a] + c);
-        Compact(Load(P[3 * b + a] + i), keep, out.p[3 + a] + c);
+        Compact(Load(s.member[3 * m + a] + i), keep, out.p[a] + c);
+        Compact(Load(s.member[3 * b + a] + i), keep, out.p[3 + a] + c);
       }
       c += static_cast<std::size_t>(Compact((VUI)((lane + static_cast<int>(i)) | (m << 30)), keep, out.id + c));
     }
@@ -187,10 +215,16 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
   const double D0x = p.dir ? 0.0 : -p.Sx, D0y = p.dir ? 0.0 : -p.Sy, D0z = p.dir ? -1.0 : -p.Sz;
   const double h = 0.5 * p.invK - 0.5;
   const VD zero = VD{} + 0.0, one = VD{} + 1.0, kmax = VD{} + (k - 1.0);
+  VD lane;
+  for (int q = 0; q < kRowLanes; ++q)
+  {
+    lane[q] = double(q);
+  }
   int stepped = 0;
   for (std::size_t e0 = 0; e0 < n; e0 += kRowLanes)
   {
     const int count = static_cast<int>(std::min<std::size_t>(kRowLanes, n - e0));
+    const VL valid = lane < double(count);
     VD B[2][3];
     for (int v = 0; v < 2; ++v)
     {
@@ -218,12 +252,7 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
       const VD ad = py[v] - yr;
       const VL near = (yr >= 0.0) & (yr <= k - 1.0) & ((ad < 0.0 ? -ad : ad) <= 1e-7 * (1.0 + (py[v] < 0.0 ? -py[v] : py[v]))) &
         (px[v] >= -1.0) & (px[v] <= double(k));
-      long long bad = 0;
-      for (int q = 0; q < count; ++q)
-      {
-        bad |= near[q];
-      }
-      if (bad)
+      if (RowMask(near & valid))
       {
         return -1;
       }
@@ -239,7 +268,12 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
     const VD ceil0 = t0 + (t0 < c0 ? one : zero), ceil1 = t1 + (t1 < c1 ? one : zero);
     const VD j0 = ceil0 < 0.0 ? zero : ceil0;
     const VD j1 = (ceil1 - 1.0) > kmax ? kmax : ceil1 - 1.0;
-    const VL live = (j0 <= j1) & !(xmin > (k - 1.0) + 1e-7 * (1.0 + ax0 + ax1));
+    const VL live = valid & (j0 <= j1) & !(xmin > (k - 1.0) + 1e-7 * (1.0 + ax0 + ax1));
+    const unsigned liveBits = RowMask(live);
+    if (!liveBits)
+    {
+      continue;
+    }
     // the edge's function as SetupTriangle computes it: sg (a x b)
     VD sg;
     for (int q = 0; q < kRowLanes; ++q)
@@ -252,24 +286,27 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
     const VD du = (ex * p.W + ey * 0.0) + ez * 0.0, dv = (ex * 0.0 + ey * p.H) + ez * 0.0;
     const VD A = (0.0 + ((ex * D0x + ey * D0y) + ez * D0z)) + h * (du + dv);
     const VD Bc = du * p.invK, C = dv * p.invK;
-    for (int q = 0; q < count; ++q)
+    if (RowMask(live & !(Bc != 0.0)))
     {
-      if (live[q] && !(Bc[q] != 0.0))
-      {
-        return -1;
-      }
+      return -1;
     }
     const VD Bs = Bc != 0.0 ? Bc : one;
     const VD P = -A / Bs, Q = -C / Bs;
     const VL steep = !(((P < 0.0 ? -P : P) <= kSteepKernel) & ((Q < 0.0 ? -Q : Q) <= kSteepKernel));
-    int rows = 0;
-    for (int q = 0; q < count; ++q)
+    // (the division per row only where a live edge needs it: steep is rare)
+    const bool anySteep = RowMask(live & steep) != 0;
+    const VD span = live ? j1 - j0 : zero - 1.0;
+    double most = -1.0;
+    for (int q = 0; q < kRowLanes; ++q)
     {
-      if (live[q])
-      {
-        ++stepped;
-        rows = std::max(rows, static_cast<int>(j1[q] - j0[q]) + 1);
-      }
+      most = std::max(most, span[q]);
+    }
+    stepped += __builtin_popcount(liveBits);
+    const int rows = static_cast<int>(most) + 1;
+    std::int16_t step[kRowLanes];
+    for (int q = 0; q < kRowLanes; ++q)
+    {
+      step[q] = Bc[q] > 0.0 ? 1 : -1;
     }
     for (int r = 0; r < rows; ++r)
     {
@@ -277,7 +314,11 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
       const VL on = live & (jv <= j1);
       // RowBound, both signs of B at once
       const VD ej = A + C * jv;
-      VD x = steep ? -ej / Bs : P + Q * jv;
+      VD x = P + Q * jv;
+      if (anySteep)
+      {
+        x = steep ? -ej / Bs : x;
+      }
       x = x < -2.0 ? zero - 2.0 : (x > k + 1.0 ? VD{} + (k + 1.0) : x);
       const VD t = __builtin_convertvector(__builtin_convertvector(x, VJ), VD);
       const VD cu = t + (t < x ? one : zero), cd = t - (t > x ? one : zero); // ceil, floor
@@ -286,12 +327,17 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
       const VD epU = ej + Bc * (cd + 1.0), e0U = ej + Bc * cd;
       const VD hi = epU >= 0.0 ? cd + 1.0 : (e0U >= 0.0 ? cd : cd - 1.0);
       const VD at = Bc > 0.0 ? lo : hi + 1.0;
-      for (int q = 0; q < count; ++q)
+      unsigned put = RowMask(on & (at <= k - 1.0));
+      if (!put)
       {
-        if (on[q] && at[q] <= k - 1.0)
-        {
-          delta[static_cast<int>(jv[q]) * (k + 1) + static_cast<int>(at[q] < 0.0 ? 0.0 : at[q])] += Bc[q] > 0.0 ? 1 : -1;
-        }
+        continue;
+      }
+      const VJ cell = __builtin_convertvector(jv, VJ) * (k + 1) + __builtin_convertvector(at < 0.0 ? zero : at, VJ);
+      while (put)
+      {
+        const int q = __builtin_ctz(put);
+        put &= put - 1;
+        delta[cell[q]] += step[q];
       }
     }
   }

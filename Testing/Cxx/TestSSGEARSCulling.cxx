@@ -353,6 +353,94 @@ TEST(GEARSCulling, SegmentsThroughBoxHoldsForEverySegment)
   EXPECT_EQ(bad, 0u) << "of " << checked << " sampled segments";
 }
 
+TEST(GEARSCulling, ClusterShadowVolumeBoxHoldsEverySampledPoint)
+{
+  // Pass 1's cluster-to-cell box (VolumeGridBox; a finite light's box is
+  // found from the extremes of its projections, not by projecting points):
+  // every sampled point of the shadow volume of a cluster box up to depth
+  // far, projected on the grid, lies in a cell of the box. Points: the box
+  // (its corners first) and its extrusions from points of the light (its
+  // corners first) or along directions of a directional light's cone.
+  // Rect, point and directional lights in random frames, every cube face.
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> U(-1.0, 1.0), P(0.0, 1.0);
+  std::size_t checked = 0, bad = 0;
+  for (int trial = 0; trial < 3000; ++trial)
+  {
+    const int type = trial % 3;
+    const glm::dvec3 n = glm::normalize(glm::dvec3(U(rng), U(rng), U(rng)));
+    const glm::dvec3 up = glm::normalize(glm::cross(n, glm::dvec3(U(rng), U(rng), U(rng))));
+    const glm::dvec3 centre(U(rng), U(rng), U(rng));
+    LightFrame L = type == 0 ? MakeRectLightFrame(centre, n, up, glm::dvec2(0.05 + 2.0 * P(rng), 0.05 + P(rng)))
+      : type == 1            ? MakePointLightFrame(centre)
+                             : MakeDirectionalLightFrame(n, 0.01 + 0.3 * P(rng));
+    const int face = type == 1 ? trial % 6 : 0;
+    // the samples: a box in front of the light (for the point light, of the face)
+    gears::FaceTriangles ft;
+    GearsGridCamera C0 = GearsFaceCamera(L, face, centre, centre, 1.0);
+    const glm::dvec3 sc = centre + (2.0 + 3.0 * P(rng)) * C0.n + U(rng) * C0.u + U(rng) * C0.v;
+    const glm::dvec3 half(0.2 + P(rng), 0.2 + P(rng), 0.2 + P(rng));
+    GearsGridCamera C = GearsFaceCamera(L, face, sc - half, sc + half, 0.5 + P(rng));
+    const int G = 1 + static_cast<int>(P(rng) * 96);
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (int q = 0; q < 8; ++q)
+    {
+      const glm::dvec3 X = sc + glm::dvec3((q & 1) ? half.x : -half.x, (q & 2) ? half.y : -half.y, (q & 4) ? half.z : -half.z);
+      const glm::dvec2 p = C.Project(X);
+      x0 = std::min(x0, p.x);
+      x1 = std::max(x1, p.x);
+      y0 = std::min(y0, p.y);
+      y1 = std::max(y1, p.y);
+    }
+    GearsFitGrid(C, G, x0, x1, y0, y1);
+    ft.Lc = C.Lc;
+    ft.u = C.u;
+    ft.v = C.v;
+    ft.n = C.n;
+    // a cluster box between the light and the samples (light frame)
+    const double depth = C.Depth(sc);
+    const double z0 = depth * (0.05 + 0.6 * P(rng)), z1 = z0 + depth * 0.4 * P(rng);
+    const double bx = 1.5 * U(rng), by = 1.5 * U(rng), ex = 0.5 * P(rng), ey = 0.5 * P(rng);
+    const float cb[6] = { float(bx - ex), float(by - ey), float(z0), float(bx + ex), float(by + ey), float(z1) };
+    const double m = 1e-6, far = depth + half.z;
+    const gears::Box2 box = gears::VolumeGridBox(C, L, ft, cb, m, far);
+    for (int q = 0; q < 60; ++q)
+    {
+      const bool corner = q < 24;
+      auto pick = [&](double lo, double hi) { return corner ? (P(rng) < 0.5 ? lo : hi) : lo + P(rng) * (hi - lo); };
+      const double zt = std::min(double(cb[5]), far);
+      glm::dvec3 X(pick(cb[0], cb[3]), pick(cb[1], cb[4]), pick(cb[2], zt));
+      if (q % 2 == 1)
+      {
+        // extruded to a depth between X's and far
+        const double a = corner ? (P(rng) < 0.5 ? -0.5 : 0.5) : P(rng) - 0.5;
+        const double b = corner ? (P(rng) < 0.5 ? -0.5 : 0.5) : P(rng) - 0.5;
+        const double zf = X.z + (corner ? 1.0 : P(rng)) * (far - X.z);
+        if (type == 2)
+        {
+          const double T = 2.0 * std::tan(0.5 * L.angularDiameter);
+          X += (zf - X.z) * glm::dvec3(-a * T, -b * T, 1.0);
+        }
+        else
+        {
+          const glm::dvec3 l = type == 0 ? glm::dvec3(a * L.width, b * L.height, 0.0) : glm::dvec3(0.0);
+          X = l + (zf / X.z) * (X - l);
+        }
+      }
+      const glm::dvec2 g = C.ToGrid(C.Project(ft.Lc + X.x * ft.u + X.y * ft.v + X.z * ft.n));
+      if (!(g.x >= 0.0 && g.y >= 0.0 && g.x < G && g.y < G))
+      {
+        continue; // off the grid: no cell to miss
+      }
+      ++checked;
+      const int cx = static_cast<int>(std::floor(g.x)), cy = static_cast<int>(std::floor(g.y));
+      bad += box.Empty() || cx < box.x0 || cx > box.x1 || cy < box.y0 || cy > box.y1;
+    }
+  }
+  EXPECT_GT(checked, 20000u); // (about 32,000: the rest fall off the grid)
+  EXPECT_EQ(bad, 0u) << "of " << checked << " sampled points outside their cluster's cell box";
+}
+
 TEST(GEARSCulling, InnerOccluderRuleChangesNoBit)
 {
   // A dense closed bumpy surface (8192 triangles, so that its clusters are
