@@ -57,6 +57,10 @@ struct GearsOptions
   /// triangles; opaque casters, a rect or directional light, k > 1.
   bool windingCount = true;
   int windingMinList = 32;
+  /// A group's rest (the list entries the winding count leaves to the raster)
+  /// of at least this many entries is culled again per half of the group,
+  /// against the half's shaft and horizons (same bits; gears.md, ninth round).
+  int restSplitMin = 128;
   /// Small candidates wholly between S and the light get their bits from
   /// their projection in float where every sample is decided beyond the
   /// rounding bound (same bits; gears.md "Small triangles in float"), the

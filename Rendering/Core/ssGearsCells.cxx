@@ -63,6 +63,10 @@ void CellCounters::Add(const CellCounters& o)
 
 namespace
 {
+// A winding count's rest of at least GearsOptions::restSplitMin entries is
+// culled again per part of at most kSubGroup samples of its group.
+constexpr std::uint32_t kSubGroup = 8;
+
 // A shaft (MakeShaft) in float for coordinates relative to `o`.
 Shaft RelativeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double H, bool dir, double m, const glm::dvec3& o)
 {
@@ -513,21 +517,67 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         Grow(w.box, 4 * (gv.ng + kPad));
         lap(cc.msGroups);
         // --- per pixel (the winding count: the group's members once, then
-        // per pixel their contour and the raster of the rest of the list)
-        for (std::uint32_t q = gbegin; q < gend; ++q)
+        // per pixel their contour and the raster of the rest of the list).
+        // A long rest is culled again per half of the group (its shaft and
+        // horizons): most of a rest's pairs fail a test that the samples of
+        // a half share (the 5M assembly: 94% of them are rejected per pixel)
+        w.subEnd.clear();
+        if (groupWinding && rest.ng >= static_cast<std::size_t>(std::max(1, opt.restSplitMin)) &&
+          gend - gbegin > kSubGroup)
         {
-          const std::uint32_t sq = w.sampleOrder[q];
-          if (groupWinding && !w.state[sq].full)
+          SplitSamples(w.S, w.sampleOrder.data(), gbegin, gend, kSubGroup, w.subEnd);
+        }
+        else
+        {
+          w.subEnd.push_back(gend);
+        }
+        std::uint32_t sbegin = gbegin;
+        for (const std::uint32_t send : w.subEnd)
+        {
+          GroupView subRest = rest;
+          if (w.subEnd.size() > 1)
           {
-            const bool counted = WindingPixel(job, K, w, members, sq);
-            cc.listed += counted ? static_cast<double>(groupListed) : 0.0;
-            DrawPixel(job, K, w, counted ? rest : gv, sq);
+            glm::dvec3 slo(1e300), shi(-1e300);
+            for (std::uint32_t q = sbegin; q < send; ++q)
+            {
+              slo = glm::min(slo, w.S[w.sampleOrder[q]]);
+              shi = glm::max(shi, w.S[w.sampleOrder[q]]);
+            }
+            const Shaft sshaft = RelativeShaft(slo, shi, W, H, dir, m, o);
+            int snp = 0;
+            if (opt.horizonCulling)
+            {
+              CollectHorizons(w, w.sampleOrder.data() + sbegin, send - sbegin, w.horizons);
+              snp = HorizonPlanesFloat(w.horizons, o, 2.0 * m, planes);
+            }
+            float* dst[15];
+            for (int q = 0; q < 15; ++q)
+            {
+              Grow(w.gf[q], rest.ng + kPad);
+              dst[q] = w.gf[q].data();
+            }
+            Grow(w.glist, rest.ng + kPad);
+            std::size_t belowHalf = 0; // (counted once, for the group)
+            subRest.ng = K.group(rest.ga, rest.tri, &sshaft, planes, snp, dst, w.glist.data(), belowHalf);
+            subRest.ga = Arrays(w.gf, subRest.ng);
+            subRest.tri = w.glist.data();
           }
-          else
+          for (std::uint32_t q = sbegin; q < send; ++q)
           {
-            DrawPixel(job, K, w, gv, sq);
+            const std::uint32_t sq = w.sampleOrder[q];
+            if (groupWinding && !w.state[sq].full)
+            {
+              const bool counted = WindingPixel(job, K, w, members, sq);
+              cc.listed += counted ? static_cast<double>(groupListed) : 0.0;
+              DrawPixel(job, K, w, counted ? subRest : gv, sq);
+            }
+            else
+            {
+              DrawPixel(job, K, w, gv, sq);
+            }
+            PixelFinish(job, w, sq);
           }
-          PixelFinish(job, w, sq);
+          sbegin = send;
         }
         lap(cc.msExact);
         gbegin = gend;

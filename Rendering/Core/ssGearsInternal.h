@@ -575,7 +575,7 @@ struct CellScratch
   std::vector<std::size_t> pixel;       ///< the cell's pixels
   std::vector<PixelState> state;
   std::vector<std::vector<float>> trans; ///< per sample: transmittance of translucent casters
-  std::vector<std::uint32_t> sampleOrder, groupEnd;
+  std::vector<std::uint32_t> sampleOrder, groupEnd, subEnd;
   std::vector<std::uint32_t> list;       ///< the cell's triangles (their first entries are valid)
   std::vector<std::uint32_t> drawnBoxes; ///< the inner occluders drawn into the cell's masks
   std::vector<float> f[15];             ///< the list in float relative to the cell's centre (GroupArrays order)

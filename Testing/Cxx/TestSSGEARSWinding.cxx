@@ -200,6 +200,10 @@ Result Compare(const Mesh &m, const glm::dvec3 &offset, double scale,
       on.k = off.k = k;
       on.simd = off.simd = simd;
       on.windingMinList = 1; // the small test lists too
+      // the rest culled again per half group (the small rests too; coarse
+      // cells, so that groups fill) at k = 16 and 32; at k = 4 and 8 not at all
+      on.restSplitMin = (k % 16 == 0) ? 1 : 1 << 30;
+      on.grid = (k % 16 == 0) ? 8 : 0;
       off.windingCount = false;
       GearsStats st;
       std::vector<GearsMask> a, b;
