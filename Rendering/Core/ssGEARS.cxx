@@ -439,7 +439,9 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   opt.groupSize = opt.groupSize > 0 ? opt.groupSize : (winding ? 16 : 8);
   const int k = (light.type == LightType::Point) ? 1 : std::clamp(opt.k, 1, 32);
   const std::uint32_t fullRow = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
-  const Isa isa = ResolveIsa(opt.simd);
+  // (the vector kernels address the solver's floats with 32-bit offsets:
+  // past 238M triangles the scalar ones, whose offsets are 64-bit)
+  const Isa isa = KernelOffsetsFit(D.Triangles()) ? ResolveIsa(opt.simd) : Isa::Scalar;
   st.simd = IsaName(isa);
   st.grid = opt.grid;
   st.triangles = D.real;

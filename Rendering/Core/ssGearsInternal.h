@@ -210,6 +210,14 @@ enum class Isa
 };
 /// The widest of `wanted` and what the CPU supports.
 Isa ResolveIsa(GearsSimd wanted);
+/// Whether the vector kernels' 32-bit float offsets into SolverData::V (9 t
+/// + 8 for triangle t) reach every one of nt triangles: 9 nt - 1 < 2^31, up
+/// to 238,609,294. Past that the solver runs the scalar kernels (64-bit
+/// offsets) and without the winding count.
+inline bool KernelOffsetsFit(std::size_t nt)
+{
+  return nt <= (static_cast<std::size_t>(1) << 31) / 9;
+}
 const char* IsaName(Isa isa);
 
 

@@ -162,7 +162,7 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
   const std::size_t nt = d.real;
   out.nbr.clear();
   out.across.clear();
-  if (nt == 0 || 9 * nt > 0x7FFFFFFFu)
+  if (nt == 0 || !KernelOffsetsFit(d.Triangles()))
   {
     // (the kernels address a triangle's floats with 32-bit offsets: a mesh
     // this large is rasterised without the winding count)

@@ -7,6 +7,7 @@
 // the horizon rule, pixels on the casters (the start rule), every light type,
 // k = 8, 16 and 32; and, at k = 8, masks equal to brute force.
 #include "ssGEARS.h"
+#include "ssGearsInternal.h"
 #include "ssGearsTestScenes.h"
 
 #include <gtest/gtest.h>
@@ -160,4 +161,18 @@ TEST(GEARSISA, EveryInstructionSetGivesTheBaselinesMasksListsAndCounts)
   {
     GTEST_SKIP() << "this CPU runs only the baseline kernels";
   }
+}
+
+TEST(GEARSISA, VectorKernelsOnlyWhereTheirOffsetsReach)
+{
+  // The AVX2 / AVX-512 kernels gather a triangle's floats at 32-bit offsets
+  // 9 t + c (c < 9): with `last` triangles every offset is below 2^31, with
+  // one more the last float's is not. Past it the solver takes the scalar
+  // kernels (and no winding count), so that no offset wraps.
+  const std::size_t last = (std::size_t(1) << 31) / 9; // 238,609,294
+  EXPECT_LE(9 * (last - 1) + 8, (std::size_t(1) << 31) - 1);
+  EXPECT_GT(9 * last + 8, (std::size_t(1) << 31) - 1);
+  EXPECT_TRUE(gears::KernelOffsetsFit(0));
+  EXPECT_TRUE(gears::KernelOffsetsFit(last));
+  EXPECT_FALSE(gears::KernelOffsetsFit(last + 1));
 }
