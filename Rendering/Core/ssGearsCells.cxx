@@ -300,7 +300,6 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         gv.o = o;
         gv.exact = &exact;
         gv.counting = false;
-        Grow(w.keep, gv.ng + kPad);
         Grow(w.cand, gv.ng + kPad);
         Grow(w.box, 4 * (gv.ng + kPad));
         allFull = true;
@@ -409,6 +408,23 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         w.groupEnd.push_back(ns);
       }
       cc.groups += w.groupEnd.size();
+      // the shaft of samples [b, e) of the cell's order and, with the horizon
+      // rule, their horizon planes (ssGearsCull.cxx) into planes: their count
+      auto rangeFilter = [&](std::uint32_t b, std::uint32_t e, Shaft& shaftOut, float* planesOut) {
+        glm::dvec3 rlo(1e300), rhi(-1e300);
+        for (std::uint32_t q = b; q < e; ++q)
+        {
+          rlo = glm::min(rlo, w.S[w.sampleOrder[q]]);
+          rhi = glm::max(rhi, w.S[w.sampleOrder[q]]);
+        }
+        shaftOut = RelativeShaft(rlo, rhi, W, H, dir, m, o);
+        if (!opt.horizonCulling)
+        {
+          return 0;
+        }
+        CollectHorizons(w, w.sampleOrder.data() + b, e - b, w.horizons);
+        return HorizonPlanesFloat(w.horizons, o, 2.0 * m, planesOut);
+      };
       std::uint32_t gbegin = 0;
       for (const std::uint32_t gend : w.groupEnd)
       {
@@ -428,29 +444,16 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         }
         const bool split = w.groupEnd.size() > 1;
         const bool filter = (split || opt.horizonCulling) && !(groupFull && !opt.countNecessary && !assign);
-        // the group's shaft and its samples' horizon planes (ssGearsCull.cxx)
+        // the group's shaft (when the cell's samples were split) and its
+        // samples' horizon planes
         Shaft gshaft;
         float planes[4 * kMaxHorizonPlanes];
         GroupFilterSpec spec;
         if (filter)
         {
-          if (split)
-          {
-            glm::dvec3 glo(1e300), ghi(-1e300);
-            for (std::uint32_t q = gbegin; q < gend; ++q)
-            {
-              glo = glm::min(glo, w.S[w.sampleOrder[q]]);
-              ghi = glm::max(ghi, w.S[w.sampleOrder[q]]);
-            }
-            gshaft = RelativeShaft(glo, ghi, W, H, dir, m, o);
-            spec.shaft = &gshaft;
-          }
-          if (opt.horizonCulling)
-          {
-            CollectHorizons(w, w.sampleOrder.data() + gbegin, gend - gbegin, w.horizons);
-            spec.np = HorizonPlanesFloat(w.horizons, o, 2.0 * m, planes);
-            spec.planes = planes;
-          }
+          spec.np = rangeFilter(gbegin, gend, gshaft, planes);
+          spec.shaft = split ? &gshaft : nullptr;
+          spec.planes = planes;
         }
         // the winding count (not for the assignment output, which lists each
         // group's triangles): the group's list is filtered by its kernel and
@@ -512,7 +515,6 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           }
           groupPixels[c].push_back(0xFFFFFFFFu);
         }
-        Grow(w.keep, gv.ng + kPad);
         Grow(w.cand, gv.ng + kPad);
         Grow(w.box, 4 * (gv.ng + kPad));
         lap(cc.msGroups);
@@ -537,19 +539,8 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
           GroupView subRest = rest;
           if (w.subEnd.size() > 1)
           {
-            glm::dvec3 slo(1e300), shi(-1e300);
-            for (std::uint32_t q = sbegin; q < send; ++q)
-            {
-              slo = glm::min(slo, w.S[w.sampleOrder[q]]);
-              shi = glm::max(shi, w.S[w.sampleOrder[q]]);
-            }
-            const Shaft sshaft = RelativeShaft(slo, shi, W, H, dir, m, o);
-            int snp = 0;
-            if (opt.horizonCulling)
-            {
-              CollectHorizons(w, w.sampleOrder.data() + sbegin, send - sbegin, w.horizons);
-              snp = HorizonPlanesFloat(w.horizons, o, 2.0 * m, planes);
-            }
+            Shaft sshaft;
+            const int snp = rangeFilter(sbegin, send, sshaft, planes);
             float* dst[15];
             for (int q = 0; q < 15; ++q)
             {

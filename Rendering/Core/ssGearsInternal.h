@@ -589,7 +589,6 @@ struct CellScratch
   std::vector<float> f[15];             ///< the list in float relative to the cell's centre (GroupArrays order)
   std::vector<float> gf[15];            ///< one group's gathered arrays
   std::vector<std::uint32_t> glist;     ///< one group's triangles
-  std::vector<std::int32_t> keep;
   std::vector<float> box;
   std::vector<std::uint32_t> cand;
   std::vector<std::uint32_t> smallBits; ///< the filtered float test's bits per candidate

@@ -41,10 +41,11 @@ LightCorners MakeCorners(const LightFrame& L)
   }
   return c;
 }
-}
 
-Box2 VolumeGridBox(
-  const GearsGridCamera& C, const LightFrame& L, const FaceTriangles& ft, const float* cb, double m, double far)
+// VolumeGridBox with the light's corners made once by the caller (a
+// directional light's take a tangent).
+Box2 VolumeBox(const GearsGridCamera& C, const LightFrame& L, const LightCorners& lc, const FaceTriangles& ft,
+  const float* cb, double m, double far)
 {
   const int G = C.G;
   // The shadow volume of a cluster's light-frame box [§3.1, Fig. 4]: its 8
@@ -93,7 +94,6 @@ Box2 VolumeGridBox(
   }
   else
   {
-    const LightCorners lc = MakeCorners(L);
     for (int q = 0; q < 8; ++q)
     {
       const double x = (q & 1) ? double(cb[3]) + m : double(cb[0]) - m;
@@ -127,6 +127,13 @@ Box2 VolumeGridBox(
     r.x1 = 0;
   }
   return r;
+}
+}
+
+Box2 VolumeGridBox(
+  const GearsGridCamera& C, const LightFrame& L, const FaceTriangles& ft, const float* cb, double m, double far)
+{
+  return VolumeBox(C, L, MakeCorners(L), ft, cb, m, far);
 }
 
 Shaft MakeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double H, bool dir, double m)
@@ -402,7 +409,8 @@ void BuildPairs(const SolverData& D, const LightFrame& L, const FaceGrid& g, con
   const std::size_t NCl = D.Clusters();
   w.box.assign(NCl, Box2{ 1, 1, 0, 0 });
   w.cellsN.assign(NCl, 0);
-  auto volumeBox = [&](const float* cb, double far) { return VolumeGridBox(C, L, ft, cb, m, far); };
+  const LightCorners lc = MakeCorners(L);
+  auto volumeBox = [&](const float* cb, double far) { return VolumeBox(C, L, lc, ft, cb, m, far); };
   std::atomic<std::size_t> fullGrid{ 0 };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NCl, 64), [&](const tbb::blocked_range<std::size_t>& r) {
     std::size_t localFull = 0;
