@@ -49,6 +49,15 @@ const char* IsaName(Isa isa)
 
 using namespace gears;
 
+namespace
+{
+bool SameLight(const LightFrame& P, const LightFrame& L)
+{
+  return P.type == L.type && P.center == L.center && P.u == L.u && P.v == L.v && P.n == L.n &&
+    P.width == L.width && P.height == L.height && P.angularDiameter == L.angularDiameter;
+}
+}
+
 struct GearsSolver::Impl
 {
   SolverData D;
@@ -67,19 +76,21 @@ struct GearsSolver::Impl
     // generation), the light, the face's frame and two options, so a solve
     // that changes none of them (a camera move, new pixels) reuses it
     std::uint64_t trisGeneration = 0;
+    std::uint64_t trisData = 0; ///< 0: the solver's triangles, else warpedStamp
     LightFrame trisLight;
     glm::dvec3 trisFrame[4];
     bool trisClosedRule = false, trisDepthOrder = false;
-    bool SamePreparation(std::uint64_t generation, const LightFrame& L, const GearsGridCamera& C,
+    bool SamePreparation(std::uint64_t generation, std::uint64_t data, const LightFrame& L, const GearsGridCamera& C,
       const GearsOptions& opt) const
     {
-      const LightFrame& P = trisLight;
-      return trisGeneration != 0 && trisGeneration == generation && P.type == L.type && P.center == L.center &&
-        P.u == L.u && P.v == L.v && P.n == L.n && P.width == L.width && P.height == L.height &&
-        P.angularDiameter == L.angularDiameter && trisFrame[0] == C.Lc && trisFrame[1] == C.u &&
-        trisFrame[2] == C.v && trisFrame[3] == C.n && trisClosedRule == opt.closedMeshRule &&
-        trisDepthOrder == opt.depthOrder;
+      return trisGeneration != 0 && trisGeneration == generation && trisData == data && SameLight(trisLight, L) &&
+        trisFrame[0] == C.Lc && trisFrame[1] == C.u && trisFrame[2] == C.v && trisFrame[3] == C.n &&
+        trisClosedRule == opt.closedMeshRule && trisDepthOrder == opt.depthOrder;
     }
+    // a far light's warped triangles (ssGearsFarLight.cxx), and what of
+    SolverData warped;
+    std::uint64_t warpedGeneration = 0, warpedStamp = 0;
+    LightFrame warpedFrom;
     PairScratch pairs;
     FacePairs facePairs;
     GearsNeighbours neighbours; ///< the winding count's, built by the first solve that uses it
@@ -415,7 +426,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   const auto tStart = Clock::now();
   GearsStats st;
   const Impl& I = *P;
-  const SolverData& D = I.D;
+  const SolverData* solverData = &I.D; // a far light's: the warped copy (below)
   // Buffers are kept between solves: re-mapping fresh pages every frame
   // cost more than some stages themselves. One solve at a time per solver.
   std::lock_guard<std::mutex> solveLock(I.SolveMutex);
@@ -423,13 +434,13 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   // the winding count's neighbours, once per arrangement of the triangles
   // and only where it runs (not for the GL backend, translucent casters, ...)
   GearsOptions opt = options;
-  bool winding = opt.windingCount && !D.translucent && opt.raster == GearsRaster::EdgePlane &&
+  bool winding = opt.windingCount && !I.D.translucent && opt.raster == GearsRaster::EdgePlane &&
     light.type != LightType::Point && opt.k > 1 && !opt.countNecessary;
-  if (winding && WS.neighbours.arrangement != D.arrangement)
+  if (winding && WS.neighbours.arrangement != I.D.arrangement)
   {
     const auto tn = Clock::now();
-    BuildNeighbours(D, WS.neighbours);
-    WS.neighbours.arrangement = D.arrangement;
+    BuildNeighbours(I.D, WS.neighbours);
+    WS.neighbours.arrangement = I.D.arrangement;
     st.msPrepare += Ms(tn, Clock::now());
   }
   winding = winding && !WS.neighbours.nbr.empty();
@@ -441,11 +452,11 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   const std::uint32_t fullRow = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
   // (the vector kernels address the solver's floats with 32-bit offsets:
   // past 238M triangles the scalar ones, whose offsets are 64-bit)
-  const Isa isa = KernelOffsetsFit(D.Triangles()) ? ResolveIsa(opt.simd) : Isa::Scalar;
+  const Isa isa = KernelOffsetsFit(I.D.Triangles()) ? ResolveIsa(opt.simd) : Isa::Scalar;
   st.simd = IsaName(isa);
   st.grid = opt.grid;
-  st.triangles = D.real;
-  st.clusters = D.Clusters();
+  st.triangles = I.D.real;
+  st.clusters = I.D.Clusters();
   std::vector<float> V(n, std::numeric_limits<float>::quiet_NaN());
   if (masksOut)
   {
@@ -460,7 +471,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   }
   // Everything below works relative to the caster centre, in double.
   LightFrame L = light;
-  L.center -= D.center;
+  L.center -= I.D.center;
   if (L.type == LightType::Directional)
   {
     // a directional light has no position: its frame's centre goes to the
@@ -469,8 +480,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     // the world origin)
     L.center = glm::dvec3(0.0);
   }
-  const glm::dvec3 rel = origin - D.center;
-  const double T = (L.type == LightType::Directional) ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
+  const glm::dvec3 rel = origin - I.D.center;
 
   // --- step 2: pixel samples (ray starts), with the reference's rules
   auto& start = WS.start;
@@ -506,7 +516,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
         }
         continue;
       }
-      eps[i] = StartOffset(p, D.scale); // p is relative to the centre
+      eps[i] = StartOffset(p, I.D.scale); // p is relative to the centre
       start[i] = p + N * eps[i];
       normal[i] = N;
       if (L.type == LightType::Point)
@@ -528,6 +538,51 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
       }
     }
   });
+
+  // --- a far rect or point light: the exact projective map to a directional
+  // light (ssGearsFarLight.cxx), when every start point lies well in front
+  FarLightWarp warp;
+  LightFrame warpedL;
+  std::uint64_t dataStamp = 0; // which triangles: 0 the solver's, else the warped copy's
+  if (opt.farLightWarp && MakeFarLightWarp(L, I.D.extent, warp, warpedL))
+  {
+    bool inFront = true;
+    for (std::size_t i = 0; i < n && inFront; ++i)
+    {
+      inFront = face[i] < 0 || warp.InFront(start[i]);
+    }
+    if (inFront)
+    {
+      const auto tw = Clock::now();
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+        {
+          if (face[i] >= 0)
+          {
+            normal[i] = warp.Normal(start[i], normal[i]);
+            start[i] = warp.Point(start[i]);
+            face[i] = 0; // a point light's cube faces become the one face
+          }
+        }
+      });
+      if (WS.warpedGeneration != I.generation || !SameLight(WS.warpedFrom, L))
+      {
+        WS.warpedGeneration = 0; // invalid while it is rebuilt
+        WarpSolverData(I.D, warp, WS.warped);
+        WS.warpedGeneration = I.generation;
+        WS.warpedFrom = L;
+        static std::atomic<std::uint64_t> stamps{ 0 };
+        WS.warpedStamp = ++stamps;
+      }
+      solverData = &WS.warped;
+      dataStamp = WS.warpedStamp;
+      L = warpedL;
+      st.farLightWarped = true;
+      st.msPrepare += Ms(tw, Clock::now());
+    }
+  }
+  const SolverData& D = *solverData;
+  const glm::dvec2 sides = SampleSides(L);
 
   const int numFaces = (L.type == LightType::Point) ? 6 : 1;
   const HalfPlaneLUT* lut = nullptr;
@@ -562,7 +617,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     st.msProject += Ms(t0, t1);
     // --- the triangles in the face's light frame, the closed-mesh rule, clusters
     FaceTriangles& ft = WS.tris;
-    if (WS.SamePreparation(I.generation, L, g.C, opt))
+    if (WS.SamePreparation(I.generation, dataStamp, L, g.C, opt))
     {
       ++st.prepareReused;
     }
@@ -571,6 +626,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
       WS.trisGeneration = 0; // invalid while it is rebuilt
       PrepareFaceTriangles(D, L, g.C, opt, ft);
       WS.trisGeneration = I.generation;
+      WS.trisData = dataStamp;
       WS.trisLight = L;
       WS.trisFrame[0] = g.C.Lc;
       WS.trisFrame[1] = g.C.u;
@@ -601,8 +657,8 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
     job.fullRow = fullRow;
     job.eps = eps.data();
     job.dir = L.type == LightType::Directional;
-    job.W = job.dir ? T : L.width;
-    job.H = job.dir ? T : L.height;
+    job.W = sides.x;
+    job.H = sides.y;
     job.lut = lut;
     job.isa = isa;
     job.V = V.data();
@@ -685,6 +741,7 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"clusters_behind_occluders\": " << s.clustersBehindOccluders << ", \"prepare_reused\": " << s.prepareReused
     << ", \"groups\": " << s.groups
     << ", \"covered_skips\": " << s.coveredSkips << ", \"occluder_boxes\": " << s.occluderBoxes
+    << ", \"far_light_warped\": " << (s.farLightWarped ? "true" : "false")
     << ", \"assignments_listed\": " << s.assignmentsListed << ", \"assignments_rasterised\": " << s.assignmentsRasterised
     << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists
     << ", \"groups\": " << s.cpuGroups << ", \"pixels\": " << s.cpuPixels << "}, \"cells_in_umbra\": " << s.cellsInUmbra

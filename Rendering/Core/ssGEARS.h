@@ -66,6 +66,12 @@ struct GearsOptions
   /// rounding bound (same bits; gears.md "Small triangles in float"), the
   /// others from the exact raster.
   bool filteredRaster = true;
+  /// A rect or point light deeper than kFarLightRatio scene diagonals in front
+  /// of the casters is solved as the directional light a projective map of
+  /// the scene turns it into (exact up to float rounding of the mapped
+  /// vertices; gears.md "Far lights"); false: in its own float frame, whose
+  /// culling margin then outgrows the scene (same V, far slower).
+  bool farLightWarp = true;
   GearsSimd simd = GearsSimd::Auto;
   SolveProgress progress;        ///< optional: called between chunks of step 4's cells; false stops
 };
@@ -112,6 +118,7 @@ struct GearsStats
   std::size_t coveredSkips = 0;      ///< pairs not drawn: the samples they may hide are hidden already
   std::size_t occluderBoxes = 0;     ///< inner occluders of closed pieces (SetPieces)
   std::string simd;                  ///< the kernels' instruction set
+  bool farLightWarped = false;       ///< the light was far: solved through the projective map (farLightWarp)
   /// Step 4's parts in thread time (ms summed over the threads; a profile,
   /// not wall time): cell lists (clusters and triangles against the cell's
   /// shaft with their kernel arrays, the inner occluders' pre-pass), the

@@ -9,6 +9,7 @@
 //   ssGearsRaster.cxx  the exact bitmask of one triangle (edge planes, LUT) [§4.2, §4.3]
 //   ssGearsSIMD*.cxx   the per-pixel rejection and row raster in AVX2 / AVX-512
 //   ssGearsWinding.cxx a sample group's members, their contour edges, a pixel's count (kernels in ssGearsWindingKernels.h)
+//   ssGearsFarLight.cxx a far rect or point light as the directional light it maps to
 //   ssGearsSilhouette.cxx  a closed piece's mask from its silhouette edges (own header; not called by Solve yet)
 //   ssGEARS.cxx        GearsSolver: input, options, statistics
 // Not installed; not part of the API.
@@ -39,6 +40,20 @@ inline double Ms(Clock::time_point a, Clock::time_point b)
 inline std::uint32_t RowBits(int lo, int hi)
 {
   return static_cast<std::uint32_t>(((std::uint64_t(2) << hi) - (std::uint64_t(1) << lo)) & 0xFFFFFFFFull);
+}
+
+/// The light's sample rectangle in its frame: a rect light's width and
+/// height; a directional light's tangent square 2 tan(theta / 2), or, for the
+/// directional light a far light maps to (MakeFarLightWarp; only Solve makes
+/// such frames), the tangent rectangle held in its width and height.
+inline glm::dvec2 SampleSides(const LightFrame& L)
+{
+  if (L.type != LightType::Directional || (L.width > 0.0 && L.height > 0.0))
+  {
+    return { L.width, L.height };
+  }
+  const double T = 2.0 * std::tan(0.5 * L.angularDiameter);
+  return { T, T };
 }
 
 // Light sample directions seen from a start point S:
@@ -412,6 +427,29 @@ constexpr int kOccluderGrid = 32;
 void BuildOccluders(SolverData& D);
 /// D's arrays cut back to the real triangles, then the occluders appended.
 void AppendOccluders(SolverData& D);
+
+/// The projective map that takes a far rect or point light to a directional
+/// one (ssGearsFarLight.cxx): points relative to the scene's centre, world
+/// axes, to their images (same origin and axes).
+struct FarLightWarp
+{
+  bool active = false;
+  glm::dvec3 c{ 0.0 };                 ///< the scene's centre in the light's frame (xc, yc, zc)
+  glm::dvec3 u{ 1, 0, 0 }, v{ 0, 1, 0 }, n{ 0, 0, 1 }; ///< the light's frame
+  glm::dvec3 Point(const glm::dvec3& d) const;
+  /// The image of the plane through d with normal N: its unit normal.
+  glm::dvec3 Normal(const glm::dvec3& d, const glm::dvec3& N) const;
+  /// Whether d lies in front of the light by more than half the scene's depth.
+  bool InFront(const glm::dvec3& d) const;
+};
+/// For a rect or point light L (relative to the scene's centre) whose depth
+/// to the scene's centre exceeds kFarLightRatio x extent: the map and the
+/// directional light (tangent rectangle W / zc x H / zc) the scene's images
+/// are solved under. False otherwise.
+bool MakeFarLightWarp(const LightFrame& L, double extent, FarLightWarp& w, LightFrame& warped);
+/// D's real triangles mapped by w (same order, clusters, pieces and
+/// neighbours), the pieces' boxes and inner occluders found again.
+void WarpSolverData(const SolverData& D, const FarLightWarp& w, SolverData& out);
 
 /// The closed-mesh rule for light L (solver frame) per triangle: 0 rule off
 /// (open piece, translucent piece, light inside the piece's box), +-1 the

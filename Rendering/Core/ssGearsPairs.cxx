@@ -31,12 +31,12 @@ LightCorners MakeCorners(const LightFrame& L)
 {
   LightCorners c;
   c.dir = L.type == LightType::Directional;
-  const double T = c.dir ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
+  const glm::dvec2 T = c.dir ? SampleSides(L) : glm::dvec2(0.0);
   for (int q = 0; q < 4; ++q)
   {
     const double a = (q & 1) ? 0.5 : -0.5, b = (q & 2) ? 0.5 : -0.5;
     c.p[q] = L.center + a * L.width * L.u + b * L.height * L.v;
-    c.towards[q] = -L.n + a * T * L.u + b * T * L.v;
+    c.towards[q] = -L.n + a * T.x * L.u + b * T.y * L.v;
     c.away[q] = -c.towards[q];
   }
   return c;
@@ -284,8 +284,8 @@ void PrepareFaceTriangles(
   // light-frame vertices and planes in float, for the cells' kernels: once
   // per face (and reused while casters and light stay), not per cell
   const bool dir = L.type == LightType::Directional;
-  const double T = dir ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
-  const double W = dir ? T : L.width, H = dir ? T : L.height;
+  const glm::dvec2 sides = SampleSides(L);
+  const double W = sides.x, H = sides.y;
   glm::dvec3 corner[4]; // light corners (directional: corner directions), light frame
   for (int q = 0; q < 4; ++q)
   {

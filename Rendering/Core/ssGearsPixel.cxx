@@ -44,12 +44,12 @@ bool UmbraBox(const CellJob& job, const glm::dvec3* from, int count, const doubl
   // those all lie in the box for one t, every segment passes through it.
   const LightFrame& L = *job.L;
   const bool dir = L.type == LightType::Directional;
-  const double T = dir ? 2.0 * std::tan(0.5 * L.angularDiameter) : 0.0;
+  const glm::dvec2 T = dir ? SampleSides(L) : glm::dvec2(0.0);
   double t0 = 0.0, t1 = dir ? std::numeric_limits<double>::max() : 1.0;
   for (int q = 0; q < 4; ++q)
   {
     const double a = (q & 1) ? 0.5 : -0.5, b = (q & 2) ? 0.5 : -0.5;
-    const glm::dvec3 l = dir ? (-L.n + a * T * L.u + b * T * L.v) : (L.center + a * L.width * L.u + b * L.height * L.v);
+    const glm::dvec3 l = dir ? (-L.n + a * T.x * L.u + b * T.y * L.v) : (L.center + a * L.width * L.u + b * L.height * L.v);
     for (int p = 0; p < count; ++p)
     {
       const glm::dvec3 d = dir ? l : l - from[p];

@@ -349,10 +349,10 @@ SampleSpace MakeSampleSpace(const LightFrame& L, const glm::dvec3& Lc, const glm
   s.invK = 1.0 / k;
   if (L.type == LightType::Directional)
   {
-    const double T = 2.0 * std::tan(0.5 * L.angularDiameter);
+    const glm::dvec2 T = SampleSides(L);
     s.D0 = -L.n;
-    s.Du = T * L.u;
-    s.Dv = T * L.v;
+    s.Du = T.x * L.u;
+    s.Dv = T.y * L.v;
     s.segment = false;
   }
   else
@@ -391,9 +391,9 @@ void GearsRasterizeTriangle(const LightFrame& light, const glm::dvec3& start,
     return glm::dvec3(glm::dot(r, light.u), glm::dot(r, light.v), glm::dot(r, light.n));
   };
   const bool dir = light.type == LightType::Directional;
-  const double T = dir ? 2.0 * std::tan(0.5 * light.angularDiameter) : 0.0;
+  const glm::dvec2 sides = gears::SampleSides(light);
   const int kk = light.type == LightType::Point ? 1 : k;
-  const gears::LightSpace l = gears::MakeLightSpace(toLight(start), dir ? T : light.width, dir ? T : light.height, dir, kk);
+  const gears::LightSpace l = gears::MakeLightSpace(toLight(start), sides.x, sides.y, dir, kk);
   int j0, j1;
   bool fallback;
   gears::RasterizeTriangle(l, l.S, toLight(tri[0]), toLight(tri[1]), toLight(tri[2]), nullptr, mask.data(), j0, j1, fallback);

@@ -116,8 +116,8 @@ bool GearsSilhouetteMask(const LightFrame& light, const glm::dvec3& start, const
     return false;
   };
   const bool dir = light.type == LightType::Directional;
-  const double T = dir ? 2.0 * std::tan(0.5 * light.angularDiameter) : 0.0;
-  const double W = dir ? T : light.width, H = dir ? T : light.height;
+  const glm::dvec2 sides = SampleSides(light);
+  const double W = sides.x, H = sides.y;
   if (light.type == LightType::Point || k < 2 || k > 32 || !(W > 0.0) || !(H > 0.0))
   {
     return decline("not an area light with k >= 2 (the triangle raster's 3-D path)");

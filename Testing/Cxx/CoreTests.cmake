@@ -15,6 +15,7 @@ add_executable(TestSoftShadowsCore
   TestSSGEARSSilhouette.cxx
   TestSSGEARSWinding.cxx
   TestSSGEARSFiltered.cxx
+  TestSSGEARSFarLight.cxx
   TestSSGearsPieces.cxx
   TestSSPVSM.cxx
   TestSSMetrics.cxx

@@ -1,0 +1,191 @@
+// GEARS under rect and point lights thousands of scene sizes away (issue
+// 17): solved through the projective map to a directional light
+// (ssGearsFarLight.cxx), equal to the reference at the same regular samples,
+// and culled as well as a near light (before the map every triangle landed
+// in every cell: the float frame's margin outgrew the scene).
+#include "ssGEARS.h"
+#include "ssGearsInternal.h"
+#include "ssGearsTestScenes.h"
+#include "ssReference.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+using namespace ss;
+
+namespace
+{
+// A bumpy closed ball standing on a ground square (a contact), pixels on both.
+sstest::Scene BallOnGround(std::mt19937& rng, std::size_t& sphere)
+{
+  sstest::Scene s;
+  s.tris = sstest::BumpySphere(glm::dvec3(0.1, 0.0, 0.55), 0.45, 4);
+  sphere = s.tris.size() / 3;
+  for (const glm::dvec3& v : { glm::dvec3(-2, -2, 0), glm::dvec3(2, -2, 0), glm::dvec3(2, 2, 0),
+         glm::dvec3(-2, -2, 0), glm::dvec3(2, 2, 0), glm::dvec3(-2, 2, 0) })
+  {
+    s.tris.push_back(v);
+  }
+  sstest::PixelsOnTriangles(s, sphere, glm::dvec3(0.0), 1500, rng);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (int i = 0; i < 2500; ++i)
+  {
+    s.pos.insert(s.pos.end(), { float(0.1 + 1.2 * U(rng)), float(1.2 * U(rng)), 0.0f });
+    s.nrm.insert(s.nrm.end(), { 0.0f, 0.0f, 1.0f });
+  }
+  return s;
+}
+
+// Lights at distance d from the ball: on the light's axis (a 2:1 rectangle),
+// off it (the scene 0.45 rad from the axis: the map's shear), and a point light.
+std::vector<std::pair<std::string, LightFrame>> FarLights(double d)
+{
+  const glm::dvec3 c(0.1, 0.0, 0.55);
+  const glm::dvec3 a = glm::normalize(glm::dvec3(0.3, 0.1, 1.0));
+  const glm::dvec3 b = glm::normalize(glm::dvec3(-0.4, 0.2, 1.0));
+  const glm::dvec3 tilted = glm::normalize(-b + glm::dvec3(0.45, 0.1, 0.0));
+  return { { "on the axis", MakeRectLightFrame(c + d * a, -a, { 0, 1, 0 }, { 0.1 * d, 0.05 * d }) },
+    { "off the axis", MakeRectLightFrame(c + d * b, tilted, { 0, 1, 0 }, { 0.06 * d, 0.12 * d }) },
+    { "point", MakePointLightFrame(c + d * glm::normalize(glm::dvec3(0.2, -0.3, 1.0))) } };
+}
+}
+
+TEST(GEARSFarLight, EqualsReferenceAndCullsAsANearLight)
+{
+  std::mt19937 rng(29);
+  std::size_t sphere = 0;
+  const sstest::Scene s = BallOnGround(rng, sphere);
+  const std::size_t n = s.pos.size() / 3;
+  GearsSolver g;
+  g.SetTriangles(s.tris, {});
+  g.SetPieces(sstest::ClosedThenOpen(s.tris.size() / 3, sphere)); // inner occluders, closed-mesh rule
+  ReferenceSolver ref;
+  ref.SetTriangles(s.tris, {});
+  const int k = 16;
+  for (double d : { 50.0, 3e4, 1e6, 1e8 })
+  {
+    for (const auto& [name, light] : FarLights(d))
+    {
+      const std::string what = name + " light at " + std::to_string(d);
+      GearsOptions opt;
+      opt.k = k;
+      GearsStats st;
+      const auto Vg = g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, opt, &st);
+      ReferenceOptions ro;
+      ro.k = k;
+      const auto Vr = ref.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, ro);
+      const int kk = light.type == LightType::Point ? 1 : k;
+      std::size_t equal = 0, shadowed = 0, penumbra = 0;
+      double maxDiff = 0.0;
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        ASSERT_TRUE(std::isfinite(Vg[i])) << what;
+        const double e = std::abs(double(Vg[i]) - Vr[i]);
+        equal += e < 1e-6;
+        maxDiff = std::max(maxDiff, e);
+        shadowed += Vr[i] < 1.0f;
+        penumbra += Vr[i] > 0.0f && Vr[i] < 1.0f;
+      }
+      EXPECT_EQ(st.farLightWarped, d > 1e3) << what;
+      EXPECT_GT(shadowed, n / 5) << what; // the ball shadows itself and the ground
+      if (light.type == LightType::Rect)
+      {
+        EXPECT_GT(penumbra, n / 50) << what; // soft shadows, not hard ones
+      }
+      EXPECT_GE(equal, 0.999 * n) << what;
+      EXPECT_LE(maxDiff, 2.0 / (kk * kk) + 1e-6) << what;
+      // the culling works at any distance: a cell lists a small part of the
+      // casters (without the map: all of them from 1e6 on)
+      EXPECT_LT(st.trianglesPerCellAvg, 0.25 * g.NumberOfTriangles()) << what;
+    }
+  }
+}
+
+TEST(GEARSFarLight, TheMapTakesSegmentsToTheLightToRaysAlongItsDirections)
+{
+  // the property the solve rests on: the points of the segment from p to
+  // light sample s map onto the ray from p's image along the directional
+  // light's direction for s
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (const auto& [name, light] : FarLights(1e5))
+  {
+    LightFrame L = light; // relative to the scene's centre (here the origin)
+    gears::FarLightWarp w;
+    LightFrame dir;
+    ASSERT_TRUE(gears::MakeFarLightWarp(L, 6.0, w, dir)) << name;
+    ASSERT_EQ(dir.type, LightType::Directional);
+    const glm::dvec2 sides = gears::SampleSides(dir);
+    for (int trial = 0; trial < 200; ++trial)
+    {
+      const glm::dvec3 p(2.0 * U(rng), 2.0 * U(rng), 2.0 * U(rng));
+      const double a = 0.5 * U(rng), b = 0.5 * U(rng);
+      const glm::dvec3 sample = L.center + a * L.width * L.u + b * L.height * L.v;
+      // towards the sample, as GEARS' directional samples are given
+      const glm::dvec3 towards = glm::normalize(-dir.n + a * sides.x * dir.u + b * sides.y * dir.v);
+      const glm::dvec3 P = w.Point(p);
+      for (double t : { 0.25, 0.5, 0.9, 0.999 })
+      {
+        const glm::dvec3 Q = w.Point(p + t * (sample - p)) - P;
+        const double len = glm::length(Q);
+        ASSERT_GT(len, 0.0);
+        EXPECT_GT(glm::dot(Q, towards), 0.0) << name;
+        EXPECT_LT(glm::length(glm::cross(Q / len, towards)), 1e-7) << name << " t " << t;
+      }
+      // a plane through p maps to the plane through P with the mapped normal
+      const glm::dvec3 N = glm::normalize(glm::dvec3(U(rng), U(rng), U(rng)));
+      const glm::dvec3 t1 = glm::normalize(glm::cross(N, glm::dvec3(0.3, 0.7, -0.2)));
+      const glm::dvec3 Nw = w.Normal(p, N);
+      for (const glm::dvec3& q : { p + 0.5 * t1, p + 0.3 * glm::cross(N, t1) })
+      {
+        EXPECT_NEAR(glm::dot(w.Point(q) - P, Nw), 0.0, 1e-9) << name;
+      }
+      // and the side each light sample lies on (the tangent-plane rule)
+      EXPECT_EQ(glm::dot(sample - p, N) > 0.0, glm::dot(towards, Nw) > 0.0) << name;
+    }
+  }
+  // a near light, or a directional one, is left alone
+  gears::FarLightWarp w;
+  LightFrame dir;
+  EXPECT_FALSE(gears::MakeFarLightWarp(FarLights(50.0)[0].second, 6.0, w, dir));
+  EXPECT_FALSE(gears::MakeFarLightWarp(MakeDirectionalLightFrame({ 0, 0, -1 }, 0.1), 6.0, w, dir));
+}
+
+TEST(GEARSFarLight, TranslucentCastersMatchTheReference)
+{
+  // the map keeps each segment's crossings and their order: transmittance too
+  std::mt19937 rng(37);
+  std::size_t sphere = 0;
+  const sstest::Scene s = BallOnGround(rng, sphere);
+  const std::size_t n = s.pos.size() / 3;
+  std::vector<float> alpha(s.tris.size() / 3, 0.5f);
+  alpha[sphere] = alpha[sphere + 1] = 1.0f; // the ground
+  GearsSolver g;
+  g.SetTriangles(s.tris, alpha);
+  ReferenceSolver ref;
+  ref.SetTriangles(s.tris, alpha);
+  const LightFrame light = FarLights(1e6)[1].second;
+  GearsOptions opt;
+  ReferenceOptions ro;
+  ro.k = opt.k = 16;
+  GearsStats st;
+  const auto Vg = g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, opt, &st);
+  const auto Vr = ref.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, ro);
+  EXPECT_TRUE(st.farLightWarped);
+  std::size_t equal = 0, partial = 0;
+  double maxDiff = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    ASSERT_TRUE(std::isfinite(Vg[i]));
+    const double e = std::abs(double(Vg[i]) - Vr[i]);
+    equal += e < 1e-5;
+    maxDiff = std::max(maxDiff, e);
+    partial += Vr[i] > 0.2f && Vr[i] < 0.3f; // the ground seen through the ball's two layers
+  }
+  EXPECT_GT(partial, n / 20);
+  EXPECT_GE(equal, 0.999 * n);
+  EXPECT_LE(maxDiff, 2.0 / 256 + 1e-5);
+}
