@@ -573,7 +573,14 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
         }
         CheckLightPosition(center, c / "center");
         light->SetPosition(center.data());
-        light->SetFocalPoint(center[0] + normal[0], center[1] + normal[1], center[2] + normal[2]);
+        // VTK keeps the normal as focal point - position: a unit step from a
+        // centre 1e16 away rounds to nothing (the light then had no normal),
+        // and from 1e13 on it turned the normal by degrees, silently. A step
+        // as long as the centre's largest coordinate keeps it to 1e-15.
+        const double nl = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+        const double step =
+          std::max({ 1.0, std::fabs(center[0]), std::fabs(center[1]), std::fabs(center[2]) }) / nl;
+        light->SetFocalPoint(center[0] + step * normal[0], center[1] + step * normal[1], center[2] + step * normal[2]);
         vtkSoftShadowLight::SetAreaSize(light, size[0], size[1]);
         if (l.contains("up"))
         {

@@ -389,6 +389,20 @@ add_test(NAME cli.bake.stray_triangle
 set_tests_properties(cli.bake.stray_triangle_without cli.bake.stray_triangle_with PROPERTIES
   LABELS "cli;filters" TIMEOUT 120 FIXTURES_SETUP bake_stray)
 set_tests_properties(cli.bake.stray_triangle PROPERTIES LABELS "cli;filters" FIXTURES_REQUIRED bake_stray)
+# The same 3:1 rect light, tilted off the scene, at 1e9 and 1e16 (same angular
+# size): the bakes must agree. At 1e16 the scene's normal, kept by VTK as
+# focal point - position, rounded away (differences up to 0.24 before the
+# fix), and GEARS solves both through its far-light map (gears.md).
+add_test(NAME cli.bake.far_light_1e9
+  COMMAND ${_ss_cli} bake "${_ss_data}/GoodScenes/far_light_1e9.json" --object 0 --output "${_ss_out}/bake_far_1e9.vtp")
+add_test(NAME cli.bake.far_light_1e16
+  COMMAND ${_ss_cli} bake "${_ss_data}/GoodScenes/far_light_1e16.json" --object 0 --output "${_ss_out}/bake_far_1e16.vtp")
+add_test(NAME cli.bake.far_light_same
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bake_mean.py" "${_ss_out}/bake_far_1e16.vtp"
+    LightVisibility_0 --same-as "${_ss_out}/bake_far_1e9.vtp")
+set_tests_properties(cli.bake.far_light_1e9 cli.bake.far_light_1e16 PROPERTIES
+  LABELS "cli;filters" TIMEOUT 120 FIXTURES_SETUP bake_far)
+set_tests_properties(cli.bake.far_light_same PROPERTIES LABELS "cli;filters" FIXTURES_REQUIRED bake_far)
 add_test(NAME cli.bench.asm_smoke
   COMMAND env -u DISPLAY ${_ss_cli} bench --asm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json"
     --size 160x120 --out "${_ss_out}/bench_asm_smoke")
