@@ -49,6 +49,7 @@ std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origi
       sl.Planner.invalidReason = e.what();
     }
     sl.Planner.frame = sl.Frame;
+    sl.TrueFrame = sl.Frame;
     lights.push_back(sl);
   }
   return lights;
@@ -62,6 +63,7 @@ std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const
   for (auto& l : lights)
   {
     LightFrame d;
+    l.TrueFrame = l.Frame;
     if (l.Planner.valid && !scene.Empty() && FarLightAsDirectional(l.Frame, scene.Center(), scene.Diagonal(), d))
     {
       sep() << "light " << l.ShaderIndex << " is " << glm::length(l.Frame.center - scene.Center()) / scene.Diagonal()
@@ -71,6 +73,10 @@ std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const
       far = true;
     }
     const double w = l.Frame.width, h = l.Frame.height;
+    if (l.Planner.valid)
+    {
+      ClampRectLightSize(l.TrueFrame); // (the same shadow in double)
+    }
     if (l.Planner.valid && ClampRectLightSize(l.Frame))
     {
       sep() << "light " << l.ShaderIndex << " of size " << w << " x " << h << " is shadowed as one of "
@@ -98,7 +104,7 @@ std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const
   {
     out << " (a light beyond " << kFarLightRatio
         << " scene sizes is shadowed as a directional light: float light-space depths cannot separate the "
-           "scene's surfaces from there)";
+           "scene's surfaces from there; gears on the CPU and the reference solve the light as it is)";
   }
   return out.str();
 }

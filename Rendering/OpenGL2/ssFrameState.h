@@ -30,6 +30,10 @@ struct ShadowLight
   int ColorLayer = -1;  ///< its RGB visibility layer (coloured shadows); -1: none
   PlannerLight Planner;
   LightFrame Frame; ///< relative to the frame origin
+  /// Frame as the light is: Frame, unless CheckFarAndOverflowingLights made
+  /// it the directional approximation the shadow maps need (the triangle
+  /// solvers on the CPU solve the light itself; gears.md, "Far lights").
+  LightFrame TrueFrame;
   ss::Method Method = ss::Method::None;
   // Its whole-view shadow maps in the shared array (ssShadowMaps), fitted by
   // FitShadowViews; empty for solvers that work on the caster triangles.
@@ -71,7 +75,8 @@ std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origi
 /// Lights the pass cannot shadow or VTK cannot shade as given (issue 17).
 /// A rect or point light farther than kFarLightRatio sizes of `scene` (the
 /// casters' and receivers' bounds, relative coordinates) gets the
-/// directional frame it is for the scene (ss::FarLightAsDirectional); a light
+/// directional frame it is for the scene (ss::FarLightAsDirectional; TrueFrame
+/// keeps the light as it is, for the triangle solvers); a light
 /// whose colour x intensity exceeds the float range is reported (VTK's
 /// shading of it is black). Returns the warning text, empty when none.
 std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const Box& scene);

@@ -179,10 +179,14 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   const std::size_t n = static_cast<std::size_t>(W) * H;
   frame.Timings->Add("triangle_solver_input", ss::Milliseconds(t0, Clock::now()));
 
-  // --- the light; its frame is relative to the frame origin, the solvers want world
+  // --- the light; its frame is relative to the frame origin, the solvers want
+  // world. The CPU solvers take a far light as it is (double precision; GEARS
+  // maps it exactly, gears.md "Far lights"), the GL backend the directional
+  // approximation the pass made for float light space.
   const glm::dvec3& origin = frame.State->Origin;
-  LightFrame world = l.Frame;
+  LightFrame world = l.TrueFrame, approximated = l.Frame;
   world.center += origin;
+  approximated.center += origin;
   const auto tl = Clock::now();
   std::vector<float> V;
   if (reference)
@@ -207,7 +211,8 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
       // raw GL programs: VTK's shader cache must rebind its own afterwards
       frame.Window->GetShaderCache()->ReleaseCurrentShader();
       std::string why;
-      onGPU = this->GL->Solve(*this->Gears, world, origin, pos, nrm, n, this->Opt.Gears, V, &st, nullptr, &why);
+      onGPU =
+        this->GL->Solve(*this->Gears, approximated, origin, pos, nrm, n, this->Opt.Gears, V, &st, nullptr, &why);
 #ifdef VTK_REPORT_OPENGL_ERRORS
 #define ssReporterError(x) vtkErrorWithObjectMacro(frame.Reporter, x)
       vtkOpenGLCheckErrorMacroImpl(ssReporterError, "after the GEARS compute backend");

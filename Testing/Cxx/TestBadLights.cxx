@@ -2,6 +2,8 @@
 // case renders with the shadow-map methods and with GEARS at the same light
 // samples and asserts the property that went wrong; the measured numbers are
 // in Documentation/stability.md.
+#include "ssGEARS.h"
+#include "ssReference.h"
 #include "ssRenderTestUtilities.h"
 
 #include "vtkCallbackCommand.h"
@@ -181,6 +183,87 @@ TEST(BadLights, LightFarAway)
       EXPECT_EQ(d.nonFinite, 0);
       EXPECT_LE(d.mae, 0.02) << vtkSoftShadowPass::GetMethodName(m);
     });
+}
+
+TEST(BadLights, FarRectLightKeepsItsShapeForTheCPUSolvers)
+{
+  // A 3:1 rect light 1e6 away. The shadow maps get the pass's directional
+  // approximation (a square of the larger side: float light space cannot
+  // tell the scene's depths apart from there); GEARS on the CPU and the
+  // reference solve the light as it is, so their V on the ground must be the
+  // core solvers' for the true light at the same pixels. Before, they got
+  // the square too: a wider penumbra across the light's short side.
+  const double d = 1.0e6;
+  const glm::dvec3 c = glm::dvec3(0, 0, 1.2) + d * glm::normalize(glm::dvec3(0.2, -0.3, 1.0));
+  vtkNew<vtkSphereSource> sphere; // the caster, as Sphere(0, 0, 1.2, 0.6) makes it
+  sphere->SetCenter(0, 0, 1.2);
+  sphere->SetRadius(0.6);
+  sphere->SetThetaResolution(64);
+  sphere->SetPhiResolution(32);
+  sphere->Update();
+  std::vector<glm::dvec3> tris;
+  vtkPolyData* pd = sphere->GetOutput();
+  for (vtkIdType cell = 0; cell < pd->GetNumberOfCells(); ++cell)
+  {
+    vtkCell* cl = pd->GetCell(cell);
+    ASSERT_EQ(cl->GetNumberOfPoints(), 3);
+    for (int j = 0; j < 3; ++j)
+    {
+      double x[3];
+      pd->GetPoint(cl->GetPointId(j), x);
+      tris.emplace_back(x[0], x[1], x[2]);
+    }
+  }
+  for (const int method : { int(vtkSoftShadowPass::GEARS), int(vtkSoftShadowPass::REFERENCE) })
+  {
+    const std::string name = vtkSoftShadowPass::GetMethodName(method);
+    Scene s(160, 120);
+    vtkSmartPointer<vtkLight> light = RectLight(c.x, c.y, c.z, 0, 0, 1.2, 0.3 * d, 0.1 * d);
+    SphereOverGround(s, light);
+    s.pass->SetMethod(method);
+    ASSERT_TRUE(s.pass->SetSolverOption("gears_samples", 16));
+    ASSERT_TRUE(s.pass->SetSolverOption("reference_samples", 16));
+    ASSERT_TRUE(s.pass->SetSolverOption("reference_pattern", 0)); // regular, as GEARS
+    const Frame f = s.Render();
+    ASSERT_FALSE(f.V.empty());
+    const std::size_t n = f.V.size();
+    const glm::dvec3 origin(f.origin[0], f.origin[1], f.origin[2]);
+    const ss::LightFrame L = vtkSoftShadowLight::MakeLightFrame(light);
+    std::vector<float> V;
+    if (method == vtkSoftShadowPass::GEARS)
+    {
+      ss::GearsSolver g;
+      g.SetTriangles(tris, {});
+      ss::GearsOptions o;
+      o.k = 16;
+      V = g.Solve(L, origin, f.P.data(), nullptr, n, o);
+    }
+    else
+    {
+      ss::ReferenceSolver r;
+      r.SetTriangles(tris, {});
+      ss::ReferenceOptions o;
+      o.k = 16;
+      V = r.Solve(L, origin, f.P.data(), nullptr, n, o);
+    }
+    // the ground's pixels (it casts nothing: no start offset needed there)
+    int ground = 0, equal = 0, penumbra = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (std::isnan(f.V[i]) || std::abs(origin.z + f.P[3 * i + 2]) > 1e-3)
+      {
+        continue;
+      }
+      ++ground;
+      equal += std::abs(f.V[i] - V[i]) < 1e-6f ? 1 : 0;
+      penumbra += (V[i] > 0.0f && V[i] < 1.0f) ? 1 : 0;
+    }
+    std::cout << "far 3:1 light, " << name << ": " << equal << " of " << ground << " ground px equal the core solver's, "
+              << penumbra << " in its penumbra\n";
+    EXPECT_GT(ground, 8000) << name;
+    EXPECT_GT(penumbra, 100) << name;
+    EXPECT_GE(equal, ground - 20) << name;
+  }
 }
 
 TEST(BadLights, NaNIntensityIsNamedInAWarning)
