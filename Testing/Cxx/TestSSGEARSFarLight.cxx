@@ -104,6 +104,45 @@ TEST(GEARSFarLight, EqualsReferenceAndCullsAsANearLight)
   }
 }
 
+TEST(GEARSFarLight, EveryInstructionSetGivesTheSameMasks)
+{
+  // the directional path with two tangent sides runs on every kernel set
+  // another machine may take (AVX2 without AVX-512, scalar), k = 8 and 32
+  std::mt19937 rng(41);
+  std::size_t sphere = 0;
+  const sstest::Scene s = BallOnGround(rng, sphere);
+  const std::size_t n = s.pos.size() / 3;
+  GearsSolver g;
+  g.SetTriangles(s.tris, {});
+  g.SetPieces(sstest::ClosedThenOpen(s.tris.size() / 3, sphere));
+  const LightFrame light = FarLights(1e6)[1].second;
+  for (int k : { 8, 32 })
+  {
+    std::vector<GearsMask> first;
+    for (GearsSimd isa : sstest::RunnableIsas())
+    {
+      GearsOptions opt;
+      opt.k = k;
+      opt.simd = isa;
+      GearsStats st;
+      std::vector<GearsMask> masks;
+      g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, opt, &st, &masks);
+      EXPECT_TRUE(st.farLightWarped);
+      if (first.empty())
+      {
+        first = masks;
+        continue;
+      }
+      std::size_t differing = 0;
+      for (std::size_t p = 0; p < n; ++p)
+      {
+        differing += masks[p] != first[p];
+      }
+      EXPECT_EQ(differing, 0u) << "instruction set " << st.simd << ", k " << k;
+    }
+  }
+}
+
 TEST(GEARSFarLight, TheMapTakesSegmentsToTheLightToRaysAlongItsDirections)
 {
   // the property the solve rests on: the points of the segment from p to
