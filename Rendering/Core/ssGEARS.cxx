@@ -581,6 +581,12 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
       st.msPrepare += Ms(tw, Clock::now());
     }
   }
+  if (dataStamp == 0 && WS.warpedGeneration != 0)
+  {
+    // a near light again: the mapped copy (as large as the solver's triangles) goes
+    WS.warped = SolverData{};
+    WS.warpedGeneration = 0;
+  }
   const SolverData& D = *solverData;
   const glm::dvec2 sides = SampleSides(L);
 
