@@ -51,6 +51,13 @@ std::vector<std::pair<std::string, LightFrame>> FarLights(double d)
     { "off the axis", MakeRectLightFrame(c + d * b, tilted, { 0, 1, 0 }, { 0.06 * d, 0.12 * d }) },
     { "point", MakePointLightFrame(c + d * glm::normalize(glm::dvec3(0.2, -0.3, 1.0))) } };
 }
+
+// The ball's triangles with their pieces (the closed-mesh rule, inner occluders).
+void SetBall(GearsSolver& g, const sstest::Scene& s, std::size_t sphere)
+{
+  g.SetTriangles(s.tris, {});
+  g.SetPieces(sstest::ClosedThenOpen(s.tris.size() / 3, sphere));
+}
 }
 
 TEST(GEARSFarLight, EqualsReferenceAndCullsAsANearLight)
@@ -60,8 +67,7 @@ TEST(GEARSFarLight, EqualsReferenceAndCullsAsANearLight)
   const sstest::Scene s = BallOnGround(rng, sphere);
   const std::size_t n = s.pos.size() / 3;
   GearsSolver g;
-  g.SetTriangles(s.tris, {});
-  g.SetPieces(sstest::ClosedThenOpen(s.tris.size() / 3, sphere)); // inner occluders, closed-mesh rule
+  SetBall(g, s, sphere);
   ReferenceSolver ref;
   ref.SetTriangles(s.tris, {});
   const int k = 16;
@@ -114,8 +120,7 @@ TEST(GEARSFarLight, EveryInstructionSetGivesTheSameMasks)
   const sstest::Scene s = BallOnGround(rng, sphere);
   const std::size_t n = s.pos.size() / 3;
   GearsSolver g;
-  g.SetTriangles(s.tris, {});
-  g.SetPieces(sstest::ClosedThenOpen(s.tris.size() / 3, sphere));
+  SetBall(g, s, sphere);
   const LightFrame light = FarLights(1e6)[1].second;
   for (int k : { 8, 32 })
   {
