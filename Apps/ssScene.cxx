@@ -577,10 +577,13 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
         // centre 1e16 away rounds to nothing (the light then had no normal),
         // and from 1e13 on it turned the normal by degrees, silently. A step
         // as long as the centre's largest coordinate keeps it to 1e-15.
-        const double nl = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
-        const double step =
-          std::max({ 1.0, std::fabs(center[0]), std::fabs(center[1]), std::fabs(center[2]) }) / nl;
-        light->SetFocalPoint(center[0] + step * normal[0], center[1] + step * normal[1], center[2] + step * normal[2]);
+        // (the normal scaled to its largest coordinate first: [0, 0, -1e155]
+        // squared overflows)
+        const double big = std::max({ std::fabs(normal[0]), std::fabs(normal[1]), std::fabs(normal[2]) });
+        const double n[3] = { normal[0] / big, normal[1] / big, normal[2] / big };
+        const double step = std::max({ 1.0, std::fabs(center[0]), std::fabs(center[1]), std::fabs(center[2]) }) /
+          std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        light->SetFocalPoint(center[0] + step * n[0], center[1] + step * n[1], center[2] + step * n[2]);
         vtkSoftShadowLight::SetAreaSize(light, size[0], size[1]);
         if (l.contains("up"))
         {

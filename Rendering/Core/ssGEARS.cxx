@@ -560,6 +560,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
           if (face[i] >= 0)
           {
             normal[i] = warp.Normal(start[i], normal[i]);
+            eps[i] *= warp.Reach(start[i]); // the start rule's reach, in the mapped frame
             start[i] = warp.Point(start[i]);
             face[i] = 0; // a point light's cube faces become the one face
           }

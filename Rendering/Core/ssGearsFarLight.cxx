@@ -19,17 +19,34 @@
 // direction (xi / zc, yi / zc, -1). So "does a triangle cut the segment from
 // S to sample (i, j)" is the same question as "does its image cut the ray
 // from S' along direction (i, j)" of a directional light whose tangent
-// rectangle is W / zc by H / zc, axes u and v: GEARS' directional path
-// answers it, on a scene the map leaves at its own scale (with
+// rectangle is W / zc by H / zc (W / |c| by H / |c| after kappa, below),
+// axes u and v: GEARS' directional path answers it, on a scene the map leaves at its own scale (with
 // x = xc + dx, ... the map is (zc dx - xc dz, zc dy - yc dz, zc dz) /
 // (zc + dz), the identity up to dz / zc and the shear xc / zc).
 //
+// Lengths along a ray change: the map straightens the rays from an
+// off-axis scene to the light's axis (the shear above), shortening them by
+// cos(off-axis angle) = zc / |c|. The mapped depths are scaled by
+// kappa = |c| / zc (a positive scaling: still projective, the directions
+// become (xi, yi, -kappa zc), tangent sides W / |c| and H / |c|), which
+// undoes that along the ray to the light's centre: without it the mapped
+// coordinates grow by the shear while the start offset along the rays
+// shrinks by it, and float rounding of a ground 89.5 degrees off the axis
+// put its plane above its own start points (V = 0 on 550 of 4,000 pixels).
+// The start rule's reach eps (a hit closer than eps to S does not count,
+// ssGearsRaster.cxx) is scaled per pixel by the map's factor along the
+// ray to the light's centre (Reach, 1 at the scene's centre). (A review
+// found a scene 89.95 degrees off the axis where the unscaled reach was
+// 1,146 times too long: light leaked under a box.)
+//
 // What is not exact: the images are rounded to float as the solver stores
-// its triangles (the originals are floats; their images move by float
-// rounding of the scene's size, so only samples grazing an edge can change),
-// and the start rule's reach eps (ssGearsRaster.cxx) is kept in the warped
-// frame, where lengths near S differ from the world's by at most the
-// light's relative depth span dz / zc (< 1 / kFarLightRatio).
+// its triangles. The originals are floats; their images move by float
+// rounding of the scene's size times up to the shear xc / zc
+// (kFarLightMaxSlope bounds it), so only samples grazing an edge can
+// change. And the reach along the rays to samples other than the centre
+// differs from eps by the ratio of the map's factors along them, which
+// grows with the light's width and the off-axis angle (gears.md: the
+// measured effect).
 #include "ssGearsInternal.h"
 
 #include "ssLightFrame.h"
@@ -67,6 +84,13 @@ bool MakeFarLightWarp(const LightFrame& L, double extent, FarLightWarp& w, Light
   {
     return false;
   }
+  // not seen too far off the axis: the shear xc / zc stretches the float
+  // images across the rays by up to that factor, and their rounding with
+  // them (against the start offset: 1e-5 of the scene, 170 float roundings)
+  if (!(std::hypot(cf.x, cf.y) <= kFarLightMaxSlope * cf.z))
+  {
+    return false;
+  }
   w.active = true;
   w.c = cf;
   w.u = u;
@@ -79,8 +103,10 @@ bool MakeFarLightWarp(const LightFrame& L, double extent, FarLightWarp& w, Light
   warped.v = v;
   warped.n = n;
   // the tangent rectangle (SampleSides); a point light: none (hard)
-  warped.width = L.type == LightType::Rect ? L.width / cf.z : 0.0;
-  warped.height = L.type == LightType::Rect ? L.height / cf.z : 0.0;
+  // (the mapped depths are scaled by kappa = |c| / zc, so the directions
+  // (xi, yi, -kappa zc) give tangent sides W / |c| and H / |c|)
+  warped.width = L.type == LightType::Rect ? L.width / glm::length(cf) : 0.0;
+  warped.height = L.type == LightType::Rect ? L.height / glm::length(cf) : 0.0;
   warped.angularDiameter = 0.0;
   return true;
 }
@@ -89,7 +115,7 @@ glm::dvec3 FarLightWarp::Point(const glm::dvec3& d) const
 {
   const double dx = glm::dot(d, u), dy = glm::dot(d, v), dz = glm::dot(d, n);
   const double den = c.z + dz;
-  const double x = (c.z * dx - c.x * dz) / den, y = (c.z * dy - c.y * dz) / den, z = c.z * dz / den;
+  const double x = (c.z * dx - c.x * dz) / den, y = (c.z * dy - c.y * dz) / den, z = Kappa() * c.z * dz / den;
   return x * u + y * v + z * n;
 }
 
@@ -104,10 +130,18 @@ glm::dvec3 FarLightWarp::Normal(const glm::dvec3& d, const glm::dvec3& N) const
   }
   const glm::dvec3 Nf(glm::dot(N, u), glm::dot(N, v), glm::dot(N, n));
   const glm::dvec3 p = c + glm::dvec3(glm::dot(d, u), glm::dot(d, v), glm::dot(d, n));
-  const glm::dvec3 m(Nf.x, Nf.y, glm::dot(p, Nf) / c.z);
+  const glm::dvec3 m(Nf.x, Nf.y, glm::dot(p, Nf) / (Kappa() * c.z));
   const glm::dvec3 r = m.x * u + m.y * v + m.z * n;
   const double l = glm::length(r);
   return l > 0.0 && std::isfinite(l) ? r / l : glm::dvec3(0.0);
+}
+
+double FarLightWarp::Reach(const glm::dvec3& d) const
+{
+  // |J w| for w the unit vector from the point p (light frame) to the light's
+  // centre, -p / |p|: J w = (zc / z) (0, 0, -zc / |p|)
+  const glm::dvec3 p = c + glm::dvec3(glm::dot(d, u), glm::dot(d, v), glm::dot(d, n));
+  return Kappa() * c.z * c.z / (p.z * glm::length(p));
 }
 
 bool FarLightWarp::InFront(const glm::dvec3& d) const
@@ -144,7 +178,8 @@ void WarpSolverData(const SolverData& D, const FarLightWarp& w, SolverData& out)
   });
   out.opacity.assign(D.opacity.begin(), D.opacity.begin() + static_cast<std::ptrdiff_t>(NT));
   out.input.assign(D.input.begin(), D.input.begin() + static_cast<std::ptrdiff_t>(NT));
-  out.clusterFirst.assign(D.clusterFirst.begin(), D.clusterFirst.begin() + static_cast<std::ptrdiff_t>(D.realClusters + 1));
+  out.clusterFirst.assign(
+    D.clusterFirst.begin(), D.clusterFirst.begin() + static_cast<std::ptrdiff_t>(D.realClusters + 1));
   // the margins' size: the warped triangles' box (the shear xc / zc may widen it)
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   for (std::size_t q = 0; q < 3 * NT; ++q)

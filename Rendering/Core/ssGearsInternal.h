@@ -441,10 +441,20 @@ struct FarLightWarp
   glm::dvec3 Normal(const glm::dvec3& d, const glm::dvec3& N) const;
   /// Whether d lies in front of the light by more than half the scene's depth.
   bool InFront(const glm::dvec3& d) const;
+  /// The mapped depths' scale |c| / zc (lengths along the central ray kept).
+  double Kappa() const { return glm::length(c) / c.z; }
+  /// The map's length factor at d along the ray to the light's centre (the
+  /// start rule's reach there is eps times this).
+  double Reach(const glm::dvec3& d) const;
 };
+/// The map is used while the scene lies within this slope of the light's
+/// axis (|(xc, yc)| <= slope zc, 88 degrees): the float images' rounding
+/// grows with the slope (6e-8 of the scene each), and must stay well below
+/// the start offset (1e-5 of the scene).
+constexpr double kFarLightMaxSlope = 30.0;
 /// For a rect or point light L (relative to the scene's centre) whose depth
 /// to the scene's centre exceeds kFarLightRatio x extent: the map and the
-/// directional light (tangent rectangle W / zc x H / zc) the scene's images
+/// directional light (tangent rectangle W / |c| x H / |c|) the scene's images
 /// are solved under. False otherwise.
 bool MakeFarLightWarp(const LightFrame& L, double extent, FarLightWarp& w, LightFrame& warped);
 /// D's real triangles mapped by w (same order, clusters, pieces and

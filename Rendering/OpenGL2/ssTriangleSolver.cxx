@@ -287,6 +287,7 @@ void TriangleSolver::Accumulate(const GearsStats& st)
   a.coveredSkips += st.coveredSkips;
   a.occluderBoxes = st.occluderBoxes;
   a.simd = st.simd;
+  a.farLightWarped = a.farLightWarped || st.farLightWarped; // (any of the frame's lights)
   a.cellsInUmbra += st.cellsInUmbra;
   ++this->GearsLights;
   // averages over all non-empty cells of the frame's GEARS lights

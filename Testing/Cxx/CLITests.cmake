@@ -403,6 +403,16 @@ add_test(NAME cli.bake.far_light_same
 set_tests_properties(cli.bake.far_light_1e9 cli.bake.far_light_1e16 PROPERTIES
   LABELS "cli;filters" TIMEOUT 120 FIXTURES_SETUP bake_far)
 set_tests_properties(cli.bake.far_light_same PROPERTIES LABELS "cli;filters" FIXTURES_REQUIRED bake_far)
+# A light normal of 1e155 (its squared length overflows): the same light as a
+# unit normal (before, the normal came out zero: bake refused it, render left
+# the light unshadowed).
+add_test(NAME cli.bake.huge_normal
+  COMMAND ${_ss_cli} bake "${_ss_data}/GoodScenes/huge_normal.json" --object 1 --output "${_ss_out}/bake_huge_normal.vtp")
+set_tests_properties(cli.bake.huge_normal PROPERTIES LABELS "cli;filters" TIMEOUT 120 FIXTURES_SETUP bake_huge_normal)
+add_test(NAME cli.bake.huge_normal_same
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_bake_mean.py" "${_ss_out}/bake_huge_normal.vtp"
+    LightVisibility_0 --same-as "${_ss_out}/bake_stray_ref.vtp")
+set_tests_properties(cli.bake.huge_normal_same PROPERTIES LABELS "cli;filters" FIXTURES_REQUIRED "bake_huge_normal;bake_stray")
 add_test(NAME cli.bench.asm_smoke
   COMMAND env -u DISPLAY ${_ss_cli} bench --asm --smoke --scenes "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json"
     --size 160x120 --out "${_ss_out}/bench_asm_smoke")
