@@ -283,8 +283,13 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
                          : light.center + su * light.width * light.u + sv * light.height * light.v;
   };
   // Regular samples are the same for every pixel: set up once, in float,
-  // relative to the scene's centre (points) or as unit directions.
+  // relative to the scene's centre (points) or as unit directions. Not for
+  // a light whose samples lie 1e18 or more from the scene: their squares
+  // overflow float (a light of 1e20 gave zero directions, rays that hit
+  // nothing: V 0.93 where 0.46 is right; one of 1e39 gave infinite ones, and
+  // Embree aborted the process). Those take the per-pixel path in double.
   std::vector<float> fixed;
+  bool fixedFloat = regular;
   if (regular)
   {
     fixed.resize(3 * static_cast<std::size_t>(ns));
@@ -293,6 +298,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
       glm::dvec3 t;
       sample(0, s, t);
       const glm::dvec3 r = directional ? t : t - P->Center;
+      fixedFloat = fixedFloat && std::max({ std::abs(r.x), std::abs(r.y), std::abs(r.z) }) < 1e18;
       fixed[3 * s] = static_cast<float>(r.x);
       fixed[3 * s + 1] = static_cast<float>(r.y);
       fixed[3 * s + 2] = static_cast<float>(r.z);
@@ -384,7 +390,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
           bool ok = false;
           if (s < ns)
           {
-            if (regular)
+            if (fixedFloat)
             {
               // in float, from the fixed samples
               const float* t = &fixed[3 * s];
@@ -426,7 +432,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
                 dir = target - (start + P->Center);
                 tf = glm::length(dir);
                 dir = tf > 0.0 ? dir / tf : dir;
-                tf *= (1.0 - 1e-6);
+                tf = std::min(tf * (1.0 - 1e-6), 1e30); // (float's range: nothing lies beyond)
               }
               ok = tf > 0.0;
               dx = static_cast<float>(dir.x);

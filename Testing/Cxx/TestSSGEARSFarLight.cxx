@@ -284,3 +284,44 @@ TEST(GEARSFarLight, TranslucentCastersMatchTheReference)
   EXPECT_GE(equal, 0.999 * n);
   EXPECT_LE(maxDiff, 2.0 / 256 + 1e-5);
 }
+
+TEST(GEARSFarLight, HugeRectLightsInTheReference)
+{
+  // rect lights of 1e20 and 1e39 over the ball (near, and 1e6 away): the
+  // reference's float sample offsets overflowed when squared (1e20: zero
+  // directions, V 0.93 where 0.46 is right) or were infinite (1e39: Embree
+  // aborted the process); now such samples are taken in double. GEARS and
+  // the reference agree.
+  std::mt19937 rng(47);
+  std::size_t sphere = 0;
+  const sstest::Scene s = BallOnGround(rng, sphere);
+  const std::size_t n = s.pos.size() / 3;
+  GearsSolver g;
+  SetBall(g, s, sphere);
+  ReferenceSolver ref;
+  ref.SetTriangles(s.tris, {});
+  const glm::dvec3 a = glm::normalize(glm::dvec3(0.3, 0.1, 1.0));
+  for (const double size : { 1e20, 1e39 })
+  {
+    for (const double d : { 5.0, 1e6 })
+    {
+      const LightFrame light = MakeRectLightFrame(glm::dvec3(0.1, 0.0, 0.55) + d * a, -a, { 0, 1, 0 }, { size, size });
+      GearsOptions opt;
+      ReferenceOptions ro;
+      opt.k = ro.k = 8;
+      const auto Vg = g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, opt);
+      const auto Vr = ref.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, ro);
+      std::size_t equal = 0;
+      double mean = 0.0;
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        ASSERT_TRUE(std::isfinite(Vr[i]));
+        equal += std::abs(Vg[i] - Vr[i]) < 1e-6f;
+        mean += Vr[i];
+      }
+      mean /= double(n);
+      EXPECT_GE(equal, 0.999 * n) << size << " at " << d;
+      EXPECT_LT(mean, 0.6) << size << " at " << d; // about half the light lies below each tangent plane
+    }
+  }
+}
