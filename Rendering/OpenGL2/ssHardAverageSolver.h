@@ -23,6 +23,9 @@ public:
   void Configure(vtkSoftShadowPass* pass) override;
   void BeginFrame(SolverFrame& frame, const std::vector<const ShadowLight*>& lights) override;
   int GetShadowMapSize() const override { return this->HardTest.GetShadowMapSize(); }
+  /// The most views any of the light's k x k samples needs (MakeLightViews).
+  std::size_t ShadowMapLayers(
+    const ShadowLight& light, const Box& receivers, const Box& casters, const VisibleReceivers* visible) const override;
   /// Nothing: the light's layers are drawn per sample by Compute.
   void DrawShadowMaps(SolverFrame&, const ShadowLight&) override {}
   void Compute(SolverFrame& frame, const ShadowLight& light) override;

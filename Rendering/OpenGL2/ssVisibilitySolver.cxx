@@ -1,6 +1,7 @@
 #include "ssVisibilitySolver.h"
 
 #include "ssCasterSet.h"
+#include "ssFrameState.h"
 #include "ssShadowMaps.h"
 
 namespace ss
@@ -9,5 +10,11 @@ void VisibilitySolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& lig
 {
   CasterSet& casters = *frame.Casters;
   frame.Maps->DrawViews(frame, light, casters.UseProgram(frame.Window), casters.GetVertexArray());
+}
+
+std::size_t VisibilitySolver::ShadowMapLayers(
+  const ShadowLight& light, const Box&, const Box&, const VisibleReceivers*) const
+{
+  return light.Views.size();
 }
 }

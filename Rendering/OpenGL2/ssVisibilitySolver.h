@@ -44,6 +44,7 @@ class GBuffer;
 class ShadowMaps;
 class StageTimings;
 class VisibilityLayers;
+struct Box;
 struct FrameState;
 struct ShadowLight;
 struct VisibleReceivers;
@@ -106,6 +107,11 @@ public:
   /// then collects the frame's visible receivers (SolverFrame::Visible)
   /// before BeginFrame.
   virtual bool FitsShadowViews() const { return this->UsesShadowMaps(); }
+  /// The shadow-map layers the light needs (at least its fitted views): a
+  /// solver that draws other frames into them (hardavg's light samples, whose
+  /// views can outnumber the light's) asks for more; the pass reserves them.
+  virtual std::size_t ShadowMapLayers(
+    const ShadowLight& light, const Box& receivers, const Box& casters, const VisibleReceivers* visible) const;
   /// The map size (texels a side) the solver asks the shared array for; the
   /// array takes it when every light agrees, else the pass's ShadowMapSize.
   virtual int GetShadowMapSize() const { return 0; }

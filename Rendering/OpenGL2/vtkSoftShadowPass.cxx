@@ -447,6 +447,13 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
       continue;
     }
     ss::FitShadowViews(l, receivers, casters, in.Casters, in.Frame.Origin, &in.Visible);
+    // layers for what the solver draws beyond the light's views (their
+    // matrices come from the solver then; the copies only hold the room)
+    const std::size_t layers = solver->ShadowMapLayers(l, receivers, casters, &in.Visible);
+    while (l.Views.size() < layers)
+    {
+      l.Views.push_back(l.Views.empty() ? ss::ShadowView{} : l.Views.back());
+    }
     totalViews += static_cast<int>(l.Views.size());
     asked.push_back(solver->GetShadowMapSize());
   }

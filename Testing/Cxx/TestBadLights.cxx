@@ -258,12 +258,39 @@ TEST(BadLights, FarRectLightKeepsItsShapeForTheCPUSolvers)
       equal += std::abs(f.V[i] - V[i]) < 1e-6f ? 1 : 0;
       penumbra += (V[i] > 0.0f && V[i] < 1.0f) ? 1 : 0;
     }
-    std::cout << "far 3:1 light, " << name << ": " << equal << " of " << ground << " ground px equal the core solver's, "
-              << penumbra << " in its penumbra\n";
+    std::cout << "far 3:1 light, " << name << ": " << equal << " of " << ground
+              << " ground px equal the core solver's, " << penumbra << " in its penumbra\n";
     EXPECT_GT(ground, 8000) << name;
     EXPECT_GT(penumbra, 100) << name;
     EXPECT_GE(equal, ground - 20) << name;
   }
+}
+
+TEST(BadLights, HardAverageUnderALightFarOffItsAxis)
+{
+  // A 0.3 rad rect light 500 scene sizes away, the scene 75 degrees off its
+  // axis: each of hardavg's light samples needed side views its light did
+  // not, so they were skipped with an error (exit 2 from the CLI) and V came
+  // out dark. The pass now reserves the layers the samples need.
+  const glm::dvec3 dir = glm::normalize(glm::dvec3(0.3, -0.2, 1.0));
+  const glm::dvec3 side = glm::normalize(glm::cross(dir, glm::dvec3(0, 1, 0)));
+  const double d = 500.0 * 8.0;
+  const glm::dvec3 c = glm::dvec3(0, 0, 1.2) + d * dir;
+  const double a = glm::radians(75.0);
+  const glm::dvec3 f = c + d * (-std::cos(a) * dir + std::sin(a) * side); // the normal: 75 degrees off
+  AgainstGears([&](Scene& s) { SphereOverGround(s, RectLight(c.x, c.y, c.z, f.x, f.y, f.z, 0.3 * d, 0.3 * d)); }, 8,
+    { int(vtkSoftShadowPass::HARDAVG) }, [](int m, const Frame& fr, const Frame& gears) {
+      if (m == vtkSoftShadowPass::GEARS)
+      {
+        return;
+      }
+      const Diff df = Compare(fr, gears);
+      std::cout << "75 degrees off the axis, hardavg: mean V " << df.meanV << ", GEARS " << df.meanRef << ", MAE "
+                << df.mae << " over " << df.compared << " px\n";
+      EXPECT_EQ(df.nonFinite, 0);
+      EXPECT_GT(df.compared, 5000);
+      EXPECT_LE(df.mae, 0.03);
+    });
 }
 
 TEST(BadLights, NaNIntensityIsNamedInAWarning)
