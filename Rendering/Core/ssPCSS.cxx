@@ -57,37 +57,7 @@ double ReceiverPlaneDepth(
 
 double LightFractionAboveTangentPlane(const LightFrame& light, const glm::dvec3& p, const glm::dvec3& nrm)
 {
-  // light point c + s u + t v is above the plane when a + b s + c t > 0
-  const double a = glm::dot(nrm, light.center - p);
-  if (!light.IsSoft() || light.type != LightType::Rect)
-  {
-    return a > 0.0 ? 1.0 : 0.0;
-  }
-  const double b = glm::dot(nrm, light.u), c = glm::dot(nrm, light.v);
-  const double hx = 0.5 * light.width, hy = 0.5 * light.height;
-  const glm::dvec2 q[4] = { { -hx, -hy }, { hx, -hy }, { hx, hy }, { -hx, hy } };
-  std::vector<glm::dvec2> poly; // Sutherland-Hodgman against one half-plane
-  for (int i = 0; i < 4; ++i)
-  {
-    const glm::dvec2 p0 = q[i], p1 = q[(i + 1) % 4];
-    const double f0 = a + b * p0.x + c * p0.y, f1 = a + b * p1.x + c * p1.y;
-    if (f0 > 0.0)
-    {
-      poly.push_back(p0);
-    }
-    if ((f0 > 0.0) != (f1 > 0.0))
-    {
-      poly.push_back(p0 + (p1 - p0) * (f0 / (f0 - f1)));
-    }
-  }
-  double area = 0.0; // shoelace
-  for (std::size_t i = 0; i < poly.size(); ++i)
-  {
-    const glm::dvec2& p0 = poly[i];
-    const glm::dvec2& p1 = poly[(i + 1) % poly.size()];
-    area += p0.x * p1.y - p1.x * p0.y;
-  }
-  return std::clamp(0.5 * std::abs(area) / (light.width * light.height), 0.0, 1.0);
+  return LightFractionAboveSurface(light, p, nrm, nrm); // one plane: the same clip twice
 }
 
 double NormalOffsetDistance(double texelWorld, double cosTheta, double offsetTexels)
@@ -100,23 +70,29 @@ double LightFractionAboveSurface(
   const LightFrame& light, const glm::dvec3& p, const glm::dvec3& shading, const glm::dvec3& geometric)
 {
   const glm::dvec3 normals[2] = { shading, geometric };
-  if (!light.IsSoft() || light.type != LightType::Rect)
+  // towards the light's centre: a directional light's is -n (it has no
+  // position; using its centre, the origin, was wrong for it)
+  const bool dir = light.type == LightType::Directional;
+  const glm::dvec3 toCentre = dir ? -light.n : light.center - p;
+  if (!light.IsSoft() || light.type == LightType::Point)
   {
     bool above = true;
     for (const auto& n : normals)
     {
-      above = above && glm::dot(n, light.center - p) > 0.0;
+      above = above && glm::dot(n, toCentre) > 0.0;
     }
     return above ? 1.0 : 0.0;
   }
   // the light point c + hx s u + hy t v, (s, t) in [-1, 1]^2, is above the
-  // plane of n when a + b s + c t > 0
-  const double hx = 0.5 * light.width, hy = 0.5 * light.height;
+  // plane of n when a + b s + c t > 0 (a directional light: the direction
+  // -n + h s u + h t v, h = tan(angle / 2), the reference's square)
+  const double hd = dir ? std::tan(0.5 * light.angularDiameter) : 0.0;
+  const double hx = dir ? hd : 0.5 * light.width, hy = dir ? hd : 0.5 * light.height;
   glm::dvec3 f[2];
   for (int k = 0; k < 2; ++k)
   {
     const glm::dvec3& n = normals[k];
-    f[k] = glm::dvec3(glm::dot(n, light.center - p), hx * glm::dot(n, light.u), hy * glm::dot(n, light.v));
+    f[k] = glm::dvec3(glm::dot(n, toCentre), hx * glm::dot(n, light.u), hy * glm::dot(n, light.v));
   }
   return SquareFractionAbovePlanesByClipping(f[0], f[1]);
 }

@@ -237,6 +237,39 @@ TEST(PCSS, LightAboveSurfaceMatchesSampling)
   EXPECT_NEAR(f, 0.5, 1e-9);
 }
 
+TEST(PCSS, DirectionalLightAboveSurfaceMatchesSampling)
+{
+  // a directional light's square of directions (LightSampleFrame's, the
+  // reference's) clipped by both planes; wide lights too (2.8 rad, and the
+  // 3.1 rad a rect of 1e12 becomes at 1e4 sizes). Before, the centre's side
+  // alone, against a direction taken from the light's centre (the origin).
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (const double angle : { 0.2, 1.0, 2.8, 3.1 })
+  {
+    const LightFrame l = MakeDirectionalLightFrame({ 0.3, -0.1, -1 }, angle);
+    for (int trial = 0; trial < 20; ++trial)
+    {
+      const glm::dvec3 p(U(rng) * 40 - 20, U(rng) * 40 - 20, U(rng));
+      const glm::dvec3 ns = glm::normalize(glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng)));
+      const glm::dvec3 ng = glm::normalize(ns + 0.7 * glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5));
+      const int k = 128;
+      int above = 0;
+      for (int j = 0; j < k; ++j)
+      {
+        for (int i = 0; i < k; ++i)
+        {
+          const glm::dvec3 q = -LightSampleFrame(l, i, j, k).n; // towards the light
+          above += (glm::dot(ns, q) > 0 && glm::dot(ng, q) > 0) ? 1 : 0;
+        }
+      }
+      EXPECT_NEAR(LightFractionAboveSurface(l, p, ns, ng), above / double(k * k), 2.0 / k)
+        << "angle " << angle << " trial " << trial;
+      EXPECT_NEAR(LightFractionAboveTangentPlane(l, p, ns), LightFractionAboveSurface(l, p, ns, ns), 1e-12);
+    }
+  }
+}
+
 TEST(PCSS, SquareFractionByBoundaryMatchesClipping)
 {
   // the boundary integral (the shaders' lightAboveSurface, in float) against

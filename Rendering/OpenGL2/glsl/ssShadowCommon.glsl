@@ -221,9 +221,9 @@ float squareAbovePlanes(vec3 f1In, vec3 f2In)
 // the facet, not from a shadow-map texel the facet shares with its
 // neighbours. Rect light: the part of the square [-1,1]^2 (the light in units
 // of its half sizes, so that a 1e30 light's area stays finite in float)
-// above both planes (squareAbovePlanes). Point and
-// two-sided lights: the light centre's side of both planes. Same as
-// ss::LightFractionAboveSurface.
+// above both planes (squareAbovePlanes); directional light with a size: the
+// same for its square of directions. Point lights: the light centre's side
+// of both planes. Same as ss::LightFractionAboveSurface.
 float lightAboveSurface(vec3 ns, vec3 ng, vec3 d)
 {
   // (written !(x > 0.5): normalize(0) is NaN, and a NaN normal is none)
@@ -241,7 +241,18 @@ float lightAboveSurface(vec3 ns, vec3 ng, vec3 d)
   }
   if (orthographic != 0)
   {
-    return (dot(ns, -viewN[0]) > 0.0 && dot(ng, -viewN[0]) > 0.0) ? 1.0 : 0.0;
+    // a directional light's square of directions -n + s h u + t h v (h =
+    // tan(angle / 2), (s, t) in [-1, 1]^2, as the reference and GEARS sample
+    // it): the same clip (before, the centre's side alone: under a light
+    // 2.8 rad wide, or a far one of 1e12, the ground kept the half of the
+    // light below its plane, V 0.97 where 0.45 is right)
+    if (!(lightHalfSize.x > 0.0 && lightHalfSize.y > 0.0))
+    {
+      return (dot(ns, -viewN[0]) > 0.0 && dot(ng, -viewN[0]) > 0.0) ? 1.0 : 0.0;
+    }
+    vec3 o1 = vec3(dot(ns, -viewN[0]), lightHalfSize.x * dot(ns, lightU), lightHalfSize.y * dot(ns, lightV));
+    vec3 o2 = vec3(dot(ng, -viewN[0]), lightHalfSize.x * dot(ng, lightU), lightHalfSize.y * dot(ng, lightV));
+    return squareAbovePlanes(o1, o2);
   }
   if (oneSided == 0 || lightHalfSize.x <= 0.0 || lightHalfSize.y <= 0.0)
   {
