@@ -216,8 +216,19 @@ bool FarLightAsDirectional(
   {
     return false; // faces away: nothing in front, it stays as it is
   }
-  const double side = std::max(light.width, light.height);
-  out = MakeDirectionalLightFrame(dir / dist, 2.0 * std::atan(0.5 * side / dist));
+  // the larger of the angles its two pairs of opposite edge midpoints
+  // subtend at the scene's centre (a light tilted away from the scene looks
+  // narrower along its tilt; its largest side alone overstated that):
+  // atan2(|a x b|, a . b) with a, b = m +- h is atan2(2 |m x h|, m.m - h.h),
+  // free of the cancellation of two nearly parallel far vectors
+  const glm::dvec3 m = light.center - sceneCenter;
+  auto subtends = [&m](const glm::dvec3& h) {
+    return std::atan2(2.0 * glm::length(glm::cross(m, h)), glm::dot(m, m) - glm::dot(h, h));
+  };
+  const double angle = light.type == LightType::Rect
+    ? std::max(subtends(0.5 * light.width * light.u), subtends(0.5 * light.height * light.v))
+    : 0.0;
+  out = MakeDirectionalLightFrame(dir / dist, angle);
   return true;
 }
 }

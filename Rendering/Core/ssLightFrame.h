@@ -50,7 +50,8 @@ constexpr double kFarLightRatio = 1.0e3;
 /// A rect or point light farther than kFarLightRatio scene diagonals from
 /// the centre of the scene `sceneCenter` (diagonal `sceneDiagonal`), as the
 /// directional light it is for the scene: the direction from its centre to
-/// the scene's, the angular diameter its largest side subtends. Float light
+/// the scene's, the angular diameter the larger of its two axes subtends there
+/// (a tilted light's foreshortened). Float light
 /// space cannot tell the scene's depths apart seen from a light that far
 /// (its depths differ in the 8th digit: no shadow at all at 1e6 diagonals,
 /// issue 17), while the directions to it across the scene differ by at most

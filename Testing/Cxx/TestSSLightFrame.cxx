@@ -226,6 +226,18 @@ TEST(LightFrame, FarLightAsDirectional)
   EXPECT_NEAR(out.n.y, -0.6, 1e-12);
   EXPECT_NEAR(out.n.z, -0.8, 1e-12);
   EXPECT_NEAR(out.angularDiameter, 20.0 / 5e9, 1e-18);
+  // tilted 75 degrees about its u axis: its v side (20) looks 20 cos 75 = 5.2
+  // long from the scene, so the u side (10) sets the diameter
+  const double t = glm::radians(75.0);
+  const LightFrame tilted =
+    MakeRectLightFrame({ 0, 0, 5e9 }, { 0, std::sin(t), -std::cos(t) }, { 0, 1, 0 }, { 10, 20 });
+  ASSERT_TRUE(FarLightAsDirectional(tilted, centre, diag, out));
+  EXPECT_NEAR(std::abs(glm::dot(tilted.u, glm::dvec3(1, 0, 0))), 1.0, 1e-12); // (u along x)
+  EXPECT_NEAR(out.angularDiameter, 10.0 / 5e9, 1e-18);
+  // a light larger than its distance: the angle it subtends, near pi
+  const LightFrame huge = MakeRectLightFrame({ 0, 0, 10 }, { 0, 0, -1 }, { 0, 1, 0 }, { 1e12, 1e12 });
+  ASSERT_TRUE(FarLightAsDirectional(huge, centre, 0.001, out));
+  EXPECT_NEAR(out.angularDiameter, M_PI - 2.0 * std::atan(10.0 / 5e11), 1e-9);
   // a far rect light facing away from the scene stays as it is
   const LightFrame away = MakeRectLightFrame({ 0, 0, 1e9 }, { 0, 0, 1 }, { 0, 0, 0 }, { 1, 1 });
   EXPECT_FALSE(FarLightAsDirectional(away, centre, diag, out));
