@@ -19,6 +19,12 @@ using namespace ss;
 
 namespace
 {
+// The ball's triangle count (BumpySphere at level 4: 8 x 4^4).
+std::size_t BumpyBallTriangles()
+{
+  return 8 * 256;
+}
+
 // A bumpy closed ball standing on a ground square (a contact), pixels on both.
 sstest::Scene BallOnGround(std::mt19937& rng, std::size_t& sphere)
 {
@@ -53,24 +59,63 @@ std::vector<std::pair<std::string, LightFrame>> FarLights(double d)
     { "point", MakePointLightFrame(c + d * glm::normalize(glm::dvec3(0.2, -0.3, 1.0))) } };
 }
 
-// The ball's triangles with their pieces (the closed-mesh rule, inner occluders).
-void SetBall(GearsSolver& g, const sstest::Scene& s, std::size_t sphere)
+// The ball on its ground in both solvers (GEARS with the ball's piece: the
+// closed-mesh rule and inner occluders), optionally translucent.
+struct Ball
 {
-  g.SetTriangles(s.tris, {});
-  g.SetPieces(sstest::ClosedThenOpen(s.tris.size() / 3, sphere));
+  std::size_t sphere = 0, n = 0;
+  sstest::Scene s;
+  GearsSolver g;
+  ReferenceSolver ref;
+  explicit Ball(unsigned seed, const std::vector<float>* alpha = nullptr)
+  {
+    std::mt19937 rng(seed);
+    s = BallOnGround(rng, sphere);
+    n = s.pos.size() / 3;
+    const std::vector<float> opaque;
+    g.SetTriangles(s.tris, alpha ? *alpha : opaque);
+    if (!alpha)
+    {
+      g.SetPieces(sstest::ClosedThenOpen(s.tris.size() / 3, sphere));
+    }
+    ref.SetTriangles(s.tris, alpha ? *alpha : opaque);
+  }
+};
+
+// GEARS against the reference at the same k x k regular samples.
+struct Agreement
+{
+  std::size_t equal = 0, shadowed = 0, penumbra = 0, throughTwoLayers = 0, nonFinite = 0;
+  double maxDiff = 0.0, mean = 0.0;
+  GearsStats st;
+};
+Agreement Agree(Ball& b, const LightFrame& light, int k, double tolerance = 1e-6)
+{
+  Agreement a;
+  GearsOptions opt;
+  ReferenceOptions ro;
+  opt.k = ro.k = k;
+  const auto Vg = b.g.Solve(light, glm::dvec3(0.0), b.s.pos.data(), b.s.nrm.data(), b.n, opt, &a.st);
+  const auto Vr = b.ref.Solve(light, glm::dvec3(0.0), b.s.pos.data(), b.s.nrm.data(), b.n, ro);
+  for (std::size_t i = 0; i < b.n; ++i)
+  {
+    a.nonFinite += std::isfinite(Vg[i]) && std::isfinite(Vr[i]) ? 0 : 1;
+    const double e = std::abs(double(Vg[i]) - Vr[i]);
+    a.equal += e < tolerance;
+    a.maxDiff = std::max(a.maxDiff, e);
+    a.shadowed += Vr[i] < 1.0f;
+    a.penumbra += Vr[i] > 0.0f && Vr[i] < 1.0f;
+    a.throughTwoLayers += Vr[i] > 0.2f && Vr[i] < 0.3f;
+    a.mean += Vr[i];
+  }
+  a.mean /= double(b.n);
+  return a;
 }
 }
 
 TEST(GEARSFarLight, EqualsReferenceAndCullsAsANearLight)
 {
-  std::mt19937 rng(29);
-  std::size_t sphere = 0;
-  const sstest::Scene s = BallOnGround(rng, sphere);
-  const std::size_t n = s.pos.size() / 3;
-  GearsSolver g;
-  SetBall(g, s, sphere);
-  ReferenceSolver ref;
-  ref.SetTriangles(s.tris, {});
+  Ball b(29);
   const int k = 16;
   // (near again at the end: the mapped copy is dropped, the solver's own used)
   for (double d : { 50.0, 3e4, 1e6, 1e8, 60.0 })
@@ -78,36 +123,20 @@ TEST(GEARSFarLight, EqualsReferenceAndCullsAsANearLight)
     for (const auto& [name, light] : FarLights(d))
     {
       const std::string what = name + " light at " + std::to_string(d);
-      GearsOptions opt;
-      opt.k = k;
-      GearsStats st;
-      const auto Vg = g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, opt, &st);
-      ReferenceOptions ro;
-      ro.k = k;
-      const auto Vr = ref.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, ro);
+      const Agreement a = Agree(b, light, k);
       const int kk = light.type == LightType::Point ? 1 : k;
-      std::size_t equal = 0, shadowed = 0, penumbra = 0;
-      double maxDiff = 0.0;
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        ASSERT_TRUE(std::isfinite(Vg[i])) << what;
-        const double e = std::abs(double(Vg[i]) - Vr[i]);
-        equal += e < 1e-6;
-        maxDiff = std::max(maxDiff, e);
-        shadowed += Vr[i] < 1.0f;
-        penumbra += Vr[i] > 0.0f && Vr[i] < 1.0f;
-      }
-      EXPECT_EQ(st.farLightWarped, d > 1e3) << what;
-      EXPECT_GT(shadowed, n / 5) << what; // the ball shadows itself and the ground
+      EXPECT_EQ(a.nonFinite, 0u) << what;
+      EXPECT_EQ(a.st.farLightWarped, d > 1e3) << what;
+      EXPECT_GT(a.shadowed, b.n / 5) << what; // the ball shadows itself and the ground
       if (light.type == LightType::Rect)
       {
-        EXPECT_GT(penumbra, n / 50) << what; // soft shadows, not hard ones
+        EXPECT_GT(a.penumbra, b.n / 50) << what; // soft shadows, not hard ones
       }
-      EXPECT_GE(equal, 0.999 * n) << what;
-      EXPECT_LE(maxDiff, 2.0 / (kk * kk) + 1e-6) << what;
+      EXPECT_GE(a.equal, 0.999 * b.n) << what;
+      EXPECT_LE(a.maxDiff, 2.0 / (kk * kk) + 1e-6) << what;
       // the culling works at any distance: a cell lists a small part of the
       // casters (without the map: all of them from 1e6 on)
-      EXPECT_LT(st.trianglesPerCellAvg, 0.25 * g.NumberOfTriangles()) << what;
+      EXPECT_LT(a.st.trianglesPerCellAvg, 0.25 * b.g.NumberOfTriangles()) << what;
     }
   }
 }
@@ -120,44 +149,22 @@ TEST(GEARSFarLight, ALightSeenAlmostEdgeOn)
   // (a review's case) is beyond kFarLightMaxSlope: solved in the light's own
   // frame (slower, same V). Before kappa, mapped there, the ground's float
   // plane rose above its own start points: 550 of 4,000 pixels dark.
-  std::mt19937 rng(43);
-  std::size_t sphere = 0;
-  const sstest::Scene s = BallOnGround(rng, sphere);
-  const std::size_t n = s.pos.size() / 3;
-  GearsSolver g;
-  SetBall(g, s, sphere);
-  ReferenceSolver ref;
-  ref.SetTriangles(s.tris, {});
+  Ball b(43);
   const glm::dvec3 c(0.1, 0.0, 0.55), toLight = glm::normalize(glm::dvec3(0.3, 0.1, 1.0));
   const glm::dvec3 side = glm::normalize(glm::cross(toLight, glm::dvec3(0, 1, 0)));
   for (const auto& [degrees, d, mapped] : { std::tuple<double, double, bool>(60, 1e9, true),
          std::tuple<double, double, bool>(84, 1e9, true), std::tuple<double, double, bool>(89.5, 1e9, false) })
   {
-    const double a = glm::radians(degrees);
+    const double angle = glm::radians(degrees);
     // the light faces the scene at `degrees` from the direction to it
-    const glm::dvec3 normal = -std::cos(a) * toLight + std::sin(a) * side;
+    const glm::dvec3 normal = -std::cos(angle) * toLight + std::sin(angle) * side;
     const LightFrame light = MakeRectLightFrame(c + d * toLight, normal, { 0, 1, 0 }, { 0.2 * d, 0.1 * d });
-    GearsOptions opt;
-    opt.k = 16;
-    GearsStats st;
-    const auto Vg = g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, opt, &st);
-    ReferenceOptions ro;
-    ro.k = 16;
-    const auto Vr = ref.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, ro);
-    std::size_t equal = 0, shadowed = 0;
-    double maxDiff = 0.0;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      ASSERT_TRUE(std::isfinite(Vg[i]));
-      const double e = std::abs(double(Vg[i]) - Vr[i]);
-      equal += e < 1e-6;
-      maxDiff = std::max(maxDiff, e);
-      shadowed += Vr[i] < 1.0f;
-    }
-    EXPECT_EQ(st.farLightWarped, mapped) << degrees;
-    EXPECT_GT(shadowed, n / 10) << degrees;
-    EXPECT_GE(equal, 0.998 * n) << degrees;
-    EXPECT_LE(maxDiff, 4.0 / 256 + 1e-6) << degrees;
+    const Agreement a = Agree(b, light, 16);
+    EXPECT_EQ(a.nonFinite, 0u) << degrees;
+    EXPECT_EQ(a.st.farLightWarped, mapped) << degrees;
+    EXPECT_GT(a.shadowed, b.n / 10) << degrees;
+    EXPECT_GE(a.equal, 0.998 * b.n) << degrees;
+    EXPECT_LE(a.maxDiff, 4.0 / 256 + 1e-6) << degrees;
   }
 }
 
@@ -165,12 +172,10 @@ TEST(GEARSFarLight, EveryInstructionSetGivesTheSameMasks)
 {
   // the directional path with two tangent sides runs on every kernel set
   // another machine may take (AVX2 without AVX-512, scalar), k = 8 and 32
-  std::mt19937 rng(41);
-  std::size_t sphere = 0;
-  const sstest::Scene s = BallOnGround(rng, sphere);
-  const std::size_t n = s.pos.size() / 3;
-  GearsSolver g;
-  SetBall(g, s, sphere);
+  Ball b(41);
+  const sstest::Scene& s = b.s;
+  const std::size_t n = b.n;
+  GearsSolver& g = b.g;
   const LightFrame light = FarLights(1e6)[1].second;
   for (int k : { 8, 32 })
   {
@@ -252,37 +257,15 @@ TEST(GEARSFarLight, TheMapTakesSegmentsToTheLightToRaysAlongItsDirections)
 TEST(GEARSFarLight, TranslucentCastersMatchTheReference)
 {
   // the map keeps each segment's crossings and their order: transmittance too
-  std::mt19937 rng(37);
-  std::size_t sphere = 0;
-  const sstest::Scene s = BallOnGround(rng, sphere);
-  const std::size_t n = s.pos.size() / 3;
-  std::vector<float> alpha(s.tris.size() / 3, 0.5f);
-  alpha[sphere] = alpha[sphere + 1] = 1.0f; // the ground
-  GearsSolver g;
-  g.SetTriangles(s.tris, alpha);
-  ReferenceSolver ref;
-  ref.SetTriangles(s.tris, alpha);
-  const LightFrame light = FarLights(1e6)[1].second;
-  GearsOptions opt;
-  ReferenceOptions ro;
-  ro.k = opt.k = 16;
-  GearsStats st;
-  const auto Vg = g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, opt, &st);
-  const auto Vr = ref.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, ro);
-  EXPECT_TRUE(st.farLightWarped);
-  std::size_t equal = 0, partial = 0;
-  double maxDiff = 0.0;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    ASSERT_TRUE(std::isfinite(Vg[i]));
-    const double e = std::abs(double(Vg[i]) - Vr[i]);
-    equal += e < 1e-5;
-    maxDiff = std::max(maxDiff, e);
-    partial += Vr[i] > 0.2f && Vr[i] < 0.3f; // the ground seen through the ball's two layers
-  }
-  EXPECT_GT(partial, n / 20);
-  EXPECT_GE(equal, 0.999 * n);
-  EXPECT_LE(maxDiff, 2.0 / 256 + 1e-5);
+  std::vector<float> alpha(BumpyBallTriangles() + 2, 0.5f);
+  alpha[alpha.size() - 2] = alpha[alpha.size() - 1] = 1.0f; // the ground
+  Ball b(37, &alpha);
+  const Agreement a = Agree(b, FarLights(1e6)[1].second, 16, 1e-5);
+  EXPECT_EQ(a.nonFinite, 0u);
+  EXPECT_TRUE(a.st.farLightWarped);
+  EXPECT_GT(a.throughTwoLayers, b.n / 20); // the ground seen through the ball's two layers
+  EXPECT_GE(a.equal, 0.999 * b.n);
+  EXPECT_LE(a.maxDiff, 2.0 / 256 + 1e-5);
 }
 
 TEST(GEARSFarLight, HugeRectLightsInTheReference)
@@ -292,36 +275,17 @@ TEST(GEARSFarLight, HugeRectLightsInTheReference)
   // directions, V 0.93 where 0.46 is right) or were infinite (1e39: Embree
   // aborted the process); now such samples are taken in double. GEARS and
   // the reference agree.
-  std::mt19937 rng(47);
-  std::size_t sphere = 0;
-  const sstest::Scene s = BallOnGround(rng, sphere);
-  const std::size_t n = s.pos.size() / 3;
-  GearsSolver g;
-  SetBall(g, s, sphere);
-  ReferenceSolver ref;
-  ref.SetTriangles(s.tris, {});
+  Ball b(47);
   const glm::dvec3 a = glm::normalize(glm::dvec3(0.3, 0.1, 1.0));
   for (const double size : { 1e20, 1e39 })
   {
     for (const double d : { 5.0, 1e6 })
     {
       const LightFrame light = MakeRectLightFrame(glm::dvec3(0.1, 0.0, 0.55) + d * a, -a, { 0, 1, 0 }, { size, size });
-      GearsOptions opt;
-      ReferenceOptions ro;
-      opt.k = ro.k = 8;
-      const auto Vg = g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, opt);
-      const auto Vr = ref.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, ro);
-      std::size_t equal = 0;
-      double mean = 0.0;
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        ASSERT_TRUE(std::isfinite(Vr[i]));
-        equal += std::abs(Vg[i] - Vr[i]) < 1e-6f;
-        mean += Vr[i];
-      }
-      mean /= double(n);
-      EXPECT_GE(equal, 0.999 * n) << size << " at " << d;
-      EXPECT_LT(mean, 0.6) << size << " at " << d; // about half the light lies below each tangent plane
+      const Agreement r = Agree(b, light, 8);
+      EXPECT_EQ(r.nonFinite, 0u) << size << " at " << d;
+      EXPECT_GE(r.equal, 0.999 * b.n) << size << " at " << d;
+      EXPECT_LT(r.mean, 0.6) << size << " at " << d; // about half the light lies below each tangent plane
     }
   }
 }
