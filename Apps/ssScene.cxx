@@ -78,7 +78,7 @@ void CheckLightPosition(const std::array<double, 3>& p, const Ctx& c)
       char buf[32];
       std::snprintf(buf, sizeof(buf), "%g", x);
       c.Fail(std::string("light coordinate ") + buf +
-        " beyond 1e18 (the shaders' float distance to the light overflows)");
+        " beyond 1e18, the scene format's limit (the renderers' float distance to the light overflows past it)");
     }
   }
 }

@@ -55,7 +55,8 @@ std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origi
   return lights;
 }
 
-std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const Box& scene)
+std::string CheckFarAndOverflowingLights(
+  std::vector<ShadowLight>& lights, const Box& scene, const glm::dvec3& origin)
 {
   std::ostringstream out;
   auto sep = [&out]() -> std::ostream& { return out << (out.tellp() > 0 ? "; " : ""); };
@@ -66,8 +67,11 @@ std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const
     l.TrueFrame = l.Frame;
     if (l.Planner.valid && !scene.Empty() && FarLightAsDirectional(l.Frame, scene.Center(), scene.Diagonal(), d))
     {
-      sep() << "light " << l.ShaderIndex << " is " << glm::length(l.Frame.center - scene.Center()) / scene.Diagonal()
-            << " scene sizes away";
+      // (the index counts every light of the renderer, as VTK does: in
+      // ParaView the light kit's too; the position tells which one it is)
+      const glm::dvec3 at = l.Frame.center + origin;
+      sep() << "light " << l.ShaderIndex << " at (" << at.x << ", " << at.y << ", " << at.z << ") is "
+            << glm::length(l.Frame.center - scene.Center()) / scene.Diagonal() << " scene sizes away";
       l.Frame = d;
       l.Planner.frame = d;
       far = true;
@@ -102,9 +106,9 @@ std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const
   }
   if (far)
   {
-    out << " (a light beyond " << kFarLightRatio
-        << " scene sizes is shadowed as a directional light: float light-space depths cannot separate the "
-           "scene's surfaces from there; gears on the CPU and the reference solve the light as it is)";
+    out << " (beyond " << kFarLightRatio
+        << " scene sizes the shadow-map methods shadow a light as a directional one: float light-space depths "
+           "cannot separate the scene's surfaces from there; gears on the CPU and the reference solve it as it is)";
   }
   return out.str();
 }

@@ -78,8 +78,10 @@ std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origi
 /// directional frame it is for the scene (ss::FarLightAsDirectional; TrueFrame
 /// keeps the light as it is, for the triangle solvers); a light
 /// whose colour x intensity exceeds the float range is reported (VTK's
-/// shading of it is black). Returns the warning text, empty when none.
-std::string CheckFarAndOverflowingLights(std::vector<ShadowLight>& lights, const Box& scene);
+/// shading of it is black). Returns the warning text, empty when none;
+/// `origin` (the frame's) places the lights it names in world coordinates.
+std::string CheckFarAndOverflowingLights(
+  std::vector<ShadowLight>& lights, const Box& scene, const glm::dvec3& origin);
 
 /// Sets the viewport (the render state's framebuffer, else the renderer's
 /// tiled viewport, as vtkCameraPass does), the origin (the camera's focal

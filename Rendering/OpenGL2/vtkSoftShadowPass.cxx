@@ -238,7 +238,7 @@ void vtkSoftShadowPass::Render(const vtkRenderState* s)
     // lights become directional for the shadows; each warned once (issue 17).
     ss::Box scene = ss::RelativeBox(in.Casters.Receivers, in.Frame.Origin);
     scene.Add(ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin));
-    const std::string warning = ss::CheckFarAndOverflowingLights(in.Frame.Lights, scene);
+    const std::string warning = ss::CheckFarAndOverflowingLights(in.Frame.Lights, scene, in.Frame.Origin);
     if (!warning.empty() && warning != in.LastFarLightWarning)
     {
       vtkWarningMacro(<< warning);
