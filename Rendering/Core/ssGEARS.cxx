@@ -314,15 +314,6 @@ void GearsSolver::SetPieces(const GearsPieces& pieces)
   d.piece.reserve(ns + ns / kOccluderHeadroom);
   d.orient.assign(ns, 0);
   d.piece.assign(ns, 0);
-  d.pieceBox.assign(6 * np, 0.0);
-  for (std::size_t p = 0; p < np; ++p)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      d.pieceBox[6 * p + a] = std::numeric_limits<double>::max();
-      d.pieceBox[6 * p + 3 + a] = -std::numeric_limits<double>::max();
-    }
-  }
   d.closedTriangles = 0;
   d.V.resize(9 * d.real);
   d.opacity.resize(d.real);
@@ -333,16 +324,8 @@ void GearsSolver::SetPieces(const GearsPieces& pieces)
     d.piece[t] = p;
     d.orient[t] = static_cast<std::int8_t>(usable[p] ? (o > 0 ? 1 : (o < 0 ? -1 : 0)) : 0);
     d.closedTriangles += d.orient[t] != 0;
-    for (int j = 0; j < 3; ++j)
-    {
-      const glm::dvec3 x = d.Vertex(t, j);
-      for (int a = 0; a < 3; ++a)
-      {
-        d.pieceBox[6 * p + a] = std::min(d.pieceBox[6 * p + a], x[a]);
-        d.pieceBox[6 * p + 3 + a] = std::max(d.pieceBox[6 * p + 3 + a], x[a]);
-      }
-    }
   }
+  PieceBoxes(d, np);
   BuildOccluders(d);
   AppendOccluders(d);
 }
@@ -450,10 +433,6 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   opt.groupSize = opt.groupSize > 0 ? opt.groupSize : (winding ? 16 : 8);
   const int k = (light.type == LightType::Point) ? 1 : std::clamp(opt.k, 1, 32);
   const std::uint32_t fullRow = k == 32 ? 0xFFFFFFFFu : ((1u << k) - 1u);
-  // (the vector kernels address the solver's floats with 32-bit offsets:
-  // past 238M triangles the scalar ones, whose offsets are 64-bit)
-  const Isa isa = KernelOffsetsFit(I.D.Triangles()) ? ResolveIsa(opt.simd) : Isa::Scalar;
-  st.simd = IsaName(isa);
   st.grid = opt.grid;
   st.triangles = I.D.real;
   st.clusters = I.D.Clusters();
@@ -590,6 +569,11 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   }
   const SolverData& D = *solverData;
   const glm::dvec2 sides = SampleSides(L);
+  // (the vector kernels address the solver's floats with 32-bit offsets:
+  // past 238M triangles the scalar ones, whose offsets are 64-bit; the
+  // triangles solved, a far light's mapped copy with its own occluders)
+  const Isa isa = KernelOffsetsFit(D.Triangles()) ? ResolveIsa(opt.simd) : Isa::Scalar;
+  st.simd = IsaName(isa);
 
   const int numFaces = (L.type == LightType::Point) ? 6 : 1;
   const HalfPlaneLUT* lut = nullptr;

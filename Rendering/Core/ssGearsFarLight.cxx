@@ -20,7 +20,8 @@
 // S to sample (i, j)" is the same question as "does its image cut the ray
 // from S' along direction (i, j)" of a directional light whose tangent
 // rectangle is W / zc by H / zc (W / |c| by H / |c| after kappa, below),
-// axes u and v: GEARS' directional path answers it, on a scene the map leaves at its own scale (with
+// axes u and v: GEARS' directional path answers it, on a scene the map
+// leaves at its own scale (with
 // x = xc + dx, ... the map is (zc dx - xc dz, zc dy - yc dz, zc dz) /
 // (zc + dz), the identity up to dz / zc and the shear xc / zc).
 //
@@ -91,7 +92,6 @@ bool MakeFarLightWarp(const LightFrame& L, double extent, FarLightWarp& w, Light
   {
     return false;
   }
-  w.active = true;
   w.c = cf;
   w.u = u;
   w.v = v;
@@ -113,9 +113,9 @@ bool MakeFarLightWarp(const LightFrame& L, double extent, FarLightWarp& w, Light
 
 glm::dvec3 FarLightWarp::Point(const glm::dvec3& d) const
 {
-  const double dx = glm::dot(d, u), dy = glm::dot(d, v), dz = glm::dot(d, n);
-  const double den = c.z + dz;
-  const double x = (c.z * dx - c.x * dz) / den, y = (c.z * dy - c.y * dz) / den, z = Kappa() * c.z * dz / den;
+  const glm::dvec3 l = Local(d);
+  const double den = c.z + l.z;
+  const double x = (c.z * l.x - c.x * l.z) / den, y = (c.z * l.y - c.y * l.z) / den, z = Kappa() * c.z * l.z / den;
   return x * u + y * v + z * n;
 }
 
@@ -128,8 +128,8 @@ glm::dvec3 FarLightWarp::Normal(const glm::dvec3& d, const glm::dvec3& N) const
   {
     return N;
   }
-  const glm::dvec3 Nf(glm::dot(N, u), glm::dot(N, v), glm::dot(N, n));
-  const glm::dvec3 p = c + glm::dvec3(glm::dot(d, u), glm::dot(d, v), glm::dot(d, n));
+  const glm::dvec3 Nf = Local(N);
+  const glm::dvec3 p = c + Local(d);
   const glm::dvec3 m(Nf.x, Nf.y, glm::dot(p, Nf) / (Kappa() * c.z));
   const glm::dvec3 r = m.x * u + m.y * v + m.z * n;
   const double l = glm::length(r);
@@ -140,7 +140,7 @@ double FarLightWarp::Reach(const glm::dvec3& d) const
 {
   // |J w| for w the unit vector from the point p (light frame) to the light's
   // centre, -p / |p|: J w = (zc / z) (0, 0, -zc / |p|)
-  const glm::dvec3 p = c + glm::dvec3(glm::dot(d, u), glm::dot(d, v), glm::dot(d, n));
+  const glm::dvec3 p = c + Local(d);
   return Kappa() * c.z * c.z / (p.z * glm::length(p));
 }
 
@@ -203,29 +203,7 @@ void WarpSolverData(const SolverData& D, const FarLightWarp& w, SolverData& out)
     out.orient.assign(D.orient.begin(), D.orient.begin() + static_cast<std::ptrdiff_t>(NT));
     out.piece.assign(D.piece.begin(), D.piece.begin() + static_cast<std::ptrdiff_t>(NT));
     out.closedTriangles = D.closedTriangles;
-    const std::size_t NP = D.pieceBox.size() / 6;
-    out.pieceBox.assign(6 * NP, 0.0);
-    for (std::size_t p = 0; p < NP; ++p)
-    {
-      for (int a = 0; a < 3; ++a)
-      {
-        out.pieceBox[6 * p + a] = std::numeric_limits<double>::max();
-        out.pieceBox[6 * p + 3 + a] = -std::numeric_limits<double>::max();
-      }
-    }
-    for (std::size_t t = 0; t < NT; ++t)
-    {
-      double* b = &out.pieceBox[6 * out.piece[t]];
-      for (int j = 0; j < 3; ++j)
-      {
-        const glm::dvec3 x = out.Vertex(t, j);
-        for (int a = 0; a < 3; ++a)
-        {
-          b[a] = std::min(b[a], x[a]);
-          b[3 + a] = std::max(b[3 + a], x[a]);
-        }
-      }
-    }
+    PieceBoxes(out, D.pieceBox.size() / 6);
     BuildOccluders(out);
     AppendOccluders(out);
   }

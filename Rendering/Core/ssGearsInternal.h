@@ -423,6 +423,8 @@ constexpr std::size_t kOccluderMinTriangles = 256, kOccluderBoxes = 64, kOcclude
 /// append reallocates, which is only slower.
 constexpr std::size_t kOccluderHeadroom = 8;
 constexpr int kOccluderGrid = 32;
+/// D.pieceBox for np pieces: each the box of its real triangles (D.piece).
+void PieceBoxes(SolverData& D, std::size_t np);
 /// The inner occluders of D's closed pieces (into occV, occPiece).
 void BuildOccluders(SolverData& D);
 /// D's arrays cut back to the real triangles, then the occluders appended.
@@ -433,7 +435,6 @@ void AppendOccluders(SolverData& D);
 /// axes, to their images (same origin and axes).
 struct FarLightWarp
 {
-  bool active = false;
   glm::dvec3 c{ 0.0 };                 ///< the scene's centre in the light's frame (xc, yc, zc)
   glm::dvec3 u{ 1, 0, 0 }, v{ 0, 1, 0 }, n{ 0, 0, 1 }; ///< the light's frame
   glm::dvec3 Point(const glm::dvec3& d) const;
@@ -446,6 +447,8 @@ struct FarLightWarp
   /// The map's length factor at d along the ray to the light's centre (the
   /// start rule's reach there is eps times this).
   double Reach(const glm::dvec3& d) const;
+  /// d's offset from the scene's centre in the light's frame (dx, dy, dz).
+  glm::dvec3 Local(const glm::dvec3& d) const { return { glm::dot(d, u), glm::dot(d, v), glm::dot(d, n) }; }
 };
 /// The map is used while the scene lies within this slope of the light's
 /// axis (|(xc, yc)| <= slope zc, 88 degrees): the float images' rounding

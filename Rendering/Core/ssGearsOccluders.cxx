@@ -63,6 +63,32 @@ void EmitBox(const glm::dvec3& lo, const glm::dvec3& hi, std::vector<float>& out
 }
 }
 
+void PieceBoxes(SolverData& D, std::size_t np)
+{
+  D.pieceBox.assign(6 * np, 0.0);
+  for (std::size_t p = 0; p < np; ++p)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      D.pieceBox[6 * p + a] = std::numeric_limits<double>::max();
+      D.pieceBox[6 * p + 3 + a] = -std::numeric_limits<double>::max();
+    }
+  }
+  for (std::size_t t = 0; t < D.real; ++t)
+  {
+    double* b = &D.pieceBox[6 * D.piece[t]];
+    for (int j = 0; j < 3; ++j)
+    {
+      const glm::dvec3 x = D.Vertex(t, j);
+      for (int a = 0; a < 3; ++a)
+      {
+        b[a] = std::min(b[a], x[a]);
+        b[3 + a] = std::max(b[3 + a], x[a]);
+      }
+    }
+  }
+}
+
 void BuildOccluders(SolverData& D)
 {
   D.occV.clear();

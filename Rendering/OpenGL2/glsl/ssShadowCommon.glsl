@@ -239,27 +239,20 @@ float lightAboveSurface(vec3 ns, vec3 ng, vec3 d)
   {
     return 1.0; // no normal at all: no clipping
   }
-  if (orthographic != 0)
+  // towards the light's centre; a directional light's square of directions
+  // -n + s h u + t h v (h = tan(angle / 2), (s, t) in [-1, 1]^2, as the
+  // reference and GEARS sample it) is clipped as a rect light is (before,
+  // its centre's side alone: under a light 2.8 rad wide, or a far one of
+  // 1e12, the ground kept the half of the light below its plane, V 0.97
+  // where 0.45 is right)
+  vec3 toCentre = (orthographic != 0) ? -viewN[0] : -d;
+  bool sized = (orthographic != 0 || oneSided != 0) && lightHalfSize.x > 0.0 && lightHalfSize.y > 0.0;
+  if (!sized)
   {
-    // a directional light's square of directions -n + s h u + t h v (h =
-    // tan(angle / 2), (s, t) in [-1, 1]^2, as the reference and GEARS sample
-    // it): the same clip (before, the centre's side alone: under a light
-    // 2.8 rad wide, or a far one of 1e12, the ground kept the half of the
-    // light below its plane, V 0.97 where 0.45 is right)
-    if (!(lightHalfSize.x > 0.0 && lightHalfSize.y > 0.0))
-    {
-      return (dot(ns, -viewN[0]) > 0.0 && dot(ng, -viewN[0]) > 0.0) ? 1.0 : 0.0;
-    }
-    vec3 o1 = vec3(dot(ns, -viewN[0]), lightHalfSize.x * dot(ns, lightU), lightHalfSize.y * dot(ns, lightV));
-    vec3 o2 = vec3(dot(ng, -viewN[0]), lightHalfSize.x * dot(ng, lightU), lightHalfSize.y * dot(ng, lightV));
-    return squareAbovePlanes(o1, o2);
+    return (dot(ns, toCentre) > 0.0 && dot(ng, toCentre) > 0.0) ? 1.0 : 0.0;
   }
-  if (oneSided == 0 || lightHalfSize.x <= 0.0 || lightHalfSize.y <= 0.0)
-  {
-    return (dot(ns, -d) > 0.0 && dot(ng, -d) > 0.0) ? 1.0 : 0.0;
-  }
-  vec3 f1 = vec3(dot(ns, -d), lightHalfSize.x * dot(ns, lightU), lightHalfSize.y * dot(ns, lightV));
-  vec3 f2 = vec3(dot(ng, -d), lightHalfSize.x * dot(ng, lightU), lightHalfSize.y * dot(ng, lightV));
+  vec3 f1 = vec3(dot(ns, toCentre), lightHalfSize.x * dot(ns, lightU), lightHalfSize.y * dot(ns, lightV));
+  vec3 f2 = vec3(dot(ng, toCentre), lightHalfSize.x * dot(ng, lightU), lightHalfSize.y * dot(ng, lightV));
   return squareAbovePlanes(f1, f2);
 }
 
