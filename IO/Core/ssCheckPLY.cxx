@@ -421,6 +421,14 @@ MeshCheck CheckPLY(const char* data, std::size_t size)
   int vi = -1, fi = -1;
   for (std::size_t i = 0; i < elems.size(); ++i)
   {
+    // VTK's reader reads every element so named as points or as faces: a
+    // second one would bring face indices this check never saw (a fuzzed
+    // file with a second 'face' element crashed it in vtkCell::Initialize)
+    if ((elems[i].Name == "vertex" && vi >= 0) || (elems[i].Name == "face" && fi >= 0))
+    {
+      return Fail(At(elems[i].Line) + "a second element '" + elems[i].Name +
+        "': VTK's PLY reader would read it too, unchecked");
+    }
     if (elems[i].Name == "vertex" && vi < 0)
       vi = static_cast<int>(i);
     else if (elems[i].Name == "face" && fi < 0)

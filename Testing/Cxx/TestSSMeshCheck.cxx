@@ -139,6 +139,18 @@ TEST(MeshCheck, PLY)
                                        "property float z\nelement material 1\nproperty float a\nelement face 1\n"
                                        "property list uchar int vertex_indices\nend_header\n"),
     "element 'material' before 'face'");
+  // a second 'face' (or 'vertex') element: VTK reads it too, with indices
+  // nobody checked (a fuzzed binary file crashed the reader)
+  ExpectRefused(Check(MeshFormat::PLY, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                       "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                       "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                       "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 99\n"),
+    "a second element 'face'");
+  ExpectRefused(Check(MeshFormat::PLY, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                       "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                       "element vertex 1\nproperty float x\nend_header\n"
+                                       "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n5\n"),
+    "a second element 'vertex'");
   std::string renamed = kPlyHeader;
   renamed.replace(renamed.find("vertex_indices"), 14, "vertex_index");
   EXPECT_TRUE(Check(MeshFormat::PLY, renamed + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").Ok);
