@@ -606,18 +606,64 @@ static inline bool RowsSpan(const ExactBatch& b, int which, int k, std::uint32_t
   struct
   {
     double A[4], B[4], C[4];
+    bool strict[4];
     int nf, j0, j1;
   } t;
-  t.nf = b.nf[which];
   t.j0 = b.j0[which];
   t.j1 = b.j1[which];
+  if (t.j1 < t.j0)
+  {
+    return false;
+  }
+  // A constraint that holds at the four corners of rows j0..j1 x samples
+  // 0..k-1 holds at every sample between: F_m as computed here and in
+  // RowBoundV, fl(fl(A + fl(C j)) + fl(B i)), is monotone in i and in j
+  // (every rounding is monotone; no fused operations in this file), so its
+  // extremes over the box lie at corners. It changes no row's span and is
+  // left out of the rows' loop. One that fails at all four fails everywhere:
+  // no bit. (Most constraints of a large triangle are of the first kind: one
+  // or two of its edges cross the light.)
+  t.nf = 0;
+  const double jc[2] = { double(t.j0), double(t.j1) }, ic[2] = { 0.0, k - 1.0 };
+  for (int m = 0; m < b.nf[which]; ++m)
+  {
+    const double A = b.A[m][which], B = b.B[m][which], C = b.C[m][which];
+    const bool strict = m == 3;
+    bool all = true, none = true;
+    for (const double j : jc)
+    {
+      const double ej = A + C * j;
+      for (const double i : ic)
+      {
+        const double F = ej + B * i;
+        const bool ok = strict ? F > 0.0 : F >= 0.0;
+        all = all && ok;
+        none = none && !ok;
+      }
+    }
+    if (none)
+    {
+      return false;
+    }
+    if (all)
+    {
+      continue;
+    }
+    t.A[t.nf] = A;
+    t.B[t.nf] = B;
+    t.C[t.nf] = C;
+    t.strict[t.nf++] = strict;
+  }
+  if (t.nf == 0)
+  {
+    const std::uint32_t full = k >= 32 ? ~0u : (1u << k) - 1u;
+    std::fill(rows + t.j0, rows + t.j1 + 1, full);
+    return true;
+  }
   double P[4], Q[4];
   bool steep[4];
   for (int m = 0; m < t.nf; ++m)
   {
-    t.A[m] = b.A[m][which];
-    t.B[m] = b.B[m][which];
-    t.C[m] = b.C[m][which];
     const double B = t.B[m];
     P[m] = B != 0.0 ? -t.A[m] / B : 0.0;
     Q[m] = B != 0.0 ? -t.C[m] / B : 0.0;
@@ -637,7 +683,7 @@ static inline bool RowsSpan(const ExactBatch& b, int which, int k, std::uint32_t
     VL ok = jv <= double(t.j1);
     for (int m = 0; m < t.nf; ++m)
     {
-      const bool strict = m == 3;
+      const bool strict = t.strict[m];
       const double B = t.B[m];
       if (B > 0.0)
       {
