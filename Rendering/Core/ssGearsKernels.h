@@ -56,7 +56,7 @@ constexpr std::int32_t kNbrIndex = 0x3FFFFFFF, kNbrSameDirection = 0x40000000;
 /// The exact raster's filtered fast path (ssGearsSmallKernels.h): candidates
 /// whose sample box is at most kSmallSide a side; their rows of bits from
 /// j0, or kUndecided.
-constexpr int kSmallSide = 5;
+constexpr int kSmallSide = 8;
 constexpr std::uint32_t kUndecided = 0xFFFFFFFFu;
 
 /// Candidates whose sample box is at most kPointRows x kPointCols get their
