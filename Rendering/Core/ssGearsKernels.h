@@ -54,9 +54,9 @@ struct GroupArrays
 constexpr std::int32_t kNbrIndex = 0x3FFFFFFF, kNbrSameDirection = 0x40000000;
 
 /// The exact raster's filtered fast path (ssGearsSmallKernels.h): candidates
-/// whose sample box is at most kSmallSide a side; their bits (bit
-/// kSmallSide r + c: row j0 + r, column i0 + c) or kUndecided.
-constexpr int kSmallSide = 5;
+/// whose sample box is at most kSmallSide a side; their rows of bits from
+/// j0, or kUndecided.
+constexpr int kSmallSide = 8;
 constexpr std::uint32_t kUndecided = 0xFFFFFFFFu;
 
 /// Candidates whose sample box is at most kPointRows x kPointCols get their
@@ -192,9 +192,11 @@ struct KernelTable
     const ExactPixel& p, std::int16_t* delta);
   bool (*count)(const std::int16_t* delta, int k, std::uint32_t* rows);
   /// The exact raster's bits of small candidates (cand: group indices, box:
-  /// the 4 box columns) or kUndecided, per candidate into bits.
+  /// the 4 box columns): out[q] is candidate q's first row j0, or kUndecided;
+  /// out[(1 + r) stride + q] its bits in row j0 + r, in place (0 when
+  /// undecided). Rows hold n rounded up to SS_GEARS_LANES entries.
   void (*small)(const GroupArrays&, const PixelParams&, const std::uint32_t* cand, std::size_t n, const float* const* box,
-    std::uint32_t* bits);
+    std::uint32_t* out, std::size_t stride);
   /// Group lists: the entries that may reach the shaft (null: all) and lie
   /// above one of the np horizon planes (4 floats each; 0 planes: all):
   /// their ids to out, their 15 columns to dst; below += those in the

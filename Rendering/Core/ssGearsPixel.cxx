@@ -18,6 +18,7 @@ constexpr std::size_t kPrefetch = 12; // candidates ahead whose vertices are pre
 // the filtered float test on at least this many candidates (below, its set-up
 // costs more than it saves: the 5M assembly's few large candidates)
 constexpr std::size_t kFilteredMin = 16, kFilteredBatch = 64;
+static_assert(sizeof(PixelState::rows) / sizeof(std::uint32_t) >= 31 + kSmallSide, "small bits' rows past row 31");
 }
 
 void PixelStart(const CellJob& job, CellScratch& w, std::uint32_t sq)
@@ -313,7 +314,9 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     if (filtered && tryFiltered && ncand >= kFilteredMin)
     {
       // in batches, so that a mask that fills stops it as it stops the raster
-      Grow(w.smallBits, kFilteredBatch + kPad);
+      constexpr std::size_t kOut = kFilteredBatch + kPad; // (a row of the kernel's output)
+      Grow(w.smallBits, (1 + kSmallSide) * kOut);
+      std::uint32_t* const out = w.smallBits.data();
       std::size_t undecided = 0, decided = 0;
       for (std::size_t b0 = 0; b0 < ncand; b0 += kFilteredBatch)
       {
@@ -326,23 +329,23 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
           }
           continue;
         }
-        K.small(gv.ga, pp, cand + b0, bn, boxCols, w.smallBits.data());
+        K.small(gv.ga, pp, cand + b0, bn, boxCols, out, kOut);
+        // without branches: an undecided candidate is kept for the raster
+        // and ORs zeros into rows 0.. (rows holds 40 >= 31 + kSmallSide)
+        const std::size_t left0 = undecided;
         for (std::size_t q = 0; q < bn; ++q)
         {
-          const std::uint32_t bits = w.smallBits[q], gi = cand[b0 + q];
-          if (bits == kUndecided)
+          const std::uint32_t j0 = out[q];
+          const bool left = j0 == kUndecided;
+          cand[undecided] = cand[b0 + q];
+          undecided += left ? 1 : 0;
+          std::uint32_t* row = rows + (left ? 0u : j0);
+          for (int r = 0; r < kSmallSide; ++r)
           {
-            cand[undecided++] = gi;
-            continue;
-          }
-          ++decided;
-          const int i0 = static_cast<int>(boxCols[0][gi]), j0 = static_cast<int>(boxCols[2][gi]);
-          const int j1 = static_cast<int>(boxCols[3][gi]);
-          for (int r = 0; r <= j1 - j0; ++r)
-          {
-            rows[j0 + r] |= ((bits >> (kSmallSide * r)) & ((1u << kSmallSide) - 1u)) << i0;
+            row[r] |= out[(1 + r) * kOut + q];
           }
         }
+        decided += bn - (undecided - left0);
         for (int j = 0; j < k; ++j)
         {
           fullRows |= rows[j] == job.fullRow ? 1u << j : 0u;

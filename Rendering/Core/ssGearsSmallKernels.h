@@ -63,7 +63,7 @@ static inline VF GatherVF(const float* base, VI idx)
 }
 
 static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const std::uint32_t* cand, std::size_t n,
-  const float* const* box, std::uint32_t* bits)
+  const float* const* box, std::uint32_t* out, std::size_t stride)
 {
   VI lane;
   for (int q = 0; q < SS_GEARS_LANES; ++q)
@@ -88,7 +88,11 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
     const VF i0 = GatherVF(box[0], idx), i1 = GatherVF(box[1], idx), j0 = GatherVF(box[2], idx),
              j1 = GatherVF(box[3], idx);
     VI ok = inRange & (i1 - i0 < float(kSmallSide)) & (j1 - j0 < float(kSmallSide)) & (VI{} + (p.project ? -1 : 0));
-    VUI out = VUI{} + kUndecided;
+    VUI out0 = VUI{} + kUndecided, rowsOut[kSmallSide];
+    for (int r = 0; r < kSmallSide; ++r)
+    {
+      rowsOut[r] = VUI{} + 0u;
+    }
     if (LaneMask(ok))
     {
       VF X[3], Y[3], Z[3];
@@ -151,35 +155,67 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
             cols = std::max(cols, static_cast<int>(i1[q] - i0[q]) + 1);
           }
         }
-        VUI b = VUI{} + 0u;
+        // E = eu (sv - w) - ev (su - u), its two products once per row and
+        // once per column (the same operations as at each sample: no fused
+        // ones, so the same E)
+        // column; the bit a column sets in its row (31 bounds the shift of
+        // columns past the box, whose bits are never set)
+        VF colTerm[3][kSmallSide];
+        VUI colBit[kSmallSide];
+        const VI ci = __builtin_convertvector(i0, VI);
+        for (int c = 0; c < cols; ++c)
+        {
+          const VF su = i0 + float(c);
+          for (int e = 0; e < 3; ++e)
+          {
+            colTerm[e][c] = ev[e] * (su - u[e]);
+          }
+          colBit[c] = (VUI{} + 1u) << (VUI)((ci + c) & 31);
+        }
+        VUI b[kSmallSide];
         VI undecided = VI{};
+        for (int r = 0; r < kSmallSide; ++r)
+        {
+          b[r] = VUI{} + 0u;
+        }
         for (int r = 0; r < rows; ++r)
         {
           const VF sv = j0 + float(r);
           const VI rowIn = sv <= j1;
+          VF rowTerm[3];
+          for (int e = 0; e < 3; ++e)
+          {
+            rowTerm[e] = eu[e] * (sv - w[e]);
+          }
+          VUI acc = VUI{} + 0u;
           for (int c = 0; c < cols; ++c)
           {
-            const VF su = i0 + float(c);
-            const VI at = rowIn & (su <= i1);
+            const VI at = rowIn & (i0 + float(c) <= i1);
             VI in = at, outside = VI{};
             for (int e = 0; e < 3; ++e)
             {
-              const VF E = eu[e] * (sv - w[e]) - ev[e] * (su - u[e]);
+              const VF E = rowTerm[e] - colTerm[e][c];
               in &= E > tol;
               outside |= E < -tol;
             }
             undecided |= at & ~in & ~outside;
-            b |= (VUI)in & ((VUI{} + 1u) << static_cast<unsigned>(kSmallSide * r + c));
+            acc |= (VUI)in & colBit[c];
           }
+          b[r] = acc;
         }
         ok &= ~undecided;
-        out = ok != 0 ? b : VUI{} + kUndecided;
+        for (int r = 0; r < kSmallSide; ++r)
+        {
+          rowsOut[r] = ok != 0 ? b[r] : VUI{} + 0u;
+        }
+        out0 = ok != 0 ? (VUI)__builtin_convertvector(j0, VI) : VUI{} + kUndecided;
       }
     }
-    const int count = static_cast<int>(std::min<std::size_t>(SS_GEARS_LANES, n - i));
-    for (int q = 0; q < count; ++q)
+    // (whole vectors: out holds n rounded up to SS_GEARS_LANES per row)
+    __builtin_memcpy(out + i, &out0, sizeof(out0));
+    for (int r = 0; r < kSmallSide; ++r)
     {
-      bits[i + q] = out[q];
+      __builtin_memcpy(out + (1 + r) * stride + i, &rowsOut[r], sizeof(rowsOut[r]));
     }
   }
 }
