@@ -66,6 +66,7 @@ namespace
 // A winding count's rest of at least GearsOptions::restSplitMin entries is
 // culled again per part of at most kSubGroup samples of its group.
 constexpr std::uint32_t kSubGroup = 8;
+constexpr std::uint32_t kSamplePrefetch = 6; // samples ahead whose start point and normal are prefetched
 
 // A shaft (MakeShaft) in float for coordinates relative to `o`.
 Shaft RelativeShaft(const glm::dvec3& lo, const glm::dvec3& hi, double W, double H, bool dir, double m, const glm::dvec3& o)
@@ -229,6 +230,13 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       bool allFull = true;
       for (std::uint32_t q = 0; q < ns; ++q)
       {
+        if (q + kSamplePrefetch < ns)
+        {
+          // the cell's samples lie scattered over the image's arrays
+          const std::size_t ahead = g.pix[g.cellPix[g.cellStart[c] + q + kSamplePrefetch]];
+          __builtin_prefetch(&(*job.start)[ahead]);
+          __builtin_prefetch(&(*job.normal)[ahead]);
+        }
         const std::size_t pixel = g.pix[g.cellPix[g.cellStart[c] + q]];
         w.pixel[q] = pixel;
         w.S[q] = ft.ToLight((*job.start)[pixel]);

@@ -61,7 +61,7 @@ constexpr std::uint32_t kUndecided = 0xFFFFFFFFu;
 
 /// Candidates whose sample box is at most kPointRows x kPointCols get their
 /// bits by evaluating the constraints at each sample (SetupBatch).
-constexpr int kPointRows = 6, kPointCols = 6;
+constexpr int kPointRows = 8, kPointCols = 8;
 
 /// FaceColumns::flags bits: not dropped by the closed-mesh rule; every light
 /// sample in front of the plane (or the rule, outward); every one behind it;

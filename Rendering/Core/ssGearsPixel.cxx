@@ -21,6 +21,18 @@ constexpr std::size_t kFilteredMin = 16, kFilteredBatch = 64;
 static_assert(sizeof(PixelState::rows) / sizeof(std::uint32_t) >= 31 + kSmallSide, "small bits' rows past row 31");
 }
 
+namespace
+{
+// The set bits of v (the baseline x86-64 has no popcnt: __builtin_popcount
+// is a library call, 32 per pixel)
+inline int BitCount(std::uint32_t v)
+{
+  v = v - ((v >> 1) & 0x55555555u);
+  v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
+  return static_cast<int>((((v + (v >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24);
+}
+}
+
 void PixelStart(const CellJob& job, CellScratch& w, std::uint32_t sq)
 {
   PixelState& ps = w.state[sq];
@@ -73,7 +85,7 @@ void PixelFinish(const CellJob& job, CellScratch& w, std::uint32_t sq)
     const std::uint32_t lit = ~ps.rows[j] & job.fullRow;
     if (!ps.haveTrans)
     {
-      visible += __builtin_popcount(lit);
+      visible += BitCount(lit);
     }
     else
     {

@@ -369,6 +369,24 @@ void BelowHorizonRows(const SampleSpace& s, const glm::dvec3& N, std::uint32_t* 
 {
   // light samples below the tangent plane are not seen (reference rule)
   const Affine below = MakeAffine(s, -N);
+  // Most pixels face the whole light: f = (A + C j) + B i below -delta at
+  // the corners of [-1, k]^2 is below -delta / 2 on all of it (affine), so
+  // each row's root lies beyond k (B > 0) or before -1 (B < 0), or its value
+  // is negative (B = 0), by far more than the rounding of a row's root
+  // (~1e-16 of the scale): no row gets a bit, and the rows are skipped.
+  const double scale = std::abs(below.A) + (std::abs(below.B) + std::abs(below.C)) * (s.k + 1.0);
+  double most = -1e300;
+  for (const double j : { -1.0, double(s.k) })
+  {
+    for (const double i : { -1.0, double(s.k) })
+    {
+      most = std::max(most, (below.A + below.C * j) + below.B * i);
+    }
+  }
+  if (most < -1e-9 * scale)
+  {
+    return;
+  }
   for (int j = 0; j < s.k; ++j)
   {
     double blo = -1e300, bhi = 1e300;
