@@ -188,6 +188,7 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
         // columns past the box, whose bits are never set)
         VF colTerm[3][kSmallSide];
         VUI colBit[kSmallSide];
+        VI colIn[kSmallSide];
         const VI ci = __builtin_convertvector(i0, VI);
         for (int c = 0; c < cols; ++c)
         {
@@ -197,6 +198,7 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
             colTerm[e][c] = ev[e] * (su - u[e]);
           }
           colBit[c] = (VUI{} + 1u) << (VUI)((ci + c) & 31);
+          colIn[c] = su <= i1;
         }
         VUI b[kSmallSide];
         VI undecided = VI{};
@@ -216,7 +218,7 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
           VUI acc = VUI{} + 0u;
           for (int c = 0; c < cols; ++c)
           {
-            const VI at = rowIn & (i0 + float(c) <= i1);
+            const VI at = rowIn & colIn[c];
             VI in = at, outside = VI{};
             for (int e = 0; e < 3; ++e)
             {
