@@ -927,6 +927,10 @@ static inline void SetupBatch(ExactBatch& b, const ExactSource& src, const std::
     }
     __builtin_memcpy(b.bits[r], &rb, sizeof(rb));
   }
+  for (int r = rowsNeeded; r < kPointRows; ++r)
+  {
+    std::fill(b.bits[r], b.bits[r] + 8, 0u); // (the raster ORs all kPointRows rows)
+  }
   for (int m = 0; m < 4; ++m)
   {
     __builtin_memcpy(b.A[m], &A[m], sizeof(VD));
