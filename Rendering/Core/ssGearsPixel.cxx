@@ -362,11 +362,12 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
         const std::size_t left0 = undecided;
         for (std::size_t q = 0; q < bn; ++q)
         {
-          const std::uint32_t j0 = out[q];
-          const bool left = j0 == kUndecided;
+          // (arithmetic, not a comparison: GCC turned that into a branch;
+          // kUndecided has the top bit set, a row index does not)
+          const std::uint32_t j0 = out[q], left = j0 >> 31;
           cand[undecided] = cand[b0 + q];
-          undecided += left ? 1 : 0;
-          std::uint32_t* row = rows + (left ? 0u : j0);
+          undecided += left;
+          std::uint32_t* row = rows + (j0 & (left - 1u));
           for (int r = 0; r < kSmallSide; ++r)
           {
             row[r] |= out[(1 + r) * kOut + q];
