@@ -218,15 +218,12 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
           VUI acc = VUI{} + 0u;
           for (int c = 0; c < cols; ++c)
           {
+            // inside: every E above tol; outside: one below -tol; both from
+            // the least E (finite on the lanes kept: their area is)
             const VI at = rowIn & colIn[c];
-            VI in = at, outside = VI{};
-            for (int e = 0; e < 3; ++e)
-            {
-              const VF E = rowTerm[e] - colTerm[e][c];
-              in &= E > tol;
-              outside |= E < -tol;
-            }
-            undecided |= at & ~in & ~outside;
+            const VF least = Min(Min(rowTerm[0] - colTerm[0][c], rowTerm[1] - colTerm[1][c]), rowTerm[2] - colTerm[2][c]);
+            const VI in = at & (least > tol);
+            undecided |= at & ~in & ~(least < -tol);
             acc |= (VUI)in & colBit[c];
           }
           b[r] = acc;
