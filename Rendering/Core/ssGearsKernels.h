@@ -895,6 +895,21 @@ static inline void SetupBatch(ExactBatch& b, const ExactSource& src, const std::
       colsNeeded = std::max(colsNeeded, static_cast<int>(i1[q] - i0[q]) + 1);
     }
   }
+  // F = (A + C j) + B i: the products B i once per column (the same
+  // operations as at each sample: no fused ones, so the same F)
+  VD bi[3][kPointCols];
+  VL colIn[kPointCols];
+  VU colBit[kPointCols];
+  for (int c = 0; c < colsNeeded; ++c)
+  {
+    const VD iv = i0 + double(c);
+    for (int m = 0; m < 3; ++m)
+    {
+      bi[m][c] = Bc[m] * iv;
+    }
+    colIn[c] = iv <= i1;
+    colBit[c] = (VU{} + 1u) << (VU)__builtin_convertvector(iv, VJ);
+  }
   for (int r = 0; r < rowsNeeded; ++r)
   {
     const VD jv = j0 + double(r);
@@ -903,16 +918,18 @@ static inline void SetupBatch(ExactBatch& b, const ExactSource& src, const std::
     {
       ej[m] = A[m] + C[m] * jv;
     }
+    const VL rowIn = jv <= j1;
     VU rb = VU{} + 0u;
     for (int c = 0; c < colsNeeded; ++c)
     {
-      const VD iv = i0 + double(c);
-      const VL in = (jv <= j1) & (iv <= i1) & (ej[0] + Bc[0] * iv >= 0.0) & (ej[1] + Bc[1] * iv >= 0.0) &
-        (ej[2] + Bc[2] * iv >= 0.0);
-      const VU bit = (VU{} + 1u) << (VU)__builtin_convertvector(iv, VJ);
-      rb |= __builtin_convertvector(in, VJ) != 0 ? bit : VU{} + 0u;
+      const VL in = rowIn & colIn[c] & (ej[0] + bi[0][c] >= 0.0) & (ej[1] + bi[1][c] >= 0.0) & (ej[2] + bi[2][c] >= 0.0);
+      rb |= __builtin_convertvector(in, VJ) != 0 ? colBit[c] : VU{} + 0u;
     }
     __builtin_memcpy(b.bits[r], &rb, sizeof(rb));
+  }
+  for (int r = rowsNeeded; r < kPointRows; ++r)
+  {
+    std::fill(b.bits[r], b.bits[r] + 8, 0u); // (the raster ORs all kPointRows rows)
   }
   for (int m = 0; m < 4; ++m)
   {

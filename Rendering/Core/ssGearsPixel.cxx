@@ -18,7 +18,8 @@ constexpr std::size_t kPrefetch = 12; // candidates ahead whose vertices are pre
 // the filtered float test on at least this many candidates (below, its set-up
 // costs more than it saves: the 5M assembly's few large candidates)
 constexpr std::size_t kFilteredMin = 16, kFilteredBatch = 64;
-static_assert(sizeof(PixelState::rows) / sizeof(std::uint32_t) >= 31 + kSmallSide, "small bits' rows past row 31");
+static_assert(sizeof(PixelState::rows) / sizeof(std::uint32_t) >= 31 + std::max(kSmallSide, kPointRows),
+  "rows written past row 31 (small bits, per-sample bits)");
 }
 
 namespace
@@ -196,6 +197,20 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     }
     int j0 = 0, j1 = k - 1;
     bool hit = false, fallback = false;
+    if (kind == 4 && target == rows)
+    {
+      // opaque, bits ready: all kPointRows rows without branches (SetupBatch
+      // zeroes those past the box; rows past k - 1 stay 0, never full)
+      j0 = b.j0[lane];
+      for (int r = 0; r < kPointRows; ++r)
+      {
+        const int j = j0 + r;
+        rows[j] |= b.bits[r][lane];
+        fullRows |= (rows[j] == job.fullRow ? 1u : 0u) << (j & 31);
+      }
+      ps.full = fullRows == allRows;
+      return;
+    }
     if (kind == 4)
     {
       j0 = b.j0[lane];
@@ -347,11 +362,12 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
         const std::size_t left0 = undecided;
         for (std::size_t q = 0; q < bn; ++q)
         {
-          const std::uint32_t j0 = out[q];
-          const bool left = j0 == kUndecided;
+          // (arithmetic, not a comparison: GCC turned that into a branch;
+          // kUndecided has the top bit set, a row index does not)
+          const std::uint32_t j0 = out[q], left = j0 >> 31;
           cand[undecided] = cand[b0 + q];
-          undecided += left ? 1 : 0;
-          std::uint32_t* row = rows + (left ? 0u : j0);
+          undecided += left;
+          std::uint32_t* row = rows + (j0 & (left - 1u));
           for (int r = 0; r < kSmallSide; ++r)
           {
             row[r] |= out[(1 + r) * kOut + q];

@@ -62,6 +62,31 @@ static inline VF GatherVF(const float* base, VI idx)
   return f;
 }
 
+// The largest lane of v.
+static inline int HMax(VI v)
+{
+#if SS_GEARS_LANES >= 8
+#if SS_GEARS_LANES == 16
+  // (masked forms: GCC 12 warns of the plain ones' undefined operand)
+  const __m512i w = reinterpret_cast<const __m512i&>(v);
+  __m256i x = _mm256_max_epi32(_mm512_maskz_extracti64x4_epi64(0xF, w, 0), _mm512_maskz_extracti64x4_epi64(0xF, w, 1));
+#else
+  __m256i x = reinterpret_cast<const __m256i&>(v);
+#endif
+  x = _mm256_max_epi32(x, _mm256_permute2x128_si256(x, x, 1));
+  x = _mm256_max_epi32(x, _mm256_shuffle_epi32(x, 0x4E));
+  x = _mm256_max_epi32(x, _mm256_shuffle_epi32(x, 0xB1));
+  return _mm256_cvtsi256_si32(x);
+#else
+  int r = v[0];
+  for (int q = 1; q < SS_GEARS_LANES; ++q)
+  {
+    r = std::max(r, static_cast<int>(v[q]));
+  }
+  return r;
+#endif
+}
+
 static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const std::uint32_t* cand, std::size_t n,
   const float* const* box, std::uint32_t* out, std::size_t stride)
 {
@@ -81,9 +106,16 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
   {
     const VI inRange = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
     VI idx;
-    for (int q = 0; q < SS_GEARS_LANES; ++q)
+    if (i + SS_GEARS_LANES <= n)
     {
-      idx[q] = static_cast<int>(cand[i + q < n ? i + q : i]);
+      __builtin_memcpy(&idx, cand + i, sizeof(idx));
+    }
+    else
+    {
+      for (int q = 0; q < SS_GEARS_LANES; ++q)
+      {
+        idx[q] = static_cast<int>(cand[i + q < n ? i + q : i]);
+      }
     }
     const VF i0 = GatherVF(box[0], idx), i1 = GatherVF(box[1], idx), j0 = GatherVF(box[2], idx),
              j1 = GatherVF(box[3], idx);
@@ -146,15 +178,9 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
           eu[e] = (u[b] - u[e]) * sgn;
           ev[e] = (w[b] - w[e]) * sgn;
         }
-        int rows = 0, cols = 0;
-        for (int q = 0; q < SS_GEARS_LANES; ++q)
-        {
-          if (ok[q])
-          {
-            rows = std::max(rows, static_cast<int>(j1[q] - j0[q]) + 1);
-            cols = std::max(cols, static_cast<int>(i1[q] - i0[q]) + 1);
-          }
-        }
+        // the largest box of the lanes still undecided
+        const int rows = HMax(ok != 0 ? __builtin_convertvector(j1 - j0, VI) : VI{} - 1) + 1;
+        const int cols = HMax(ok != 0 ? __builtin_convertvector(i1 - i0, VI) : VI{} - 1) + 1;
         // E = eu (sv - w) - ev (su - u), its two products once per row and
         // once per column (the same operations as at each sample: no fused
         // ones, so the same E)
@@ -162,6 +188,7 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
         // columns past the box, whose bits are never set)
         VF colTerm[3][kSmallSide];
         VUI colBit[kSmallSide];
+        VI colIn[kSmallSide];
         const VI ci = __builtin_convertvector(i0, VI);
         for (int c = 0; c < cols; ++c)
         {
@@ -171,6 +198,7 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
             colTerm[e][c] = ev[e] * (su - u[e]);
           }
           colBit[c] = (VUI{} + 1u) << (VUI)((ci + c) & 31);
+          colIn[c] = su <= i1;
         }
         VUI b[kSmallSide];
         VI undecided = VI{};
@@ -190,15 +218,12 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
           VUI acc = VUI{} + 0u;
           for (int c = 0; c < cols; ++c)
           {
-            const VI at = rowIn & (i0 + float(c) <= i1);
-            VI in = at, outside = VI{};
-            for (int e = 0; e < 3; ++e)
-            {
-              const VF E = rowTerm[e] - colTerm[e][c];
-              in &= E > tol;
-              outside |= E < -tol;
-            }
-            undecided |= at & ~in & ~outside;
+            // inside: every E above tol; outside: one below -tol; both from
+            // the least E (finite on the lanes kept: their area is)
+            const VI at = rowIn & colIn[c];
+            const VF least = Min(Min(rowTerm[0] - colTerm[0][c], rowTerm[1] - colTerm[1][c]), rowTerm[2] - colTerm[2][c]);
+            const VI in = at & (least > tol);
+            undecided |= at & ~in & ~(least < -tol);
             acc |= (VUI)in & colBit[c];
           }
           b[r] = acc;
