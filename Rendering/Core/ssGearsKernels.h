@@ -436,18 +436,18 @@ static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p
 // all three outside (comparisons give -1 where true).
 static inline VI InShaftV(const Shaft& s, const VF* x, const VF* y, const VF* z)
 {
-  const VI three = VI{} + 3;
-  VI o0 = VI{}, o1 = VI{}, o2 = VI{}, o3 = VI{}, o4 = VI{}, o5 = VI{};
+  // (masks ANDed per plane: on AVX-512 they stay in mask registers)
+  VI o0 = VI{} - 1, o1 = o0, o2 = o0, o3 = o0, o4 = o0, o5 = o0;
   for (int m = 0; m < 3; ++m)
   {
-    o0 -= x[m] < s.ax + s.sx * z[m];
-    o1 -= x[m] > s.bx + s.tx * z[m];
-    o2 -= y[m] < s.ay + s.sy * z[m];
-    o3 -= y[m] > s.by + s.ty * z[m];
-    o4 -= !(z[m] > s.zlo);
-    o5 -= !(z[m] < s.zhi);
+    o0 &= x[m] < s.ax + s.sx * z[m];
+    o1 &= x[m] > s.bx + s.tx * z[m];
+    o2 &= y[m] < s.ay + s.sy * z[m];
+    o3 &= y[m] > s.by + s.ty * z[m];
+    o4 &= !(z[m] > s.zlo);
+    o5 &= !(z[m] < s.zhi);
   }
-  return (o0 < three) & (o1 < three) & (o2 < three) & (o3 < three) & (o4 < three) & (o5 < three);
+  return ~(o0 | o1 | o2 | o3 | o4 | o5);
 }
 
 // The lanes of `valid` (triangles x, y, z) that may reach the shaft s (null:
