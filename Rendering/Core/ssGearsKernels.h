@@ -57,7 +57,7 @@ constexpr std::int32_t kNbrIndex = 0x3FFFFFFF, kNbrSameDirection = 0x40000000;
 /// whose sample box is at most kSmallSide a side; their rows of bits from
 /// j0, or kUndecided.
 constexpr int kSmallSide = 8;
-constexpr std::uint32_t kUndecided = 0xFFFFFFFFu;
+constexpr std::uint32_t kUndecided = 0xFFFFFFFFu; ///< (its top bit tells it from a row index: DrawPixel)
 
 /// Candidates whose sample box is at most kPointRows x kPointCols get their
 /// bits by evaluating the constraints at each sample (SetupBatch).
@@ -658,8 +658,7 @@ static inline bool RowsSpan(const ExactBatch& b, int which, int k, std::uint32_t
   }
   if (t.nf == 0)
   {
-    const std::uint32_t full = k >= 32 ? ~0u : (1u << k) - 1u;
-    std::fill(rows + t.j0, rows + t.j1 + 1, full);
+    std::fill(rows + t.j0, rows + t.j1 + 1, (2u << (k - 1)) - 1u); // (2 << 31 wraps to 0: all 32 bits)
     return true;
   }
   double P[4], Q[4];

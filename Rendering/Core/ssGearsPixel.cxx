@@ -20,6 +20,7 @@ constexpr std::size_t kPrefetch = 12; // candidates ahead whose vertices are pre
 constexpr std::size_t kFilteredMin = 16, kFilteredBatch = 64;
 static_assert(sizeof(PixelState::rows) / sizeof(std::uint32_t) >= 31 + std::max(kSmallSide, kPointRows),
   "rows written past row 31 (small bits, per-sample bits)");
+static_assert((kUndecided >> 31) == 1u, "the scatter tells kUndecided from a row index (below 32) by its top bit");
 }
 
 namespace
@@ -358,7 +359,7 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
         }
         K.small(gv.ga, pp, cand + b0, bn, boxCols, out, kOut);
         // without branches: an undecided candidate is kept for the raster
-        // and ORs zeros into rows 0.. (rows holds 40 >= 31 + kSmallSide)
+        // and ORs zeros into rows 0.. (the static_assert above)
         const std::size_t left0 = undecided;
         for (std::size_t q = 0; q < bn; ++q)
         {

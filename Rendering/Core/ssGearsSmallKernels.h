@@ -183,9 +183,9 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
         const int cols = HMax(ok != 0 ? __builtin_convertvector(i1 - i0, VI) : VI{} - 1) + 1;
         // E = eu (sv - w) - ev (su - u), its two products once per row and
         // once per column (the same operations as at each sample: no fused
-        // ones, so the same E)
-        // column; the bit a column sets in its row (31 bounds the shift of
-        // columns past the box, whose bits are never set)
+        // ones, so the same E); per column also its range test and the bit
+        // it sets in its row (31 bounds the shift of columns past the box,
+        // whose bits are never set)
         VF colTerm[3][kSmallSide];
         VUI colBit[kSmallSide];
         VI colIn[kSmallSide];
@@ -200,12 +200,7 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
           colBit[c] = (VUI{} + 1u) << (VUI)((ci + c) & 31);
           colIn[c] = su <= i1;
         }
-        VUI b[kSmallSide];
         VI undecided = VI{};
-        for (int r = 0; r < kSmallSide; ++r)
-        {
-          b[r] = VUI{} + 0u;
-        }
         for (int r = 0; r < rows; ++r)
         {
           const VF sv = j0 + float(r);
@@ -226,12 +221,12 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
             undecided |= at & ~in & ~(least < -tol);
             acc |= (VUI)in & colBit[c];
           }
-          b[r] = acc;
+          rowsOut[r] = acc;
         }
         ok &= ~undecided;
-        for (int r = 0; r < kSmallSide; ++r)
+        for (int r = 0; r < rows; ++r)
         {
-          rowsOut[r] = ok != 0 ? b[r] : VUI{} + 0u;
+          rowsOut[r] = ok != 0 ? rowsOut[r] : VUI{} + 0u;
         }
         out0 = ok != 0 ? (VUI)__builtin_convertvector(j0, VI) : VUI{} + kUndecided;
       }
