@@ -173,13 +173,19 @@ struct ContourEdgeList
 };
 
 /// The kernels compiled for one instruction set.
+/// What RejectPairs counted: pairs in rows full already (the raster's
+/// covered skips), and straddling pairs outside the pixel's pyramid.
+struct RejectCounts
+{
+  std::size_t covered = 0, outsidePyramid = 0;
+};
 struct KernelTable
 {
   const char* name;
   int lanes; ///< doubles per vector: candidates per SetupBatch
   /// box: 4 columns of `stride` floats (i0, i1, j0, j1 per entry)
   std::size_t (*reject)(
-    const GroupArrays&, const PixelParams&, std::uint32_t* out, float* box, std::size_t stride, std::size_t& covered);
+    const GroupArrays&, const PixelParams&, std::uint32_t* out, float* box, std::size_t stride, RejectCounts& counts);
   /// The winding count (ssGearsWindingKernels.h): a sample group's members
   /// (status per entry; the other entries' ids and 15 columns compacted into
   /// restIds / rest, as GroupFilter does, their count returned), their

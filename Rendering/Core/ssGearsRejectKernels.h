@@ -41,11 +41,15 @@ static inline VF Recip(VF x)
 //  - all three lie between pixel and light and their projection onto the
 //    light, seen from S, misses every light sample (outside the sample
 //    extent, or between two sample rows or columns);
+//  - (a finite light) the triangle straddles S's depth or the light's plane
+//    and all three vertices lie outside one side plane of the pyramid from S
+//    to the samples' extent: the pyramid holds every segment from S to a
+//    sample, and the triangle lies wholly outside that half-space;
 //  - S and every light sample lie on the same side of the triangle's plane
 //    (for a closed piece, S in front of an outward face: the closed-mesh rule);
 //  - all three vertices lie below the pixel's tangent plane.
 static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p, std::uint32_t* out, float* box,
-  std::size_t stride, std::size_t& coveredCount)
+  std::size_t stride, RejectCounts& counts)
 {
   const VF zero = VF{} + 0.0f, one = zero + 1.0f;
   const float m = p.m;
@@ -65,7 +69,7 @@ static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p
   }
   const std::size_t n = g.n;
   std::size_t c = 0;
-  coveredCount = 0;
+  counts = RejectCounts();
   for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
   {
     const VF X0 = Load(g.x0 + i), Y0 = Load(g.y0 + i), Z0 = Load(g.z0 + i);
@@ -98,7 +102,36 @@ static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p
     const VF cu = Max(flu + (flu < lu ? one : zero), one), cv = Max(flv + (flv < lv ? one : zero), one);
     const VF eu = Min(__builtin_convertvector(__builtin_convertvector(hu, VI), VF), last1);
     const VF ev = Min(__builtin_convertvector(__builtin_convertvector(hv, VI), VF), last1);
-    const VI missed = valid & ((eu < cu) | (ev < cv));
+    VI missed = valid & ((eu < cu) | (ev < cv));
+    // A straddling triangle (not projected): the pyramid's side planes. A
+    // point B at depth d = Sz - z_B > 0 has the sample-index coordinate
+    // t = (Bx - Sx) Sz kx / d + bx, so B lies beyond the plane through S and
+    // the samples' edge t = c where f(B) = (Bx - Sx) Sz kx - (c - bx) d > 0.
+    // f is linear in B: all three vertices beyond puts the whole triangle
+    // beyond, whatever their depths. Margins: 1e-4 of the terms for the
+    // rounding, the coordinates' margin m through each factor, and 1e-3 of a
+    // sample times d.
+    const VI straddle = finite & proj & ~valid & ~beyond & ~behind;
+    VI outside = VI{} + 0;
+    if (LaneMask(straddle))
+    {
+      const VF Xs[3] = { X0 - p.sx, X1 - p.sx, X2 - p.sx }, Ys[3] = { Y0 - p.sy, Y1 - p.sy, Y2 - p.sy };
+      const VF ds[3] = { d0, d1, d2 };
+      const float cxr = p.last - bx, cxl = -bx, cyr = p.last - by, cyl = -by;
+      VI outR = straddle, outL = straddle, outU = straddle, outD = straddle;
+      for (int v = 0; v < 3; ++v)
+      {
+        const VF nx = Xs[v] * (gnum * p.kx), ny = Ys[v] * (gnum * p.ky), ad = Abs(ds[v]);
+        const VF mx = 1e-4f * Abs(nx) + m * p.kx * (2.0f * gnum + Abs(Xs[v]) + ad) + 1e-3f * ad;
+        const VF my = 1e-4f * Abs(ny) + m * p.ky * (2.0f * gnum + Abs(Ys[v]) + ad) + 1e-3f * ad;
+        outR &= nx - cxr * ds[v] > mx + std::abs(cxr) * (1e-4f * ad + 2.0f * m);
+        outL &= nx - cxl * ds[v] < -(mx + std::abs(cxl) * (1e-4f * ad + 2.0f * m));
+        outU &= ny - cyr * ds[v] > my + std::abs(cyr) * (1e-4f * ad + 2.0f * m);
+        outD &= ny - cyl * ds[v] < -(my + std::abs(cyl) * (1e-4f * ad + 2.0f * m));
+      }
+      outside = outR | outL | outU | outD;
+      missed |= outside;
+    }
     // the triangle's plane: S and the light on one side
     const VF sigma = Load(g.nx + i) * p.sx + Load(g.ny + i) * p.sy + Load(g.nz + i) * p.sz - Load(g.nd + i);
     const VI oneSide = ((sigma > m) & (Load(g.front + i) > 0.5f)) | ((sigma < -m) & (Load(g.back + i) > 0.5f));
@@ -121,7 +154,10 @@ static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p
     const VUI span = ((VUI{} + 2u) << r1) - ((VUI{} + 1u) << r0);
     const VI covered = (VI)((span & fullRows) == span) & (VI{} + (p.fullRows ? -1 : 0));
     const VI k = ~(beyond | behind | missed | oneSide | below) & (lane + static_cast<int>(i) < VI{} + static_cast<int>(n));
-    coveredCount += static_cast<std::size_t>(__builtin_popcount(LaneMask(k & covered)));
+    counts.covered += static_cast<std::size_t>(__builtin_popcount(LaneMask(k & covered)));
+    // (the pyramid's own rejections: those no other test made)
+    const VI inRange = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
+    counts.outsidePyramid += static_cast<std::size_t>(__builtin_popcount(LaneMask(outside & ~(oneSide | below) & inRange)));
     c += static_cast<std::size_t>(Compact(lane + static_cast<int>(i), k & ~covered, out + c));
   }
   return c;
