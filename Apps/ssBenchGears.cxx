@@ -355,6 +355,13 @@ int BenchGEARS(const std::vector<std::string>& args)
         const std::vector<float> Vn = gears.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, gn, &ns);
         row["necessary_stats"] = StatsJSON(ns);
         row["necessary_identical"] = Compare(Vn, Vg, k)["identical_fraction"];
+        // ... and as the timed solve assigns: the winding count's contour
+        // edges instead of every member (another untimed solve)
+        gn.necessaryWithWinding = true;
+        ss::GearsStats as;
+        const std::vector<float> Va = gears.Solve(f.light, f.origin, f.pos.data(), f.nrm.data(), n, gn, &as);
+        row["assigned_stats"] = StatsJSON(as);
+        row["assigned_identical"] = Compare(Va, Vg, k)["identical_fraction"];
         // the GL compute backend, in the window's context
         if (gl)
         {

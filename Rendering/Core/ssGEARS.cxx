@@ -418,7 +418,8 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   // and only where it runs (not for the GL backend, translucent casters, ...)
   GearsOptions opt = options;
   bool winding = opt.windingCount && !I.D.translucent && opt.raster == GearsRaster::EdgePlane &&
-    light.type != LightType::Point && opt.k > 1 && !opt.countNecessary;
+    light.type != LightType::Point && opt.k > 1 &&
+    (!opt.countNecessary || opt.necessaryWithWinding);
   if (winding && WS.neighbours.arrangement != I.D.arrangement)
   {
     const auto tn = Clock::now();
@@ -693,6 +694,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   st.clustersBehindOccluders = counters.clustersBehindOccluders;
   st.groups = counters.groups;
   st.coveredSkips = counters.coveredSkips;
+  st.outsidePyramid = counters.outsidePyramid;
   st.occluderBoxes = D.occPiece.size();
   st.cpuCellLists = counters.msLists;
   st.cpuGroups = counters.msGroups;
@@ -705,6 +707,10 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   st.windingRest = counters.windingRest;
   st.filteredPairs = counters.filtered;
   st.windingContour = counters.windingContour;
+  st.windingTested = counters.windingTested;
+  st.contourTriangles = counters.contourTriangles;
+  st.contourNecessary = opt.countNecessary && opt.necessaryWithWinding ? counters.contourNecessary : -1.0;
+  st.contourEdgesNecessary = opt.countNecessary && opt.necessaryWithWinding ? counters.contourEdgesNecessary : -1.0;
   st.msTotal = Ms(tStart, Clock::now());
   if (statsOut)
   {
@@ -731,14 +737,16 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"triangles_below_horizon\": " << s.trianglesBelowHorizon
     << ", \"clusters_behind_occluders\": " << s.clustersBehindOccluders << ", \"prepare_reused\": " << s.prepareReused
     << ", \"groups\": " << s.groups
-    << ", \"covered_skips\": " << s.coveredSkips << ", \"occluder_boxes\": " << s.occluderBoxes
+    << ", \"covered_skips\": " << s.coveredSkips << ", \"outside_pyramid\": " << s.outsidePyramid << ", \"occluder_boxes\": " << s.occluderBoxes
     << ", \"far_light_warped\": " << (s.farLightWarped ? "true" : "false")
     << ", \"assignments_listed\": " << s.assignmentsListed << ", \"assignments_rasterised\": " << s.assignmentsRasterised
     << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists
     << ", \"groups\": " << s.cpuGroups << ", \"pixels\": " << s.cpuPixels << "}, \"cells_in_umbra\": " << s.cellsInUmbra
     << ", \"winding\": {\"pixels\": " << s.windingPixels << ", \"declined\": " << s.windingDeclined
     << ", \"members\": " << s.windingMembers << ", \"rest\": " << s.windingRest
-    << ", \"contour_edges\": " << s.windingContour << "}, \"filtered_pairs\": " << s.filteredPairs << "}";
+    << ", \"contour_edges\": " << s.windingContour << ", \"contour_tested\": " << s.windingTested
+    << ", \"contour_triangles\": " << s.contourTriangles << ", \"contour_necessary\": " << s.contourNecessary
+    << ", \"contour_edges_necessary\": " << s.contourEdgesNecessary << "}, \"filtered_pairs\": " << s.filteredPairs << "}";
   return o.str();
 }
 }

@@ -40,6 +40,12 @@ struct GearsOptions
   double eyeDistance = 1.0;      ///< |C L_m| in light diagonals [§3.1]
   bool retractToFarthest = true; ///< the P_far optimisation [§3.1, Fig. 5]
   bool countNecessary = false;   ///< Table 9 "necessary" assignments (no early exit, slower)
+  /// With countNecessary: count the assignments as the timed solve makes
+  /// them. The winding count runs (where it would), and the pairs it gives
+  /// a pixel are the triangles of the contour edges tested there, not every
+  /// member of the group (gears.md "Table 9 as the solve assigns"). false:
+  /// every pair that survives the culling is drawn and counted.
+  bool necessaryWithWinding = false;
   GearsRaster raster = GearsRaster::EdgePlane;
   int lutResolution = 512;       ///< LUT: angles x distances
   // Culling (gears.md, "Fewer assignments"); none of these changes a bitmask.
@@ -116,6 +122,7 @@ struct GearsStats
   double assignmentsListed = 0;      ///< sum over pixels of their group's list (before per-pair rejection)
   double assignmentsRasterised = 0;  ///< pairs that reached the exact raster (a full mask stops early)
   std::size_t coveredSkips = 0;      ///< pairs not drawn: the samples they may hide are hidden already
+  std::size_t outsidePyramid = 0;    ///< pairs straddling S's depth rejected outside the pixel's pyramid to the samples
   std::size_t occluderBoxes = 0;     ///< inner occluders of closed pieces (SetPieces)
   std::string simd;                  ///< the kernels' instruction set
   bool farLightWarped = false;       ///< the light was far: solved through the projective map (farLightWarp)
@@ -132,6 +139,14 @@ struct GearsStats
   std::size_t windingPixels = 0, windingDeclined = 0;
   std::size_t filteredPairs = 0; ///< pairs whose bits the filtered float test gave (filteredRaster)
   double windingMembers = 0, windingRest = 0, windingContour = 0;
+  double windingTested = 0; ///< contour edges tested per pixel (summed over pixels): the count's assignments
+  /// necessaryWithWinding: the triangles of the contour edges tested per
+  /// pixel (each once per pixel; not in assignmentsTotal), and of those the
+  /// ones hiding >= 1 sample above the horizon (-1: not counted)
+  double contourTriangles = 0, contourNecessary = -1;
+  /// necessaryWithWinding: of windingTested, the edges whose own steps change
+  /// the count at a sample above the horizon (-1: not counted)
+  double contourEdgesNecessary = -1;
 };
 
 /// One pixel's light bitmask: row j (light v axis), bit i (light u axis);

@@ -55,6 +55,11 @@ void CellCounters::Add(const CellCounters& o)
   windingRest += o.windingRest;
   filtered += o.filtered;
   windingContour += o.windingContour;
+  windingTested += o.windingTested;
+  contourTriangles += o.contourTriangles;
+  contourNecessary += o.contourNecessary;
+  contourEdgesNecessary += o.contourEdgesNecessary;
+  outsidePyramid += o.outsidePyramid;
   msLists += o.msLists;
   msGroups += o.msGroups;
   msReject += o.msReject;
@@ -184,7 +189,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
   // the winding count (ssGearsWinding.cxx) where a group's list is long: for
   // opaque casters, a finite light's k x k samples, the exact raster
   const bool winding = job.neighbours && !D.translucent && !job.lut && job.k > 1 && W > 0.0 && H > 0.0 &&
-    !opt.countNecessary;
+    (!opt.countNecessary || opt.necessaryWithWinding);
   const std::size_t windingMin = static_cast<std::size_t>(std::max(1, opt.windingMinList));
   const FaceColumns fc = ft.Columns();
   const ExactSource exact = ft.Exact(D, corner, dir);

@@ -523,6 +523,10 @@ struct CellCounters
   std::size_t windingPixels = 0, windingDeclined = 0;
   std::size_t filtered = 0; ///< pairs whose bits the filtered float test gave (ssGearsSmallKernels.h)
   double windingMembers = 0, windingRest = 0, windingContour = 0;
+  double windingTested = 0; ///< contour edges tested, summed over pixels
+  double contourTriangles = 0, contourNecessary = 0; ///< necessaryWithWinding (CountContour)
+  double contourEdgesNecessary = 0; ///< ... contour edges whose own steps change a sample above the horizon
+  std::size_t outsidePyramid = 0; ///< straddling pairs the rejection dropped outside the pixel's pyramid
   // thread time (ms, summed over threads) of the parts of step 4: cell
   // lists with their kernel arrays (and the occluders' pre-pass), the
   // groups, and the pixels (rejection and exact raster)

@@ -316,8 +316,10 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       // pairs in rows full at the chunk's start are the raster's covered skips (not
       // when counting what is necessary)
       pp.fullRows = necessaryMode ? 0u : fullRows;
-      std::size_t inFullRows = 0;
-      ncand = K.reject(ga, pp, cand, w.box.data() + c0, stride, inFullRows);
+      RejectCounts rc;
+      ncand = K.reject(ga, pp, cand, w.box.data() + c0, stride, rc);
+      const std::size_t inFullRows = rc.covered;
+      cc.outsidePyramid += rc.outsidePyramid;
       for (std::size_t q = 0; q < ncand; ++q)
       {
         cand[q] += static_cast<std::uint32_t>(c0);

@@ -47,7 +47,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cstring>
+#include <vector>
 
 namespace ss
 {
@@ -374,6 +376,64 @@ void CellNeighbours(const SolverData& D, const GearsNeighbours& N, CellScratch& 
 
 namespace
 {
+// Table 9 as the timed solve assigns (GearsOptions::necessaryWithWinding):
+// the count's assignments at sample sq are the contour edges kept[0, nk)
+// tested for it, its pixel's Stage arrays set (WindingMask). An edge is
+// necessary when one of its own steps changes the count at a sample above
+// the horizon (a step at sample i of row j changes samples i .. k - 1); the
+// edges' triangles (each once) are necessary when their exact raster hides
+// such a sample, as in DrawPixel (members lie between S and the light beyond
+// the margins: the start rule does not apply).
+void CountContour(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv,
+  const std::uint32_t* kept, std::size_t nk, std::uint32_t sq, const ExactPixel& ep)
+{
+  const SolverData& D = *job.D;
+  const FaceTriangles& ft = *job.ft;
+  const int k = job.k;
+  const glm::dvec3 S = w.S[sq];
+  const std::uint32_t* below = w.state[sq].below;
+  CellCounters& cc = w.counters;
+  std::int16_t* delta = w.delta;
+  for (std::size_t e = 0; e < nk; ++e)
+  {
+    std::fill(delta, delta + k * (k + 1), std::int16_t(0));
+    K.steps(*gv.exact, w.stepA.data() + e, w.stepB.data() + e, w.stepSg.data() + e, 1, ep, delta);
+    bool above = false;
+    for (int j = 0; j < k && !above; ++j)
+    {
+      for (int i = 0; i < k; ++i)
+      {
+        const std::uint32_t from = job.fullRow & ~((1u << i) - 1u); // samples i .. k - 1
+        above = above || (delta[j * (k + 1) + i] != 0 && (from & ~below[j]) != 0u);
+      }
+    }
+    cc.contourEdgesNecessary += above ? 1.0 : 0.0;
+  }
+  const LightSpace lf = MakeLightSpace(S, job.W, job.H, job.dir, k);
+  std::vector<std::uint32_t> tris(nk);
+  for (std::size_t e = 0; e < nk; ++e)
+  {
+    tris[e] = gv.tri[w.edgeId[kept[e]] & 0x3FFFFFFFu];
+  }
+  std::sort(tris.begin(), tris.end());
+  tris.erase(std::unique(tris.begin(), tris.end()), tris.end());
+  for (const std::uint32_t t : tris)
+  {
+    std::uint32_t tmp[40] = {};
+    int j0 = 0, j1 = k - 1;
+    bool fallback = false;
+    const bool hit = RasterizeTriangle(lf, S, ft.ToLight(D.Vertex(t, 0)), ft.ToLight(D.Vertex(t, 1)),
+      ft.ToLight(D.Vertex(t, 2)), nullptr, tmp, j0, j1, fallback);
+    bool above = false;
+    for (int j = j0; j <= j1 && hit; ++j)
+    {
+      above = above || (tmp[j] & ~below[j]) != 0u;
+    }
+    cc.contourNecessary += above ? 1.0 : 0.0;
+  }
+  cc.contourTriangles += static_cast<double>(tris.size());
+}
+
 // The count's mask from contour edges kept[0, nk) (indices into w.edgeId) for
 // sample sq into rowsOut (k rows); false: declined.
 bool WindingMask(const CellJob& job, const KernelTable& K, CellScratch& w, const GroupView& gv,
@@ -430,7 +490,12 @@ bool WindingMask(const CellJob& job, const KernelTable& K, CellScratch& w, const
   cc.windingContour += stepped;
   // --- the counts along the rows (a negative count would mean a contour
   // that does not close: never seen, but then the raster decides)
-  return K.count(delta, k, rowsOut);
+  const bool counted = K.count(delta, k, rowsOut);
+  if (counted && job.opt->countNecessary && gv.counting)
+  {
+    CountContour(job, K, w, gv, kept, nk, sq, ep);
+  }
+  return counted;
 }
 }
 
@@ -545,6 +610,7 @@ bool WindingPixel(
     return false;
   }
   ++w.counters.windingPixels;
+  w.counters.windingTested += static_cast<double>(nk);
   PixelState& ps = w.state[sq];
   bool full = true;
   for (int j = 0; j < job.k; ++j)

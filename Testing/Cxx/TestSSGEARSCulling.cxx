@@ -20,6 +20,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
 using namespace ss;
@@ -91,6 +92,7 @@ std::size_t MaskMismatches(const std::vector<GearsMask>& a, const std::vector<Ge
 TEST(GEARSCulling, NoRuleDropsABlockingPair)
 {
   double belowHorizon = 0.0; // what the horizon rule dropped, over every scene and light
+  std::size_t outsidePyramid = 0; // straddling pairs the rejection kernel dropped outside the pyramid
   for (unsigned seed = 1; seed <= 3; ++seed)
   {
     std::mt19937 rng(100 + seed);
@@ -141,6 +143,7 @@ TEST(GEARSCulling, NoRuleDropsABlockingPair)
           << "seed " << seed << " light " << li << " rules " << rules;
         EXPECT_EQ(MaskMismatches(masks, noRules), 0u);
         EXPECT_LE(st.assignmentsNecessary, st.assignmentsTotal);
+        outsidePyramid += st.outsidePyramid;
         if (rules == 3 || rules == 7)
         {
           EXPECT_LT(st.assignmentsTotal, st.assignmentsListed) << "seed " << seed << " light " << li; // the kernel rejects something
@@ -154,6 +157,8 @@ TEST(GEARSCulling, NoRuleDropsABlockingPair)
     }
   }
   EXPECT_GT(belowHorizon, 0.0); // the horizon rule drops something in these scenes
+  // the rejection's pyramid test drops straddling pairs in these scenes
+  EXPECT_GT(outsidePyramid, 100u);
 }
 
 // The rejection kernel's projection uses a reciprocal estimate with one
@@ -201,7 +206,75 @@ TEST(GEARSCulling, RejectionKeepsEveryBlockingPairAtAnyScale)
       g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), s.pos.size() / 3, opt, &st, &masks);
       EXPECT_EQ(st.assignmentsNecessary, bf.blockingPairs) << "scale " << scale << " " << st.simd;
       EXPECT_LT(st.assignmentsTotal, st.assignmentsListed) << "scale " << scale << " " << st.simd; // it rejects
+      EXPECT_GT(st.outsidePyramid, 0u) << "scale " << scale << " " << st.simd; // straddling pairs too
+      std::printf("scale %g %s: outside the pyramid %zu\n", scale, st.simd.c_str(), st.outsidePyramid);
       EXPECT_EQ(MaskMismatches(masks, bf.masks), 0u) << "scale " << scale << " " << st.simd;
+    }
+  }
+}
+
+// Triangles that straddle the receivers' depth (one vertex below the floor,
+// two between it and the light) placed along the segments from receivers to
+// the light's outermost samples, a random distance inside or outside the
+// pyramid from S to the samples: the rejection kernel's pyramid test drops
+// many, and never one that hides a sample (the necessary count is brute
+// force's, pair for pair; the masks are brute force's), on every instruction
+// set this CPU runs, near the origin and far from it.
+TEST(GEARSCulling, PyramidTestKeepsEveryStraddlingBlocker)
+{
+  const std::vector<GearsSimd> isas = sstest::RunnableIsas();
+  for (const glm::dvec3 offset : { glm::dvec3(0.0), glm::dvec3(2e5, -3e5, 1e5) })
+  {
+    std::mt19937 rng(41);
+    std::uniform_real_distribution<double> U(-1.0, 1.0), T(0.05, 0.9), E(-3.0, -1.0);
+    const int k = 8;
+    const LightFrame light =
+      MakeRectLightFrame(offset + glm::dvec3(0.2, -0.1, 2.5), { -0.1, 0.05, -1 }, { 0, 1, 0 }, { 1.0, 0.6 });
+    Scene s;
+    for (int i = 0; i < 48; ++i)
+    {
+      s.pos.insert(s.pos.end(), { float(U(rng)), float(U(rng)), 0.0f });
+      s.nrm.insert(s.nrm.end(), { 0.0f, 0.0f, 1.0f });
+    }
+    for (int t = 0; t < 400; ++t)
+    {
+      const std::size_t p = rng() % 48;
+      const glm::dvec3 P = offset + glm::dvec3(s.pos[3 * p], s.pos[3 * p + 1], 0.0);
+      // an outermost sample, a point on the segment to it, and the outward
+      // direction across that side of the pyramid
+      const int side = static_cast<int>(rng() % 4), along = static_cast<int>(rng() % k);
+      const int si = side == 0 ? 0 : (side == 1 ? k - 1 : along), sj = side == 2 ? 0 : (side == 3 ? k - 1 : along);
+      const glm::dvec3 L = RegularLightSample(light, si, sj, k);
+      const glm::dvec3 Q = P + T(rng) * (L - P);
+      const glm::dvec3 out = side == 0 ? -light.u : (side == 1 ? light.u : (side == 2 ? -light.v : light.v));
+      const double d = std::pow(10.0, E(rng)) * (U(rng) < 0.0 ? -1.0 : 1.0); // inside (< 0) or outside
+      const glm::dvec3 A = Q + d * out + 0.05 * U(rng) * (L - P);
+      const glm::dvec3 B = A + 0.1 * (out + 0.3 * glm::dvec3(U(rng), U(rng), U(rng))) + 0.2 * (L - P) * T(rng);
+      const glm::dvec3 C = A + out * (0.2 + 0.3 * T(rng)) + glm::dvec3(0.0, 0.0, -0.3 - A.z + offset.z);
+      s.tris.insert(s.tris.end(), { A, B, C });
+    }
+    GearsSolver g;
+    g.SetTriangles(s.tris, {});
+    GearsOptions base;
+    base.k = k;
+    base.grid = 8;
+    base.groupMinTriangles = 4;
+    base.groupSize = 4;
+    const BruteForce bf = Brute(g, light, offset, s, base);
+    EXPECT_GT(bf.blockingPairs, 200.0);
+    for (GearsSimd isa : isas)
+    {
+      GearsOptions opt = base;
+      opt.simd = isa;
+      opt.countNecessary = true;
+      std::vector<GearsMask> masks;
+      GearsStats st;
+      g.Solve(light, offset, s.pos.data(), s.nrm.data(), s.pos.size() / 3, opt, &st, &masks);
+      EXPECT_EQ(st.assignmentsNecessary, bf.blockingPairs) << st.simd;
+      EXPECT_EQ(MaskMismatches(masks, bf.masks), 0u) << st.simd;
+      EXPECT_GT(st.outsidePyramid, 500u) << st.simd;
+      std::printf("offset %g %s: blocking pairs %g, outside the pyramid %zu, total %g\n", offset.x, st.simd.c_str(),
+        bf.blockingPairs, st.outsidePyramid, st.assignmentsTotal);
     }
   }
 }

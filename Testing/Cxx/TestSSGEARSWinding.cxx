@@ -303,3 +303,72 @@ TEST(GEARSWinding, VerticesOnSampleRowsAreDeclined) {
     EXPECT_EQ(a[p], b[p]) << "pixel " << p;
   }
 }
+
+// Table 9 as the timed solve assigns (GearsOptions::necessaryWithWinding):
+// the count's assignments are its contour edges (and their triangles), the
+// raster's the rest of each list. On connected meshes that is far fewer
+// pairs than drawing every surviving one, the necessary ones among them are
+// a subset of those, and the masks are the same; on a soup (no shared edge,
+// no member) both counts are the same, pair for pair.
+TEST(GEARSWinding, Table9AsTheSolveAssigns) {
+  auto Count = [](const std::vector<glm::dvec3> &tris, const sstest::Scene &px,
+                  const LightFrame &L, bool withWinding,
+                  std::vector<GearsMask> &masks) {
+    GearsSolver g;
+    g.SetTriangles(tris, {});
+    g.SetPieces(PiecesOf(tris));
+    GearsOptions o;
+    o.k = 16;
+    o.windingMinList = 1;
+    o.grid = 32;                 // (the automatic grid depends on the winding count)
+    o.restSplitMin = 1 << 30;    // (so does the culling of a group's rest)
+    o.countNecessary = true;
+    o.necessaryWithWinding = withWinding;
+    GearsStats st;
+    g.Solve(L, glm::dvec3(0.0), px.pos.data(), px.nrm.data(),
+            px.pos.size() / 3, o, &st, &masks);
+    return st;
+  };
+  const Mesh m = BumpyAndWavy();
+  std::mt19937 rng(17);
+  const sstest::Scene soup = sstest::RandomScene(rng, 300, 300, glm::dvec3(0.0));
+  for (const LightFrame &L : AreaLights(glm::dvec3(0.0), 1.0)) {
+    std::vector<GearsMask> drawnMasks, timedMasks;
+    const GearsStats drawn = Count(m.tris, m.pixels, L, false, drawnMasks);
+    const GearsStats timed = Count(m.tris, m.pixels, L, true, timedMasks);
+    EXPECT_EQ(drawnMasks, timedMasks);
+    EXPECT_EQ(drawn.windingPixels, 0u);
+    EXPECT_GT(timed.windingPixels, m.pixels.pos.size() / 6);
+    EXPECT_EQ(drawn.contourNecessary, -1.0);
+    EXPECT_GT(timed.windingTested, 0.0);
+    EXPECT_GT(timed.contourTriangles, 0.0);
+    EXPECT_LE(timed.contourTriangles, timed.windingTested);
+    EXPECT_GE(timed.contourEdgesNecessary, 0.0);
+    EXPECT_LE(timed.contourEdgesNecessary, timed.windingTested);
+    EXPECT_GE(timed.contourNecessary, 0.0);
+    EXPECT_LE(timed.contourNecessary, timed.contourTriangles);
+    // fewer assignments, and no necessary pair the drawn count lacks
+    std::printf("drawn %g / %g, as assigned: rest %g / %g, contour edges "
+                "%g / %g, their triangles %g / %g\n",
+                drawn.assignmentsNecessary, drawn.assignmentsTotal,
+                timed.assignmentsNecessary, timed.assignmentsTotal,
+                timed.contourEdgesNecessary, timed.windingTested,
+                timed.contourNecessary, timed.contourTriangles);
+    EXPECT_LT(timed.assignmentsTotal + timed.contourTriangles,
+              0.75 * drawn.assignmentsTotal);
+    EXPECT_LE(timed.assignmentsNecessary + timed.contourNecessary,
+              drawn.assignmentsNecessary);
+    // a mask with samples hidden above the horizon by the count needs at
+    // least one contour edge that steps such a sample
+    EXPECT_GT(timed.contourEdgesNecessary, 0.0);
+
+    std::vector<GearsMask> a, b;
+    const GearsStats sd = Count(soup.tris, soup, L, false, a);
+    const GearsStats sw = Count(soup.tris, soup, L, true, b);
+    EXPECT_EQ(a, b);
+    EXPECT_EQ(sw.windingTested, 0.0);
+    EXPECT_EQ(sw.contourTriangles, 0.0);
+    EXPECT_EQ(sd.assignmentsTotal, sw.assignmentsTotal);
+    EXPECT_EQ(sd.assignmentsNecessary, sw.assignmentsNecessary);
+  }
+}

@@ -409,8 +409,13 @@ void main()
       }
     }
     // cheap rejection: wholly beyond the pixel, behind the light, or
-    // projected beyond one side of the samples (it would set no bit)
+    // projected beyond one side of the samples (it would set no bit). The
+    // side tests are linear in the vertex (a side plane of the pyramid from
+    // S to the samples), so they hold for a triangle that straddles S's depth
+    // or the light's plane too; there, with a relative margin (t0 - t3), as
+    // the CPU's rejection kernel does in float (gears.md, eleventh round)
     int out0 = 0, out1 = 0, out2 = 0, out3 = 0, valid = 0, beyondPixel = 0, behindLight = 0;
+    int t0 = 0, t1 = 0, t2 = 0, t3 = 0;
     for (int m = 0; m < 3; ++m)
     {
       double bx = Bv[m].x, by = Bv[m].y, bd = Bv[m].z;
@@ -427,8 +432,14 @@ void main()
       out1 += vx > 0.0 ? 1 : 0;
       out2 += uy < 0.0 ? 1 : 0;
       out3 += vy > 0.0 ? 1 : 0;
+      precise double ex = 1e-9 * abs((bx - sx) * fx), ey = 1e-9 * abs((by - sy) * fx);
+      t0 += ux < -(ex + 1e-9 * abs((gx - uXlo) * den)) ? 1 : 0;
+      t1 += vx > ex + 1e-9 * abs((gx - uXhi) * den) ? 1 : 0;
+      t2 += uy < -(ey + 1e-9 * abs(((dirLight ? 0.0LF : sy) - uYlo) * den)) ? 1 : 0;
+      t3 += vy > ey + 1e-9 * abs(((dirLight ? 0.0LF : sy) - uYhi) * den) ? 1 : 0;
     }
-    if (beyondPixel == 3 || behindLight == 3 || (valid == 3 && (out0 == 3 || out1 == 3 || out2 == 3 || out3 == 3)))
+    if (beyondPixel == 3 || behindLight == 3 || (valid == 3 && (out0 == 3 || out1 == 3 || out2 == 3 || out3 == 3)) ||
+      (!dirLight && (t0 == 3 || t1 == 3 || t2 == 3 || t3 == 3)))
     {
       continue;
     }
