@@ -324,9 +324,11 @@ void main()
   }
   dvec3 Nw = dvec3(smp[7 * i + 3], smp[7 * i + 4], smp[7 * i + 5]);
   gEps = smp[7 * i + 6];
+  dvec3 hN = dvec3(0.0); // the tangent plane's normal in the light's frame (0: none)
   if (Nw != dvec3(0.0))
   {
     dvec3 N = dvec3(Dot(Nw, uU), Dot(Nw, uV), Dot(Nw, uNrm));
+    hN = N;
     Affine below = MakeAffine(-N, 0.0LF);
     for (int j = 0; j < uK; ++j)
     {
@@ -415,7 +417,12 @@ void main()
     // or the light's plane too; there, with a relative margin (t0 - t3), as
     // the CPU's rejection kernel does in float (gears.md, eleventh round)
     int out0 = 0, out1 = 0, out2 = 0, out3 = 0, valid = 0, beyondPixel = 0, behindLight = 0;
-    int t0 = 0, t1 = 0, t2 = 0, t3 = 0;
+    int t0 = 0, t1 = 0, t2 = 0, t3 = 0, belowPlane = 0;
+    // the projection in sample-index units (where all three are valid): a
+    // triangle between two sample rows or columns sets no bit either (as the
+    // CPU's rejection kernel)
+    double iu0 = 1e300LF, iu1 = -1e300LF, iv0 = 1e300LF, iv1 = -1e300LF;
+    double hlen = sqrt(Dot(hN, hN));
     for (int m = 0; m < 3; ++m)
     {
       double bx = Bv[m].x, by = Bv[m].y, bd = Bv[m].z;
@@ -433,13 +440,28 @@ void main()
       out2 += uy < 0.0 ? 1 : 0;
       out3 += vy > 0.0 ? 1 : 0;
       precise double ex = 1e-9 * abs((bx - sx) * fx), ey = 1e-9 * abs((by - sy) * fx);
+      if (den > 0.0)
+      {
+        precise double pu = (gx + (bx - sx) * fx / den) * (double(uK) / uW) + (0.5LF * double(uK) - 0.5LF);
+        precise double pv = ((dirLight ? 0.0LF : sy) + (by - sy) * fx / den) * (double(uK) / uH) +
+          (0.5LF * double(uK) - 0.5LF);
+        iu0 = min(iu0, pu);
+        iu1 = max(iu1, pu);
+        iv0 = min(iv0, pv);
+        iv1 = max(iv1, pv);
+      }
+      // below the pixel's tangent plane (its samples start hidden)
+      precise dvec3 rel = Sub(Bv[m], S);
+      belowPlane += Dot(rel, hN) < -1e-9 * sqrt(Dot(rel, rel)) * hlen ? 1 : 0;
       t0 += ux < -(ex + 1e-9 * abs((gx - uXlo) * den)) ? 1 : 0;
       t1 += vx > ex + 1e-9 * abs((gx - uXhi) * den) ? 1 : 0;
       t2 += uy < -(ey + 1e-9 * abs(((dirLight ? 0.0LF : sy) - uYlo) * den)) ? 1 : 0;
       t3 += vy > ey + 1e-9 * abs(((dirLight ? 0.0LF : sy) - uYhi) * den) ? 1 : 0;
     }
+    double tu = 1e-9 * (max(abs(iu0), abs(iu1)) + double(uK)) + 1e-6, tv = 1e-9 * (max(abs(iv0), abs(iv1)) + double(uK)) + 1e-6;
+    bool gap = valid == 3 && (ceil(iu0 - tu) > floor(iu1 + tu) || ceil(iv0 - tv) > floor(iv1 + tv));
     if (beyondPixel == 3 || behindLight == 3 || (valid == 3 && (out0 == 3 || out1 == 3 || out2 == 3 || out3 == 3)) ||
-      (!dirLight && (t0 == 3 || t1 == 3 || t2 == 3 || t3 == 3)))
+      (!dirLight && (t0 == 3 || t1 == 3 || t2 == 3 || t3 == 3)) || gap || (hlen > 0.0 && belowPlane == 3))
     {
       continue;
     }
