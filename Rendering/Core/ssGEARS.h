@@ -64,8 +64,9 @@ struct GearsOptions
   bool windingCount = true;
   int windingMinList = 32;
   /// A group's rest (the list entries the winding count leaves to the raster)
-  /// of at least this many entries is culled again per half of the group,
-  /// against the half's shaft and horizons (same bits; gears.md, ninth round).
+  /// of at least this many entries is culled again per part of 4 samples of
+  /// the group, against the part's shaft and horizons (same bits; gears.md,
+  /// ninth and eleventh rounds).
   int restSplitMin = 128;
   /// Small candidates wholly between S and the light get their bits from
   /// their projection in float where every sample is decided beyond the
