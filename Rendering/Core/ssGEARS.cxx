@@ -737,7 +737,8 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"triangles_below_horizon\": " << s.trianglesBelowHorizon
     << ", \"clusters_behind_occluders\": " << s.clustersBehindOccluders << ", \"prepare_reused\": " << s.prepareReused
     << ", \"groups\": " << s.groups
-    << ", \"covered_skips\": " << s.coveredSkips << ", \"outside_pyramid\": " << s.outsidePyramid << ", \"occluder_boxes\": " << s.occluderBoxes
+    << ", \"covered_skips\": " << s.coveredSkips << ", \"outside_pyramid\": " << s.outsidePyramid
+    << ", \"occluder_boxes\": " << s.occluderBoxes
     << ", \"far_light_warped\": " << (s.farLightWarped ? "true" : "false")
     << ", \"assignments_listed\": " << s.assignmentsListed << ", \"assignments_rasterised\": " << s.assignmentsRasterised
     << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists
@@ -746,7 +747,8 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"members\": " << s.windingMembers << ", \"rest\": " << s.windingRest
     << ", \"contour_edges\": " << s.windingContour << ", \"contour_tested\": " << s.windingTested
     << ", \"contour_triangles\": " << s.contourTriangles << ", \"contour_necessary\": " << s.contourNecessary
-    << ", \"contour_edges_necessary\": " << s.contourEdgesNecessary << "}, \"filtered_pairs\": " << s.filteredPairs << "}";
+    << ", \"contour_edges_necessary\": " << s.contourEdgesNecessary << "}, \"filtered_pairs\": " << s.filteredPairs
+    << "}";
   return o.str();
 }
 }

@@ -206,6 +206,17 @@ bool RasterSetup(const TriangleSetup& t, int k, int j0, int j1, std::uint32_t* r
 /// the table (fallback: this one could not).
 bool RasterizeTriangle(const LightSpace& l, const glm::dvec3& S, const glm::dvec3& B0, const glm::dvec3& B1,
   const glm::dvec3& B2, const HalfPlaneLUT* lut, std::uint32_t* rows, int& j0, int& j1, bool& fallback);
+/// Table 9's test: a triangle's rows j0..j1 hide a sample not below the
+/// horizon (below: the pixel's below-horizon rows).
+inline bool HidesAboveHorizon(const std::uint32_t* rows, const std::uint32_t* below, int j0, int j1)
+{
+  bool above = false;
+  for (int j = j0; j <= j1; ++j)
+  {
+    above = above || (rows[j] & ~below[j]) != 0u;
+  }
+  return above;
+}
 /// The reference's start rule for a triangle whose plane passes within eps of
 /// S: the samples its edge planes and plane cover, minus those whose hit
 /// (Moeller-Trumbore distance) lies closer than eps to S. Samples set in

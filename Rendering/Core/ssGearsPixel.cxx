@@ -241,12 +241,7 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     cc.lutFallbacks += fallback ? 1 : 0;
     if (hit && necessaryMode)
     {
-      bool above = false;
-      for (int j = j0; j <= j1; ++j)
-      {
-        above = above || (tmp[j] & ~below[j]) != 0u;
-      }
-      cc.necessary += above ? 1.0 : 0.0;
+      cc.necessary += HidesAboveHorizon(tmp, below, j0, j1) ? 1.0 : 0.0;
     }
     if (alpha < 1.0f && hit)
     {

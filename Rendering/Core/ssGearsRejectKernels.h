@@ -157,7 +157,8 @@ static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p
     counts.covered += static_cast<std::size_t>(__builtin_popcount(LaneMask(k & covered)));
     // (the pyramid's own rejections: those no other test made)
     const VI inRange = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
-    counts.outsidePyramid += static_cast<std::size_t>(__builtin_popcount(LaneMask(outside & ~(oneSide | below) & inRange)));
+    counts.outsidePyramid +=
+      static_cast<std::size_t>(__builtin_popcount(LaneMask(outside & ~(oneSide | below) & inRange)));
     c += static_cast<std::size_t>(Compact(lane + static_cast<int>(i), k & ~covered, out + c));
   }
   return c;

@@ -378,7 +378,7 @@ namespace
 {
 // Table 9 as the timed solve assigns (GearsOptions::necessaryWithWinding):
 // the count's assignments at sample sq are the contour edges kept[0, nk)
-// tested for it, its pixel's Stage arrays set (WindingMask). An edge is
+// tested for it, with their step arrays as WindingMask set them. An edge is
 // necessary when one of its own steps changes the count at a sample above
 // the horizon (a step at sample i of row j changes samples i .. k - 1); the
 // edges' triangles (each once) are necessary when their exact raster hides
@@ -424,12 +424,7 @@ void CountContour(const CellJob& job, const KernelTable& K, CellScratch& w, cons
     bool fallback = false;
     const bool hit = RasterizeTriangle(lf, S, ft.ToLight(D.Vertex(t, 0)), ft.ToLight(D.Vertex(t, 1)),
       ft.ToLight(D.Vertex(t, 2)), nullptr, tmp, j0, j1, fallback);
-    bool above = false;
-    for (int j = j0; j <= j1 && hit; ++j)
-    {
-      above = above || (tmp[j] & ~below[j]) != 0u;
-    }
-    cc.contourNecessary += above ? 1.0 : 0.0;
+    cc.contourNecessary += hit && HidesAboveHorizon(tmp, below, j0, j1) ? 1.0 : 0.0;
   }
   cc.contourTriangles += static_cast<double>(tris.size());
 }

@@ -366,6 +366,7 @@ void main()
   }
   uint necessary = 0u;
   bool dirLight = uDir != 0;
+  double hlen = sqrt(Dot(hN, hN)); // (0: no horizon test)
   double sx = S.x, sy = S.y, sd = S.z;
   for (uint a = a0; a < end; ++a)
   {
@@ -422,7 +423,6 @@ void main()
     // triangle between two sample rows or columns sets no bit either (as the
     // CPU's rejection kernel)
     double iu0 = 1e300LF, iu1 = -1e300LF, iv0 = 1e300LF, iv1 = -1e300LF;
-    double hlen = sqrt(Dot(hN, hN));
     for (int m = 0; m < 3; ++m)
     {
       double bx = Bv[m].x, by = Bv[m].y, bd = Bv[m].z;
@@ -458,7 +458,8 @@ void main()
       t2 += uy < -(ey + 1e-9 * abs(((dirLight ? 0.0LF : sy) - uYlo) * den)) ? 1 : 0;
       t3 += vy > ey + 1e-9 * abs(((dirLight ? 0.0LF : sy) - uYhi) * den) ? 1 : 0;
     }
-    double tu = 1e-9 * (max(abs(iu0), abs(iu1)) + double(uK)) + 1e-6, tv = 1e-9 * (max(abs(iv0), abs(iv1)) + double(uK)) + 1e-6;
+    double tu = 1e-9 * (max(abs(iu0), abs(iu1)) + double(uK)) + 1e-6;
+    double tv = 1e-9 * (max(abs(iv0), abs(iv1)) + double(uK)) + 1e-6;
     bool gap = valid == 3 && (ceil(iu0 - tu) > floor(iu1 + tu) || ceil(iv0 - tv) > floor(iv1 + tv));
     if (beyondPixel == 3 || behindLight == 3 || (valid == 3 && (out0 == 3 || out1 == 3 || out2 == 3 || out3 == 3)) ||
       (!dirLight && (t0 == 3 || t1 == 3 || t2 == 3 || t3 == 3)) || gap || (hlen > 0.0 && belowPlane == 3))
