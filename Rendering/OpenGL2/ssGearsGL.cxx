@@ -57,6 +57,7 @@ enum Binding
   BScanSums,
   BTriL,
   BClosed,
+  BCellBox,
   NumBindings
 };
 
@@ -497,6 +498,11 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   glFinish();
   auto t1 = Clock::now();
   st.msProject += Ms(t0, t1);
+  const bool dirLight = L.type == LightType::Directional;
+  const double W = dirLight ? T : L.width, H = dirLight ? T : L.height;
+  // pass 2's shaft test runs in double on float-rounded boxes: a margin far
+  // above double rounding at the scene's size and distance to the light
+  const double shaftMargin = 1e-9 * (D.extent + glm::length(L.center) + W + H);
   for (int f = 0; f < numFaces; ++f)
   {
     t0 = Clock::now();
@@ -538,6 +544,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     GearsFitGrid(C, G, Unord(box2[0]), Unord(box2[2]), Unord(box2[1]), Unord(box2[3]));
     I.Fill(I.Buf[BCellCnt], 4 * NC, 0u);
     I.Fill(I.Buf[BCellDep], 4 * NC, Ord(-std::numeric_limits<float>::infinity()));
+    I.Fill(I.Buf[BCellBox], 24 * NC, 0xFFFFFFFFu); // (atomicMin on every slot)
     I.Use(prog["K_CELL"]);
     cameraUniforms();
     I.Items(n);
@@ -639,7 +646,12 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Ensure(I.Buf[BPairTri], 4 * numPairs);
     I.Ensure(I.Buf[BPairCell], 4 * numPairs);
     I.Use(prog["K_PASS2"]);
-    I.U("uG", G);
+    cameraUniforms();
+    I.U("uShaft", opt.shaftCulling ? 1 : 0);
+    I.U("uDir", dirLight ? 1 : 0);
+    I.Ud("uW", W);
+    I.Ud("uH", H);
+    I.Ud("uShaftMargin", shaftMargin);
     I.Items(NT);
     glFinish();
     auto t3 = Clock::now();
@@ -659,6 +671,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Items(numPairs);
     std::vector<std::uint32_t> cellBegin(NC + 1);
     I.Download(I.Buf[BCellBegin], cellBegin.data(), 4 * (NC + 1));
+    st.trianglesCulled += numPairs - cellBegin[NC]; // pass 2's shaft test
     std::size_t longestList = 0;
     for (std::size_t c = 0; c < NC; ++c)
     {
@@ -676,8 +689,6 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     st.msSort += Ms(t3, t4);
 
     // --- step 4: the bitmasks
-    const bool dirLight = L.type == LightType::Directional;
-    const double W = dirLight ? T : L.width, H = dirLight ? T : L.height;
     const double hx = (0.5 - 0.5 / k) * W, hy = (0.5 - 0.5 / k) * H;
     const double slackX = 1e-7 * (W / k) + 1e-12 * D.extent, slackY = 1e-7 * (H / k) + 1e-12 * D.extent;
     // the triangles in the light's frame once per face, when the buffer fits
