@@ -58,6 +58,9 @@ enum Binding
   BTriL,
   BClosed,
   BCellBox,
+  BTriLF,
+  BPixStart,
+  BPixOrder,
   NumBindings
 };
 
@@ -401,7 +404,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     return false;
   }
   const char* names[] = { "K_START", "K_PROJECT", "K_CELL", "K_SAT_ROWS", "K_SAT_COLS", "K_RMQ", "K_PASS1",
-    "K_PASS2", "K_HIST", "K_SCATTER", "K_TOLIGHT", "K_RASTER", "K_FINISH" };
+    "K_PASS2", "K_HIST", "K_SCATTER", "K_PIXSORT", "K_TOLIGHT", "K_RASTER", "K_FINISH" };
   std::map<std::string, GLuint> prog;
   for (const char* nm : names)
   {
@@ -559,6 +562,20 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     }
     st.samples += samples;
     st.gridCells += NC;
+    // the face's pixels cell by cell, for the bitmask kernel (K_PIXSORT)
+    {
+      std::vector<std::uint32_t> pixStart(NC + 1, 0u);
+      for (std::size_t c = 0; c < NC; ++c)
+      {
+        pixStart[c + 1] = pixStart[c] + cellCount[c];
+      }
+      I.Upload(I.Buf[BPixStart], pixStart.data(), 4 * (NC + 1));
+      I.Ensure(I.Buf[BPixOrder], 4 * std::max<std::size_t>(samples, 1));
+      I.Fill(I.Buf[BCursor], 4 * NC, 0u);
+      I.Use(prog["K_PIXSORT"]);
+      I.U("uFace", f);
+      I.Items(n);
+    }
     st.nonEmptyCells += nonEmpty;
     // summed-area table of non-empty cells, range-maximum table of far depths
     I.Fill(I.Buf[BSat], 4 * (G + 1) * (G + 1), 0u);
@@ -696,6 +713,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     if (pre)
     {
       I.Ensure(I.Buf[BTriL], 72 * NT);
+      I.Ensure(I.Buf[BTriLF], 36 * NT);
       I.Use(prog["K_TOLIGHT"]);
       cameraUniforms();
       I.Items(NT);
@@ -720,7 +738,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     for (std::size_t ch = 0; ch < chunks; ++ch)
     {
       I.Uu("uChunk", static_cast<std::uint32_t>(ch));
-      I.Items(n);
+      I.Items(samples);
     }
     I.Use(prog["K_FINISH"]);
     I.U("uFace", f);
