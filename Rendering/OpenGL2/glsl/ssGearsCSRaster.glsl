@@ -236,8 +236,9 @@ bool RasterSetup(int j0, int j1, int target)
 }
 
 // RasterizeTriangle: the edge planes, and the triangle's plane unless all
-// three vertices lie strictly between S and the light
-bool RasterizeTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
+// three vertices lie strictly between S and the light; rows j0..j1 (the rows
+// of the samples the triangle may hide: no other row gets a bit)
+bool RasterizeTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp, int j0, int j1)
 {
   bool projected = uK > 1 && uW > 0.0 && uH > 0.0;
   dvec3 B[3] = dvec3[3](B0, B1, B2);
@@ -246,7 +247,7 @@ bool RasterizeTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
     precise double den = S.z - B[m].z;
     projected = projected && den > 0.0 && (uDir != 0 || B[m].z > 0.0);
   }
-  return SetupTriangle(S, B0, B1, B2, !projected) && RasterSetup(0, uK - 1, toTmp ? 1 : 0);
+  return SetupTriangle(S, B0, B1, B2, !projected) && RasterSetup(j0, j1, toTmp ? 1 : 0);
 }
 
 // RasterizeNearTriangle: the covered samples not already hidden, each kept
@@ -548,14 +549,18 @@ void main()
     {
       continue;
     }
-    // covered skip (as the CPU's DrawPixel): every sample of the triangle's
-    // projected box (the gap test's, same margins) is hidden already, so its
-    // bits change nothing. Not while counting Table 9, which draws every pair.
-    if (valid == 3 && uCountNecessary == 0)
+    // The triangle's box of samples (the gap test's, same margins) where its
+    // projection is finite: the samples it may hide. The raster takes only
+    // its rows, and a triangle whose box holds only hidden samples is not
+    // drawn (the covered skip of the CPU's DrawPixel; not while counting
+    // Table 9, which draws every pair).
+    int r0 = 0, r1 = uK - 1;
+    if (valid == 3 && uW > 0.0 && uH > 0.0 && max(max(abs(iu0), abs(iu1)), max(abs(iv0), abs(iv1))) < 1e9LF)
     {
       int c0 = int(max(0.0LF, ceil(iu0 - tu))), c1 = int(min(double(uK - 1), floor(iu1 + tu)));
-      int r0 = int(max(0.0LF, ceil(iv0 - tv))), r1 = int(min(double(uK - 1), floor(iv1 + tv)));
-      if (c0 <= c1 && r0 <= r1)
+      r0 = int(max(0.0LF, ceil(iv0 - tv)));
+      r1 = int(min(double(uK - 1), floor(iv1 + tv)));
+      if (c0 <= c1 && r0 <= r1 && uCountNecessary == 0)
       {
         uint cm = RowBits(c0, c1);
         bool covered = true;
@@ -577,7 +582,7 @@ void main()
       }
     }
     bool hit = near ? RasterizeNearTriangle(S, Bv[0], Bv[1], Bv[2], toTmp)
-                    : RasterizeTriangle(S, Bv[0], Bv[1], Bv[2], toTmp);
+                    : RasterizeTriangle(S, Bv[0], Bv[1], Bv[2], toTmp, r0, r1);
     if (hit && toTmp)
     {
       // necessary: it hides a sample above the horizon
