@@ -103,6 +103,7 @@ struct GearsGL::Impl
   std::map<std::pair<GLuint, std::string>, GLint> Locations;
   std::uint64_t TriVersion = 0;
   std::int64_t MaxBlock = 0;
+  int MaxBindings = 0;
   GLuint Current = 0;
 
   void Ensure(Buffer& b, std::size_t bytes)
@@ -368,8 +369,24 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   if (!I.MaxBlock)
   {
     // queried in 64 bits (GPUs report 2 GB and more); lowered by
-    // SOFTSHADOWS_GL_MAX_SSBO_BYTES to test a smaller GPU's path
-    I.MaxBlock = QueryGLLimits().maxSSBOBytes;
+    // SOFTSHADOWS_GL_MAX_SSBO_BYTES (and the bindings by
+    // SOFTSHADOWS_GL_MAX_SSBO_BINDINGS) to test a smaller GPU's path
+    const GLLimits limits = QueryGLLimits();
+    I.MaxBlock = limits.maxSSBOBytes;
+    I.MaxBindings = limits.maxSSBOBindings;
+  }
+  if (I.MaxBindings < NumBindings)
+  {
+    // each buffer has its own binding point (glsl/ssGearsCSCommon.glsl);
+    // GL 4.3 guarantees only 8 of them
+    if (why)
+    {
+      std::ostringstream o;
+      o << "GEARS GL backend: needs " << static_cast<int>(NumBindings)
+        << " shader storage buffer bindings; this context has " << I.MaxBindings;
+      *why = o.str();
+    }
+    return false;
   }
   // GL 4.3 guarantees 2^24 bytes (used if the query gave nothing)
   const std::size_t maxBlock = static_cast<std::size_t>(I.MaxBlock > 0 ? I.MaxBlock : (1 << 24));
