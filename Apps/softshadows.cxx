@@ -332,10 +332,15 @@ int Render(const std::vector<std::string>& args)
 
   if (!output.empty())
   {
+    // The picture of the last measured frame, not of one more render: that
+    // render rasterises the surfaces at slightly other positions (VTK's
+    // image capture sets its own viewport), so --visibility, --positions
+    // and --stats, which report the last frame, would not be the picture's.
     vtkNew<vtkWindowToImageFilter> w2i;
     w2i->SetInput(window);
     w2i->SetInputBufferTypeToRGB();
     w2i->ReadFrontBufferOff();
+    w2i->ShouldRerenderOff();
     w2i->Update();
     auto* rgb = vtkUnsignedCharArray::SafeDownCast(w2i->GetOutput()->GetPointData()->GetScalars());
     int dims[3];

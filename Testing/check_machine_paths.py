@@ -107,6 +107,15 @@ if sa:
           f"GEARS GL beyond the SSBO limit falls back: {g['backend_note']}")
 identical("gears SSBO-fallback vs CPU", a, b)
 
+# fewer storage buffer bindings than the GL backend's buffers (GL 4.3
+# guarantees 8): it declines, naming the limit, and the CPU backend runs
+a, sa = render("bindings_gears", "gears", {"SOFTSHADOWS_GL_MAX_SSBO_BINDINGS": "16"}, ["gears_backend=gl"])
+if sa:
+    g = sa["pass"]["gears"]
+    check(g["backend"] == "cpu" and "storage buffer bindings" in g["backend_note"],
+          f"GEARS GL with too few SSBO bindings falls back: {g['backend_note']}")
+identical("gears bindings-fallback vs CPU", a, b)
+
 # translucent receivers whose fragment lists exceed a small SSBO limit: the
 # shading runs their lookups itself (the way without the lists), with the
 # reason in the stats, and the picture is the lists' picture

@@ -42,6 +42,9 @@ GLLimits QueryGLLimits()
   if (GLEW_VERSION_4_3 || GLEW_ARB_shader_storage_buffer_object)
   {
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &b);
+    v = 0;
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &v);
+    L.maxSSBOBindings = v > 0 ? v : 0;
   }
   L.maxSSBOBytes = b > 0 ? static_cast<std::int64_t>(b) : 0;
   while (glGetError() != GL_NO_ERROR)
@@ -50,6 +53,7 @@ GLLimits QueryGLLimits()
   L.maxTextureSize = Lowered(L.maxTextureSize, "SOFTSHADOWS_GL_MAX_TEXTURE_SIZE", L.lowered);
   L.maxArrayTextureLayers = Lowered(L.maxArrayTextureLayers, "SOFTSHADOWS_GL_MAX_ARRAY_TEXTURE_LAYERS", L.lowered);
   L.maxSSBOBytes = Lowered(L.maxSSBOBytes, "SOFTSHADOWS_GL_MAX_SSBO_BYTES", L.lowered);
+  L.maxSSBOBindings = Lowered(L.maxSSBOBindings, "SOFTSHADOWS_GL_MAX_SSBO_BINDINGS", L.lowered);
   return L;
 }
 

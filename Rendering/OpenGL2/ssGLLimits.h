@@ -4,7 +4,7 @@
 // or 2 GB. Environment variables can lower (never raise) each limit, so the
 // paths a smaller GPU takes are testable on this one:
 //   SOFTSHADOWS_GL_MAX_TEXTURE_SIZE, SOFTSHADOWS_GL_MAX_ARRAY_TEXTURE_LAYERS,
-//   SOFTSHADOWS_GL_MAX_SSBO_BYTES.
+//   SOFTSHADOWS_GL_MAX_SSBO_BYTES, SOFTSHADOWS_GL_MAX_SSBO_BINDINGS.
 #ifndef ssGLLimits_h
 #define ssGLLimits_h
 
@@ -17,6 +17,7 @@ struct GLLimits
   int maxTextureSize = 0;        ///< GL_MAX_TEXTURE_SIZE
   int maxArrayTextureLayers = 0; ///< GL_MAX_ARRAY_TEXTURE_LAYERS
   std::int64_t maxSSBOBytes = 0; ///< GL_MAX_SHADER_STORAGE_BLOCK_SIZE (0: no SSBOs)
+  int maxSSBOBindings = 0;       ///< GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS (GL 4.3 guarantees 8; llvmpipe 80)
   bool lowered = false;          ///< an environment override lowered one of them
 };
 

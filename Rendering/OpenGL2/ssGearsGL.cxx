@@ -57,6 +57,10 @@ enum Binding
   BScanSums,
   BTriL,
   BClosed,
+  BCellBox,
+  BTriLF,
+  BPixStart,
+  BPixOrder,
   NumBindings
 };
 
@@ -99,6 +103,7 @@ struct GearsGL::Impl
   std::map<std::pair<GLuint, std::string>, GLint> Locations;
   std::uint64_t TriVersion = 0;
   std::int64_t MaxBlock = 0;
+  int MaxBindings = 0;
   GLuint Current = 0;
 
   void Ensure(Buffer& b, std::size_t bytes)
@@ -364,8 +369,24 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   if (!I.MaxBlock)
   {
     // queried in 64 bits (GPUs report 2 GB and more); lowered by
-    // SOFTSHADOWS_GL_MAX_SSBO_BYTES to test a smaller GPU's path
-    I.MaxBlock = QueryGLLimits().maxSSBOBytes;
+    // SOFTSHADOWS_GL_MAX_SSBO_BYTES (and the bindings by
+    // SOFTSHADOWS_GL_MAX_SSBO_BINDINGS) to test a smaller GPU's path
+    const GLLimits limits = QueryGLLimits();
+    I.MaxBlock = limits.maxSSBOBytes;
+    I.MaxBindings = limits.maxSSBOBindings;
+  }
+  if (I.MaxBindings < NumBindings)
+  {
+    // each buffer has its own binding point (glsl/ssGearsCSCommon.glsl);
+    // GL 4.3 guarantees only 8 of them
+    if (why)
+    {
+      std::ostringstream o;
+      o << "GEARS GL backend: needs " << static_cast<int>(NumBindings)
+        << " shader storage buffer bindings; this context has " << I.MaxBindings;
+      *why = o.str();
+    }
+    return false;
   }
   // GL 4.3 guarantees 2^24 bytes (used if the query gave nothing)
   const std::size_t maxBlock = static_cast<std::size_t>(I.MaxBlock > 0 ? I.MaxBlock : (1 << 24));
@@ -400,7 +421,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     return false;
   }
   const char* names[] = { "K_START", "K_PROJECT", "K_CELL", "K_SAT_ROWS", "K_SAT_COLS", "K_RMQ", "K_PASS1",
-    "K_PASS2", "K_HIST", "K_SCATTER", "K_TOLIGHT", "K_RASTER", "K_FINISH" };
+    "K_PASS2", "K_HIST", "K_SCATTER", "K_PIXSORT", "K_TOLIGHT", "K_RASTER", "K_FINISH" };
   std::map<std::string, GLuint> prog;
   for (const char* nm : names)
   {
@@ -497,6 +518,11 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   glFinish();
   auto t1 = Clock::now();
   st.msProject += Ms(t0, t1);
+  const bool dirLight = L.type == LightType::Directional;
+  const double W = dirLight ? T : L.width, H = dirLight ? T : L.height;
+  // pass 2's shaft test runs in double on float-rounded boxes: a margin far
+  // above double rounding at the scene's size and distance to the light
+  const double shaftMargin = 1e-9 * (D.extent + glm::length(L.center) + W + H);
   for (int f = 0; f < numFaces; ++f)
   {
     t0 = Clock::now();
@@ -538,6 +564,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     GearsFitGrid(C, G, Unord(box2[0]), Unord(box2[2]), Unord(box2[1]), Unord(box2[3]));
     I.Fill(I.Buf[BCellCnt], 4 * NC, 0u);
     I.Fill(I.Buf[BCellDep], 4 * NC, Ord(-std::numeric_limits<float>::infinity()));
+    I.Fill(I.Buf[BCellBox], 24 * NC, 0xFFFFFFFFu); // (atomicMin on every slot)
     I.Use(prog["K_CELL"]);
     cameraUniforms();
     I.Items(n);
@@ -552,6 +579,20 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     }
     st.samples += samples;
     st.gridCells += NC;
+    // the face's pixels cell by cell, for the bitmask kernel (K_PIXSORT)
+    {
+      std::vector<std::uint32_t> pixStart(NC + 1, 0u);
+      for (std::size_t c = 0; c < NC; ++c)
+      {
+        pixStart[c + 1] = pixStart[c] + cellCount[c];
+      }
+      I.Upload(I.Buf[BPixStart], pixStart.data(), 4 * (NC + 1));
+      I.Ensure(I.Buf[BPixOrder], 4 * std::max<std::size_t>(samples, 1));
+      I.Fill(I.Buf[BCursor], 4 * NC, 0u);
+      I.Use(prog["K_PIXSORT"]);
+      I.U("uFace", f);
+      I.Items(n);
+    }
     st.nonEmptyCells += nonEmpty;
     // summed-area table of non-empty cells, range-maximum table of far depths
     I.Fill(I.Buf[BSat], 4 * (G + 1) * (G + 1), 0u);
@@ -639,7 +680,12 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Ensure(I.Buf[BPairTri], 4 * numPairs);
     I.Ensure(I.Buf[BPairCell], 4 * numPairs);
     I.Use(prog["K_PASS2"]);
-    I.U("uG", G);
+    cameraUniforms();
+    I.U("uShaft", opt.shaftCulling ? 1 : 0);
+    I.U("uDir", dirLight ? 1 : 0);
+    I.Ud("uW", W);
+    I.Ud("uH", H);
+    I.Ud("uShaftMargin", shaftMargin);
     I.Items(NT);
     glFinish();
     auto t3 = Clock::now();
@@ -659,6 +705,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Items(numPairs);
     std::vector<std::uint32_t> cellBegin(NC + 1);
     I.Download(I.Buf[BCellBegin], cellBegin.data(), 4 * (NC + 1));
+    st.trianglesCulled += numPairs - cellBegin[NC]; // pass 2's shaft test
     std::size_t longestList = 0;
     for (std::size_t c = 0; c < NC; ++c)
     {
@@ -676,8 +723,6 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     st.msSort += Ms(t3, t4);
 
     // --- step 4: the bitmasks
-    const bool dirLight = L.type == LightType::Directional;
-    const double W = dirLight ? T : L.width, H = dirLight ? T : L.height;
     const double hx = (0.5 - 0.5 / k) * W, hy = (0.5 - 0.5 / k) * H;
     const double slackX = 1e-7 * (W / k) + 1e-12 * D.extent, slackY = 1e-7 * (H / k) + 1e-12 * D.extent;
     // the triangles in the light's frame once per face, when the buffer fits
@@ -685,6 +730,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     if (pre)
     {
       I.Ensure(I.Buf[BTriL], 72 * NT);
+      I.Ensure(I.Buf[BTriLF], 36 * NT);
       I.Use(prog["K_TOLIGHT"]);
       cameraUniforms();
       I.Items(NT);
@@ -709,7 +755,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     for (std::size_t ch = 0; ch < chunks; ++ch)
     {
       I.Uu("uChunk", static_cast<std::uint32_t>(ch));
-      I.Items(n);
+      I.Items(samples);
     }
     I.Use(prog["K_FINISH"]);
     I.U("uFace", f);

@@ -371,6 +371,12 @@ add_test(NAME cli.render.far_from_origin
     "${_ss_data}/GoodScenes/far_origin_reference.json" "${_ss_data}/GoodScenes/far_from_origin.json"
     "${_ss_out}/far_from_origin")
 set_tests_properties(cli.render.far_from_origin PROPERTIES LABELS "cli" TIMEOUT 300)
+# --output takes the picture of the last measured frame and changes nothing
+# that --visibility reports (before, one more render gave both).
+add_test(NAME cli.render.output_same_frame
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_output_same_frame.py" ${_ss_cli}
+    "${PROJECT_SOURCE_DIR}/Data/Scenes/canopy.json" "${_ss_out}/output_same_frame")
+set_tests_properties(cli.render.output_same_frame PROPERTIES LABELS "cli" TIMEOUT 300)
 # One stray triangle 4e5 units away, out of view, changes nothing in the
 # frame under any method (the clipping range, the float origin, the start
 # offset and the search depth come from what is seen and the casters' bulk).

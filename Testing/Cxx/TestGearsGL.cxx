@@ -100,7 +100,7 @@ TEST(GearsGL, IdenticalBitmasksToTheCPUBackend)
   std::string why;
   ASSERT_TRUE(GearsGL::Supported(&why)) << why; // Mesa llvmpipe: GL 4.5 core
   GearsGL gl;
-  std::size_t total = 0, partial = 0;
+  std::size_t total = 0, partial = 0, glPairs = 0, glCulled = 0;
   for (unsigned seed = 1; seed <= 3; ++seed)
   {
     std::mt19937 rng(seed);
@@ -145,13 +145,17 @@ TEST(GearsGL, IdenticalBitmasksToTheCPUBackend)
         }
         EXPECT_GT(gs.pairs, 0u);
         EXPECT_EQ(gs.samples, cs.samples);
+        glPairs += gs.pairs;
+        glCulled += gs.trianglesCulled;
         total += c.pixels;
         partial += c.partial;
       }
     }
   }
-  std::cout << "GEARS GL vs CPU: " << total << " pixel solves, " << partial << " in penumbra, all identical\n";
+  std::cout << "GEARS GL vs CPU: " << total << " pixel solves, " << partial << " in penumbra, all identical; "
+            << glCulled << " of " << glPairs << " (triangle, cell) pairs outside the cells' shafts\n";
   EXPECT_GT(partial, total / 10); // soft shadows are exercised
+  EXPECT_GT(glCulled, glPairs / 20); // pass 2's shaft test is exercised (and the masks stayed the CPU's)
 }
 
 // Cells holding thousands of triangles that all reach the bitmask stage:

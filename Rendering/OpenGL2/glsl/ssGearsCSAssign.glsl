@@ -128,7 +128,8 @@ void main()
 #endif
 
 #ifdef K_CELL
-// 3.2: samples to cells; per cell the count and the farthest depth, rounded up.
+// 3.2: samples to cells; per cell the count, the farthest depth (rounded up)
+// and the light-frame box of the starts (rounded outwards) for pass 2's shaft.
 void main()
 {
   uint i = GID();
@@ -139,6 +140,13 @@ void main()
     pixCell[i] = c;
     atomicAdd(cellCount[c], 1u);
     atomicMax(cellDepth[c], Ord(NextUp(float(Depth(S)))));
+    dvec3 B = ToLight(S);
+    atomicMin(cellBox[6u * c], Ord(FloatDown(B.x)));
+    atomicMin(cellBox[6u * c + 1u], Ord(FloatDown(B.y)));
+    atomicMin(cellBox[6u * c + 2u], Ord(FloatDown(B.z)));
+    atomicMin(cellBox[6u * c + 3u], Ord(FloatDown(-B.x)));
+    atomicMin(cellBox[6u * c + 4u], Ord(FloatDown(-B.y)));
+    atomicMin(cellBox[6u * c + 5u], Ord(FloatDown(-B.z)));
   }
 }
 #endif
@@ -389,7 +397,62 @@ void main()
 #endif
 
 #ifdef K_PASS2
-// 3.3 pass 2: the (triID, cellID) pairs at the prefix-sum offsets
+// 3.3 pass 2: the (triID, cellID) pairs at the prefix-sum offsets. With
+// uShaft, a pair whose triangle lies wholly outside the shaft from the cell's
+// samples to the light is not written (the CPU backend's cell culling,
+// ssGearsCells.cxx; its slot gets kNoCell, which the sort skips, so that
+// this kernel loops no more than before: llvmpipe's budget): no segment
+// from a start in the cell to a light sample can meet the triangle, so no
+// bit changes.
+uniform int uShaft, uDir;
+uniform double uW, uH, uShaftMargin;
+const uint kNoCell = 0xFFFFFFFFu;
+// One side of MakeShaft (ssGearsPairs.cxx) in double: every point of a
+// segment from a start in [lo1, hi1] x [loz, hiz] to the light satisfies
+// a + sl z <= x <= b + tl z.
+dvec4 ShaftSide(double lo1, double hi1, double side, double loz, double hiz)
+{
+  if (uDir != 0)
+  {
+    return dvec4(lo1 - 0.5LF * side * hiz, 0.5LF * side, hi1 + 0.5LF * side * hiz, -0.5LF * side);
+  }
+  return dvec4(-0.5LF * side, min((lo1 + 0.5LF * side) / loz, (lo1 + 0.5LF * side) / hiz), 0.5LF * side,
+    max((hi1 - 0.5LF * side) / loz, (hi1 - 0.5LF * side) / hiz));
+}
+// Whether all three vertices lie beyond one plane of cell c's shaft by more
+// than the margin (written out: llvmpipe's loop budget counts every loop).
+bool OutsideShaft(dvec3 A, dvec3 B, dvec3 C, uint c)
+{
+  dvec3 lo = dvec3(Unord(cellBox[6u * c]), Unord(cellBox[6u * c + 1u]), Unord(cellBox[6u * c + 2u]));
+  dvec3 hi = -dvec3(Unord(cellBox[6u * c + 3u]), Unord(cellBox[6u * c + 4u]), Unord(cellBox[6u * c + 5u]));
+  if (uDir == 0 && !(lo.z > 0.0))
+  {
+    return false; // a start on the light's plane: no finite slopes
+  }
+  dvec4 sx = ShaftSide(lo.x, hi.x, uW, lo.z, hi.z), sy = ShaftSide(lo.y, hi.y, uH, lo.z, hi.z);
+  double m = uShaftMargin;
+  if (A.x < sx.x + sx.y * A.z - m && B.x < sx.x + sx.y * B.z - m && C.x < sx.x + sx.y * C.z - m)
+  {
+    return true;
+  }
+  if (A.x > sx.z + sx.w * A.z + m && B.x > sx.z + sx.w * B.z + m && C.x > sx.z + sx.w * C.z + m)
+  {
+    return true;
+  }
+  if (A.y < sy.x + sy.y * A.z - m && B.y < sy.x + sy.y * B.z - m && C.y < sy.x + sy.y * C.z - m)
+  {
+    return true;
+  }
+  if (A.y > sy.z + sy.w * A.z + m && B.y > sy.z + sy.w * B.z + m && C.y > sy.z + sy.w * C.z + m)
+  {
+    return true;
+  }
+  if (uDir == 0 && A.z < -m && B.z < -m && C.z < -m)
+  {
+    return true; // behind the light's plane
+  }
+  return A.z > hi.z + m && B.z > hi.z + m && C.z > hi.z + m; // beyond every start
+}
 void main()
 {
   uint t = GID();
@@ -402,6 +465,9 @@ void main()
   {
     return;
   }
+  dvec3 A = ToLight(dvec3(triV[9u * t], triV[9u * t + 1u], triV[9u * t + 2u]));
+  dvec3 B = ToLight(dvec3(triV[9u * t + 3u], triV[9u * t + 4u], triV[9u * t + 5u]));
+  dvec3 C = ToLight(dvec3(triV[9u * t + 6u], triV[9u * t + 7u], triV[9u * t + 8u]));
   ivec4 b = box[t];
   for (int y = b.y; y <= b.w; ++y)
   {
@@ -411,7 +477,7 @@ void main()
       if (cellCount[c] != 0u)
       {
         pairTri[o] = t;
-        pairCell[o] = c;
+        pairCell[o] = (uShaft == 0 || !OutsideShaft(A, B, C, c)) ? c : kNoCell;
         ++o;
       }
     }
@@ -423,7 +489,7 @@ void main()
 void main()
 {
   uint q = GID();
-  if (q < uN)
+  if (q < uN && pairCell[q] != 0xFFFFFFFFu)
   {
     atomicAdd(cellBegin[pairCell[q]], 1u);
   }
@@ -434,7 +500,7 @@ void main()
 void main()
 {
   uint q = GID();
-  if (q < uN)
+  if (q < uN && pairCell[q] != 0xFFFFFFFFu)
   {
     uint c = pairCell[q];
     sorted[cellBegin[c] + atomicAdd(cursor[c], 1u)] = pairTri[q];

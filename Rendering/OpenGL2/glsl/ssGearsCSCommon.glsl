@@ -54,6 +54,7 @@ uniform int uG;      // grid resolution
 #define USE_PixCell
 #define USE_CellCnt
 #define USE_CellDep
+#define USE_CellBox
 #endif
 #ifdef K_SAT_ROWS
 #define USE_CellCnt
@@ -92,6 +93,8 @@ uniform int uG;      // grid resolution
 #define USE_CellCnt
 #define USE_PairTri
 #define USE_PairCell
+#define USE_TriV
+#define USE_CellBox
 #endif
 #ifdef K_HIST
 #define USE_PairCell
@@ -109,12 +112,22 @@ uniform int uG;      // grid resolution
 #define USE_Vis
 #define USE_Masks
 #endif
+#ifdef K_PIXSORT
+#define USE_Face
+#define USE_PixCell
+#define USE_PixStart
+#define USE_Cursor
+#define USE_PixOrder
+#endif
 #ifdef K_TOLIGHT
 #define USE_TriV
 #define USE_TriL
+#define USE_TriLF
 #endif
 #ifdef K_RASTER
+#define USE_PixOrder
 #define USE_TriL
+#define USE_TriLF
 #define USE_TriV
 #define USE_Smp
 #define USE_Face
@@ -206,6 +219,20 @@ layout(std430, binding = 24) buffer TriL { double triL[]; };          // 9 per t
 // per triangle, the closed-mesh rule (GearsSolver::ClosedRuleFlags): 0 off,
 // +1 / -1 its closed piece's orientation, 2 never drawn
 layout(std430, binding = 25) readonly buffer Closed { int closedFlag[]; };
+#endif
+#ifdef USE_PixStart
+layout(std430, binding = 28) readonly buffer PixStart { uint pixStart[]; }; // per cell its first slot in pixOrder
+#endif
+#ifdef USE_PixOrder
+layout(std430, binding = 29) buffer PixOrder { uint pixOrder[]; };     // the face's pixels, cell by cell
+#endif
+#ifdef USE_TriLF
+layout(std430, binding = 27) buffer TriLF { float triLF[]; };         // triL rounded to float (K_RASTER's pre-test)
+#endif
+#ifdef USE_CellBox
+// per cell the light-frame box of its samples' starts, 6 ordered float bits,
+// all kept with atomicMin: lo x y z rounded down, then -hi x y z (hi rounded up)
+layout(std430, binding = 26) buffer CellBox { uint cellBox[]; };
 #endif
 
 // Red layout: face f (0..5) at 8 f: min x y z, max x y z, max depth;

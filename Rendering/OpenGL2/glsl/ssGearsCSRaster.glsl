@@ -1,6 +1,23 @@
 // GEARS GL, step 4 (after ssGearsCSCommon.glsl and ssGearsCSAssign.glsl):
 // the per-pixel bitmasks and V.
 
+#ifdef K_PIXSORT
+// The face's pixels in the order of their cells (a counting sort; the order
+// within a cell is whatever the atomics give, and changes no result): the
+// bitmask kernel's neighbouring invocations, which a CPU driver such as
+// llvmpipe runs together in SIMD lanes, then read the same list, so they
+// load the same triangle at each step and take the same branches more often.
+void main()
+{
+  uint i = GID();
+  if (i < uN && pixFace[i] == uFace)
+  {
+    uint c = pixCell[i];
+    pixOrder[pixStart[c] + atomicAdd(cursor[c], 1u)] = i;
+  }
+}
+#endif
+
 #ifdef K_TOLIGHT
 // per face, every triangle's vertices in the light's frame once (the CPU
 // backend does this once per cell), instead of once per pixel and triangle
@@ -15,6 +32,9 @@ void main()
       triL[9 * t + 3 * m] = B.x;
       triL[9 * t + 3 * m + 1] = B.y;
       triL[9 * t + 3 * m + 2] = B.z;
+      triLF[9 * t + 3 * m] = float(B.x);
+      triLF[9 * t + 3 * m + 1] = float(B.y);
+      triLF[9 * t + 3 * m + 2] = float(B.z);
     }
   }
 }
@@ -216,8 +236,9 @@ bool RasterSetup(int j0, int j1, int target)
 }
 
 // RasterizeTriangle: the edge planes, and the triangle's plane unless all
-// three vertices lie strictly between S and the light
-bool RasterizeTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
+// three vertices lie strictly between S and the light; rows j0..j1 (the rows
+// of the samples the triangle may hide: no other row gets a bit)
+bool RasterizeTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp, int j0, int j1)
 {
   bool projected = uK > 1 && uW > 0.0 && uH > 0.0;
   dvec3 B[3] = dvec3[3](B0, B1, B2);
@@ -226,7 +247,7 @@ bool RasterizeTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
     precise double den = S.z - B[m].z;
     projected = projected && den > 0.0 && (uDir != 0 || B[m].z > 0.0);
   }
-  return SetupTriangle(S, B0, B1, B2, !projected) && RasterSetup(0, uK - 1, toTmp ? 1 : 0);
+  return SetupTriangle(S, B0, B1, B2, !projected) && RasterSetup(j0, j1, toTmp ? 1 : 0);
 }
 
 // RasterizeNearTriangle: the covered samples not already hidden, each kept
@@ -296,16 +317,64 @@ bool RasterizeNearTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
 }
 
 
+// The float pre-test: which of the double rejection tests of main() (each
+// vertex beyond the pixel, behind the light, outside one side of the
+// pyramid from S to the samples, below the tangent plane) a vertex surely
+// passes, from the light-frame coordinates rounded to float (K_TOLIGHT). Each
+// float quantity errs by less than 1e-6 of the magnitude bound its margin
+// scales (products of the coordinates' absolute values: the rounding of the
+// inputs and of the float operations), and the margins, 1e-5 of those
+// bounds, are 1e4 times the double tests' own (1e-9 relative). So a test the
+// float passes for all three vertices, the double passes too: the triangle
+// would be rejected there, and it sets no bit either way.
+vec3 fS, fN;    // S and the tangent plane's normal in float
+float fNl1;     // |fN|_1 (0: no horizon test)
+float fXlo, fXhi, fYlo, fYhi;
+uint FloatOut(vec3 P)
+{
+  bool dirL = uDir != 0;
+  float den = fS.z - P.z;
+  float ad = abs(fS.z) + abs(P.z);
+  float fx = dirL ? 1.0 : fS.z, gx = dirL ? 0.0 : fS.x, gy = dirL ? 0.0 : fS.y;
+  float ux = (gx - fXlo) * den + (P.x - fS.x) * fx;
+  float vx = (gx - fXhi) * den + (P.x - fS.x) * fx;
+  float uy = (gy - fYlo) * den + (P.y - fS.y) * fx;
+  float vy = (gy - fYhi) * den + (P.y - fS.y) * fx;
+  float xm = max(abs(fXlo), abs(fXhi)), ym = max(abs(fYlo), abs(fYhi));
+  float mx = 1e-5 * (dirL ? xm * ad + abs(P.x) + abs(fS.x) : (abs(fS.x) + xm + abs(P.x)) * ad);
+  float my = 1e-5 * (dirL ? ym * ad + abs(P.y) + abs(fS.y) : (abs(fS.y) + ym + abs(P.y)) * ad);
+  // the directional side tests count only where all three vertices are
+  // surely in front of S (the double's `valid`)
+  bool sides = !dirL || den > 1e-5 * ad;
+  vec3 rel = P - fS;
+  float l1 = abs(P.x) + abs(P.y) + abs(P.z) + abs(fS.x) + abs(fS.y) + abs(fS.z);
+  uint o = 0u;
+  o |= P.z - fS.z > 1e-5 * ad ? 1u : 0u;          // beyond the pixel
+  o |= (!dirL && P.z < 0.0) ? 2u : 0u;            // behind the light
+  o |= (sides && ux < -mx) ? 4u : 0u;
+  o |= (sides && vx > mx) ? 8u : 0u;
+  o |= (sides && uy < -my) ? 16u : 0u;
+  o |= (sides && vy > my) ? 32u : 0u;
+  o |= (fNl1 > 0.0 && dot(rel, fN) < -1e-5 * l1 * fNl1) ? 64u : 0u; // below the tangent plane
+  return o;
+}
+
+// rows r0..r1 all hold the bits cm (written out: llvmpipe's loop budget)
+#define COV1(J) covered = covered && ((J) < r0 || (J) > r1 || (rows[J] & cm) == cm);
+#define COV4(J) COV1(J) COV1((J) + 1) COV1((J) + 2) COV1((J) + 3)
+#define COV16(J) COV4(J) COV4((J) + 4) COV4((J) + 8) COV4((J) + 12)
+
 // Chunk uChunk of the pixel's cell list (uChunkSize triangles): the rows
 // persist in masks[] between chunks and K_FINISH turns them into V.
 uniform uint uChunk, uChunkSize;
 void main()
 {
-  uint i = GID();
-  if (i >= uN || pixFace[i] != uFace)
+  uint gi = GID();
+  if (gi >= uN)
   {
     return;
   }
+  uint i = pixOrder[gi]; // (the face's pixels, cell by cell: K_PIXSORT)
   uint c = pixCell[i];
   uint a0 = cellBegin[c] + uChunk * uChunkSize;
   uint end = min(cellBegin[c + 1], a0 + uChunkSize);
@@ -368,6 +437,13 @@ void main()
   bool dirLight = uDir != 0;
   double hlen = sqrt(Dot(hN, hN)); // (0: no horizon test)
   double sx = S.x, sy = S.y, sd = S.z;
+  fS = vec3(S);
+  fN = vec3(hN);
+  fNl1 = hlen > 0.0 ? abs(fN.x) + abs(fN.y) + abs(fN.z) : 0.0;
+  fXlo = float(uXlo);
+  fXhi = float(uXhi);
+  fYlo = float(uYlo);
+  fYhi = float(uYhi);
   for (uint a = a0; a < end; ++a)
   {
     if (gFull == uK && uCountNecessary == 0)
@@ -375,6 +451,13 @@ void main()
       break; // umbra: no further triangle changes V
     }
     uint tri = sorted[a];
+    if (uPre != 0 &&
+      (FloatOut(vec3(triLF[9 * tri], triLF[9 * tri + 1], triLF[9 * tri + 2])) &
+        FloatOut(vec3(triLF[9 * tri + 3], triLF[9 * tri + 4], triLF[9 * tri + 5])) &
+        FloatOut(vec3(triLF[9 * tri + 6], triLF[9 * tri + 7], triLF[9 * tri + 8]))) != 0u)
+    {
+      continue; // the double tests below would reject it
+    }
     dvec3 Bv[3];
     for (int m = 0; m < 3; ++m)
     {
@@ -466,6 +549,29 @@ void main()
     {
       continue;
     }
+    // The triangle's box of samples (the gap test's, same margins) where its
+    // projection is finite: the samples it may hide. The raster takes only
+    // its rows, and a triangle whose box holds only hidden samples is not
+    // drawn (the covered skip of the CPU's DrawPixel; not while counting
+    // Table 9, which draws every pair).
+    int r0 = 0, r1 = uK - 1;
+    if (valid == 3 && uW > 0.0 && uH > 0.0 && max(max(abs(iu0), abs(iu1)), max(abs(iv0), abs(iv1))) < 1e9LF)
+    {
+      int c0 = int(max(0.0LF, ceil(iu0 - tu))), c1 = int(min(double(uK - 1), floor(iu1 + tu)));
+      r0 = int(max(0.0LF, ceil(iv0 - tv)));
+      r1 = int(min(double(uK - 1), floor(iv1 + tv)));
+      if (c0 <= c1 && r0 <= r1 && uCountNecessary == 0)
+      {
+        uint cm = RowBits(c0, c1);
+        bool covered = true;
+        COV16(0)
+        COV16(16)
+        if (covered)
+        {
+          continue;
+        }
+      }
+    }
     // opaque casters only (translucent scenes run on the CPU backend)
     bool toTmp = uCountNecessary != 0;
     if (toTmp)
@@ -476,7 +582,7 @@ void main()
       }
     }
     bool hit = near ? RasterizeNearTriangle(S, Bv[0], Bv[1], Bv[2], toTmp)
-                    : RasterizeTriangle(S, Bv[0], Bv[1], Bv[2], toTmp);
+                    : RasterizeTriangle(S, Bv[0], Bv[1], Bv[2], toTmp, r0, r1);
     if (hit && toTmp)
     {
       // necessary: it hides a sample above the horizon
