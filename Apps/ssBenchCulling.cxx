@@ -63,7 +63,7 @@ int BenchCulling(const std::vector<std::string>& args)
 {
   bool smoke = false;
   std::string mesh, out = ".", only, camera;
-  int frames = 3, cycles = 1;
+  int frames = 3, cycles = 1, closeUp = 4; // the close-up's dolly factor
   for (std::size_t i = 0; i < args.size(); ++i)
   {
     const std::string& a = args[i];
@@ -90,6 +90,10 @@ int BenchCulling(const std::vector<std::string>& args)
     else if (a == "--cycles")
     {
       cycles = ParseInt(FlagValue(args, i), "--cycles", 1, 20);
+    }
+    else if (a == "--dolly")
+    {
+      closeUp = ParseInt(FlagValue(args, i), "--dolly", 2, 64);
     }
     else if (a == "--camera")
     {
@@ -259,7 +263,8 @@ int BenchCulling(const std::vector<std::string>& args)
     const std::size_t n = v.size();
     return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
   };
-  for (const double dolly : { 1.0, 4.0 })
+  report["close_up_dolly"] = closeUp;
+  for (const double dolly : { 1.0, double(closeUp) })
   {
     const char* cam = dolly > 1 ? "close-up" : "overview";
     if (!camera.empty() && camera != cam)
