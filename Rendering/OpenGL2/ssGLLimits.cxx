@@ -45,6 +45,9 @@ GLLimits QueryGLLimits()
     v = 0;
     glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &v);
     L.maxSSBOBindings = v > 0 ? v : 0;
+    v = 0;
+    glGetIntegerv(GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS, &v);
+    L.maxComputeSSBOBlocks = v > 0 ? v : 0;
   }
   L.maxSSBOBytes = b > 0 ? static_cast<std::int64_t>(b) : 0;
   while (glGetError() != GL_NO_ERROR)

@@ -18,6 +18,7 @@ struct GLLimits
   int maxArrayTextureLayers = 0; ///< GL_MAX_ARRAY_TEXTURE_LAYERS
   std::int64_t maxSSBOBytes = 0; ///< GL_MAX_SHADER_STORAGE_BLOCK_SIZE (0: no SSBOs)
   int maxSSBOBindings = 0;       ///< GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS (GL 4.3 guarantees 8; llvmpipe 80)
+  int maxComputeSSBOBlocks = 0;  ///< GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS (GL 4.3 guarantees 8; llvmpipe 16)
   bool lowered = false;          ///< an environment override lowered one of them
 };
 

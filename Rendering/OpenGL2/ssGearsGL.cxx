@@ -71,8 +71,12 @@ constexpr std::size_t kScanElems = 1024;
 // (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop of a shader) and gives
 // no error. So no kernel loops without bound: the bitmask kernel takes a
 // pixel's cell list in chunks of kChunk triangles (about 50 iterations each
-// at k = 32), and pass 2 loops over at most G + G^2 cells.
+// at k = 32), and passes 1 and 2 loop over at most G + G^2 cells (pass 1's
+// other loops add under 100 iterations: 57,940 at the cap of 240).
 constexpr std::uint32_t kChunk = 512;
+// the most storage blocks one kernel declares (K_RASTER's USE_* list in
+// glsl/ssGearsCSCommon.glsl); checked against GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS
+constexpr int kMaxKernelBlocks = 13;
 constexpr int kMaxGrid = 240;
 
 std::uint32_t Ord(float f)
@@ -103,7 +107,7 @@ struct GearsGL::Impl
   std::map<std::pair<GLuint, std::string>, GLint> Locations;
   std::uint64_t TriVersion = 0;
   std::int64_t MaxBlock = 0;
-  int MaxBindings = 0;
+  int MaxBindings = 0, MaxKernelBlocks = 0;
   GLuint Current = 0;
 
   void Ensure(Buffer& b, std::size_t bytes)
@@ -374,16 +378,18 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     const GLLimits limits = QueryGLLimits();
     I.MaxBlock = limits.maxSSBOBytes;
     I.MaxBindings = limits.maxSSBOBindings;
+    I.MaxKernelBlocks = limits.maxComputeSSBOBlocks;
   }
-  if (I.MaxBindings < NumBindings)
+  if (I.MaxBindings < NumBindings || I.MaxKernelBlocks < kMaxKernelBlocks)
   {
-    // each buffer has its own binding point (glsl/ssGearsCSCommon.glsl);
-    // GL 4.3 guarantees only 8 of them
+    // each buffer has its own binding point (glsl/ssGearsCSCommon.glsl), and
+    // the bitmask kernel declares 13 buffers; GL 4.3 guarantees 8 of each
     if (why)
     {
       std::ostringstream o;
-      o << "GEARS GL backend: needs " << static_cast<int>(NumBindings)
-        << " shader storage buffer bindings; this context has " << I.MaxBindings;
+      o << "GEARS GL backend: needs " << static_cast<int>(NumBindings) << " shader storage buffer bindings and "
+        << kMaxKernelBlocks << " storage blocks per compute shader; this context has " << I.MaxBindings << " and "
+        << I.MaxKernelBlocks;
       *why = o.str();
     }
     return false;
@@ -520,9 +526,11 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   st.msProject += Ms(t0, t1);
   const bool dirLight = L.type == LightType::Directional;
   const double W = dirLight ? T : L.width, H = dirLight ? T : L.height;
-  // pass 2's shaft test runs in double on float-rounded boxes: a margin far
-  // above double rounding at the scene's size and distance to the light
-  const double shaftMargin = 1e-9 * (D.extent + glm::length(L.center) + W + H);
+  // the shaft test of passes 1 and 2 (double, on float-rounded boxes) keeps
+  // the CPU's margin (ft.margin, ssGearsPairs.cxx): far above the rounding,
+  // and wide enough that a sliver's ill-conditioned edge planes in the raster
+  // cannot reach a sample from a triangle the test drops
+  const double shaftMargin = 1e-5 * (D.extent + glm::length(L.center) + W + H);
   for (int f = 0; f < numFaces; ++f)
   {
     t0 = Clock::now();
@@ -551,6 +559,14 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
       I.Ud("uGy0", C.gy0);
       I.Ud("uSx", C.sx);
       I.Ud("uSy", C.sy);
+    };
+    // the cell shafts of passes 1 and 2
+    auto shaftUniforms = [&]() {
+      I.U("uShaft", opt.shaftCulling ? 1 : 0);
+      I.U("uDir", dirLight ? 1 : 0);
+      I.Ud("uW", W);
+      I.Ud("uH", H);
+      I.Ud("uShaftMargin", shaftMargin);
     };
     // --- 3.2: the grid over the projected samples, samples to cells
     const std::uint32_t init2[4] = { 0xFFFFFFFFu, 0xFFFFFFFFu, 0u, 0u };
@@ -629,8 +645,10 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, I.Buf[BRed].id);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 56, 4, &zero);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 57, 4, &zero);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 58, 4, &zero);
     I.Use(prog["K_PASS1"]);
     cameraUniforms();
+    shaftUniforms();
     I.U("uL", levels);
     I.Ud("uMaxDepth", maxDepth);
     I.Ud("uMinDepth", 1e-9 * std::max(D.extent, diag));
@@ -659,6 +677,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     }
     const std::size_t numPairs = I.ReadUint(I.Buf[BOff], NT);
     st.fullGridTriangles += I.ReadUint(I.Buf[BRed], 56);
+    st.trianglesCulled += I.ReadUint(I.Buf[BRed], 58); // outside their cell's shaft
     if (I.ReadUint(I.Buf[BRed], 57))
     {
       if (why)
@@ -681,11 +700,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Ensure(I.Buf[BPairCell], 4 * numPairs);
     I.Use(prog["K_PASS2"]);
     cameraUniforms();
-    I.U("uShaft", opt.shaftCulling ? 1 : 0);
-    I.U("uDir", dirLight ? 1 : 0);
-    I.Ud("uW", W);
-    I.Ud("uH", H);
-    I.Ud("uShaftMargin", shaftMargin);
+    shaftUniforms();
     I.Items(NT);
     glFinish();
     auto t3 = Clock::now();
@@ -705,7 +720,6 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Items(numPairs);
     std::vector<std::uint32_t> cellBegin(NC + 1);
     I.Download(I.Buf[BCellBegin], cellBegin.data(), 4 * (NC + 1));
-    st.trianglesCulled += numPairs - cellBegin[NC]; // pass 2's shaft test
     std::size_t longestList = 0;
     for (std::size_t c = 0; c < NC; ++c)
     {

@@ -212,10 +212,76 @@ void main()
 }
 #endif
 
+#if defined(K_PASS1) || defined(K_PASS2)
+// The cell shafts (issue 23's twelfth round; the CPU backend's cell culling,
+// ssGearsCells.cxx): a pair whose triangle lies wholly outside the shaft from
+// the cell's samples (K_CELL's box of their starts) to the light is not
+// listed: no segment from a start in the cell to a light sample can meet the
+// triangle, so no bit changes. Pass 1 counts the cells that pass and pass 2
+// writes them, so the pairs' buffer holds only those.
+uniform int uShaft, uDir;
+uniform double uW, uH, uShaftMargin;
+// One side of MakeShaft (ssGearsPairs.cxx) in double: every point of a
+// segment from a start in [lo1, hi1] x [loz, hiz] to the light satisfies
+// a + sl z <= x <= b + tl z.
+dvec4 ShaftSide(double lo1, double hi1, double side, double loz, double hiz)
+{
+  if (uDir != 0)
+  {
+    return dvec4(lo1 - 0.5LF * side * hiz, 0.5LF * side, hi1 + 0.5LF * side * hiz, -0.5LF * side);
+  }
+  return dvec4(-0.5LF * side, min((lo1 + 0.5LF * side) / loz, (lo1 + 0.5LF * side) / hiz), 0.5LF * side,
+    max((hi1 - 0.5LF * side) / loz, (hi1 - 0.5LF * side) / hiz));
+}
+// Whether all three vertices lie beyond one plane of cell c's shaft by more
+// than the margin (written out: llvmpipe's loop budget counts every loop).
+bool OutsideShaft(dvec3 A, dvec3 B, dvec3 C, uint c)
+{
+  dvec3 lo = dvec3(Unord(cellBox[6u * c]), Unord(cellBox[6u * c + 1u]), Unord(cellBox[6u * c + 2u]));
+  dvec3 hi = -dvec3(Unord(cellBox[6u * c + 3u]), Unord(cellBox[6u * c + 4u]), Unord(cellBox[6u * c + 5u]));
+  if (uDir == 0 && !(lo.z > 0.0))
+  {
+    return false; // a start on the light's plane: no finite slopes
+  }
+  dvec4 sx = ShaftSide(lo.x, hi.x, uW, lo.z, hi.z), sy = ShaftSide(lo.y, hi.y, uH, lo.z, hi.z);
+  double m = uShaftMargin;
+  if (A.x < sx.x + sx.y * A.z - m && B.x < sx.x + sx.y * B.z - m && C.x < sx.x + sx.y * C.z - m)
+  {
+    return true;
+  }
+  if (A.x > sx.z + sx.w * A.z + m && B.x > sx.z + sx.w * B.z + m && C.x > sx.z + sx.w * C.z + m)
+  {
+    return true;
+  }
+  if (A.y < sy.x + sy.y * A.z - m && B.y < sy.x + sy.y * B.z - m && C.y < sy.x + sy.y * C.z - m)
+  {
+    return true;
+  }
+  if (A.y > sy.z + sy.w * A.z + m && B.y > sy.z + sy.w * B.z + m && C.y > sy.z + sy.w * C.z + m)
+  {
+    return true;
+  }
+  if (uDir == 0 && A.z < -m && B.z < -m && C.z < -m)
+  {
+    return true; // behind the light's plane
+  }
+  return A.z > hi.z + m && B.z > hi.z + m && C.z > hi.z + m; // beyond every start
+}
+bool CellKeeps(uint c, dvec3 A, dvec3 B, dvec3 C)
+{
+  return cellCount[c] != 0u && (uShaft == 0 || !OutsideShaft(A, B, C, c));
+}
+dvec3 LightVertex(uint t, uint m)
+{
+  return ToLight(dvec3(triV[9u * t + 3u * m], triV[9u * t + 3u * m + 1u], triV[9u * t + 3u * m + 2u]));
+}
+#endif
+
 #ifdef K_PASS1
 // 3.3 pass 1: per triangle the 2-D AABB of its 15-point shadow volume,
 // extruded to the farthest sample and retracted to P_far of the cells it
-// touches [§3.1, Fig. 5]; cellsN = its non-empty cells (summed-area table).
+// touches [§3.1, Fig. 5]; cellsN = its non-empty cells (summed-area table),
+// or, with the cell shafts, those of them whose shaft it may reach.
 uniform double uMaxDepth, uMinDepth;
 uniform int uCorners, uRetract;
 uniform dvec3 uCorner[4], uAway[4];
@@ -320,7 +386,26 @@ void main()
   }
   box[t] = b;
   uint n = 0u;
-  if (b.x <= b.z && b.y <= b.w)
+  if (b.x <= b.z && b.y <= b.w && uShaft != 0)
+  {
+    // the cells pass 2 will list (at most G + G^2 iterations, as pass 2)
+    dvec3 L0 = LightVertex(t, 0u), L1 = LightVertex(t, 1u), L2 = LightVertex(t, 2u);
+    uint nonEmpty = 0u;
+    for (int y = b.y; y <= b.w; ++y)
+    {
+      for (int x = b.x; x <= b.z; ++x)
+      {
+        uint c = uint(y * uG + x);
+        nonEmpty += cellCount[c] != 0u ? 1u : 0u;
+        n += CellKeeps(c, L0, L1, L2) ? 1u : 0u;
+      }
+    }
+    if (nonEmpty > n)
+    {
+      atomicAdd(red[58], nonEmpty - n); // pairs outside their cell's shaft
+    }
+  }
+  else if (b.x <= b.z && b.y <= b.w)
   {
     uint G1 = uint(uG) + 1u;
     n = sat[uint(b.w + 1) * G1 + uint(b.z + 1)] - sat[uint(b.y) * G1 + uint(b.z + 1)] -
@@ -397,62 +482,9 @@ void main()
 #endif
 
 #ifdef K_PASS2
-// 3.3 pass 2: the (triID, cellID) pairs at the prefix-sum offsets. With
-// uShaft, a pair whose triangle lies wholly outside the shaft from the cell's
-// samples to the light is not written (the CPU backend's cell culling,
-// ssGearsCells.cxx; its slot gets kNoCell, which the sort skips, so that
-// this kernel loops no more than before: llvmpipe's budget): no segment
-// from a start in the cell to a light sample can meet the triangle, so no
-// bit changes.
-uniform int uShaft, uDir;
-uniform double uW, uH, uShaftMargin;
-const uint kNoCell = 0xFFFFFFFFu;
-// One side of MakeShaft (ssGearsPairs.cxx) in double: every point of a
-// segment from a start in [lo1, hi1] x [loz, hiz] to the light satisfies
-// a + sl z <= x <= b + tl z.
-dvec4 ShaftSide(double lo1, double hi1, double side, double loz, double hiz)
-{
-  if (uDir != 0)
-  {
-    return dvec4(lo1 - 0.5LF * side * hiz, 0.5LF * side, hi1 + 0.5LF * side * hiz, -0.5LF * side);
-  }
-  return dvec4(-0.5LF * side, min((lo1 + 0.5LF * side) / loz, (lo1 + 0.5LF * side) / hiz), 0.5LF * side,
-    max((hi1 - 0.5LF * side) / loz, (hi1 - 0.5LF * side) / hiz));
-}
-// Whether all three vertices lie beyond one plane of cell c's shaft by more
-// than the margin (written out: llvmpipe's loop budget counts every loop).
-bool OutsideShaft(dvec3 A, dvec3 B, dvec3 C, uint c)
-{
-  dvec3 lo = dvec3(Unord(cellBox[6u * c]), Unord(cellBox[6u * c + 1u]), Unord(cellBox[6u * c + 2u]));
-  dvec3 hi = -dvec3(Unord(cellBox[6u * c + 3u]), Unord(cellBox[6u * c + 4u]), Unord(cellBox[6u * c + 5u]));
-  if (uDir == 0 && !(lo.z > 0.0))
-  {
-    return false; // a start on the light's plane: no finite slopes
-  }
-  dvec4 sx = ShaftSide(lo.x, hi.x, uW, lo.z, hi.z), sy = ShaftSide(lo.y, hi.y, uH, lo.z, hi.z);
-  double m = uShaftMargin;
-  if (A.x < sx.x + sx.y * A.z - m && B.x < sx.x + sx.y * B.z - m && C.x < sx.x + sx.y * C.z - m)
-  {
-    return true;
-  }
-  if (A.x > sx.z + sx.w * A.z + m && B.x > sx.z + sx.w * B.z + m && C.x > sx.z + sx.w * C.z + m)
-  {
-    return true;
-  }
-  if (A.y < sy.x + sy.y * A.z - m && B.y < sy.x + sy.y * B.z - m && C.y < sy.x + sy.y * C.z - m)
-  {
-    return true;
-  }
-  if (A.y > sy.z + sy.w * A.z + m && B.y > sy.z + sy.w * B.z + m && C.y > sy.z + sy.w * C.z + m)
-  {
-    return true;
-  }
-  if (uDir == 0 && A.z < -m && B.z < -m && C.z < -m)
-  {
-    return true; // behind the light's plane
-  }
-  return A.z > hi.z + m && B.z > hi.z + m && C.z > hi.z + m; // beyond every start
-}
+// 3.3 pass 2: the (triID, cellID) pairs at the prefix-sum offsets: the
+// non-empty cells of the triangle's box that pass 1 counted, the same test
+// in the same order (so exactly cellsN of them).
 void main()
 {
   uint t = GID();
@@ -465,19 +497,17 @@ void main()
   {
     return;
   }
-  dvec3 A = ToLight(dvec3(triV[9u * t], triV[9u * t + 1u], triV[9u * t + 2u]));
-  dvec3 B = ToLight(dvec3(triV[9u * t + 3u], triV[9u * t + 4u], triV[9u * t + 5u]));
-  dvec3 C = ToLight(dvec3(triV[9u * t + 6u], triV[9u * t + 7u], triV[9u * t + 8u]));
+  dvec3 L0 = LightVertex(t, 0u), L1 = LightVertex(t, 1u), L2 = LightVertex(t, 2u);
   ivec4 b = box[t];
   for (int y = b.y; y <= b.w; ++y)
   {
     for (int x = b.x; x <= b.z; ++x)
     {
       uint c = uint(y * uG + x);
-      if (cellCount[c] != 0u)
+      if (CellKeeps(c, L0, L1, L2))
       {
         pairTri[o] = t;
-        pairCell[o] = (uShaft == 0 || !OutsideShaft(A, B, C, c)) ? c : kNoCell;
+        pairCell[o] = c;
         ++o;
       }
     }
@@ -489,7 +519,7 @@ void main()
 void main()
 {
   uint q = GID();
-  if (q < uN && pairCell[q] != 0xFFFFFFFFu)
+  if (q < uN)
   {
     atomicAdd(cellBegin[pairCell[q]], 1u);
   }
@@ -500,7 +530,7 @@ void main()
 void main()
 {
   uint q = GID();
-  if (q < uN && pairCell[q] != 0xFFFFFFFFu)
+  if (q < uN)
   {
     uint c = pairCell[q];
     sorted[cellBegin[c] + atomicAdd(cursor[c], 1u)] = pairTri[q];

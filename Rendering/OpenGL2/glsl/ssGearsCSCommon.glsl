@@ -76,6 +76,8 @@ uniform int uG;      // grid resolution
 #define USE_Rmq
 #define USE_Box
 #define USE_Off
+#define USE_CellCnt
+#define USE_CellBox
 #endif
 #ifdef K_SCAN_BLOCK
 #define USE_ScanData
@@ -237,7 +239,8 @@ layout(std430, binding = 26) buffer CellBox { uint cellBox[]; };
 
 // Red layout: face f (0..5) at 8 f: min x y z, max x y z, max depth;
 // 48..51: 2-D min x, min y, max x, max y; 56: full-grid triangles;
-// 57: scan overflow flag.
+// 57: scan overflow flag; 58: pairs outside their cell's shaft (a statistic:
+// it wraps past 2^32).
 
 // Floats as uints whose order is the floats' order (for atomicMin/Max).
 uint Ord(float f)
@@ -273,6 +276,16 @@ float NextUp(float f)
     return uintBitsToFloat(1u);
   }
   return f > 0.0 ? uintBitsToFloat(b + 1u) : uintBitsToFloat(b - 1u);
+}
+// float(double) is undefined beyond the float range: such a value becomes
+// NaN (the GL raster's float pre-test then passes none of its tests)
+float SafeFloat(double d)
+{
+  return abs(d) < 1e30LF ? float(d) : uintBitsToFloat(0x7FC00000u);
+}
+vec3 SafeFloat(dvec3 v)
+{
+  return vec3(SafeFloat(v.x), SafeFloat(v.y), SafeFloat(v.z));
 }
 bool FiniteF(float f)
 {

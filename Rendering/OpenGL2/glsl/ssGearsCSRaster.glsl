@@ -32,9 +32,10 @@ void main()
       triL[9 * t + 3 * m] = B.x;
       triL[9 * t + 3 * m + 1] = B.y;
       triL[9 * t + 3 * m + 2] = B.z;
-      triLF[9 * t + 3 * m] = float(B.x);
-      triLF[9 * t + 3 * m + 1] = float(B.y);
-      triLF[9 * t + 3 * m + 2] = float(B.z);
+      vec3 F = SafeFloat(B);
+      triLF[9 * t + 3 * m] = F.x;
+      triLF[9 * t + 3 * m + 1] = F.y;
+      triLF[9 * t + 3 * m + 2] = F.z;
     }
   }
 }
@@ -341,21 +342,23 @@ uint FloatOut(vec3 P)
   float uy = (gy - fYlo) * den + (P.y - fS.y) * fx;
   float vy = (gy - fYhi) * den + (P.y - fS.y) * fx;
   float xm = max(abs(fXlo), abs(fXhi)), ym = max(abs(fYlo), abs(fYhi));
-  float mx = 1e-5 * (dirL ? xm * ad + abs(P.x) + abs(fS.x) : (abs(fS.x) + xm + abs(P.x)) * ad);
-  float my = 1e-5 * (dirL ? ym * ad + abs(P.y) + abs(fS.y) : (abs(fS.y) + ym + abs(P.y)) * ad);
+  // (each margin with an absolute floor of 1e-30, far above what underflow
+  // in the float products can change)
+  float mx = 1e-5 * (dirL ? xm * ad + abs(P.x) + abs(fS.x) : (abs(fS.x) + xm + abs(P.x)) * ad) + 1e-30;
+  float my = 1e-5 * (dirL ? ym * ad + abs(P.y) + abs(fS.y) : (abs(fS.y) + ym + abs(P.y)) * ad) + 1e-30;
   // the directional side tests count only where all three vertices are
   // surely in front of S (the double's `valid`)
-  bool sides = !dirL || den > 1e-5 * ad;
+  bool sides = !dirL || den > 1e-5 * ad + 1e-30;
   vec3 rel = P - fS;
   float l1 = abs(P.x) + abs(P.y) + abs(P.z) + abs(fS.x) + abs(fS.y) + abs(fS.z);
   uint o = 0u;
-  o |= P.z - fS.z > 1e-5 * ad ? 1u : 0u;          // beyond the pixel
+  o |= P.z - fS.z > 1e-5 * ad + 1e-30 ? 1u : 0u; // beyond the pixel
   o |= (!dirL && P.z < 0.0) ? 2u : 0u;            // behind the light
   o |= (sides && ux < -mx) ? 4u : 0u;
   o |= (sides && vx > mx) ? 8u : 0u;
   o |= (sides && uy < -my) ? 16u : 0u;
   o |= (sides && vy > my) ? 32u : 0u;
-  o |= (fNl1 > 0.0 && dot(rel, fN) < -1e-5 * l1 * fNl1) ? 64u : 0u; // below the tangent plane
+  o |= (fNl1 > 0.0 && dot(rel, fN) < -(1e-5 * l1 * fNl1 + 1e-30)) ? 64u : 0u; // below the tangent plane
   return o;
 }
 
@@ -437,13 +440,13 @@ void main()
   bool dirLight = uDir != 0;
   double hlen = sqrt(Dot(hN, hN)); // (0: no horizon test)
   double sx = S.x, sy = S.y, sd = S.z;
-  fS = vec3(S);
-  fN = vec3(hN);
+  fS = SafeFloat(S);
+  fN = vec3(hN); // (a unit vector)
   fNl1 = hlen > 0.0 ? abs(fN.x) + abs(fN.y) + abs(fN.z) : 0.0;
-  fXlo = float(uXlo);
-  fXhi = float(uXhi);
-  fYlo = float(uYlo);
-  fYhi = float(uYhi);
+  fXlo = SafeFloat(uXlo); // (NaN beyond the float range: no side test then)
+  fXhi = SafeFloat(uXhi);
+  fYlo = SafeFloat(uYlo);
+  fYhi = SafeFloat(uYhi);
   for (uint a = a0; a < end; ++a)
   {
     if (gFull == uK && uCountNecessary == 0)
@@ -549,17 +552,22 @@ void main()
     {
       continue;
     }
-    // The triangle's box of samples (the gap test's, same margins) where its
+    // The triangle's box of samples (the gap test's, wider margins) where its
     // projection is finite: the samples it may hide. The raster takes only
     // its rows, and a triangle whose box holds only hidden samples is not
     // drawn (the covered skip of the CPU's DrawPixel; not while counting
     // Table 9, which draws every pair).
+    // (each bound tested apart: min and max are undefined for NaN; the
+    // margins are the CPU's DrawPixel's, wider than the gap test's)
     int r0 = 0, r1 = uK - 1;
-    if (valid == 3 && uW > 0.0 && uH > 0.0 && max(max(abs(iu0), abs(iu1)), max(abs(iv0), abs(iv1))) < 1e9LF)
+    if (valid == 3 && uW > 0.0 && uH > 0.0 && abs(iu0) < 1e9LF && abs(iu1) < 1e9LF && abs(iv0) < 1e9LF &&
+      abs(iv1) < 1e9LF)
     {
-      int c0 = int(max(0.0LF, ceil(iu0 - tu))), c1 = int(min(double(uK - 1), floor(iu1 + tu)));
-      r0 = int(max(0.0LF, ceil(iv0 - tv)));
-      r1 = int(min(double(uK - 1), floor(iv1 + tv)));
+      double bu = 1e-4 * (abs(iu0) + abs(iu1) + double(uK)) + 1e-3;
+      double bv = 1e-4 * (abs(iv0) + abs(iv1) + double(uK)) + 1e-3;
+      int c0 = int(max(0.0LF, ceil(iu0 - bu))), c1 = int(min(double(uK - 1), floor(iu1 + bu)));
+      r0 = int(max(0.0LF, ceil(iv0 - bv)));
+      r1 = int(min(double(uK - 1), floor(iv1 + bv)));
       if (c0 <= c1 && r0 <= r1 && uCountNecessary == 0)
       {
         uint cm = RowBits(c0, c1);
