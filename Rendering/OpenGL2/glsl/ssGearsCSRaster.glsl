@@ -377,15 +377,17 @@ uint gNecessary;     // Table 9: pairs hiding a sample above the horizon
 // One triangle of the pixel's list [§4.2]. draw = false: whether it passes
 // every rejection (the first phase); true: also the covered skip, and then
 // the exact raster into the rows.
-bool Visit(uint tri, bool draw)
+// Whether the float pre-test keeps the triangle (the double tests of Visit
+// would surely reject it otherwise).
+bool FloatKeeps(uint tri)
 {
-  if (uPre != 0 &&
+  return uPre == 0 ||
     (FloatOut(vec3(triLF[9 * tri], triLF[9 * tri + 1], triLF[9 * tri + 2])) &
       FloatOut(vec3(triLF[9 * tri + 3], triLF[9 * tri + 4], triLF[9 * tri + 5])) &
-      FloatOut(vec3(triLF[9 * tri + 6], triLF[9 * tri + 7], triLF[9 * tri + 8]))) != 0u)
-  {
-    return false; // the double tests below would reject it
-  }
+      FloatOut(vec3(triLF[9 * tri + 6], triLF[9 * tri + 7], triLF[9 * tri + 8]))) == 0u;
+}
+bool Visit(uint tri, bool draw)
+{
   dvec3 Bv[3];
   for (int m = 0; m < 3; ++m)
   {
@@ -619,8 +621,9 @@ void main()
   fXhi = SafeFloat(uXhi);
   fYlo = SafeFloat(uYlo);
   fYhi = SafeFloat(uYhi);
-  // The chunk in parts of 128: first every triangle's rejections, then the
-  // survivors drawn in list order. llvmpipe runs neighbouring pixels in
+  // The chunk in parts of 128: first every triangle's float pre-test, then
+  // the double rejections of those it keeps, then the survivors drawn in
+  // list order (each phase compacted). llvmpipe runs neighbouring pixels in
   // lockstep: drawn in one pass with the rejections, a step cost the raster
   // whenever any lane drew; compacted, the lanes draw their survivors side by
   // side. Same triangles in the same order: the same bits.
@@ -631,12 +634,25 @@ void main()
       break; // umbra: no further triangle changes V
     }
     uint p1 = min(end, p0 + 128u);
-    uint need[4] = uint[4](0u, 0u, 0u, 0u);
+    uint kept[4] = uint[4](0u, 0u, 0u, 0u), need[4] = uint[4](0u, 0u, 0u, 0u);
     for (uint a = p0; a < p1; ++a)
     {
-      if (Visit(sorted[a], false))
+      if (FloatKeeps(sorted[a]))
       {
-        need[(a - p0) >> 5] |= 1u << ((a - p0) & 31u);
+        kept[(a - p0) >> 5] |= 1u << ((a - p0) & 31u);
+      }
+    }
+    for (uint w = 0u; w < 4u; ++w)
+    {
+      uint bits = kept[w];
+      while (bits != 0u)
+      {
+        int b = findLSB(bits);
+        bits &= bits - 1u;
+        if (Visit(sorted[p0 + 32u * w + uint(b)], false))
+        {
+          need[w] |= 1u << uint(b);
+        }
       }
     }
     for (uint w = 0u; w < 4u; ++w)
