@@ -92,29 +92,26 @@ for m in ("pcss", "pvsm"):
     a, _ = render(f"gl32_{m}", m, gl32)
     b, _ = render(f"gl45_{m}", m)
     identical(f"{m} on GL 3.2 vs 4.5", a, b)
-a, sa = render("gl32_gears", "gears", gl32, ["gears_backend=gl"])
 b, sb = render("cpu_gears", "gears", None, ["gears_backend=cpu"])
-if sa:
-    g = sa["pass"]["gears"]
-    check(g["backend"] == "cpu" and "4.3" in g["backend_note"], f"GEARS GL on GL 3.2 falls back: {g['backend_note']}")
-identical("gears GL-fallback vs CPU", a, b)
 
+
+def gears_falls_back(name, env, reason, what):
+    """GEARS asked for the GL backend under `env` runs on the CPU, with
+    `reason` in its note, and gives the CPU backend's V."""
+    a, sa = render(name, "gears", env, ["gears_backend=gl"])
+    if sa:
+        g = sa["pass"]["gears"]
+        check(g["backend"] == "cpu" and reason in g["backend_note"], f"GEARS GL {what} falls back: {g['backend_note']}")
+    identical(f"gears {name} vs CPU", a, b)
+
+
+gears_falls_back("gl32_gears", gl32, "4.3", "on GL 3.2")
 # a small SSBO limit
-a, sa = render("ssbo_gears", "gears", {"SOFTSHADOWS_GL_MAX_SSBO_BYTES": "100000"}, ["gears_backend=gl"])
-if sa:
-    g = sa["pass"]["gears"]
-    check(g["backend"] == "cpu" and "SSBO limit" in g["backend_note"],
-          f"GEARS GL beyond the SSBO limit falls back: {g['backend_note']}")
-identical("gears SSBO-fallback vs CPU", a, b)
-
+gears_falls_back("ssbo_gears", {"SOFTSHADOWS_GL_MAX_SSBO_BYTES": "100000"}, "SSBO limit", "beyond the SSBO limit")
 # fewer storage buffer bindings than the GL backend's buffers (GL 4.3
 # guarantees 8): it declines, naming the limit, and the CPU backend runs
-a, sa = render("bindings_gears", "gears", {"SOFTSHADOWS_GL_MAX_SSBO_BINDINGS": "16"}, ["gears_backend=gl"])
-if sa:
-    g = sa["pass"]["gears"]
-    check(g["backend"] == "cpu" and "storage buffer bindings" in g["backend_note"],
-          f"GEARS GL with too few SSBO bindings falls back: {g['backend_note']}")
-identical("gears bindings-fallback vs CPU", a, b)
+gears_falls_back("bindings_gears", {"SOFTSHADOWS_GL_MAX_SSBO_BINDINGS": "16"}, "storage buffer bindings",
+                 "with too few SSBO bindings")
 
 # translucent receivers whose fragment lists exceed a small SSBO limit: the
 # shading runs their lookups itself (the way without the lists), with the

@@ -158,6 +158,51 @@ TEST(GearsGL, IdenticalBitmasksToTheCPUBackend)
   EXPECT_GT(glCulled, glPairs / 20); // pass 2's shaft test is exercised (and the masks stayed the CPU's)
 }
 
+// Scenes from 1e-20 to 1e12 in size, every light type: the masks stay the
+// CPU's, and the shafts still cull (their margin scales with the scene: an
+// absolute one culls nothing at 1e-20). The float pre-test's 1e-30 floor is a
+// guard against underflow that these scenes do not need (they pass without
+// it); its margins are checked by the mutations of gears.md.
+TEST(GearsGL, AnyScaleStaysIdentical)
+{
+  Context ctx;
+  GearsGL gl;
+  for (double scale : { 1e-20, 1e-6, 1e12 })
+  {
+    std::mt19937 rng(21);
+    sstest::Scene s = sstest::RandomScene(rng, 300, 1500, glm::dvec3(0.0));
+    for (glm::dvec3& v : s.tris)
+    {
+      v *= scale;
+    }
+    for (float& p : s.pos)
+    {
+      p = static_cast<float>(p * scale);
+    }
+    GearsSolver cpu;
+    cpu.SetTriangles(s.tris, {});
+    std::size_t partial = 0, culled = 0;
+    for (LightFrame light : sstest::Lights(glm::dvec3(0.0)))
+    {
+      light.center *= scale;
+      light.width *= scale;
+      light.height *= scale;
+      GearsOptions opt;
+      opt.k = 16;
+      GearsStats cs, gs;
+      const Compare c = SolveBoth(gl, cpu, light, glm::dvec3(0.0), s, opt, &cs, &gs);
+      EXPECT_EQ(c.maskMismatch, 0u) << "scale " << scale << " light " << int(light.type);
+      EXPECT_EQ(c.vMismatch, 0u) << "scale " << scale << " light " << int(light.type);
+      partial += c.partial;
+      culled += gs.trianglesCulled;
+    }
+    std::cout << "scale " << scale << ": " << partial << " pixel solves in penumbra, " << culled
+              << " pairs outside the shafts, masks identical\n";
+    EXPECT_GT(partial, 500u) << "scale " << scale;
+    EXPECT_GT(culled, 0u) << "scale " << scale;
+  }
+}
+
 // Cells holding thousands of triangles that all reach the bitmask stage:
 // llvmpipe ends an invocation after 65535 loop iterations in all, so a
 // kernel looping over a whole list (about 50 iterations per triangle at

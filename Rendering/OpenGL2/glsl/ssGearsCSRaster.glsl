@@ -367,6 +367,175 @@ uint FloatOut(vec3 P)
 #define COV4(J) COV1(J) COV1((J) + 1) COV1((J) + 2) COV1((J) + 3)
 #define COV16(J) COV4(J) COV4((J) + 4) COV4((J) + 8) COV4((J) + 12)
 
+// the pixel's state for Visit
+dvec3 gS, gHN;       // S and the tangent plane's normal in the light's frame
+double gHlen;        // |gHN| (0: no horizon test)
+double gSx, gSy, gSd;
+bool gDirLight;
+uint gNecessary;     // Table 9: pairs hiding a sample above the horizon
+
+// One triangle of the pixel's list [§4.2]. draw = false: whether it passes
+// every rejection (the first phase); true: also the covered skip, and then
+// the exact raster into the rows.
+// Whether the float pre-test keeps the triangle (the double tests of Visit
+// would surely reject it otherwise).
+bool FloatKeeps(uint tri)
+{
+  return uPre == 0 ||
+    (FloatOut(vec3(triLF[9 * tri], triLF[9 * tri + 1], triLF[9 * tri + 2])) &
+      FloatOut(vec3(triLF[9 * tri + 3], triLF[9 * tri + 4], triLF[9 * tri + 5])) &
+      FloatOut(vec3(triLF[9 * tri + 6], triLF[9 * tri + 7], triLF[9 * tri + 8]))) == 0u;
+}
+bool Visit(uint tri, bool draw)
+{
+  dvec3 Bv[3];
+  for (int m = 0; m < 3; ++m)
+  {
+    Bv[m] = uPre != 0 ? dvec3(triL[9 * tri + 3 * m], triL[9 * tri + 3 * m + 1], triL[9 * tri + 3 * m + 2])
+                      : ToLight(dvec3(triV[9 * tri + 3 * m], triV[9 * tri + 3 * m + 1], triV[9 * tri + 3 * m + 2]));
+  }
+  // the closed-mesh rule, exactly as the CPU's SetupBatch: a face gS is
+  // not behind is never the last crossing
+  dvec3 pn = Cross(Sub(Bv[1], Bv[0]), Sub(Bv[2], Bv[0]));
+  precise double sigma = Dot(Sub(gS, Bv[0]), pn);
+  int cs = closedFlag[tri];
+  int csl = cs == 2 ? 0 : cs * uHand;
+  if (csl != 0 && double(csl) * sigma >= 0.0)
+  {
+    return false;
+  }
+  precise double pl = sqrt(Dot(pn, pn));
+  precise double lim = gEps * pl;
+  bool near = pl > 0.0 && abs(sigma) < lim;
+  if (near)
+  {
+    // gS and every light sample on one side of the plane: no crossing
+    double cmin = 1e300LF, cmax = -1e300LF;
+    for (int q = 0; q < 4; ++q)
+    {
+      double a1 = (q & 1) != 0 ? 0.5LF : -0.5LF, b1 = (q & 2) != 0 ? 0.5LF : -0.5LF;
+      precise dvec3 corner = dvec3(a1 * uW, b1 * uH, gDirLight ? -1.0LF : 0.0LF);
+      precise double v = Dot(pn, gDirLight ? corner : Sub(corner, Bv[0]));
+      cmin = min(cmin, v);
+      cmax = max(cmax, v);
+    }
+    if ((sigma > 0.0 && cmin >= 0.0) || (sigma < 0.0 && cmax <= 0.0))
+    {
+      return false;
+    }
+  }
+  // cheap rejection: wholly beyond the pixel, behind the light, or
+  // projected beyond one side of the samples (it would set no bit). The
+  // side tests are linear in the vertex (a side plane of the pyramid from
+  // gS to the samples), so they hold for a triangle that straddles gS's depth
+  // or the light's plane too; there, with a relative margin (t0 - t3), as
+  // the CPU's rejection kernel does in float (gears.md, eleventh round)
+  int out0 = 0, out1 = 0, out2 = 0, out3 = 0, valid = 0, beyondPixel = 0, behindLight = 0;
+  int t0 = 0, t1 = 0, t2 = 0, t3 = 0, belowPlane = 0;
+  // the projection in sample-index units (where all three are valid): a
+  // triangle between two sample rows or columns sets no bit either (as the
+  // CPU's rejection kernel)
+  double iu0 = 1e300LF, iu1 = -1e300LF, iv0 = 1e300LF, iv1 = -1e300LF;
+  for (int m = 0; m < 3; ++m)
+  {
+    double bx = Bv[m].x, by = Bv[m].y, bd = Bv[m].z;
+    precise double den = gSd - bd;
+    beyondPixel += !(den > 0.0) ? 1 : 0;
+    behindLight += (!gDirLight && !(bd > 0.0)) ? 1 : 0;
+    valid += (den > 0.0 && (gDirLight || bd > 0.0)) ? 1 : 0;
+    double fx = gDirLight ? 1.0LF : gSd, gx = gDirLight ? 0.0LF : gSx;
+    precise double ux = (gx - uXlo) * den + (bx - gSx) * fx;
+    precise double vx = (gx - uXhi) * den + (bx - gSx) * fx;
+    precise double uy = ((gDirLight ? 0.0LF : gSy) - uYlo) * den + (by - gSy) * fx;
+    precise double vy = ((gDirLight ? 0.0LF : gSy) - uYhi) * den + (by - gSy) * fx;
+    out0 += ux < 0.0 ? 1 : 0;
+    out1 += vx > 0.0 ? 1 : 0;
+    out2 += uy < 0.0 ? 1 : 0;
+    out3 += vy > 0.0 ? 1 : 0;
+    precise double ex = 1e-9 * abs((bx - gSx) * fx), ey = 1e-9 * abs((by - gSy) * fx);
+    if (den > 0.0)
+    {
+      precise double pu = (gx + (bx - gSx) * fx / den) * (double(uK) / uW) + (0.5LF * double(uK) - 0.5LF);
+      precise double pv = ((gDirLight ? 0.0LF : gSy) + (by - gSy) * fx / den) * (double(uK) / uH) +
+        (0.5LF * double(uK) - 0.5LF);
+      iu0 = min(iu0, pu);
+      iu1 = max(iu1, pu);
+      iv0 = min(iv0, pv);
+      iv1 = max(iv1, pv);
+    }
+    // below the pixel's tangent plane (its samples start hidden)
+    precise dvec3 rel = Sub(Bv[m], gS);
+    belowPlane += Dot(rel, gHN) < -1e-9 * sqrt(Dot(rel, rel)) * gHlen ? 1 : 0;
+    t0 += ux < -(ex + 1e-9 * abs((gx - uXlo) * den)) ? 1 : 0;
+    t1 += vx > ex + 1e-9 * abs((gx - uXhi) * den) ? 1 : 0;
+    t2 += uy < -(ey + 1e-9 * abs(((gDirLight ? 0.0LF : gSy) - uYlo) * den)) ? 1 : 0;
+    t3 += vy > ey + 1e-9 * abs(((gDirLight ? 0.0LF : gSy) - uYhi) * den) ? 1 : 0;
+  }
+  double tu = 1e-9 * (max(abs(iu0), abs(iu1)) + double(uK)) + 1e-6;
+  double tv = 1e-9 * (max(abs(iv0), abs(iv1)) + double(uK)) + 1e-6;
+  bool gap = valid == 3 && (ceil(iu0 - tu) > floor(iu1 + tu) || ceil(iv0 - tv) > floor(iv1 + tv));
+  if (beyondPixel == 3 || behindLight == 3 || (valid == 3 && (out0 == 3 || out1 == 3 || out2 == 3 || out3 == 3)) ||
+    (!gDirLight && (t0 == 3 || t1 == 3 || t2 == 3 || t3 == 3)) || gap || (gHlen > 0.0 && belowPlane == 3))
+  {
+    return false;
+  }
+  if (!draw)
+  {
+    return true; // it may set bits: drawn in the second phase
+  }
+  // The triangle's box of samples (the gap test's, wider margins) where its
+  // projection is finite: the samples it may hide. The raster takes only
+  // its rows, and a triangle whose box holds only hidden samples is not
+  // drawn (the covered skip of the CPU's DrawPixel; not while counting
+  // Table 9, which draws every pair).
+  // (each bound tested apart: min and max are undefined for NaN; the
+  // margins are the CPU's DrawPixel's, wider than the gap test's)
+  int r0 = 0, r1 = uK - 1;
+  if (valid == 3 && uW > 0.0 && uH > 0.0 && abs(iu0) < 1e9LF && abs(iu1) < 1e9LF && abs(iv0) < 1e9LF &&
+    abs(iv1) < 1e9LF)
+  {
+    double bu = 1e-4 * (abs(iu0) + abs(iu1) + double(uK)) + 1e-3;
+    double bv = 1e-4 * (abs(iv0) + abs(iv1) + double(uK)) + 1e-3;
+    int c0 = int(max(0.0LF, ceil(iu0 - bu))), c1 = int(min(double(uK - 1), floor(iu1 + bu)));
+    r0 = int(max(0.0LF, ceil(iv0 - bv)));
+    r1 = int(min(double(uK - 1), floor(iv1 + bv)));
+    if (c0 <= c1 && r0 <= r1 && uCountNecessary == 0)
+    {
+      uint cm = RowBits(c0, c1);
+      bool covered = true;
+      COV16(0)
+      COV16(16)
+      if (covered)
+      {
+        return false;
+      }
+    }
+  }
+  // opaque casters only (translucent scenes run on the CPU backend)
+  bool toTmp = uCountNecessary != 0;
+  if (toTmp)
+  {
+    for (int j = 0; j < 32; ++j)
+    {
+      tmpRows[j] = 0u;
+    }
+  }
+  bool hit = near ? RasterizeNearTriangle(gS, Bv[0], Bv[1], Bv[2], toTmp)
+                  : RasterizeTriangle(gS, Bv[0], Bv[1], Bv[2], toTmp, r0, r1);
+  if (hit && toTmp)
+  {
+    // gNecessary: it hides a sample above the horizon
+    bool above = false;
+    for (int j = 0; j < uK; ++j)
+    {
+      above = above || (tmpRows[j] & ~belowRows[j]) != 0u;
+      OrRow(j, tmpRows[j]);
+    }
+    gNecessary += above ? 1u : 0u;
+  }
+  return true;
+}
+
 // Chunk uChunk of the pixel's cell list (uChunkSize triangles): the rows
 // persist in masks[] between chunks and K_FINISH turns them into V.
 uniform uint uChunk, uChunkSize;
@@ -436,10 +605,15 @@ void main()
   {
     gFull += rows[j] == uFullRow ? 1 : 0;
   }
-  uint necessary = 0u;
-  bool dirLight = uDir != 0;
-  double hlen = sqrt(Dot(hN, hN)); // (0: no horizon test)
-  double sx = S.x, sy = S.y, sd = S.z;
+  gNecessary = 0u;
+  gDirLight = uDir != 0;
+  gS = S;
+  gHN = hN;
+  gHlen = sqrt(Dot(hN, hN)); // (0: no horizon test)
+  double hlen = gHlen;
+  gSx = S.x;
+  gSy = S.y;
+  gSd = S.z;
   fS = SafeFloat(S);
   fN = vec3(hN); // (a unit vector)
   fNl1 = hlen > 0.0 ? abs(fN.x) + abs(fN.y) + abs(fN.z) : 0.0;
@@ -447,160 +621,49 @@ void main()
   fXhi = SafeFloat(uXhi);
   fYlo = SafeFloat(uYlo);
   fYhi = SafeFloat(uYhi);
-  for (uint a = a0; a < end; ++a)
+  // The chunk in parts of 128: first every triangle's float pre-test, then
+  // the double rejections of those it keeps, then the survivors drawn in
+  // list order (each phase compacted). llvmpipe runs neighbouring pixels in
+  // lockstep: drawn in one pass with the rejections, a step cost the raster
+  // whenever any lane drew; compacted, the lanes draw their survivors side by
+  // side. Same triangles in the same order: the same bits.
+  for (uint p0 = a0; p0 < end; p0 += 128u)
   {
     if (gFull == uK && uCountNecessary == 0)
     {
       break; // umbra: no further triangle changes V
     }
-    uint tri = sorted[a];
-    if (uPre != 0 &&
-      (FloatOut(vec3(triLF[9 * tri], triLF[9 * tri + 1], triLF[9 * tri + 2])) &
-        FloatOut(vec3(triLF[9 * tri + 3], triLF[9 * tri + 4], triLF[9 * tri + 5])) &
-        FloatOut(vec3(triLF[9 * tri + 6], triLF[9 * tri + 7], triLF[9 * tri + 8]))) != 0u)
+    uint p1 = min(end, p0 + 128u);
+    uint kept[4] = uint[4](0u, 0u, 0u, 0u), need[4] = uint[4](0u, 0u, 0u, 0u);
+    for (uint a = p0; a < p1; ++a)
     {
-      continue; // the double tests below would reject it
-    }
-    dvec3 Bv[3];
-    for (int m = 0; m < 3; ++m)
-    {
-      Bv[m] = uPre != 0 ? dvec3(triL[9 * tri + 3 * m], triL[9 * tri + 3 * m + 1], triL[9 * tri + 3 * m + 2])
-                        : ToLight(dvec3(triV[9 * tri + 3 * m], triV[9 * tri + 3 * m + 1], triV[9 * tri + 3 * m + 2]));
-    }
-    // the closed-mesh rule, exactly as the CPU's SetupBatch: a face S is
-    // not behind is never the last crossing
-    dvec3 pn = Cross(Sub(Bv[1], Bv[0]), Sub(Bv[2], Bv[0]));
-    precise double sigma = Dot(Sub(S, Bv[0]), pn);
-    int cs = closedFlag[tri];
-    int csl = cs == 2 ? 0 : cs * uHand;
-    if (csl != 0 && double(csl) * sigma >= 0.0)
-    {
-      continue;
-    }
-    precise double pl = sqrt(Dot(pn, pn));
-    precise double lim = gEps * pl;
-    bool near = pl > 0.0 && abs(sigma) < lim;
-    if (near)
-    {
-      // S and every light sample on one side of the plane: no crossing
-      double cmin = 1e300LF, cmax = -1e300LF;
-      for (int q = 0; q < 4; ++q)
+      if (FloatKeeps(sorted[a]))
       {
-        double a1 = (q & 1) != 0 ? 0.5LF : -0.5LF, b1 = (q & 2) != 0 ? 0.5LF : -0.5LF;
-        precise dvec3 corner = dvec3(a1 * uW, b1 * uH, dirLight ? -1.0LF : 0.0LF);
-        precise double v = Dot(pn, dirLight ? corner : Sub(corner, Bv[0]));
-        cmin = min(cmin, v);
-        cmax = max(cmax, v);
-      }
-      if ((sigma > 0.0 && cmin >= 0.0) || (sigma < 0.0 && cmax <= 0.0))
-      {
-        continue;
+        kept[(a - p0) >> 5] |= 1u << ((a - p0) & 31u);
       }
     }
-    // cheap rejection: wholly beyond the pixel, behind the light, or
-    // projected beyond one side of the samples (it would set no bit). The
-    // side tests are linear in the vertex (a side plane of the pyramid from
-    // S to the samples), so they hold for a triangle that straddles S's depth
-    // or the light's plane too; there, with a relative margin (t0 - t3), as
-    // the CPU's rejection kernel does in float (gears.md, eleventh round)
-    int out0 = 0, out1 = 0, out2 = 0, out3 = 0, valid = 0, beyondPixel = 0, behindLight = 0;
-    int t0 = 0, t1 = 0, t2 = 0, t3 = 0, belowPlane = 0;
-    // the projection in sample-index units (where all three are valid): a
-    // triangle between two sample rows or columns sets no bit either (as the
-    // CPU's rejection kernel)
-    double iu0 = 1e300LF, iu1 = -1e300LF, iv0 = 1e300LF, iv1 = -1e300LF;
-    for (int m = 0; m < 3; ++m)
+    for (uint w = 0u; w < 4u; ++w)
     {
-      double bx = Bv[m].x, by = Bv[m].y, bd = Bv[m].z;
-      precise double den = sd - bd;
-      beyondPixel += !(den > 0.0) ? 1 : 0;
-      behindLight += (!dirLight && !(bd > 0.0)) ? 1 : 0;
-      valid += (den > 0.0 && (dirLight || bd > 0.0)) ? 1 : 0;
-      double fx = dirLight ? 1.0LF : sd, gx = dirLight ? 0.0LF : sx;
-      precise double ux = (gx - uXlo) * den + (bx - sx) * fx;
-      precise double vx = (gx - uXhi) * den + (bx - sx) * fx;
-      precise double uy = ((dirLight ? 0.0LF : sy) - uYlo) * den + (by - sy) * fx;
-      precise double vy = ((dirLight ? 0.0LF : sy) - uYhi) * den + (by - sy) * fx;
-      out0 += ux < 0.0 ? 1 : 0;
-      out1 += vx > 0.0 ? 1 : 0;
-      out2 += uy < 0.0 ? 1 : 0;
-      out3 += vy > 0.0 ? 1 : 0;
-      precise double ex = 1e-9 * abs((bx - sx) * fx), ey = 1e-9 * abs((by - sy) * fx);
-      if (den > 0.0)
+      uint bits = kept[w];
+      while (bits != 0u)
       {
-        precise double pu = (gx + (bx - sx) * fx / den) * (double(uK) / uW) + (0.5LF * double(uK) - 0.5LF);
-        precise double pv = ((dirLight ? 0.0LF : sy) + (by - sy) * fx / den) * (double(uK) / uH) +
-          (0.5LF * double(uK) - 0.5LF);
-        iu0 = min(iu0, pu);
-        iu1 = max(iu1, pu);
-        iv0 = min(iv0, pv);
-        iv1 = max(iv1, pv);
-      }
-      // below the pixel's tangent plane (its samples start hidden)
-      precise dvec3 rel = Sub(Bv[m], S);
-      belowPlane += Dot(rel, hN) < -1e-9 * sqrt(Dot(rel, rel)) * hlen ? 1 : 0;
-      t0 += ux < -(ex + 1e-9 * abs((gx - uXlo) * den)) ? 1 : 0;
-      t1 += vx > ex + 1e-9 * abs((gx - uXhi) * den) ? 1 : 0;
-      t2 += uy < -(ey + 1e-9 * abs(((dirLight ? 0.0LF : sy) - uYlo) * den)) ? 1 : 0;
-      t3 += vy > ey + 1e-9 * abs(((dirLight ? 0.0LF : sy) - uYhi) * den) ? 1 : 0;
-    }
-    double tu = 1e-9 * (max(abs(iu0), abs(iu1)) + double(uK)) + 1e-6;
-    double tv = 1e-9 * (max(abs(iv0), abs(iv1)) + double(uK)) + 1e-6;
-    bool gap = valid == 3 && (ceil(iu0 - tu) > floor(iu1 + tu) || ceil(iv0 - tv) > floor(iv1 + tv));
-    if (beyondPixel == 3 || behindLight == 3 || (valid == 3 && (out0 == 3 || out1 == 3 || out2 == 3 || out3 == 3)) ||
-      (!dirLight && (t0 == 3 || t1 == 3 || t2 == 3 || t3 == 3)) || gap || (hlen > 0.0 && belowPlane == 3))
-    {
-      continue;
-    }
-    // The triangle's box of samples (the gap test's, wider margins) where its
-    // projection is finite: the samples it may hide. The raster takes only
-    // its rows, and a triangle whose box holds only hidden samples is not
-    // drawn (the covered skip of the CPU's DrawPixel; not while counting
-    // Table 9, which draws every pair).
-    // (each bound tested apart: min and max are undefined for NaN; the
-    // margins are the CPU's DrawPixel's, wider than the gap test's)
-    int r0 = 0, r1 = uK - 1;
-    if (valid == 3 && uW > 0.0 && uH > 0.0 && abs(iu0) < 1e9LF && abs(iu1) < 1e9LF && abs(iv0) < 1e9LF &&
-      abs(iv1) < 1e9LF)
-    {
-      double bu = 1e-4 * (abs(iu0) + abs(iu1) + double(uK)) + 1e-3;
-      double bv = 1e-4 * (abs(iv0) + abs(iv1) + double(uK)) + 1e-3;
-      int c0 = int(max(0.0LF, ceil(iu0 - bu))), c1 = int(min(double(uK - 1), floor(iu1 + bu)));
-      r0 = int(max(0.0LF, ceil(iv0 - bv)));
-      r1 = int(min(double(uK - 1), floor(iv1 + bv)));
-      if (c0 <= c1 && r0 <= r1 && uCountNecessary == 0)
-      {
-        uint cm = RowBits(c0, c1);
-        bool covered = true;
-        COV16(0)
-        COV16(16)
-        if (covered)
+        int b = findLSB(bits);
+        bits &= bits - 1u;
+        if (Visit(sorted[p0 + 32u * w + uint(b)], false))
         {
-          continue;
+          need[w] |= 1u << uint(b);
         }
       }
     }
-    // opaque casters only (translucent scenes run on the CPU backend)
-    bool toTmp = uCountNecessary != 0;
-    if (toTmp)
+    for (uint w = 0u; w < 4u; ++w)
     {
-      for (int j = 0; j < 32; ++j)
+      uint bits = need[w];
+      while (bits != 0u && !(gFull == uK && uCountNecessary == 0))
       {
-        tmpRows[j] = 0u;
+        int b = findLSB(bits);
+        bits &= bits - 1u;
+        Visit(sorted[p0 + 32u * w + uint(b)], true);
       }
-    }
-    bool hit = near ? RasterizeNearTriangle(S, Bv[0], Bv[1], Bv[2], toTmp)
-                    : RasterizeTriangle(S, Bv[0], Bv[1], Bv[2], toTmp, r0, r1);
-    if (hit && toTmp)
-    {
-      // necessary: it hides a sample above the horizon
-      bool above = false;
-      for (int j = 0; j < uK; ++j)
-      {
-        above = above || (tmpRows[j] & ~belowRows[j]) != 0u;
-        OrRow(j, tmpRows[j]);
-      }
-      necessary += above ? 1u : 0u;
     }
   }
   for (int j = 0; j < uK; ++j)
@@ -609,7 +672,7 @@ void main()
   }
   if (uCountNecessary != 0)
   {
-    nec[i] += necessary;
+    nec[i] += gNecessary;
   }
 }
 #endif
