@@ -70,10 +70,15 @@ constexpr std::size_t kScanElems = 1024;
 // Mesa's llvmpipe ends an invocation after 65535 loop iterations in all
 // (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop of a shader) and gives
 // no error. So no kernel loops without bound: the bitmask kernel takes a
-// pixel's cell list in chunks of kChunk triangles (about 50 iterations each
-// at k = 32), and passes 1 and 2 loop over at most G + G^2 cells (pass 1's
-// other loops add under 100 iterations: 57,940 at the cap of 240).
-constexpr std::uint32_t kChunk = 512;
+// pixel's cell list in chunks of kChunk triangles, and passes 1 and 2 loop
+// over at most G + G^2 cells (pass 1's other loops add under 100
+// iterations: 57,940 at the cap of 240). A triangle that is drawn costs the
+// bitmask kernel at most about 120 iterations at k = 32 while Table 9 is
+// counted (its three phases' loops, 32 rows to clear, draw and compare):
+// 46,000 for a chunk of 384 (512 came to 61,000 once the phases were split).
+// Near triangles (within the start offset of S) cost about 60 more; a chunk
+// holds only a few of them.
+constexpr std::uint32_t kChunk = 384;
 // the most storage blocks one kernel declares (K_RASTER's USE_* list in
 // glsl/ssGearsCSCommon.glsl); checked against GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS
 constexpr int kMaxKernelBlocks = 13;

@@ -49,7 +49,7 @@ public:
   ///
   /// No kernel loops without bound: Mesa's llvmpipe silently ends an
   /// invocation after 65535 loop iterations in all, so the bitmask kernel
-  /// takes each cell's triangle list in chunks of 512 (state kept in a
+  /// takes each cell's triangle list in chunks of 384 (state kept in a
   /// buffer between dispatches).
   bool Solve(const GearsSolver& solver, const LightFrame& light, const glm::dvec3& origin,
     const float* positions, const float* normals, std::size_t n, const GearsOptions& options,
