@@ -331,6 +331,7 @@ bool RasterizeNearTriangle(dvec3 S, dvec3 B0, dvec3 B1, dvec3 B2, bool toTmp)
 vec3 fS, fN;    // S and the tangent plane's normal in float
 float fNl1;     // |fN|_1 (0: no horizon test)
 float fXlo, fXhi, fYlo, fYhi;
+float fXm, fYm; // max(|fXlo|, |fXhi|), the same in y
 uint FloatOut(vec3 P)
 {
   bool dirL = uDir != 0;
@@ -341,11 +342,10 @@ uint FloatOut(vec3 P)
   float vx = (gx - fXhi) * den + (P.x - fS.x) * fx;
   float uy = (gy - fYlo) * den + (P.y - fS.y) * fx;
   float vy = (gy - fYhi) * den + (P.y - fS.y) * fx;
-  float xm = max(abs(fXlo), abs(fXhi)), ym = max(abs(fYlo), abs(fYhi));
   // (each margin with an absolute floor of 1e-30, far above what underflow
   // in the float products can change)
-  float mx = 1e-5 * (dirL ? xm * ad + abs(P.x) + abs(fS.x) : (abs(fS.x) + xm + abs(P.x)) * ad) + 1e-30;
-  float my = 1e-5 * (dirL ? ym * ad + abs(P.y) + abs(fS.y) : (abs(fS.y) + ym + abs(P.y)) * ad) + 1e-30;
+  float mx = 1e-5 * (dirL ? fXm * ad + abs(P.x) + abs(fS.x) : (abs(fS.x) + fXm + abs(P.x)) * ad) + 1e-30;
+  float my = 1e-5 * (dirL ? fYm * ad + abs(P.y) + abs(fS.y) : (abs(fS.y) + fYm + abs(P.y)) * ad) + 1e-30;
   // the directional side tests count only where all three vertices are
   // surely in front of S (the double's `valid`)
   bool sides = !dirL || den > 1e-5 * ad + 1e-30;
@@ -621,6 +621,8 @@ void main()
   fXhi = SafeFloat(uXhi);
   fYlo = SafeFloat(uYlo);
   fYhi = SafeFloat(uYhi);
+  fXm = max(abs(fXlo), abs(fXhi));
+  fYm = max(abs(fYlo), abs(fYhi));
   // The chunk in parts of 128: first every triangle's float pre-test, then
   // the double rejections of those it keeps, then the survivors drawn in
   // list order (each phase compacted). llvmpipe runs neighbouring pixels in
