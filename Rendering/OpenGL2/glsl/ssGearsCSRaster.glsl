@@ -574,6 +574,7 @@ void DrawSurvivor(uint tri, uint info)
 // Chunk uChunk of the pixel's cell list (uChunkSize triangles): the rows
 // persist in masks[] between chunks and K_FINISH turns them into V.
 uniform uint uChunk, uChunkSize;
+uniform uint uBuckets; // cell c's list: the depth buckets c uBuckets .. (c + 1) uBuckets - 1 (K_PASS2)
 void main()
 {
   uint gi = GID();
@@ -583,8 +584,8 @@ void main()
   }
   uint i = pixOrder[gi]; // (the face's pixels, cell by cell: K_PIXSORT)
   uint c = pixCell[i];
-  uint a0 = cellBegin[c] + uChunk * uChunkSize;
-  uint end = min(cellBegin[c + 1], a0 + uChunkSize);
+  uint a0 = cellBegin[c * uBuckets] + uChunk * uChunkSize;
+  uint end = min(cellBegin[(c + 1u) * uBuckets], a0 + uChunkSize);
   if (uChunk > 0u && a0 >= end)
   {
     return; // this cell's list ended in an earlier chunk
