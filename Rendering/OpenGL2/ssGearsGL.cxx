@@ -83,6 +83,9 @@ constexpr std::uint32_t kChunk = 384;
 // glsl/ssGearsCSCommon.glsl); checked against GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS
 constexpr int kMaxKernelBlocks = 13;
 constexpr int kMaxGrid = 240;
+// depth buckets per cell (K_PASS2): the order of a cell's list, nearest the
+// receivers first, so that umbra masks fill early (the CPU's depth order)
+constexpr std::size_t kDepthBuckets = 16;
 
 std::uint32_t Ord(float f)
 {
@@ -651,6 +654,8 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 56, 4, &zero);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 57, 4, &zero);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 58, 4, &zero);
+    const std::uint32_t none = 0xFFFFFFFFu; // (atomicMin)
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 60, 4, &none);
     I.Use(prog["K_PASS1"]);
     cameraUniforms();
     shaftUniforms();
@@ -706,31 +711,36 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Use(prog["K_PASS2"]);
     cameraUniforms();
     shaftUniforms();
+    I.U("uBuckets", static_cast<int>(kDepthBuckets));
+    I.Ud("uMaxDepth", maxDepth);
     I.Items(NT);
     glFinish();
     auto t3 = Clock::now();
     st.msRelate += Ms(t2, t3);
 
-    // --- sort on the cell: counting sort (histogram, prefix sum, scatter)
-    I.Fill(I.Buf[BCellBegin], 4 * (NC + 1), 0u);
-    I.Fill(I.Buf[BCursor], 4 * NC, 0u);
+    // --- sort on the cell and the depth bucket (K_PASS2): counting sort
+    // (histogram, prefix sum, scatter); cell c's list is the buckets
+    // c B .. (c + 1) B - 1, nearest the receivers first
+    const std::size_t NB = NC * kDepthBuckets;
+    I.Fill(I.Buf[BCellBegin], 4 * (NB + 1), 0u);
+    I.Fill(I.Buf[BCursor], 4 * NB, 0u);
     I.Ensure(I.Buf[BSorted], 4 * numPairs);
     I.Use(prog["K_HIST"]);
     I.Items(numPairs);
-    if (!I.Scan(I.Buf[BCellBegin], NC + 1, 0, why))
+    if (!I.Scan(I.Buf[BCellBegin], NB + 1, 0, why))
     {
       return false;
     }
     I.Use(prog["K_SCATTER"]);
     I.Items(numPairs);
-    std::vector<std::uint32_t> cellBegin(NC + 1);
-    I.Download(I.Buf[BCellBegin], cellBegin.data(), 4 * (NC + 1));
+    std::vector<std::uint32_t> cellBegin(NB + 1);
+    I.Download(I.Buf[BCellBegin], cellBegin.data(), 4 * (NB + 1));
     std::size_t longestList = 0;
     for (std::size_t c = 0; c < NC; ++c)
     {
       if (cellCount[c])
       {
-        const std::size_t nt = cellBegin[c + 1] - cellBegin[c];
+        const std::size_t nt = cellBegin[(c + 1) * kDepthBuckets] - cellBegin[c * kDepthBuckets];
         longestList = std::max(longestList, nt);
         st.trianglesPerCellMax = std::max(st.trianglesPerCellMax, nt);
         sumTrisPerCell += nt;
@@ -770,6 +780,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Ud("uYlo", -hy - slackY);
     I.Ud("uYhi", hy + slackY);
     I.Uu("uChunkSize", kChunk);
+    I.Uu("uBuckets", static_cast<std::uint32_t>(kDepthBuckets));
     const std::size_t chunks = std::max<std::size_t>(1, (longestList + kChunk - 1) / kChunk);
     for (std::size_t ch = 0; ch < chunks; ++ch)
     {

@@ -411,6 +411,10 @@ void main()
     n = sat[uint(b.w + 1) * G1 + uint(b.z + 1)] - sat[uint(b.y) * G1 + uint(b.z + 1)] -
       sat[uint(b.w + 1) * G1 + uint(b.x)] + sat[uint(b.y) * G1 + uint(b.x)];
   }
+  if (n > 0u)
+  {
+    atomicMin(red[60], Ord(FloatDown(dMin))); // the nearest listed depth (pass 2's order)
+  }
   off[t] = n;
 }
 #endif
@@ -485,6 +489,14 @@ void main()
 // 3.3 pass 2: the (triID, cellID) pairs at the prefix-sum offsets: the
 // non-empty cells of the triangle's box that pass 1 counted, the same test
 // in the same order (so exactly cellsN of them).
+// Each pair's cell comes as c uBuckets + the triangle's depth bucket, so
+// that the counting sort on it puts a cell's list in depth order, the
+// farthest from the light (nearest the receivers) first: the CPU backend's
+// depth order, with which umbra masks fill early. The buckets split the
+// listed triangles' depths (pass 1's nearest, red[60], to the farthest
+// sample); only the order depends on them, not a bit.
+uniform int uBuckets;
+uniform double uMaxDepth;
 void main()
 {
   uint t = GID();
@@ -498,6 +510,10 @@ void main()
     return;
   }
   dvec3 L0 = LightVertex(t, 0u), L1 = LightVertex(t, 1u), L2 = LightVertex(t, 2u);
+  double zlo = double(Unord(red[60]));
+  double f = double(uBuckets) * (uMaxDepth - max(max(L0.z, L1.z), L2.z)) / (uMaxDepth - zlo);
+  // (NaN, e.g. an empty range: the first bucket)
+  uint bucket = f >= double(uBuckets) ? uint(uBuckets - 1) : (f > 0.0 ? uint(f) : 0u);
   ivec4 b = box[t];
   for (int y = b.y; y <= b.w; ++y)
   {
@@ -507,7 +523,7 @@ void main()
       if (CellKeeps(c, L0, L1, L2))
       {
         pairTri[o] = t;
-        pairCell[o] = c;
+        pairCell[o] = c * uint(uBuckets) + bucket;
         ++o;
       }
     }

@@ -90,6 +90,7 @@ uniform int uG;      // grid resolution
 #define USE_Red
 #endif
 #ifdef K_PASS2
+#define USE_Red
 #define USE_Off
 #define USE_Box
 #define USE_CellCnt
@@ -240,7 +241,8 @@ layout(std430, binding = 26) buffer CellBox { uint cellBox[]; };
 // Red layout: face f (0..5) at 8 f: min x y z, max x y z, max depth;
 // 48..51: 2-D min x, min y, max x, max y; 56: full-grid triangles;
 // 57: scan overflow flag; 58: pairs outside their cell's shaft (a statistic:
-// it wraps past 2^32).
+// it wraps past 2^32); 60: the nearest depth of a listed triangle (pass 1,
+// for pass 2's depth buckets).
 
 // Floats as uints whose order is the floats' order (for atomicMin/Max).
 uint Ord(float f)

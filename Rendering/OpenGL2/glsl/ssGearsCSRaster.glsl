@@ -386,7 +386,8 @@ bool FloatKeeps(uint tri)
       FloatOut(vec3(triLF[9 * tri + 3], triLF[9 * tri + 4], triLF[9 * tri + 5])) &
       FloatOut(vec3(triLF[9 * tri + 6], triLF[9 * tri + 7], triLF[9 * tri + 8]))) == 0u;
 }
-bool Visit(uint tri, bool draw)
+uint gInfo; // what Visit found, for DrawSurvivor
+bool Visit(uint tri)
 {
   dvec3 Bv[3];
   for (int m = 0; m < 3; ++m)
@@ -479,10 +480,6 @@ bool Visit(uint tri, bool draw)
   {
     return false;
   }
-  if (!draw)
-  {
-    return true; // it may set bits: drawn in the second phase
-  }
   // The triangle's box of samples (the gap test's, wider margins) where its
   // projection is finite: the samples it may hide. The raster takes only
   // its rows, and a triangle whose box holds only hidden samples is not
@@ -491,6 +488,7 @@ bool Visit(uint tri, bool draw)
   // (each bound tested apart: min and max are undefined for NaN; the
   // margins are the CPU's DrawPixel's, wider than the gap test's)
   int r0 = 0, r1 = uK - 1;
+  gInfo = near ? 1u : 0u;
   if (valid == 3 && uW > 0.0 && uH > 0.0 && abs(iu0) < 1e9LF && abs(iu1) < 1e9LF && abs(iv0) < 1e9LF &&
     abs(iv1) < 1e9LF)
   {
@@ -499,7 +497,11 @@ bool Visit(uint tri, bool draw)
     int c0 = int(max(0.0LF, ceil(iu0 - bu))), c1 = int(min(double(uK - 1), floor(iu1 + bu)));
     r0 = int(max(0.0LF, ceil(iv0 - bv)));
     r1 = int(min(double(uK - 1), floor(iv1 + bv)));
-    if (c0 <= c1 && r0 <= r1 && uCountNecessary == 0)
+    if (r0 > r1)
+    {
+      gInfo = 1u << 22; // no row of samples: nothing to draw
+    }
+    else if (c0 <= c1 && uCountNecessary == 0)
     {
       uint cm = RowBits(c0, c1);
       bool covered = true;
@@ -509,7 +511,41 @@ bool Visit(uint tri, bool draw)
       {
         return false;
       }
+      gInfo |= 2u | (uint(c0) << 12) | (uint(c1) << 17);
     }
+  }
+  gInfo |= (gInfo & (1u << 22)) != 0u ? 0u : (uint(r0) << 2) | (uint(r1) << 7);
+  return true; // it may set bits: drawn in the third phase
+}
+
+// The third phase: a triangle Visit kept, with what it found (gInfo: bit 0
+// near S, bit 1 a box of samples, bit 2 no sample row; rows r0..r1 in bits
+// 2-6 and 7-11, columns c0..c1 in 12-16 and 17-21). Skipped when its box
+// holds only hidden samples by now (the covered skip of the CPU's DrawPixel:
+// the rows have gained bits since Visit looked), else drawn exactly.
+void DrawSurvivor(uint tri, uint info)
+{
+  if ((info & (1u << 22)) != 0u)
+  {
+    return;
+  }
+  int r0 = int((info >> 2) & 31u), r1 = int((info >> 7) & 31u);
+  if ((info & 2u) != 0u)
+  {
+    uint cm = RowBits(int((info >> 12) & 31u), int((info >> 17) & 31u));
+    bool covered = true;
+    COV16(0)
+    COV16(16)
+    if (covered)
+    {
+      return;
+    }
+  }
+  dvec3 Bv[3];
+  for (int m = 0; m < 3; ++m)
+  {
+    Bv[m] = uPre != 0 ? dvec3(triL[9 * tri + 3 * m], triL[9 * tri + 3 * m + 1], triL[9 * tri + 3 * m + 2])
+                      : ToLight(dvec3(triV[9 * tri + 3 * m], triV[9 * tri + 3 * m + 1], triV[9 * tri + 3 * m + 2]));
   }
   // opaque casters only (translucent scenes run on the CPU backend)
   bool toTmp = uCountNecessary != 0;
@@ -520,8 +556,8 @@ bool Visit(uint tri, bool draw)
       tmpRows[j] = 0u;
     }
   }
-  bool hit = near ? RasterizeNearTriangle(gS, Bv[0], Bv[1], Bv[2], toTmp)
-                  : RasterizeTriangle(gS, Bv[0], Bv[1], Bv[2], toTmp, r0, r1);
+  bool hit = (info & 1u) != 0u ? RasterizeNearTriangle(gS, Bv[0], Bv[1], Bv[2], toTmp)
+                               : RasterizeTriangle(gS, Bv[0], Bv[1], Bv[2], toTmp, r0, r1);
   if (hit && toTmp)
   {
     // gNecessary: it hides a sample above the horizon
@@ -533,12 +569,12 @@ bool Visit(uint tri, bool draw)
     }
     gNecessary += above ? 1u : 0u;
   }
-  return true;
 }
 
 // Chunk uChunk of the pixel's cell list (uChunkSize triangles): the rows
 // persist in masks[] between chunks and K_FINISH turns them into V.
 uniform uint uChunk, uChunkSize;
+uniform uint uBuckets; // cell c's list: the depth buckets c uBuckets .. (c + 1) uBuckets - 1 (K_PASS2)
 void main()
 {
   uint gi = GID();
@@ -548,11 +584,24 @@ void main()
   }
   uint i = pixOrder[gi]; // (the face's pixels, cell by cell: K_PIXSORT)
   uint c = pixCell[i];
-  uint a0 = cellBegin[c] + uChunk * uChunkSize;
-  uint end = min(cellBegin[c + 1], a0 + uChunkSize);
+  uint a0 = cellBegin[c * uBuckets] + uChunk * uChunkSize;
+  uint end = min(cellBegin[(c + 1u) * uBuckets], a0 + uChunkSize);
   if (uChunk > 0u && a0 >= end)
   {
     return; // this cell's list ended in an earlier chunk
+  }
+  if (uChunk > 0u && uCountNecessary == 0)
+  {
+    // an umbra pixel stays one: no set-up for it
+    int full = 0;
+    for (int j = 0; j < uK; ++j)
+    {
+      full += masks[32u * i + uint(j)] == uFullRow ? 1 : 0;
+    }
+    if (full == uK)
+    {
+      return;
+    }
   }
   dvec3 S = ToLight(Start(i));
   gD0 = uDir != 0 ? dvec3(0.0, 0.0, -1.0) : -S;
@@ -571,7 +620,9 @@ void main()
     dvec3 N = dvec3(Dot(Nw, uU), Dot(Nw, uV), Dot(Nw, uNrm));
     hN = N;
     Affine below = MakeAffine(-N, 0.0LF);
-    for (int j = 0; j < uK; ++j)
+    // (only the first chunk starts its rows from them, and Table 9's count
+    // reads them)
+    for (int j = 0; j < ((uChunk == 0u || uCountNecessary != 0) ? uK : 0); ++j)
     {
       precise double blo = -1e300LF, bhi = 1e300LF;
       precise double a = below.A + below.C * double(j);
@@ -637,6 +688,7 @@ void main()
     }
     uint p1 = min(end, p0 + 128u);
     uint kept[4] = uint[4](0u, 0u, 0u, 0u), need[4] = uint[4](0u, 0u, 0u, 0u);
+    uint info[128];
     for (uint a = p0; a < p1; ++a)
     {
       if (FloatKeeps(sorted[a]))
@@ -651,9 +703,10 @@ void main()
       {
         int b = findLSB(bits);
         bits &= bits - 1u;
-        if (Visit(sorted[p0 + 32u * w + uint(b)], false))
+        if (Visit(sorted[p0 + 32u * w + uint(b)]))
         {
           need[w] |= 1u << uint(b);
+          info[32u * w + uint(b)] = gInfo;
         }
       }
     }
@@ -664,7 +717,7 @@ void main()
       {
         int b = findLSB(bits);
         bits &= bits - 1u;
-        Visit(sorted[p0 + 32u * w + uint(b)], true);
+        DrawSurvivor(sorted[p0 + 32u * w + uint(b)], info[32u * w + uint(b)]);
       }
     }
   }
