@@ -86,6 +86,8 @@ constexpr int kMaxGrid = 240;
 // depth buckets per cell (K_PASS2): the order of a cell's list, nearest the
 // receivers first, so that umbra masks fill early (the CPU's depth order)
 constexpr std::size_t kDepthBuckets = 16;
+// (the sort's keys c * kDepthBuckets + b and its buffers stay small)
+static_assert(std::size_t(kMaxGrid) * kMaxGrid * kDepthBuckets < (std::size_t(1) << 24), "sort keys");
 
 std::uint32_t Ord(float f)
 {
@@ -422,6 +424,9 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   const std::size_t NT = D.count;
   const int G = std::clamp(opt.grid > 0 ? opt.grid : 128, 1, 4096); // 0: automatic, the raster's 128
   const std::size_t NC = static_cast<std::size_t>(G) * G;
+  // a cell's list in depth order (GearsOptions::depthOrder): one sort key per
+  // (cell, depth bucket); off, one bucket per cell
+  const std::size_t buckets = opt.depthOrder ? kDepthBuckets : 1;
   int levels = 1;
   while ((1 << levels) <= G)
   {
@@ -711,7 +716,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Use(prog["K_PASS2"]);
     cameraUniforms();
     shaftUniforms();
-    I.U("uBuckets", static_cast<int>(kDepthBuckets));
+    I.U("uBuckets", static_cast<int>(buckets));
     I.Ud("uMaxDepth", maxDepth);
     I.Items(NT);
     glFinish();
@@ -721,7 +726,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     // --- sort on the cell and the depth bucket (K_PASS2): counting sort
     // (histogram, prefix sum, scatter); cell c's list is the buckets
     // c B .. (c + 1) B - 1, nearest the receivers first
-    const std::size_t NB = NC * kDepthBuckets;
+    const std::size_t NB = NC * buckets;
     I.Fill(I.Buf[BCellBegin], 4 * (NB + 1), 0u);
     I.Fill(I.Buf[BCursor], 4 * NB, 0u);
     I.Ensure(I.Buf[BSorted], 4 * numPairs);
@@ -740,7 +745,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     {
       if (cellCount[c])
       {
-        const std::size_t nt = cellBegin[(c + 1) * kDepthBuckets] - cellBegin[c * kDepthBuckets];
+        const std::size_t nt = cellBegin[(c + 1) * buckets] - cellBegin[c * buckets];
         longestList = std::max(longestList, nt);
         st.trianglesPerCellMax = std::max(st.trianglesPerCellMax, nt);
         sumTrisPerCell += nt;
@@ -780,7 +785,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Ud("uYlo", -hy - slackY);
     I.Ud("uYhi", hy + slackY);
     I.Uu("uChunkSize", kChunk);
-    I.Uu("uBuckets", static_cast<std::uint32_t>(kDepthBuckets));
+    I.Uu("uBuckets", static_cast<std::uint32_t>(buckets));
     const std::size_t chunks = std::max<std::size_t>(1, (longestList + kChunk - 1) / kChunk);
     for (std::size_t ch = 0; ch < chunks; ++ch)
     {

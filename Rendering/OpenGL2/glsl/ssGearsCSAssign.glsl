@@ -413,7 +413,9 @@ void main()
   }
   if (n > 0u)
   {
-    atomicMin(red[60], Ord(FloatDown(dMin))); // the nearest listed depth (pass 2's order)
+    // the nearest listed depth (pass 2's order; clamped: float(double) is
+    // undefined beyond the float range)
+    atomicMin(red[60], Ord(FloatDown(clamp(dMin, -1e38LF, 1e38LF))));
   }
   off[t] = n;
 }
@@ -512,7 +514,7 @@ void main()
   dvec3 L0 = LightVertex(t, 0u), L1 = LightVertex(t, 1u), L2 = LightVertex(t, 2u);
   double zlo = double(Unord(red[60]));
   double f = double(uBuckets) * (uMaxDepth - max(max(L0.z, L1.z), L2.z)) / (uMaxDepth - zlo);
-  // (NaN, e.g. an empty range: the first bucket)
+  // (a NaN depth: the first bucket; only the order depends on it)
   uint bucket = f >= double(uBuckets) ? uint(uBuckets - 1) : (f > 0.0 ? uint(f) : 0u);
   ivec4 b = box[t];
   for (int y = b.y; y <= b.w; ++y)

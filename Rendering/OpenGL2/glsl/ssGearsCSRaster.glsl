@@ -374,9 +374,6 @@ double gSx, gSy, gSd;
 bool gDirLight;
 uint gNecessary;     // Table 9: pairs hiding a sample above the horizon
 
-// One triangle of the pixel's list [§4.2]. draw = false: whether it passes
-// every rejection (the first phase); true: also the covered skip, and then
-// the exact raster into the rows.
 // Whether the float pre-test keeps the triangle (the double tests of Visit
 // would surely reject it otherwise).
 bool FloatKeeps(uint tri)
@@ -386,6 +383,9 @@ bool FloatKeeps(uint tri)
       FloatOut(vec3(triLF[9 * tri + 3], triLF[9 * tri + 4], triLF[9 * tri + 5])) &
       FloatOut(vec3(triLF[9 * tri + 6], triLF[9 * tri + 7], triLF[9 * tri + 8]))) == 0u;
 }
+// One triangle of the pixel's list [§4.2], in the second phase: whether it
+// passes every rejection and is not covered already (then gInfo holds what
+// DrawSurvivor needs).
 uint gInfo; // what Visit found, for DrawSurvivor
 bool Visit(uint tri)
 {
@@ -499,7 +499,10 @@ bool Visit(uint tri)
     r1 = int(min(double(uK - 1), floor(iv1 + bv)));
     if (r0 > r1)
     {
-      gInfo = 1u << 22; // no row of samples: nothing to draw
+      // no row of samples: nothing to draw, near S or not (all three
+      // vertices lie between S and the light, so every bit it could set is
+      // inside the box; the CPU's rejection kernel drops it too)
+      gInfo = 1u << 22;
     }
     else if (c0 <= c1 && uCountNecessary == 0)
     {
@@ -519,8 +522,8 @@ bool Visit(uint tri)
 }
 
 // The third phase: a triangle Visit kept, with what it found (gInfo: bit 0
-// near S, bit 1 a box of samples, bit 2 no sample row; rows r0..r1 in bits
-// 2-6 and 7-11, columns c0..c1 in 12-16 and 17-21). Skipped when its box
+// near S, bit 1 a box of samples, bit 22 no sample row; rows r0..r1 in bits
+// 2-6 and 7-11, columns c0..c1 in 12-16 and 17-21, all within 0..k-1). Skipped when its box
 // holds only hidden samples by now (the covered skip of the CPU's DrawPixel:
 // the rows have gained bits since Visit looked), else drawn exactly.
 void DrawSurvivor(uint tri, uint info)
