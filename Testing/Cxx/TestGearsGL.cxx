@@ -2,7 +2,8 @@
 // identical k x k bitmasks and V on random scenes (every light type, every
 // cube face of a point light, k = 8 / 16 / 32, with and without P_far, pixel
 // samples lying on casters for the start rule, translucent casters), the
-// same "necessary" assignments (Table 9), and degenerate input.
+// same "necessary" assignments (Table 9), connected meshes (where the CPU
+// takes its winding count), and degenerate input.
 #include "ssGEARS.h"
 #include "ssGearsGL.h"
 #include "ssGearsTestScenes.h"
@@ -254,6 +255,46 @@ TEST(GearsGL, LongCellListsStayIdentical)
       EXPECT_GT(gs.assignmentsNecessary, 100000.0);
       EXPECT_EQ(cs.assignmentsNecessary, gs.assignmentsNecessary);
     }
+  }
+}
+
+// Connected meshes (a closed bumpy surface under an open wavy sheet, a torus
+// through a closed surface, over a meshed floor; pixels on the floor and on
+// the casters), where the CPU backend takes its other paths: the closed
+// pieces' rule, sample groups, the winding count, the float path for small
+// triangles. The GL backend rasterises every triangle and must still give
+// the same bits.
+TEST(GearsGL, ConnectedMeshesEqualTheCPUsWindingCount)
+{
+  Context ctx;
+  GearsGL gl;
+  for (const sstest::Mesh& m : { sstest::BumpyAndWavy(), sstest::TorusThroughSphere() })
+  {
+    GearsSolver cpu;
+    cpu.SetTriangles(m.tris, {});
+    cpu.SetPieces(sstest::PiecesOf(m.tris));
+    std::size_t pixels = 0, partial = 0, winding = 0;
+    for (const LightFrame& light : sstest::AreaLights(glm::dvec3(0.0), 1.0))
+    {
+      for (int k : { 16, 32 })
+      {
+        GearsOptions opt;
+        opt.k = k;
+        opt.windingMinList = 1; // (the small test lists too)
+        opt.grid = k == 16 ? 8 : 0;
+        GearsStats cs, gs;
+        const Compare c = SolveBoth(gl, cpu, light, glm::dvec3(0.0), m.pixels, opt, &cs, &gs);
+        EXPECT_EQ(c.maskMismatch, 0u) << "light " << int(light.type) << " k " << k;
+        EXPECT_EQ(c.vMismatch, 0u) << "light " << int(light.type) << " k " << k << " max |dV| " << c.maxV;
+        pixels += c.pixels;
+        partial += c.partial;
+        winding += cs.windingPixels;
+      }
+    }
+    std::cout << "connected meshes: " << pixels << " pixel solves, " << partial << " in penumbra, " << winding
+              << " by the CPU's winding count, GL identical\n";
+    EXPECT_GT(winding, pixels / 2); // the CPU took its winding count
+    EXPECT_GT(partial, pixels / 10);
   }
 }
 

@@ -28,98 +28,13 @@
 using namespace ss;
 
 namespace {
-struct Mesh {
-  std::vector<glm::dvec3> tris;
-  sstest::Scene pixels; // pos, nrm (relative to the offset)
-};
-
-void AddQuad(std::vector<glm::dvec3> &t, const glm::dvec3 &a,
-             const glm::dvec3 &b, const glm::dvec3 &c, const glm::dvec3 &d) {
-  t.insert(t.end(), {a, b, c, a, c, d});
-}
-
-// A connected grid of nx x ny quads over [x0, x1] x [y0, y1] at height h(x, y).
-template <typename F>
-std::vector<glm::dvec3> Sheet(int nx, int ny, double x0, double x1, double y0,
-                              double y1, F h) {
-  std::vector<glm::dvec3> t;
-  auto P = [&](int i, int j) {
-    const double x = x0 + (x1 - x0) * i / nx, y = y0 + (y1 - y0) * j / ny;
-    return glm::dvec3(x, y, h(x, y));
-  };
-  for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) {
-      AddQuad(t, P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j + 1));
-    }
-  }
-  return t;
-}
-
-std::vector<glm::dvec3> Torus(const glm::dvec3 &c, double R, double r, int nu,
-                              int nv) {
-  std::vector<glm::dvec3> t;
-  auto P = [&](int a, int b) {
-    const double u = 2.0 * M_PI * (a % nu) / nu, v = 2.0 * M_PI * (b % nv) / nv;
-    return c + glm::dvec3((R + r * std::cos(v)) * std::cos(u),
-                          (R + r * std::cos(v)) * std::sin(u) * 0.8,
-                          r * std::sin(v) +
-                              0.3 * (R + r * std::cos(v)) * std::sin(u));
-  };
-  for (int a = 0; a < nu; ++a) {
-    for (int b = 0; b < nv; ++b) {
-      AddQuad(t, P(a, b), P(a + 1, b), P(a + 1, b + 1), P(a, b + 1));
-    }
-  }
-  return t;
-}
-
-// Pixel samples: on the floor grid (z = 0) and on random caster triangles.
-void AddPixels(Mesh &m, std::size_t casterTris, int onFloor, int onCasters,
-               std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> U(-1.4, 1.4);
-  for (int i = 0; i < onFloor; ++i) {
-    m.pixels.pos.insert(m.pixels.pos.end(),
-                        {float(U(rng)), float(U(rng)), 0.0f});
-    m.pixels.nrm.insert(m.pixels.nrm.end(), {0.0f, 0.0f, 1.0f});
-  }
-  sstest::Scene s;
-  s.tris = m.tris;
-  sstest::PixelsOnTriangles(s, casterTris, glm::dvec3(0.0), onCasters, rng);
-  m.pixels.pos.insert(m.pixels.pos.end(), s.pos.begin(), s.pos.end());
-  m.pixels.nrm.insert(m.pixels.nrm.end(), s.nrm.begin(), s.nrm.end());
-}
-
-// The casters first (so that pixels can sit on them), then a meshed floor.
-Mesh WithFloor(std::vector<glm::dvec3> casters, std::uint32_t seed) {
-  Mesh m;
-  m.tris = std::move(casters);
-  const std::size_t n = m.tris.size() / 3;
-  const std::vector<glm::dvec3> floor =
-      Sheet(24, 24, -1.6, 1.6, -1.6, 1.6, [](double, double) { return 0.0; });
-  m.tris.insert(m.tris.end(), floor.begin(), floor.end());
-  AddPixels(m, n, 300, 200, seed);
-  return m;
-}
-
-Mesh BumpyAndWavy() {
-  std::vector<glm::dvec3> t = sstest::BumpySphere({0.3, 0.1, 1.0}, 0.45, 4);
-  const std::vector<glm::dvec3> sheet =
-      Sheet(40, 40, -1.2, 1.2, -1.2, 1.2, [](double x, double y) {
-        return 1.8 + 0.25 * std::sin(5.0 * x) * std::cos(4.0 * y) +
-               0.1 * std::sin(13.0 * x * y);
-      });
-  t.insert(t.end(), sheet.begin(), sheet.end());
-  return WithFloor(t, 7);
-}
-
-Mesh TorusThroughSphere() {
-  std::vector<glm::dvec3> t = Torus({0.0, 0.0, 1.1}, 0.6, 0.2, 48, 16);
-  const std::vector<glm::dvec3> s =
-      sstest::BumpySphere({0.55, 0.0, 1.1}, 0.3, 3, 0.1, 0.05);
-  t.insert(t.end(), s.begin(), s.end());
-  return WithFloor(t, 11);
-}
+using sstest::AreaLights;
+using sstest::BumpyAndWavy;
+using sstest::Mesh;
+using sstest::PiecesOf;
+using sstest::Sheet;
+using sstest::TorusThroughSphere;
+using sstest::WithFloor;
 
 // A wavy sheet with defects: flipped triangles, an edge held by three
 // triangles (a fin), an unwelded seam (one half shifted by a hair), a
@@ -151,27 +66,6 @@ Mesh Broken() {
                        glm::dvec3(-0.8, y + 0.05, 2.2)});
   }
   return WithFloor(t, 13);
-}
-
-GearsPieces PiecesOf(const std::vector<glm::dvec3> &tris) {
-  GearsPieces p;
-  p.piece.assign(tris.size() / 3, 0);
-  std::vector<std::uint32_t> all(tris.size() / 3);
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    all[i] = static_cast<std::uint32_t>(i);
-  }
-  FindGearsPieces(tris, all, true, p);
-  return p;
-}
-
-std::vector<LightFrame> AreaLights(const glm::dvec3 &o, double s) {
-  return {MakeRectLightFrame(o + s * glm::dvec3(0.3, -0.2, 3.2),
-                             {-0.1, 0.05, -1}, {0, 1, 0}, {1.2 * s, 0.7 * s}),
-          MakeRectLightFrame(o + s * glm::dvec3(-2.5, 0.5, 2.6),
-                             {0.7, -0.2, -0.6}, {0, 0, 1}, {0.9 * s, 0.9 * s}),
-          MakeRectLightFrame(o + s * glm::dvec3(0.1, 0.0, 4.0), {0, 0, -1},
-                             {0, 1, 0}, {0.15 * s, 0.15 * s}),
-          MakeDirectionalLightFrame({0.2, 0.1, -1}, 0.15)};
 }
 
 struct Result {

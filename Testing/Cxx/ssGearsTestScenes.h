@@ -2,11 +2,13 @@
 // the GL compute backend's (TestGearsGL): triangles in a slab over a
 // receiver, pixel samples on the receiver and on tilted patches, and five
 // lights covering every light type and every cube face of a point light;
-// and a closed bumpy surface (the culling and silhouette tests).
+// a closed bumpy surface (the culling and silhouette tests); and connected
+// meshes over a meshed floor (the winding count's tests, the GL backend's).
 #ifndef ssGearsTestScenes_h
 #define ssGearsTestScenes_h
 
 #include "ssGEARS.h"
+#include "ssGearsPieces.h"
 #include "ssLightFrame.h"
 
 #include <algorithm>
@@ -141,6 +143,132 @@ inline std::vector<ss::LightFrame> Lights(const glm::dvec3& offset)
     MakeDirectionalLightFrame({ 0.2, 0.1, -1 }, 0.1), MakePointLightFrame(offset + glm::dvec3(0.2, 0.1, 2.5)),
     // a point light among the casters: every cube face of the grid is used
     MakePointLightFrame(offset + glm::dvec3(0.0, 0.0, 0.8)) };
+}
+
+// Connected meshes (TestSSGEARSWinding, TestGearsGL): casters with pixel
+// samples relative to the origin on a meshed floor and on the casters.
+struct Mesh
+{
+  std::vector<glm::dvec3> tris;
+  Scene pixels; // pos, nrm (relative to the offset)
+};
+
+inline void AddQuad(
+  std::vector<glm::dvec3>& t, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d)
+{
+  t.insert(t.end(), { a, b, c, a, c, d });
+}
+
+// A connected grid of nx x ny quads over [x0, x1] x [y0, y1] at height h(x, y).
+template <typename F>
+std::vector<glm::dvec3> Sheet(int nx, int ny, double x0, double x1, double y0, double y1, F h)
+{
+  std::vector<glm::dvec3> t;
+  auto P = [&](int i, int j) {
+    const double x = x0 + (x1 - x0) * i / nx, y = y0 + (y1 - y0) * j / ny;
+    return glm::dvec3(x, y, h(x, y));
+  };
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      AddQuad(t, P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j + 1));
+    }
+  }
+  return t;
+}
+
+// A tilted torus of nu x nv quads (closed; vertices of shared edges bit-identical).
+inline std::vector<glm::dvec3> Torus(const glm::dvec3& c, double R, double r, int nu, int nv)
+{
+  std::vector<glm::dvec3> t;
+  auto P = [&](int a, int b) {
+    const double u = 2.0 * M_PI * (a % nu) / nu, v = 2.0 * M_PI * (b % nv) / nv;
+    return c +
+      glm::dvec3((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u) * 0.8,
+        r * std::sin(v) + 0.3 * (R + r * std::cos(v)) * std::sin(u));
+  };
+  for (int a = 0; a < nu; ++a)
+  {
+    for (int b = 0; b < nv; ++b)
+    {
+      AddQuad(t, P(a, b), P(a + 1, b), P(a + 1, b + 1), P(a, b + 1));
+    }
+  }
+  return t;
+}
+
+// Pixel samples: on the floor grid (z = 0) and on random caster triangles.
+inline void AddPixels(Mesh& m, std::size_t casterTris, int onFloor, int onCasters, std::uint32_t seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1.4, 1.4);
+  for (int i = 0; i < onFloor; ++i)
+  {
+    m.pixels.pos.insert(m.pixels.pos.end(), { float(U(rng)), float(U(rng)), 0.0f });
+    m.pixels.nrm.insert(m.pixels.nrm.end(), { 0.0f, 0.0f, 1.0f });
+  }
+  Scene s;
+  s.tris = m.tris;
+  PixelsOnTriangles(s, casterTris, glm::dvec3(0.0), onCasters, rng);
+  m.pixels.pos.insert(m.pixels.pos.end(), s.pos.begin(), s.pos.end());
+  m.pixels.nrm.insert(m.pixels.nrm.end(), s.nrm.begin(), s.nrm.end());
+}
+
+// The casters first (so that pixels can sit on them), then a meshed floor.
+inline Mesh WithFloor(std::vector<glm::dvec3> casters, std::uint32_t seed)
+{
+  Mesh m;
+  m.tris = std::move(casters);
+  const std::size_t n = m.tris.size() / 3;
+  const std::vector<glm::dvec3> floor = Sheet(24, 24, -1.6, 1.6, -1.6, 1.6, [](double, double) { return 0.0; });
+  m.tris.insert(m.tris.end(), floor.begin(), floor.end());
+  AddPixels(m, n, 300, 200, seed);
+  return m;
+}
+
+// A closed bumpy surface under an open wavy sheet (like an isosurface).
+inline Mesh BumpyAndWavy()
+{
+  std::vector<glm::dvec3> t = BumpySphere({ 0.3, 0.1, 1.0 }, 0.45, 4);
+  const std::vector<glm::dvec3> sheet = Sheet(40, 40, -1.2, 1.2, -1.2, 1.2,
+    [](double x, double y) { return 1.8 + 0.25 * std::sin(5.0 * x) * std::cos(4.0 * y) + 0.1 * std::sin(13.0 * x * y); });
+  t.insert(t.end(), sheet.begin(), sheet.end());
+  return WithFloor(t, 7);
+}
+
+// A torus cutting through a closed bumpy surface.
+inline Mesh TorusThroughSphere()
+{
+  std::vector<glm::dvec3> t = Torus({ 0.0, 0.0, 1.1 }, 0.6, 0.2, 48, 16);
+  const std::vector<glm::dvec3> s = BumpySphere({ 0.55, 0.0, 1.1 }, 0.3, 3, 0.1, 0.05);
+  t.insert(t.end(), s.begin(), s.end());
+  return WithFloor(t, 11);
+}
+
+// The closed pieces of tris, as the render pass finds them.
+inline ss::GearsPieces PiecesOf(const std::vector<glm::dvec3>& tris)
+{
+  ss::GearsPieces p;
+  p.piece.assign(tris.size() / 3, 0);
+  std::vector<std::uint32_t> all(tris.size() / 3);
+  for (std::size_t i = 0; i < all.size(); ++i)
+  {
+    all[i] = static_cast<std::uint32_t>(i);
+  }
+  ss::FindGearsPieces(tris, all, true, p);
+  return p;
+}
+
+// Lights with an area: tilted rects (one small) and a directional light;
+// positions and sizes scaled by s about o.
+inline std::vector<ss::LightFrame> AreaLights(const glm::dvec3& o, double s)
+{
+  using namespace ss;
+  return { MakeRectLightFrame(o + s * glm::dvec3(0.3, -0.2, 3.2), { -0.1, 0.05, -1 }, { 0, 1, 0 }, { 1.2 * s, 0.7 * s }),
+    MakeRectLightFrame(o + s * glm::dvec3(-2.5, 0.5, 2.6), { 0.7, -0.2, -0.6 }, { 0, 0, 1 }, { 0.9 * s, 0.9 * s }),
+    MakeRectLightFrame(o + s * glm::dvec3(0.1, 0.0, 4.0), { 0, 0, -1 }, { 0, 1, 0 }, { 0.15 * s, 0.15 * s }),
+    MakeDirectionalLightFrame({ 0.2, 0.1, -1 }, 0.15) };
 }
 }
 
