@@ -159,6 +159,10 @@ struct GearsSolver::Impl
     d.realClusters = d.clusterFirst.size() - 1;
     static std::atomic<std::uint64_t> arrangements{ 0 };
     d.arrangement = ++arrangements;
+    // the triangle array changed: so does the version caches key on (the GL
+    // backend's uploaded vertices)
+    static std::atomic<std::uint64_t> versions{ 0 };
+    d.version = ++versions;
     d.orient.clear();
     d.piece.clear();
     d.pieceBox.clear();
@@ -189,8 +193,6 @@ void GearsSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::vect
   d.V.reserve(9 * sel.kept);
   d.opacity.reserve(sel.kept);
   d.input.reserve(sel.kept);
-  static std::atomic<std::uint64_t> versions{ 0 };
-  d.version = ++versions;
   P->Changed();
   P->inputStatus.assign(nt, 0);
   P->inputToSolver.assign(nt, -1);

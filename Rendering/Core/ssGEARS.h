@@ -204,7 +204,7 @@ struct GearsTriangleData
   double extent = 1.0;  ///< all triangles' diagonal (culling margins)
   double scale = 1.0;   ///< the bulk's diagonal: start offsets (ssTriangleSet.h StartOffset)
   bool translucent = false;
-  std::uint64_t version = 0; ///< changes with every SetTriangles (for caches)
+  std::uint64_t version = 0; ///< changes with every SetTriangles and SetClusters (for caches)
 };
 
 /// Which caster triangles form closed pieces, for the closed-mesh rule

@@ -298,6 +298,41 @@ TEST(GearsGL, ConnectedMeshesEqualTheCPUsWindingCount)
   }
 }
 
+// The GL backend keeps the triangles between solves. SetClusters rearranges
+// them in the solver (the Filters module's clusters), so the next solve must
+// not draw the old order's vertices with the new order's closed-rule flags.
+TEST(GearsGL, RearrangedTrianglesAreUploadedAgain)
+{
+  Context ctx;
+  GearsGL gl;
+  const sstest::Mesh m = sstest::TorusThroughSphere();
+  GearsSolver cpu;
+  cpu.SetTriangles(m.tris, {});
+  cpu.SetPieces(sstest::PiecesOf(m.tris));
+  const LightFrame light = sstest::AreaLights(glm::dvec3(0.0), 1.0)[0];
+  GearsOptions opt;
+  opt.k = 16;
+  const Compare before = SolveBoth(gl, cpu, light, glm::dvec3(0.0), m.pixels, opt);
+  EXPECT_EQ(before.maskMismatch, 0u);
+  // clusters of 100 triangles, in reverse order
+  const std::size_t nt = m.tris.size() / 3;
+  std::vector<std::size_t> order(nt), first;
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    order[t] = nt - 1 - t;
+  }
+  for (std::size_t f = 0; f < nt; f += 100)
+  {
+    first.push_back(f);
+  }
+  first.push_back(nt);
+  cpu.SetClusters(order, first);
+  const Compare after = SolveBoth(gl, cpu, light, glm::dvec3(0.0), m.pixels, opt);
+  EXPECT_EQ(after.maskMismatch, 0u);
+  EXPECT_EQ(after.vMismatch, 0u);
+  EXPECT_GT(after.partial, after.pixels / 20);
+}
+
 TEST(GearsGL, TranslucentCastersDeclinedAndDegenerateInput)
 {
   Context ctx;
