@@ -86,7 +86,7 @@ void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLigh
   this->GearsLights = 0;
   this->PiecesThisFrame = false;
   this->PiecesAborted = false;
-  this->BackendUsed = "cpu";
+  this->BackendUsed = "none"; // (until a GEARS solve runs this frame)
   this->BackendNote.clear();
 }
 
