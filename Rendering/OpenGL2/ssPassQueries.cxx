@@ -179,7 +179,7 @@ bool vtkSoftShadowPass::GetASMRefining()
 const char* vtkSoftShadowPass::GetLastGearsBackend()
 {
   auto* gears = dynamic_cast<ss::TriangleSolver*>(this->Internals->SolverFor(ss::Method::GEARS));
-  return gears ? gears->GetLastBackend().c_str() : "cpu";
+  return gears ? gears->GetLastBackend().c_str() : "none";
 }
 
 bool vtkSoftShadowPass::GetShadowMapLayer(vtkRenderWindow* win, int layer, vtkFloatArray* out)

@@ -86,7 +86,7 @@ void TriangleSolver::BeginFrame(SolverFrame&, const std::vector<const ShadowLigh
   this->GearsLights = 0;
   this->PiecesThisFrame = false;
   this->PiecesAborted = false;
-  this->BackendUsed = "cpu";
+  this->BackendUsed = "none"; // (until a GEARS solve runs this frame)
   this->BackendNote.clear();
 }
 
@@ -181,8 +181,8 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
 
   // --- the light; its frame is relative to the frame origin, the solvers want
   // world. The CPU solvers take a far light as it is (double precision; GEARS
-  // maps it exactly, gears.md "Far lights"), the GL backend the directional
-  // approximation the pass made for float light space.
+  // maps it exactly, gears.md "Far lights"). The GL backend has no such map,
+  // so it declines a light the pass approximated (the CPU backend runs).
   const glm::dvec3& origin = frame.State->Origin;
   LightFrame world = l.TrueFrame, approximated = l.Frame;
   world.center += origin;
@@ -211,8 +211,16 @@ void TriangleSolver::Compute(SolverFrame& frame, const ShadowLight& l)
       // raw GL programs: VTK's shader cache must rebind its own afterwards
       frame.Window->GetShaderCache()->ReleaseCurrentShader();
       std::string why;
-      onGPU =
-        this->GL->Solve(*this->Gears, approximated, origin, pos, nrm, n, this->Opt.Gears, V, &st, nullptr, &why);
+      if (l.Frame.type != l.TrueFrame.type)
+      {
+        why = "GEARS GL backend: a far light (the CPU backend maps it exactly; the GL backend would draw the "
+              "pass's directional approximation)";
+      }
+      else
+      {
+        onGPU =
+          this->GL->Solve(*this->Gears, approximated, origin, pos, nrm, n, this->Opt.Gears, V, &st, nullptr, &why);
+      }
 #ifdef VTK_REPORT_OPENGL_ERRORS
 #define ssReporterError(x) vtkErrorWithObjectMacro(frame.Reporter, x)
       vtkOpenGLCheckErrorMacroImpl(ssReporterError, "after the GEARS compute backend");

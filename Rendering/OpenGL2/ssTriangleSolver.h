@@ -84,7 +84,7 @@ private:
   // GEARS' GL compute backend: the backend the last frame used, and why it
   // was not the one asked for (warned once per reason)
   std::unique_ptr<GearsGL> GL;
-  std::string BackendUsed = "cpu";
+  std::string BackendUsed = "none";
   std::string BackendNote;
   std::string Warned;
   GearsStats LastGearsStats; ///< summed over the GEARS lights of the frame

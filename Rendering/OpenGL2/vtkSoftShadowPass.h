@@ -257,7 +257,11 @@ public:
   virtual int GetFilterMaxQuads();
   ///@}
 
-  /** The backend GEARS ran on in the last frame ("cpu" or "gl"; "cpu" before any GEARS frame). */
+  /**
+   * The backend GEARS ran on in the last frame: "cpu", "gl", or "none" (no
+   * GEARS solve in it: no shadow-casting light or no casters; or no GEARS
+   * frame yet).
+   */
   const char* GetLastGearsBackend();
   /**
    * Whether the last frame's ASM lights are still being refined (the view
