@@ -359,18 +359,19 @@ int Render(const std::vector<std::string>& args)
     if (!pass->GetVisibilityImage(lightIndex, v))
     {
       // No shadow work (no casters, no lights, method none): every
-      // foreground pixel is fully visible; the background stays NaN.
-      vtkNew<vtkFloatArray> p;
-      if (!pass->GetPositionsImage(p))
-      {
-        p->SetNumberOfComponents(3);
-        p->SetNumberOfTuples(static_cast<vtkIdType>(w) * h);
-        p->Fill(std::nan(""));
-      }
+      // foreground pixel is fully visible; the background stays NaN. The
+      // foreground is where the pass's positions are, or, when it kept none
+      // (it skips its G-buffer without shadow work), where the window's depth
+      // is nearer than the far plane.
+      vtkNew<vtkFloatArray> p, z;
+      const bool havePositions = pass->GetPositionsImage(p);
+      const bool haveDepth = !havePositions && w > 0 && h > 0 && window->GetZbufferData(0, 0, w - 1, h - 1, z) == 1 &&
+        z->GetNumberOfTuples() == static_cast<vtkIdType>(w) * h;
       v->SetNumberOfTuples(static_cast<vtkIdType>(w) * h);
       for (vtkIdType i = 0; i < v->GetNumberOfTuples(); ++i)
       {
-        v->SetValue(i, std::isnan(p->GetComponent(i, 0)) ? std::nanf("") : 1.0f);
+        const bool fg = havePositions ? !std::isnan(p->GetComponent(i, 0)) : (haveDepth && z->GetValue(i) < 1.0f);
+        v->SetValue(i, fg ? 1.0f : std::nanf(""));
       }
     }
     if (!ssapp::WriteFloatImage(visibility, v->GetPointer(0), w, h, 1, msg))

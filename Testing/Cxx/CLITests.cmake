@@ -377,6 +377,13 @@ add_test(NAME cli.render.output_same_frame
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_output_same_frame.py" ${_ss_cli}
     "${PROJECT_SOURCE_DIR}/Data/Scenes/canopy.json" "${_ss_out}/output_same_frame")
 set_tests_properties(cli.render.output_same_frame PROPERTIES LABELS "cli" TIMEOUT 300)
+# Without shadow work (no shadow-casting object, no light) --visibility gives
+# V = 1 on the surfaces, the same pixels as with a caster out of view (before:
+# all NaN, the pass keeping no positions then).
+add_test(NAME cli.render.no_shadow_work
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_no_shadow_work.py" ${_ss_cli}
+    "${_ss_out}/no_shadow_work")
+set_tests_properties(cli.render.no_shadow_work PROPERTIES LABELS "cli" TIMEOUT 300)
 # One stray triangle 4e5 units away, out of view, changes nothing in the
 # frame under any method (the clipping range, the float origin, the start
 # offset and the search depth come from what is seen and the casters' bulk).
