@@ -318,8 +318,37 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
     T *= 2;
   }
   T = std::min(T, static_cast<int>(maxTexture));
-  tileMax = std::min(tileMax, T);
+  // The size limit is not the memory limit: llvmpipe allows 16384^2 textures
+  // but not a 16384^2 RG32F one with its mip levels (2.7 GB). A tile array
+  // the context cannot allocate is tried at half the size, down to 64, and
+  // the stats and a warning say so (before, the tiles were drawn into no
+  // texture: GL errors and wrong shadows).
+  // (a size that failed in this context is not tried again every frame)
+  while (this->TileTooBig > 0 && T >= this->TileTooBig && T > 64)
+  {
+    T /= 2;
+  }
   this->Tile.Ensure(T, 1);
+  while (this->Tile.Size == 0 && T > 64)
+  {
+    this->TileTooBig = T;
+    T /= 2;
+    this->Tile.Ensure(T, 1);
+  }
+  if (this->Tile.Size == 0)
+  {
+    vtkErrorWithObjectMacro(frame.Reporter, "PVSM could not allocate a 64 x 64 tile: no shadows from this light.");
+    return;
+  }
+  if (T < tileMax && this->TileWarned != T)
+  {
+    vtkWarningWithObjectMacro(frame.Reporter, "PVSM tiles of " << tileMax << " x " << tileMax
+                                                                << " do not fit this OpenGL context's memory; using "
+                                                                << T << " x " << T << ".");
+    this->TileWarned = T;
+  }
+  tileMax = std::min(tileMax, T);
+  this->TileUsed = tileMax;
   if (!this->EmptyVAO)
   {
     this->EmptyVAO = vtkSmartPointer<vtkOpenGLVertexArrayObject>::New();
@@ -690,6 +719,7 @@ std::string PVSMSolver::GetStatsJSON() const
   o.precision(17);
   o << "{\"lights\": " << this->Lights << ", \"low_resolution\": " << this->Opt.LowResolution
     << ", \"grid\": " << this->Opt.GridSize << ", \"max_tile\": " << this->Opt.MaxTileResolution
+    << ", \"max_tile_used\": " << this->TileUsed
     << ", \"tile_clusters\": " << (this->LastClustersJSON.empty() ? "null" : this->LastClustersJSON)
     << ", \"map_clusters\": " << (this->LastMapClustersJSON.empty() ? "null" : this->LastMapClustersJSON)
     << ", \"stats\": " << PVSMStatsToJSON(this->LastStats) << "}";
@@ -721,6 +751,7 @@ int PVSMSolver::GetNumberOfGraphicsResources() const
 void PVSMSolver::ReleaseGraphicsResources(vtkWindow* w)
 {
   this->Tile.Release();
+  this->TileTooBig = 0; // (another context may hold more)
   this->Grid.Release();
   this->LastGridLevels.clear();
   for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })
