@@ -79,6 +79,21 @@ view.LightSize = -1
 c.check(abs(view.LightSize - 0.2) < 1e-12, "LightSize = -1 refused, 0.2 kept (got %s)" % view.LightSize)
 view.LightSize = float("nan")
 c.check(abs(view.LightSize - 0.2) < 1e-12, "LightSize = nan refused, 0.2 kept (got %s)" % view.LightSize)
+# a size whose product with the data's diagonal overflows is shadowed as the
+# largest light (1e30), whatever the previous frame's was (before stop 44 the
+# overflow was refused downstream and the light kept the last frame's size)
+huge = []
+for before in (0.1, 1e29):
+    view.LightSize = before
+    Render(view)
+    view.LightSize = 1e308
+    img = t.shot(view, tempdir, "ObjectsLightSizeOverflow%g.png" % before)
+    huge.append((t.region(img, t.UNDER), t.region(img, t.FAR)))
+print("LightSize 1e308 after 0.1 / 1e29: under %.1f / %.1f, far %.1f / %.1f" % (
+    huge[0][0], huge[1][0], huge[0][1], huge[1][1]))
+c.check(abs(huge[0][0] - huge[1][0]) < 0.5 and abs(huge[0][1] - huge[1][1]) < 0.5,
+        "LightSize = 1e308 gives the same picture after any previous size")
+view.LightSize = 0.2
 view.PVSMQuality = 100
 c.check(view.PVSMQuality == 1.0, "PVSMQuality = 100 refused, 1 kept (got %s)" % view.PVSMQuality)
 view.ShadowMapSize = 10

@@ -31,7 +31,9 @@
 #include "vtkTextProperty.h"
 #include "vtkVolumeRepresentation.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 vtkStandardNewMacro(vtkPVSoftShadowView);
 vtkInformationKeyMacro(vtkPVSoftShadowView, LIGHT_SIZE, Double);
@@ -416,7 +418,12 @@ void vtkPVSoftShadowView::UpdateLights(double diagonal)
     {
       vtkInformation* info = light->GetInformation();
       const double own = (info && info->Has(LIGHT_SIZE())) ? info->Get(LIGHT_SIZE()) : this->LightSize;
-      const double s = (light == this->ShadowLightObject.GetPointer() ? this->LightSize : own) * this->LightSizeScale;
+      // (a size times the data's diagonal can overflow: the largest double
+      // instead, which the pass shadows as 1e30 with its warning; an
+      // infinite size was refused and the light kept the last frame's)
+      const double s = std::min(
+        (light == this->ShadowLightObject.GetPointer() ? this->LightSize : own) * this->LightSizeScale,
+        std::numeric_limits<double>::max());
       double size[2];
       vtkSoftShadowLight::GetAreaSize(light, size);
       if (size[0] != s || size[1] != s)
