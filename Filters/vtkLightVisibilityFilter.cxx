@@ -171,6 +171,15 @@ int vtkLightVisibilityFilter::RequestData(
   std::vector<BakeLight> lights;
   if (this->Lights->GetNumberOfItems() == 0)
   {
+    // (a negative size is refused like a NaN one; before, both sides <= 0
+    // silently baked a point light)
+    if (!(this->LightSize[0] >= 0.0 && this->LightSize[1] >= 0.0 && std::isfinite(this->LightSize[0]) &&
+          std::isfinite(this->LightSize[1])))
+    {
+      vtkErrorMacro("LightSize: must be two finite non-negative numbers (got " << this->LightSize[0] << " x "
+                                                                                << this->LightSize[1] << ").");
+      return 0;
+    }
     BakeLight b;
     try
     {
@@ -209,6 +218,23 @@ int vtkLightVisibilityFilter::RequestData(
         return 0;
       }
       lights.push_back(b);
+    }
+  }
+  // A light beyond 1e30 (the render pass's largest light size too): the
+  // solvers' squares of such coordinates leave the float and then the double
+  // range, and the shadow silently vanished (GEARS from 1e37, both solvers
+  // from 1e155). A sun is a directional light.
+  for (const BakeLight& b : lights)
+  {
+    const glm::dvec3& c = b.frame.center;
+    if (b.frame.type != ss::LightType::Directional &&
+      !(std::abs(c.x) <= 1e30 && std::abs(c.y) <= 1e30 && std::abs(c.z) <= 1e30))
+    {
+      vtkErrorMacro(<< (this->Lights->GetNumberOfItems() == 0 ? std::string("LightCenter")
+                                                               : "light " + std::to_string(b.index))
+        << ": farther than 1e30 from the origin (" << c.x << ", " << c.y << ", " << c.z
+        << "); a light that far is a directional light.");
+      return 0;
     }
   }
   if (n == 0)

@@ -268,4 +268,19 @@ TEST(LightVisibilityFilter, OpacityAndBadInput)
   f->SetLightSize(1, 1);
   f->Update();
   EXPECT_NE(errors->text.find("LightNormal"), std::string::npos);
+  // a negative size is refused like a NaN one (it was baked as a point light)
+  errors->text.clear();
+  f->SetLightNormal(0, 0, -1);
+  f->SetLightSize(-1, -1);
+  f->Update();
+  EXPECT_NE(errors->text.find("LightSize"), std::string::npos) << errors->text;
+  EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("LightVisibility_0"), nullptr);
+  // a light beyond 1e30 is refused: its shadow vanished in the solvers'
+  // squares (GEARS from 1e37, both from 1e155)
+  errors->text.clear();
+  f->SetLightSize(1, 1);
+  f->SetLightCenter(0, 0, 1e37);
+  f->Update();
+  EXPECT_NE(errors->text.find("farther than 1e30"), std::string::npos) << errors->text;
+  EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("LightVisibility_0"), nullptr);
 }
