@@ -44,8 +44,10 @@ public:
   /// request renders at the limit, with a note in the stats and one warning
   /// through `reporter`, instead of failing to allocate.
   int ChooseSize(const std::vector<int>& asked, int fallback, int maxTextureSize, vtkObject* reporter);
-  /// `views` layers (at least one) of size^2; false with `error` when the GL
-  /// allows fewer layers or refuses the texture.
+  /// `views` layers (at least one) of size^2, or of a smaller power of two
+  /// when the context cannot allocate that much (halved down to 64, with a
+  /// note and one warning); false with `error` when the GL allows fewer
+  /// layers or refuses even 64^2.
   bool Allocate(int size, int views, const GLLimits& limits, std::string& error);
 
   /// Binds `fbo` (pushing the framebuffer bindings) for drawing maps:
@@ -80,6 +82,8 @@ private:
   TextureArray Array;
   std::string SizeNote;
   int WarnedSize = 0; ///< the request last warned about (warn once)
+  int WarnedAlloc = 0; ///< the size last warned about as not allocatable
+  int TooBig = 0;      ///< the smallest size this context failed to allocate (0: none)
   std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
 };
 }

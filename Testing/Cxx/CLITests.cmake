@@ -384,12 +384,12 @@ add_test(NAME cli.render.no_shadow_work
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_no_shadow_work.py" ${_ss_cli}
     "${_ss_out}/no_shadow_work")
 set_tests_properties(cli.render.no_shadow_work PROPERTIES LABELS "cli" TIMEOUT 300)
-# PVSM's largest tile at the top of its range renders like the default (a
-# tile array the context cannot hold is halved until it can).
-add_test(NAME cli.render.pvsm_max_tile
-  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_pvsm_max_tile.py" ${_ss_cli}
-    "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json" "${_ss_out}/pvsm_max_tile")
-set_tests_properties(cli.render.pvsm_max_tile PROPERTIES LABELS "cli" TIMEOUT 300)
+# Maps at the top of their ranges (PVSM's tiles, the whole-view shadow maps)
+# render: an array the context cannot hold is halved until it can.
+add_test(NAME cli.render.large_maps
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_large_maps.py" ${_ss_cli}
+    "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json" "${_ss_out}/large_maps")
+set_tests_properties(cli.render.large_maps PROPERTIES LABELS "cli" TIMEOUT 300)
 # One stray triangle 4e5 units away, out of view, changes nothing in the
 # frame under any method (the clipping range, the float origin, the start
 # offset and the search depth come from what is seen and the casters' bulk).
