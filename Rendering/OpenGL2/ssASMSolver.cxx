@@ -148,8 +148,24 @@ void ASMSolver::Configure(vtkSoftShadowPass* pass)
   s.cells = CeilPowerOfTwo(this->Opt.Cells);
   s.minResolution = std::min(16, s.pageSize);
   s.maxDepth = this->Opt.MaxDepth;
-  this->Settings = s;
   this->BudgetBytes = static_cast<long long>(this->Opt.MemoryMB * 1024.0 * 1024.0);
+  // A budget that holds too few pages of the asked size (fewer than the six
+  // roots of a point light) gets smaller pages, down to 16^2, with a note
+  // (EnsureResources warns): before, ASMMemoryBudget 0.0625 or ASMPageSize
+  // 4096 left the light unshadowed while the plan said asm ran.
+  this->PageNote.clear();
+  const int asked = s.pageSize;
+  while (s.pageSize > 16 && this->BudgetBytes / s.PageBytes() < 6)
+  {
+    s.pageSize /= 2;
+    s.minResolution = std::min(16, s.pageSize);
+  }
+  if (s.pageSize < asked)
+  {
+    this->PageNote = "ASM: a memory budget of " + std::to_string(this->Opt.MemoryMB) + " MB holds fewer than 6 pages of " +
+      std::to_string(asked) + "^2 texels; using pages of " + std::to_string(s.pageSize) + "^2";
+  }
+  this->Settings = s;
 }
 
 void ASMSolver::Reset()
@@ -169,6 +185,11 @@ void ASMSolver::Reset()
 
 bool ASMSolver::EnsureResources(SolverFrame& frame)
 {
+  if (!this->PageNote.empty() && this->PageNote != this->PageWarned)
+  {
+    vtkWarningWithObjectMacro(frame.Reporter, << this->PageNote << ".");
+    this->PageWarned = this->PageNote;
+  }
   const GLLimits limits = QueryGLLimits();
   std::ostringstream key;
   key << this->Settings.pageSize << ',' << this->Settings.cells << ',' << this->Settings.maxDepth << ','

@@ -113,6 +113,8 @@ private:
   Options Opt;
   ASMSettings Settings;
   long long BudgetBytes = 0;
+  std::string PageNote;   ///< why the pages are smaller than ASMPageSize (Configure), or empty
+  std::string PageWarned; ///< the note last warned about
   std::string ShapeKey; ///< settings the tree was built with
   ASMTree Tree;
   ASMCostModel Cost;

@@ -188,6 +188,47 @@ TEST(ASM, BudgetHoldsEveryFrameOfACameraPath)
   EXPECT_GT(maxUsed, 0.5 * budget);
 }
 
+// A budget too small for pages of the asked size (the domain's smallest,
+// 0.0625 MB, or 4096^2 pages in 16 MB) gets smaller pages with a warning and
+// still shadows the light as a larger budget does (before: an error, no
+// shadows, and the plan said asm ran). Found in a ParaView sweep, stop 44.
+TEST(ASM, TooSmallABudgetForItsPagesGetsSmallerPages)
+{
+  // a box over the ground: a shadow coarse pages still hold
+  auto build = [](Scene& s) {
+    s.renderer->AddActor(Ground(4.0, 0.0));
+    s.renderer->AddActor(Box(0, 0, 1.0, 1.0, 1.0, 1.0));
+    s.renderer->AddLight(RectLight(1, -1, 5, 0, 0, 0, 0, 0));
+    s.Camera(0, -8, 5);
+  };
+  const Frame ref = Render(build, ASM, 4);
+  for (const auto& [mb, page] : { std::pair<double, int>(0.0625, 128), std::pair<double, int>(16.0, 4096) })
+  {
+    Scene s(320, 240);
+    build(s);
+    s.pass->SetMethod(ASM);
+    s.pass->SetASMMemoryBudget(mb);
+    s.pass->SetASMPageSize(page);
+    Frame f;
+    for (int i = 0; i < 4; ++i)
+    {
+      f = s.Render();
+    }
+    const double used = ASMStat(s.pass, "page_size");
+    int shadow = 0, refShadow = 0;
+    for (std::size_t i = 0; i < f.V.size(); ++i)
+    {
+      shadow += (!std::isnan(f.V[i]) && f.V[i] < 0.5f) ? 1 : 0;
+      refShadow += (!std::isnan(ref.V[i]) && ref.V[i] < 0.5f) ? 1 : 0;
+    }
+    std::cout << mb << " MB, pages of " << page << " asked: pages of " << used << ", " << shadow
+              << " px in shadow (the default 16 MB, 128: " << refShadow << ")\n";
+    EXPECT_LT(used, page);
+    EXPECT_GE(used, 16.0);
+    EXPECT_GT(shadow, refShadow / 2);
+  }
+}
+
 // §4.2: two casting planes 1e-4 apart and no depth bias. Depth alone shows
 // acne on the upper plane (it shadows itself); the ID test finds the pixel's
 // own triangle and removes it, while the lower plane stays dark.
