@@ -323,19 +323,8 @@ void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   // the context cannot allocate is tried at half the size, down to 64, and
   // the stats and a warning say so (before, the tiles were drawn into no
   // texture: GL errors and wrong shadows).
-  // (a size that failed in this context is not tried again every frame)
-  while (this->TileTooBig > 0 && T >= this->TileTooBig && T > 64)
-  {
-    T /= 2;
-  }
-  this->Tile.Ensure(T, 1);
-  while (this->Tile.Size == 0 && T > 64)
-  {
-    this->TileTooBig = T;
-    T /= 2;
-    this->Tile.Ensure(T, 1);
-  }
-  if (this->Tile.Size == 0)
+  T = this->Tile.EnsureFitting(T, 1);
+  if (!T)
   {
     vtkErrorWithObjectMacro(frame.Reporter, "PVSM could not allocate a 64 x 64 tile: no shadows from this light.");
     return;
@@ -751,7 +740,7 @@ int PVSMSolver::GetNumberOfGraphicsResources() const
 void PVSMSolver::ReleaseGraphicsResources(vtkWindow* w)
 {
   this->Tile.Release();
-  this->TileTooBig = 0; // (another context may hold more)
+  this->Tile.ForgetFailedSize(); // (another context may hold more)
   this->Grid.Release();
   this->LastGridLevels.clear();
   for (auto* t : { this->Kernel[0].Get(), this->Kernel[1].Get(), this->Kernel[2].Get(), this->Accum.Get() })

@@ -87,7 +87,6 @@ private:
   int GridSide = 4;
   int TileUsed = 0;   ///< the largest tile this frame could allocate (<= the option and the size limit)
   int TileWarned = 0; ///< the lowered size last warned about
-  int TileTooBig = 0; ///< the smallest tile size this context failed to allocate (0: none)
   std::string SceneKey; ///< casters and lights of the last PVSM frame (static metric)
   // GPU resources
   TextureArray Tile; ///< one virtual shadow-map tile at a time (a single layer)

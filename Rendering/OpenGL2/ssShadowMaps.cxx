@@ -48,27 +48,14 @@ bool ShadowMaps::Allocate(int size, int views, const GLLimits& limits, std::stri
       std::to_string(limits.maxArrayTextureLayers) + " array texture layers; no shadows this frame.";
     return false;
   }
-  // The size limit is not the memory limit (llvmpipe allows 16384^2 but
-  // cannot hold such an RG32F array with its mip levels): a size the context
-  // cannot allocate is halved until it can, down to 64, with a note and a
-  // warning (before, no shadows at all; a size that failed is not retried
-  // every frame).
+  // a size the context cannot allocate is halved until it can, with a note
+  // and a warning (before, no shadows at all)
   const int asked = size;
-  while (this->TooBig > 0 && size >= this->TooBig && size > 64)
+  size = this->Array.EnsureFitting(size, std::max(views, 1));
+  if (!size)
   {
-    size /= 2;
-  }
-  this->Array.Ensure(size, std::max(views, 1));
-  while (!this->Array.Handle && size > 64)
-  {
-    this->TooBig = size;
-    size /= 2;
-    this->Array.Ensure(size, std::max(views, 1));
-  }
-  if (!this->Array.Handle)
-  {
-    error = "Could not allocate " + std::to_string(std::max(views, 1)) + " shadow map(s) of " +
-      std::to_string(size) + "x" + std::to_string(size) + "; no shadows this frame.";
+    error = "Could not allocate " + std::to_string(std::max(views, 1)) +
+      " shadow map(s) of 64x64 or more; no shadows this frame.";
     return false;
   }
   if (size < asked)
@@ -144,7 +131,7 @@ int ShadowMaps::CountGraphicsResources() const
 void ShadowMaps::ReleaseGraphicsResources(vtkWindow* w)
 {
   this->Array.Release();
-  this->TooBig = 0; // (another context may hold more)
+  this->Array.ForgetFailedSize(); // (another context may hold more)
   ReleaseQuad(this->ReduceQuad, w);
 }
 }

@@ -83,7 +83,6 @@ private:
   std::string SizeNote;
   int WarnedSize = 0; ///< the request last warned about (warn once)
   int WarnedAlloc = 0; ///< the size last warned about as not allocatable
-  int TooBig = 0;      ///< the smallest size this context failed to allocate (0: none)
   std::unique_ptr<vtkOpenGLQuadHelper> ReduceQuad;
 };
 }

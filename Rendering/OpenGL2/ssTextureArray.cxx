@@ -44,6 +44,22 @@ void TextureArray::Ensure(int size, int layers)
   this->Size = this->Handle ? size : 0;
 }
 
+int TextureArray::EnsureFitting(int size, int layers)
+{
+  while (this->FailedSize > 0 && size >= this->FailedSize && size > 64)
+  {
+    size /= 2;
+  }
+  this->Ensure(size, layers);
+  while (!this->Handle && size > 64)
+  {
+    this->FailedSize = size;
+    size /= 2;
+    this->Ensure(size, layers);
+  }
+  return this->Handle ? size : 0;
+}
+
 bool TextureArray::EnsureScreen(int width, int height, int layers)
 {
   this->Allocate(width, height, layers, 1, 1);

@@ -36,6 +36,14 @@ struct TextureArray
   long long Bytes() const;
   /// size x size RG32F layers with every mip level (shadow maps).
   void Ensure(int size, int layers);
+  /// The same at `size` or, where this context cannot allocate that much
+  /// (llvmpipe allows 16384^2 but cannot hold such an RG32F array with its
+  /// mip levels), at the largest smaller power of two down to 64 that it can.
+  /// A size that failed is not tried again until ForgetFailedSize (a new
+  /// context). Returns the size allocated, 0 when not even 64 fits.
+  int EnsureFitting(int size, int layers);
+  void ForgetFailedSize() { this->FailedSize = 0; }
+  int FailedSize = 0; ///< the smallest size EnsureFitting failed to allocate (0: none)
   /// width x height R32F layers, one level (the visibility of each light);
   /// false when GL refused them (larger than the implementation allows).
   bool EnsureScreen(int width, int height, int layers);
