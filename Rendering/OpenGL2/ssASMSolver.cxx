@@ -162,8 +162,9 @@ void ASMSolver::Configure(vtkSoftShadowPass* pass)
   }
   if (s.pageSize < asked)
   {
-    this->PageNote = "ASM: a memory budget of " + std::to_string(this->Opt.MemoryMB) + " MB holds fewer than 6 pages of " +
-      std::to_string(asked) + "^2 texels; using pages of " + std::to_string(s.pageSize) + "^2";
+    this->PageNote = "ASM: a memory budget of " + std::to_string(this->Opt.MemoryMB) +
+      " MB holds fewer than 6 pages of " + std::to_string(asked) + "^2 texels; using pages of " +
+      std::to_string(s.pageSize) + "^2";
   }
   this->Settings = s;
 }

@@ -231,8 +231,9 @@ inline Mesh WithFloor(std::vector<glm::dvec3> casters, std::uint32_t seed)
 inline Mesh BumpyAndWavy()
 {
   std::vector<glm::dvec3> t = BumpySphere({ 0.3, 0.1, 1.0 }, 0.45, 4);
-  const std::vector<glm::dvec3> sheet = Sheet(40, 40, -1.2, 1.2, -1.2, 1.2,
-    [](double x, double y) { return 1.8 + 0.25 * std::sin(5.0 * x) * std::cos(4.0 * y) + 0.1 * std::sin(13.0 * x * y); });
+  const std::vector<glm::dvec3> sheet = Sheet(40, 40, -1.2, 1.2, -1.2, 1.2, [](double x, double y) {
+    return 1.8 + 0.25 * std::sin(5.0 * x) * std::cos(4.0 * y) + 0.1 * std::sin(13.0 * x * y);
+  });
   t.insert(t.end(), sheet.begin(), sheet.end());
   return WithFloor(t, 7);
 }
@@ -265,7 +266,8 @@ inline ss::GearsPieces PiecesOf(const std::vector<glm::dvec3>& tris)
 inline std::vector<ss::LightFrame> AreaLights(const glm::dvec3& o, double s)
 {
   using namespace ss;
-  return { MakeRectLightFrame(o + s * glm::dvec3(0.3, -0.2, 3.2), { -0.1, 0.05, -1 }, { 0, 1, 0 }, { 1.2 * s, 0.7 * s }),
+  return { MakeRectLightFrame(
+             o + s * glm::dvec3(0.3, -0.2, 3.2), { -0.1, 0.05, -1 }, { 0, 1, 0 }, { 1.2 * s, 0.7 * s }),
     MakeRectLightFrame(o + s * glm::dvec3(-2.5, 0.5, 2.6), { 0.7, -0.2, -0.6 }, { 0, 0, 1 }, { 0.9 * s, 0.9 * s }),
     MakeRectLightFrame(o + s * glm::dvec3(0.1, 0.0, 4.0), { 0, 0, -1 }, { 0, 1, 0 }, { 0.15 * s, 0.15 * s }),
     MakeDirectionalLightFrame({ 0.2, 0.1, -1 }, 0.15) };
