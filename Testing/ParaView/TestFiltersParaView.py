@@ -8,6 +8,7 @@ screenshot is saved (look at it) and checked: dark under the sphere, light
 far from it.
 
 TestFiltersParaView.py PLUGIN TEMPDIR [--render]"""
+import math
 import os
 import sys
 
@@ -83,6 +84,39 @@ if under > 0.02:
     fail("no umbra under the sphere")
 if far < 0.999:
     fail("the far ground is not fully lit")
+
+# --- the default light comes from the input's bounds (stop 45): before, it
+# sat at (0, 0, 5), inside the Wavelet source's contours
+wavelet = Contour(Input=Wavelet(), ContourBy=["POINTS", "RTData"], Isosurfaces=[157.0])  # normals on (the default)
+dflt = LightVisibility(Input=wavelet)
+b = wavelet.GetDataInformation().GetBounds()
+diag = math.sqrt(sum((b[2 * a + 1] - b[2 * a]) ** 2 for a in range(3)))
+want = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) + 1.5 * diag]
+print("contour bounds %s: default LightCenter %s, LightSize %s" % (b, list(dflt.LightCenter), list(dflt.LightSize)))
+if max(abs(x - y) for x, y in zip(dflt.LightCenter, want)) > 1e-9 * diag:
+    fail("default LightCenter %s, expected %s (1.5 diagonals above the bounds' centre)" % (list(dflt.LightCenter), want))
+if max(abs(x - 0.1 * diag) for x in dflt.LightSize) > 1e-9 * diag:
+    fail("default LightSize %s, expected 0.1 diagonal (%g)" % (list(dflt.LightSize), 0.1 * diag))
+dflt.Samples = 8
+dflt.UpdatePipeline()
+dv = servermanager.Fetch(dflt).GetPointData().GetArray("LightVisibility_0")
+dlo, dhi = dv.GetRange()
+# the light above the contour lights its top and the contour shadows itself below
+print("contour baked with the default light: %.3f..%.3f" % (dlo, dhi))
+if not (dlo < 0.05 and dhi > 0.95):
+    fail("the default light does not both light and shadow the contour (range %g..%g)" % (dlo, dhi))
+# --- values outside a menu, a check box or a range are refused and the last kept
+for name, bad, kept in (("Method", 5, 0), ("Samples", 100, 8), ("InputCastsShadows", 2, 1)):
+    dflt.GetProperty(name).SetElement(0, bad)
+    got = dflt.GetProperty(name).SMProperty.GetElement(0)
+    if got != kept:
+        fail("%s = %d: kept %d expected, got %s" % (name, bad, kept, got))
+for name, bad, kept in (("MaximumClusterTriangles", 0, 64), ("OrientedBoxes", 3, 1), ("SnapTJunctions", -1, 1)):
+    prep.GetProperty(name).SetElement(0, bad)
+    got = prep.GetProperty(name).SMProperty.GetElement(0)
+    if got != kept:
+        fail("Shadow Caster Preparation %s = %d: kept %d expected, got %s" % (name, bad, kept, got))
+Delete(dflt)
 
 if render:
     view = CreateView("RenderView")

@@ -105,6 +105,20 @@ for bad in (-1, 12, 99):
     Render(view)
     c.check(view.GetPropertyValue("Plan").splitlines()[-1].strip().endswith("requested pcss"),
             "Method = %d refused, pcss kept (plan: %s)" % (bad, view.GetPropertyValue("Plan").splitlines()[-1]))
+    c.check(view.Method == "pcss", "Method = %d refused: the property reads pcss (got %s)" % (bad, view.Method))
+# check boxes and menus keep their last valid value too (before stop 45 the
+# view's setters refused or coerced, but the property kept the bad value: the
+# panel showed it and state files saved it)
+for name, bad, kept in (("ShadowLight", 5, 1), ("AdaptToFrameBudget", -3, 1), ("ShowPlanAnnotation", 7, 0),
+                        ("LightSizeUnits", 4, 0), ("ShadowLightPlacement", 9, 0), ("GearsBackend", 2, 0),
+                        ("GearsWinding", 3, 1), ("Method", 12, 3)):
+    before = view.GetProperty(name).SMProperty.GetElement(0)
+    view.GetProperty(name).SetElement(0, bad)
+    got = view.GetProperty(name).SMProperty.GetElement(0)
+    c.check(got == before == kept, "%s = %d refused, %d kept (got %s)" % (name, bad, kept, got))
+view.ShadowLightIntensity = 1e39  # past the float range VTK shades in: a black picture
+c.check(view.ShadowLightIntensity == 0.75, "ShadowLightIntensity = 1e39 refused, 0.75 kept (got %s)"
+        % view.ShadowLightIntensity)
 view.Method = "auto"
 for flag in ("CastShadows", "ReceiveShadows"):
     for bad in (5, -1):
@@ -113,6 +127,22 @@ for flag in ("CastShadows", "ReceiveShadows"):
             flag, bad, dsphere.GetPropertyValue(flag)))
 view.ShadowLightDirection = [0, 0, float("inf")]
 c.check(list(view.ShadowLightDirection) == [0, 0, 1], "ShadowLightDirection with inf refused")
+# only the direction counts: a vector whose length underflows (or overflows)
+# in double names a direction all the same (before stop 45: refused as zero)
+view.ShadowLightPlacement = "Fixed in Scene"
+for d, axis in (([1e-300, 0, 0], 0), ([0, 1e300, 1e300], None)):
+    view.ShadowLightDirection = d
+    Render(view)
+    view.UpdatePropertyInformation()
+    pos = list(view.ShadowLightPosition)
+    rel = [p - q for p, q in zip(pos, (0.0, 0.0, 0.9))]  # the centre of the sphere and plane's bounds
+    if axis == 0:
+        ok = rel[0] > 0 and abs(rel[1]) < 1e-6 * rel[0] and abs(rel[2]) < 1e-6 * rel[0]
+    else:
+        ok = abs(rel[0]) < 1e-6 * rel[1] and rel[1] > 0 and abs(rel[1] - rel[2]) < 1e-6 * rel[1]
+    c.check(ok, "ShadowLightDirection %s places the light along it (offset %s)" % (d, rel))
+view.ShadowLightDirection = [0, 0, 1]
+view.ShadowLightPlacement = "Follow Camera"
 light = AddLight(view=view)
 light.ShadowSize = 0.3
 light.ShadowSize = -0.5

@@ -1,8 +1,9 @@
 // Build-time generator of the Soft Shadow View's server-manager XML (issue
-// 19): copies Views/SoftShadowView.xml and fills its two markers from the
+// 19): copies Views/SoftShadowView.xml and fills its three markers from the
 // solver registry, through vtkSoftShadowPass's enumeration, so that a
 // method's options are declared once, in its solver's files:
 //   <!-- @METHOD_ENTRIES@ -->  the Method menu: one Entry per registered method
+//   <!-- @METHOD_RANGE@ -->    the range of those entries: other values are refused
 //   <!-- @SOLVER_OPTIONS@ -->  one property per solver option (name: its VTK
 //        property name, so state files saved before still load; command: its
 //        key, applied by vtkSISoftShadowProperty through
@@ -72,6 +73,22 @@ std::string MethodEntries(const std::string& indent)
   return o.str();
 }
 
+// "allowed": values outside the menu are refused and the last valid value
+// kept (vtkSMSoftShadowIntRangeDomain); the Properties panel makes the widget
+// of the last domain by name, so "bool" and "enum" keep their check box and menu.
+std::string Allowed(const std::string& indent, int last)
+{
+  std::ostringstream o;
+  o << indent << "<SoftShadowIntRangeDomain name=\"allowed\" min=\"0\" max=\"" << last << "\"/>\n";
+  return o.str();
+}
+
+std::string MethodRange(const std::string& indent)
+{
+  vtkNew<vtkSoftShadowPass> pass;
+  return Allowed(indent, pass->GetMethodMaxValue());
+}
+
 std::string SolverOptions(const std::string& in)
 {
   using P = vtkSoftShadowPass;
@@ -87,11 +104,11 @@ std::string SolverOptions(const std::string& in)
       << "\" panel_visibility=\"advanced\">\n";
     if (type == "bool")
     {
-      o << in << "  <BooleanDomain name=\"bool\"/>\n";
+      o << Allowed(in + "  ", 1) << in << "  <BooleanDomain name=\"bool\"/>\n";
     }
     else if (type == "enum")
     {
-      o << in << "  <EnumerationDomain name=\"enum\">\n";
+      o << Allowed(in + "  ", P::GetSolverOptionNumberOfNames(i) - 1) << in << "  <EnumerationDomain name=\"enum\">\n";
       for (int n = 0; n < P::GetSolverOptionNumberOfNames(i); ++n)
       {
         o << in << "    <Entry text=\"" << Escape(P::GetSolverOptionName(i, n)) << "\" value=\"" << n
@@ -151,10 +168,11 @@ int main(int argc, char* argv[])
     std::cerr << "ssGenerateViewXML: cannot read '" << argv[1] << "'\n";
     return 1;
   }
-  if (!Fill(xml, "<!-- @METHOD_ENTRIES@ -->", MethodEntries) ||
+  if (!Fill(xml, "<!-- @METHOD_ENTRIES@ -->", MethodEntries) || !Fill(xml, "<!-- @METHOD_RANGE@ -->", MethodRange) ||
     !Fill(xml, "<!-- @SOLVER_OPTIONS@ -->", SolverOptions))
   {
-    std::cerr << "ssGenerateViewXML: '" << argv[1] << "' lacks a marker (@METHOD_ENTRIES@, @SOLVER_OPTIONS@)\n";
+    std::cerr << "ssGenerateViewXML: '" << argv[1]
+              << "' lacks a marker (@METHOD_ENTRIES@, @METHOD_RANGE@, @SOLVER_OPTIONS@)\n";
     return 1;
   }
   std::ofstream out(argv[2]);

@@ -205,16 +205,19 @@ void vtkPVSoftShadowView::SetShadowLightPlacement(int placement)
 
 void vtkPVSoftShadowView::SetShadowLightDirection(double x, double y, double z)
 {
-  const double n = std::sqrt(x * x + y * y + z * z);
-  if (!(n > 0.0) || !std::isfinite(n))
+  // Only the direction counts: scaled by its largest component first, so that
+  // (1e-300, 0, 0) and (1e300, 1e300, 0) are the directions they name (their
+  // length underflows to 0 or overflows to inf in double).
+  const double big = std::max({ std::fabs(x), std::fabs(y), std::fabs(z) });
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !(big > 0.0))
   {
     vtkErrorMacro("ShadowLightDirection must be a finite non-zero vector, got (" << x << ", " << y << ", " << z
                                                                                  << ")");
     return;
   }
-  this->ShadowLightDirection[0] = x;
-  this->ShadowLightDirection[1] = y;
-  this->ShadowLightDirection[2] = z;
+  this->ShadowLightDirection[0] = x / big;
+  this->ShadowLightDirection[1] = y / big;
+  this->ShadowLightDirection[2] = z / big;
   this->Modified();
 }
 
