@@ -116,6 +116,9 @@ for name, bad, kept in (("MaximumClusterTriangles", 0, 64), ("OrientedBoxes", 3,
     got = prep.GetProperty(name).SMProperty.GetElement(0)
     if got != kept:
         fail("Shadow Caster Preparation %s = %d: kept %d expected, got %s" % (name, bad, kept, got))
+dflt.LightNormal = [0, 0, 0]
+if list(dflt.LightNormal) != [0, 0, -1]:
+    fail("LightNormal = [0, 0, 0]: [0, 0, -1] kept expected, got %s" % list(dflt.LightNormal))
 Delete(dflt)
 
 if render:

@@ -127,6 +127,9 @@ for flag in ("CastShadows", "ReceiveShadows"):
             flag, bad, dsphere.GetPropertyValue(flag)))
 view.ShadowLightDirection = [0, 0, float("inf")]
 c.check(list(view.ShadowLightDirection) == [0, 0, 1], "ShadowLightDirection with inf refused")
+view.ShadowLightDirection = [0, 0, 0]
+c.check(list(view.ShadowLightDirection) == [0, 0, 1], "ShadowLightDirection [0, 0, 0] refused (got %s)"
+        % list(view.ShadowLightDirection))
 # only the direction counts: a vector whose length underflows (or overflows)
 # in double names a direction all the same (before stop 45: refused as zero)
 view.ShadowLightPlacement = "Fixed in Scene"

@@ -3,7 +3,10 @@
 #include "vtkSMSoftShadowRangeGuard.h"
 
 #include "vtkObjectFactory.h"
+#include "vtkPVXMLElement.h"
 #include "vtkSMDoubleVectorProperty.h"
+
+#include <string>
 
 vtkStandardNewMacro(vtkSMSoftShadowDoubleRangeDomain);
 
@@ -20,8 +23,9 @@ int vtkSMSoftShadowDoubleRangeDomain::ReadXMLAttributes(vtkSMProperty* prop, vtk
   {
     return 0;
   }
+  const char* nonZero = element->GetAttribute("nonzero");
   this->Watch.reset(new Guard);
-  this->Watch->Watch(prop, this);
+  this->Watch->Watch(prop, this, nonZero && std::string(nonZero) == "1");
   return 1;
 }
 

@@ -6,7 +6,8 @@
  * value outside it is still pushed. This one also puts the property's last
  * valid value back, with one error naming the property, when a value
  * outside the range or not finite is set (pvpython, the GUI, state files).
- * XML: `<SoftShadowDoubleRangeDomain name="range" min="0" />`.
+ * XML: `<SoftShadowDoubleRangeDomain name="range" min="0" />`; with
+ * `nonzero="1"` a vector of zeros is refused too (a direction).
  */
 #ifndef vtkSMSoftShadowDoubleRangeDomain_h
 #define vtkSMSoftShadowDoubleRangeDomain_h

@@ -27,10 +27,12 @@ template <typename T, typename Property, typename Domain>
 class RangeGuard
 {
 public:
-  void Watch(vtkSMProperty* prop, Domain* domain)
+  /// nonZero: a vector of zeros is refused too (a direction).
+  void Watch(vtkSMProperty* prop, Domain* domain, bool nonZero = false)
   {
     this->Prop = Property::SafeDownCast(prop);
     this->Owner = domain;
+    this->NonZero = nonZero;
     if (!this->Prop)
     {
       return;
@@ -75,6 +77,18 @@ private:
         break;
       }
     }
+    if (bad.str().empty() && this->NonZero && this->Prop->GetNumberOfElements() > 0)
+    {
+      bool zero = true;
+      for (unsigned int i = 0; i < this->Prop->GetNumberOfElements(); ++i)
+      {
+        zero = zero && this->Prop->GetElement(i) == T(0);
+      }
+      if (zero)
+      {
+        bad << "a vector of zeros (expected a direction)";
+      }
+    }
     if (bad.str().empty())
     {
       this->Remember();
@@ -109,6 +123,7 @@ private:
   unsigned long Tag = 0;
   std::vector<T> LastValid;
   bool Reverting = false;
+  bool NonZero = false;
 };
 }
 
