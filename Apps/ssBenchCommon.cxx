@@ -12,9 +12,11 @@
 #include "vtkWindowToImageFilter.h"
 
 #include <algorithm>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include <sys/resource.h>
 
@@ -111,6 +113,26 @@ std::string Fmt(double v, int prec)
   std::ostringstream o;
   o << std::setprecision(prec) << v;
   return o.str();
+}
+
+// The CPU's model name and thread count (/proc/cpuinfo), for the reports:
+// ratios against Embree differ between machines of the same core count
+// (stop 45: an AMD EPYC ran GEARS 25-40% slower against Embree than the
+// machine of the runs before, which the reports did not name).
+std::string CpuDescription()
+{
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  while (std::getline(in, line))
+  {
+    if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos)
+    {
+      model = line.substr(line.find(':') + 1);
+      model.erase(0, model.find_first_not_of(" \t"));
+      break;
+    }
+  }
+  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads";
 }
 
 // The OpenGL renderer string of the window's context, for the reports.

@@ -95,6 +95,7 @@ double TimeFrames(vtkRenderWindow* win, vtkRenderer* ren, vtkSoftShadowPass* pas
 std::string Fmt(double v, int prec = 4);
 /// The OpenGL renderer string of the window's context, for the reports.
 std::string RendererName(vtkRenderWindow* win);
+std::string CpuDescription();
 
 // The ray-traced reference at k x k regular light samples, one timed frame
 // (all three benches start from it): its time, V, caster triangles and stats.

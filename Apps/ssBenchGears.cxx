@@ -236,7 +236,7 @@ int BenchGEARS(const std::vector<std::string>& args)
   StartBench(display, out);
   json data = json::array();
   std::string renderer = "?";
-  const std::string machine = std::to_string(std::thread::hardware_concurrency()) + " threads";
+  const std::string machine = CpuDescription();
   std::string loadBefore;
   {
     std::ifstream la("/proc/loadavg");

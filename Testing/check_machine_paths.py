@@ -11,7 +11,9 @@ checks each path gives the result it should (issue 16's audit):
 - a small SSBO limit: GEARS's GL backend falls back with the reason, and so
   do the translucent receivers' fragment lists (the same picture);
 - Embree on AVX2 and SSE4.2 kernels (when this CPU has them): the reference's
-  V identical to the widest ISA's.
+  V identical to the widest ISA's;
+- GEARS on AVX2 and scalar kernels (SOFTSHADOWS_GEARS_ISA): V identical to
+  the widest kernels', the stats naming the kernels that ran.
 
 usage: check_machine_paths.py SOFTSHADOWS SCENE OUTDIR
 """
@@ -162,6 +164,19 @@ for isa, flag in (("avx2", " avx2"), ("sse4.2", " sse4_2")):
         continue
     b, _ = render(f"isa_{isa}_ref", "reference", {"SOFTSHADOWS_EMBREE_ISA": isa}, ["reference_samples=6"])
     identical(f"reference on Embree {isa} kernels vs the widest", a, b)
+
+# GEARS's kernels of narrower ISAs (SOFTSHADOWS_GEARS_ISA): the stats name
+# them, and V is the widest kernels' (bit-identical bitmasks)
+a, sa = render("gears_isa_default", "gears", None, ["gears_backend=cpu"])
+for isa, flag in (("avx2", " avx2"), ("scalar", "")):
+    if flag and flag not in flags:
+        print(f"skip: this CPU has no {isa}")
+        continue
+    b, sb = render(f"gears_isa_{isa}", "gears", {"SOFTSHADOWS_GEARS_ISA": isa}, ["gears_backend=cpu"])
+    if sb:
+        check(sb["pass"]["gears"]["stats"]["simd"] == isa,
+              f"SOFTSHADOWS_GEARS_ISA={isa}: the stats say {sb['pass']['gears']['stats']['simd']}")
+    identical(f"gears on {isa} kernels vs the widest ({sa and sa['pass']['gears']['stats']['simd']})", a, b)
 
 if failures:
     print(f"{len(failures)} failure(s)")

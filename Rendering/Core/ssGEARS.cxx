@@ -14,9 +14,11 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace ss
 {
@@ -34,8 +36,23 @@ Isa ResolveIsa(GearsSimd wanted)
       return Isa::Scalar;
     case GearsSimd::AVX2:
       return avx2 ? Isa::AVX2 : Isa::Scalar;
-    case GearsSimd::AVX512:
     case GearsSimd::Auto:
+    {
+      // SOFTSHADOWS_GEARS_ISA=scalar|avx2|avx512 picks the kernels Auto
+      // takes (never wider than the CPU runs): another machine's path on this one
+      const char* env = std::getenv("SOFTSHADOWS_GEARS_ISA");
+      const std::string e = env ? env : "";
+      if (e == "scalar")
+      {
+        return Isa::Scalar;
+      }
+      if (e == "avx2")
+      {
+        return avx2 ? Isa::AVX2 : Isa::Scalar;
+      }
+      return avx512 ? Isa::AVX512 : (avx2 ? Isa::AVX2 : Isa::Scalar);
+    }
+    case GearsSimd::AVX512:
     default:
       return avx512 ? Isa::AVX512 : (avx2 ? Isa::AVX2 : Isa::Scalar);
   }
