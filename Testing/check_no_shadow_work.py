@@ -4,7 +4,8 @@ light) must report V = 1 on every surface pixel and NaN on the background.
 Before (found by a bad-input sweep, stop 44), the pass kept no surface
 positions then and every pixel came out NaN. A receiver-only scene must also
 give the same surface pixels as the same scene with a caster far outside the
-view (which does run the solver and keeps the positions).
+view (which does run the solver and keeps the positions). GEARS's backend in
+use is "none" without shadow work, "cpu" with the far caster.
 
 usage: check_no_shadow_work.py SOFTSHADOWS OUTDIR"""
 import json
@@ -52,11 +53,21 @@ for name, sc in cases.items():
         json.dump(sc, f)
     for method in ("gears", "pcss"):
         vis = os.path.join(out, "%s_%s.pfm" % (name, method))
-        run = subprocess.run([exe, "render", path, "--method", method, "--visibility", vis], env=env,
-                             capture_output=True, text=True)
+        stats = os.path.join(out, "%s_%s.json" % (name, method))
+        run = subprocess.run([exe, "render", path, "--method", method, "--visibility", vis, "--stats", stats],
+                             env=env, capture_output=True, text=True)
         if run.returncode != 0:
             failures.append("%s %s: exit code %d: %s" % (name, method, run.returncode, run.stderr))
             continue
+        if method == "gears":
+            # the backend in use is "none" when GEARS solved nothing (ParaView's
+            # Gears Backend In Use), else the one that ran
+            with open(stats) as f:
+                backend = json.load(f)["pass"]["gears"]["backend"]
+            want = "cpu" if name == "far_caster" else "none"
+            print("%s, gears: backend in use %s" % (name, backend))
+            if backend != want:
+                failures.append("%s gears: backend in use %r, expected %r" % (name, backend, want))
         v = read_pfm(vis)
         finite = [x for x in v if not math.isnan(x)]
         print("%s, %s: %d surface pixels of %d, V in [%g, %g]" % (name, method, len(finite), len(v),
