@@ -445,6 +445,19 @@ int Render(const std::vector<std::string>& args)
   if (!vtkMethod)
   {
     std::cout << "plan: " << pass->GetPlanDescription() << "\n";
+    if (pass->GetASMRefining())
+    {
+      // ASM is progressive (asm.md): a picture taken while it still refines
+      // has coarser maps than the view needs (stop 45's visual review: light
+      // leaking through shadows of the 5M assembly after 1 frame, in silence)
+      const json a = json::parse(pass->GetStatsJSON())["asm"];
+      std::cerr << "softshadows: warning: asm was still refining after " << frames << " frame(s) ("
+                << a.value("nodes", 0) << " node(s), effective resolution " << a.value("effective_resolution", 0)
+                << "; " << a["this_frame"].value("left_for_next_frame", 0)
+                << " node(s) left for the next frame): the picture may be coarser than the converged one; it "
+                   "converges after asm_stride frames create no node: render more --frames, or raise "
+                   "asm_time_budget_ms\n";
+    }
   }
   return 0;
 }

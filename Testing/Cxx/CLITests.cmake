@@ -446,6 +446,18 @@ foreach(_n 1 16)
       --size 320x240 --frames ${_n} --option asm_time_budget_ms=5 --stats "${_ss_out}/asm_frames_${_n}.json")
   set_tests_properties(cli.render.asm_frames_${_n} PROPERTIES LABELS "cli" TIMEOUT 300 FIXTURES_SETUP asm_frames)
 endforeach()
+# A picture taken while ASM still refines says so on stderr (stop 45's visual
+# review: the 5M assembly leaked light after 1 frame, in silence); a converged
+# one does not.
+add_test(NAME cli.render.asm_refining_warns
+  COMMAND env -u DISPLAY ${_ss_cli} render "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json" --method asm
+    --size 320x240 --frames 1 --option asm_time_budget_ms=5)
+set_tests_properties(cli.render.asm_refining_warns PROPERTIES LABELS "cli" TIMEOUT 300
+  PASS_REGULAR_EXPRESSION "warning: asm was still refining after 1 frame\\(s\\) \\([0-9]+ node")
+add_test(NAME cli.render.asm_converged_quiet
+  COMMAND /bin/sh -c "rm -f \"$3\" && out=$(env -u DISPLAY \"$1\" render \"$2\" --method asm --size 320x240 --frames 40 --option asm_time_budget_ms=5 --output \"$3\" --stats \"$3.json\" 2>&1) && test -s \"$3\" && grep -q '\"refining\": false' \"$3.json\" && ! echo \"$out\" | grep -q 'still refining'"
+    sh ${_ss_cli} "${PROJECT_SOURCE_DIR}/Data/Scenes/wires.json" "${_ss_out}/asm_converged.png")
+set_tests_properties(cli.render.asm_converged_quiet PROPERTIES LABELS "cli" TIMEOUT 600)
 add_test(NAME cli.render.asm_frames_check
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_asm_frames.py"
     "${_ss_out}/asm_frames_1.json" "${_ss_out}/asm_frames_16.json")
