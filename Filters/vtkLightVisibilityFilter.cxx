@@ -276,9 +276,26 @@ int vtkLightVisibilityFilter::RequestData(
       normals = withNormals->GetPointData()->GetNormals();
     }
   }
-  double b[6];
-  input->GetBounds(b);
-  const glm::dvec3 origin(0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]));
+  // The float origin: the centre of the points the solvers can take (finite,
+  // within 1e30, as the lights); the others get NaN. Before (stop 45's
+  // Python sweep) it was the bounds' centre, so one infinite point put the
+  // origin at infinity and every output value was NaN.
+  auto usable = [](const double* p) {
+    return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) && std::fabs(p[0]) <= 1e30 &&
+      std::fabs(p[1]) <= 1e30 && std::fabs(p[2]) <= 1e30;
+  };
+  glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    double p[3];
+    input->GetPoint(i, p);
+    if (usable(p))
+    {
+      lo = glm::min(lo, glm::dvec3(p[0], p[1], p[2]));
+      hi = glm::max(hi, glm::dvec3(p[0], p[1], p[2]));
+    }
+  }
+  const glm::dvec3 origin = lo.x <= hi.x ? 0.5 * lo + 0.5 * hi : glm::dvec3(0.0);
   // Morton order in chunks: each Solve call gets a compact set of points (a
   // tight GEARS grid) and progress is reported between calls.
   std::vector<glm::dvec3> asTriangles(3 * static_cast<std::size_t>(n));
@@ -286,6 +303,12 @@ int vtkLightVisibilityFilter::RequestData(
   {
     double p[3];
     input->GetPoint(i, p);
+    if (!usable(p))
+    {
+      p[0] = origin.x; // (ordered with the others; solved as NaN)
+      p[1] = origin.y;
+      p[2] = origin.z;
+    }
     asTriangles[3 * i] = asTriangles[3 * i + 1] = asTriangles[3 * i + 2] = glm::dvec3(p[0], p[1], p[2]);
   }
   const ss::TriangleClusters chunks = ss::ClusterTriangles(asTriangles, kChunkPoints);
@@ -298,7 +321,7 @@ int vtkLightVisibilityFilter::RequestData(
     input->GetPoint(id, p);
     for (int k = 0; k < 3; ++k)
     {
-      positions[3 * i + k] = static_cast<float>(p[k] - origin[k]);
+      positions[3 * i + k] = usable(p) ? static_cast<float>(p[k] - origin[k]) : std::nanf("");
     }
     if (normals)
     {

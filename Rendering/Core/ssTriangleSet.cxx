@@ -90,7 +90,7 @@ TriangleSelection SelectTriangles(
     for (int j = 0; j < 3; ++j)
     {
       const glm::dvec3& p = v[3 * t + j];
-      ok = ok && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+      ok = ok && std::fabs(p.x) <= 1e30 && std::fabs(p.y) <= 1e30 && std::fabs(p.z) <= 1e30; // (false for NaN)
     }
     if (ok)
     {

@@ -27,8 +27,10 @@ struct TriangleBulk
 /// `keep`, when not empty, has one flag per triangle (0: left out).
 TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& vertices, const std::vector<char>& keep = {});
 
-/// Which triangles of a caster list the CPU solvers keep: finite vertices,
-/// non-zero area and, when asked, opacity > 0 — and where their bulk lies
+/// Which triangles of a caster list the CPU solvers keep: finite vertices
+/// within 1e30 of the origin (the solvers' floats hold them relative to the
+/// bulk; stop 45: one vertex at 1e39 in a baked surface made every point
+/// V = 0), non-zero area and, when asked, opacity > 0 — and where their bulk lies
 /// (`center` is the solvers' float origin).
 struct TriangleSelection
 {

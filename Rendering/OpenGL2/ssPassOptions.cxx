@@ -268,3 +268,90 @@ ssForwardBoolOption(ASMIDTest)
 ssForwardOption(PCFRadius, double)
 ssForwardOption(BlockerSearchSamples, int)
 ssForwardOption(FilterMaxQuads, int)
+
+// --- frame-wide numbers that are not solver options: NaN and inf refused
+// (stop 45's Python sweep: a NaN constant bias turned every pixel of hard
+// black, and the clamp macros let NaN through)
+void vtkSoftShadowPass::SetConstantBias(double texels)
+{
+  if (!std::isfinite(texels))
+  {
+    vtkErrorMacro("SetConstantBias: " << texels << " is not a finite number of texels; " << this->ConstantBias
+                                      << " kept");
+    return;
+  }
+  if (this->ConstantBias != texels)
+  {
+    this->ConstantBias = texels;
+    this->Modified();
+  }
+}
+
+void vtkSoftShadowPass::SetSlopeBias(double texels)
+{
+  if (!std::isfinite(texels))
+  {
+    vtkErrorMacro("SetSlopeBias: " << texels << " is not a finite number of texels; " << this->SlopeBias << " kept");
+    return;
+  }
+  if (this->SlopeBias != texels)
+  {
+    this->SlopeBias = texels;
+    this->Modified();
+  }
+}
+
+void vtkSoftShadowPass::SetNormalOffset(double texels)
+{
+  if (std::isnan(texels))
+  {
+    vtkErrorMacro("SetNormalOffset: NaN is no number of texels; " << this->NormalOffset << " kept");
+    return;
+  }
+  texels = std::min(std::max(texels, 0.0), 16.0);
+  if (this->NormalOffset != texels)
+  {
+    this->NormalOffset = texels;
+    this->Modified();
+  }
+}
+
+void vtkSoftShadowPass::SetInteractiveUpdateRate(double rate)
+{
+  if (std::isnan(rate))
+  {
+    vtkErrorMacro("SetInteractiveUpdateRate: NaN is no rate; " << this->InteractiveUpdateRate << " kept");
+    return;
+  }
+  rate = std::min(std::max(rate, 1e-6), 1e6);
+  if (this->InteractiveUpdateRate != rate)
+  {
+    this->InteractiveUpdateRate = rate;
+    this->Modified();
+  }
+}
+
+void vtkSoftShadowPass::SetPositionsOrigin(double x, double y, double z)
+{
+  // the G-buffer holds float positions relative to it: beyond 1e30 their
+  // squares leave the float range (and NaN positions no surface at all)
+  const double o[3] = { x, y, z };
+  for (double c : o)
+  {
+    if (!std::isfinite(c) || std::fabs(c) > 1e30)
+    {
+      vtkErrorMacro("SetPositionsOrigin: (" << x << ", " << y << ", " << z
+                                            << ") is not a finite point within 1e30 of the world origin; ("
+                                            << this->PositionsOrigin[0] << ", " << this->PositionsOrigin[1]
+                                            << ", " << this->PositionsOrigin[2] << ") kept");
+      return;
+    }
+  }
+  if (this->PositionsOrigin[0] != x || this->PositionsOrigin[1] != y || this->PositionsOrigin[2] != z)
+  {
+    this->PositionsOrigin[0] = x;
+    this->PositionsOrigin[1] = y;
+    this->PositionsOrigin[2] = z;
+    this->Modified();
+  }
+}

@@ -83,12 +83,27 @@ vtkSoftShadowPass::~vtkSoftShadowPass()
   this->SetDelegatePass(nullptr);
 }
 
-vtkCxxSetObjectMacro(vtkSoftShadowPass, DelegatePass, vtkRenderPass);
+void vtkSoftShadowPass::SetDelegatePass(vtkRenderPass* pass)
+{
+  // (a pass that delegates to itself renders forever: refused)
+  if (pass == this)
+  {
+    vtkErrorMacro("SetDelegatePass: a vtkSoftShadowPass cannot delegate to itself; the delegate is kept");
+    return;
+  }
+  vtkSetObjectBodyMacro(DelegatePass, vtkRenderPass, pass);
+}
 
 //------------------------------------------------------------------------------
 void vtkSoftShadowPass::SetMethod(int method)
 {
-  method = std::max(this->GetMethodMinValue(), std::min(method, this->GetMethodMaxValue()));
+  if (method < this->GetMethodMinValue() || method > this->GetMethodMaxValue())
+  {
+    vtkErrorMacro("SetMethod: " << method << " is no method (" << this->GetMethodMinValue() << " to "
+                                << this->GetMethodMaxValue() << ": " << GetMethodNames() << "); "
+                                << GetMethodName(this->Method) << " kept");
+    return;
+  }
   if (this->Method != method)
   {
     this->Method = method;
@@ -111,6 +126,8 @@ bool vtkSoftShadowPass::SetMethodByName(const char* name)
   const ss::SolverEntry* entry = name ? ss::FindSolverEntry(std::string(name)) : nullptr;
   if (!entry)
   {
+    vtkErrorMacro("SetMethodByName: unknown method '" << (name ? name : "(null)") << "' (" << GetMethodNames()
+                                                      << "); " << GetMethodName(this->Method) << " kept");
     return false;
   }
   this->SetMethod(static_cast<int>(entry->Method));
@@ -120,7 +137,7 @@ bool vtkSoftShadowPass::SetMethodByName(const char* name)
 const char* vtkSoftShadowPass::GetMethodName(int method)
 {
   const ss::SolverEntry* entry = ss::FindSolverEntry(static_cast<ss::Method>(method));
-  return entry ? entry->Name : "none";
+  return entry ? entry->Name : "unknown";
 }
 
 std::string vtkSoftShadowPass::GetMethodNames()

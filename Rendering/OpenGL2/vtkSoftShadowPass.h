@@ -86,15 +86,22 @@ public:
 
   ///@{
   /**
-   * The visibility solver used for every shadow-casting light.
+   * The visibility solver used for every shadow-casting light. A number
+   * outside GetMethodMinValue()..GetMethodMaxValue() is an error and the
+   * method is kept (stop 45; before, it was clamped: 99 gave avsm in silence,
+   * where ParaView's view refuses it).
    */
   virtual void SetMethod(int method);
   vtkGetMacro(Method, int);
   /** SetMethod clamps to this range: every registered method (ssSolverRegistry). */
   virtual int GetMethodMinValue();
   virtual int GetMethodMaxValue();
-  /** By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg, vpcss, asm, avsm. Returns false for unknown names. */
+  /**
+   * By name: auto, hard, pcf, pcss, none, reference, gears, pvsm, hardavg, vpcss, asm, avsm. An unknown
+   * name is an error naming it (the method is kept) and returns false.
+   */
   bool SetMethodByName(const char* name);
+  /** The method's name; "unknown" for a number that is no method. */
   static const char* GetMethodName(int method);
   /** Every method's name, comma-separated, in the registry's order. */
   static std::string GetMethodNames();
@@ -279,9 +286,9 @@ public:
   /**
    * Depth bias in shadow-map texels (constant and slope-scaled), default 1 and 2.
    */
-  vtkSetMacro(ConstantBias, double);
+  void SetConstantBias(double texels); ///< NaN or inf: an error, the bias kept
   vtkGetMacro(ConstantBias, double);
-  vtkSetMacro(SlopeBias, double);
+  void SetSlopeBias(double texels); ///< NaN or inf: an error, the bias kept
   vtkGetMacro(SlopeBias, double);
   ///@}
 
@@ -296,7 +303,7 @@ public:
    * stability.md, "Acne on smooth-shaded meshes"); it remains for coarse
    * maps and for users who want it.
    */
-  vtkSetClampMacro(NormalOffset, double, 0.0, 16.0);
+  void SetNormalOffset(double texels); ///< clamped to 0..16; NaN: an error, the offset kept
   vtkGetMacro(NormalOffset, double);
   ///@}
 
@@ -320,7 +327,9 @@ public:
    * Origin of the positions buffer and of all float computations. By default
    * (AutomaticPositionsOrigin on) the camera focal point of each frame.
    */
-  vtkSetVector3Macro(PositionsOrigin, double);
+  /// (non-finite coordinates or beyond 1e30: an error, the origin kept)
+  void SetPositionsOrigin(double x, double y, double z);
+  void SetPositionsOrigin(const double origin[3]) { this->SetPositionsOrigin(origin[0], origin[1], origin[2]); }
   vtkGetVector3Macro(PositionsOrigin, double);
   vtkSetMacro(AutomaticPositionsOrigin, bool);
   vtkGetMacro(AutomaticPositionsOrigin, bool);
@@ -367,7 +376,7 @@ public:
   vtkSetMacro(KeepRequestedMethod, bool);
   vtkGetMacro(KeepRequestedMethod, bool);
   vtkBooleanMacro(KeepRequestedMethod, bool);
-  vtkSetClampMacro(InteractiveUpdateRate, double, 1e-6, 1e6);
+  void SetInteractiveUpdateRate(double rate); ///< clamped to 1e-6..1e6; NaN: an error, the rate kept
   vtkGetMacro(InteractiveUpdateRate, double);
   ///@}
 

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace
@@ -283,4 +284,61 @@ TEST(LightVisibilityFilter, OpacityAndBadInput)
   f->Update();
   EXPECT_NE(errors->text.find("farther than 1e30"), std::string::npos) << errors->text;
   EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("LightVisibility_0"), nullptr);
+}
+
+// One point the solvers cannot take (infinite, or beyond the float range)
+// gets NaN; every other point keeps its value. Before (stop 45's Python
+// sweep) the float origin was the bounds' centre, infinite then, and every
+// value came out NaN; and the input's triangles at the 1e39 point (the input
+// casts shadows) were kept as casters, inf in float, which hid the light
+// from every point.
+TEST(LightVisibilityFilter, AnInfinitePointSpoilsOnlyItself)
+{
+  for (const int method : { vtkLightVisibilityFilter::METHOD_GEARS, vtkLightVisibilityFilter::METHOD_REFERENCE })
+  {
+    SCOPED_TRACE(method);
+    Scene s = MakeScene(20);
+    auto bake = [&](vtkPolyData* input) {
+      vtkNew<vtkLightVisibilityFilter> f;
+      f->SetInputData(input);
+      f->SetCasterData(s.casters);
+      f->SetMethod(method);
+      f->SetSamples(8);
+      f->SetLightCenter(s.light.center.x, s.light.center.y, s.light.center.z);
+      f->SetLightNormal(s.light.n.x, s.light.n.y, s.light.n.z);
+      f->SetLightUp(s.light.v.x, s.light.v.y, s.light.v.z);
+      f->SetLightSize(1.6, 1.0);
+      f->Update();
+      vtkDataArray* v = f->GetOutput()->GetPointData()->GetArray("LightVisibility_0");
+      std::vector<double> out;
+      for (vtkIdType i = 0; v && i < v->GetNumberOfTuples(); ++i)
+      {
+        out.push_back(v->GetComponent(i, 0));
+      }
+      return out;
+    };
+    const std::vector<double> clean = bake(s.plane);
+    vtkNew<vtkPolyData> spoiled;
+    spoiled->DeepCopy(s.plane);
+    vtkNew<vtkPoints> pts;
+    pts->SetDataTypeToDouble();
+    pts->DeepCopy(s.plane->GetPoints());
+    pts->SetPoint(7, std::numeric_limits<double>::infinity(), 0.0, 0.0);
+    pts->SetPoint(300, 1e39, 0.0, 0.0);
+    spoiled->SetPoints(pts);
+    const std::vector<double> got = bake(spoiled);
+    ASSERT_EQ(got.size(), clean.size());
+    std::size_t nan = 0, shaded = 0, equal = 0;
+    for (std::size_t i = 0; i < got.size(); ++i)
+    {
+      nan += std::isnan(got[i]) ? 1 : 0;
+      shaded += clean[i] < 0.5 ? 1 : 0;
+      // (points next to the two moved ones may get other normals)
+      equal += std::abs(got[i] - clean[i]) < 1e-6 ? 1 : 0;
+    }
+    EXPECT_TRUE(std::isnan(got[7]) && std::isnan(got[300]));
+    EXPECT_EQ(nan, 2u);
+    EXPECT_GT(shaded, 20u);
+    EXPECT_GE(equal, got.size() - 20);
+  }
 }

@@ -496,7 +496,7 @@ TEST(SoftShadowPass, ToggleAndRelease)
 }
 
 // The method table (ssSolverRegistry) through the pass's API: every name
-// round-trips, SetMethod clamps to the registered range, and every method's
+// round-trips, SetMethod refuses numbers outside the registered range, and every method's
 // solver shadows the sphere's contact point, holds GPU objects while it
 // renders and frees all of them on release, with the pass toggled off and on
 // (a solver added to the table is checked here without a new test).
@@ -566,13 +566,20 @@ TEST(SoftShadowPass, EveryRegisteredMethodShadowsAndReleases)
     s.pass->SetMethodByName(name.c_str());
     largest = std::max(largest, s.pass->GetMethod());
   }
-  s.pass->SetMethod(1000);
-  EXPECT_EQ(s.pass->GetMethod(), s.pass->GetMethodMaxValue());
   EXPECT_EQ(s.pass->GetMethodMaxValue(), largest);
+  // numbers and names that are no method are refused and the method kept
+  // (stop 45: numbers were clamped, 1000 gave the last method in silence)
+  ASSERT_TRUE(s.pass->SetMethodByName("pcss"));
+  const int pcss = s.pass->GetMethod();
+  s.pass->SetMethod(1000);
+  EXPECT_EQ(s.pass->GetMethod(), pcss);
   s.pass->SetMethod(-3);
-  EXPECT_EQ(s.pass->GetMethod(), static_cast<int>(vtkSoftShadowPass::AUTO));
+  EXPECT_EQ(s.pass->GetMethod(), pcss);
   EXPECT_FALSE(s.pass->SetMethodByName("fancy"));
   EXPECT_FALSE(s.pass->SetMethodByName(nullptr));
+  EXPECT_EQ(s.pass->GetMethod(), pcss);
+  EXPECT_STREQ(vtkSoftShadowPass::GetMethodName(1000), "unknown");
+  EXPECT_FALSE(s.pass->SetMethodByName(vtkSoftShadowPass::GetMethodName(1000)));
 }
 
 // No casters, or no lights: no shadow work, and the plan says why.

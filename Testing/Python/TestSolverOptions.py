@@ -208,5 +208,34 @@ print("pvsm stats: quality %s, metric %s" % (pvsm.get("quality"), pvsm.get("metr
 check(pvsm.get("quality") == 2.5, "the PVSM solver ran with pvsm_quality 2.5")
 check(pvsm.get("metric") == "dynamic", "the PVSM solver ran with pvsm_metric dynamic")
 
+# Frame-wide numbers and methods set to nonsense are refused and kept (stop
+# 45's Python sweep: a NaN constant bias turned hard's picture black in
+# silence, SetMethod(99) gave avsm, SetDelegatePass(self) never returned)
+q = P()
+q.SetMethodByName("pcss")
+for setter, getter, bad in (("SetConstantBias", "GetConstantBias", (math.nan, math.inf, -math.inf)),
+                            ("SetSlopeBias", "GetSlopeBias", (math.nan, math.inf)),
+                            ("SetNormalOffset", "GetNormalOffset", (math.nan,)),
+                            ("SetInteractiveUpdateRate", "GetInteractiveUpdateRate", (math.nan,))):
+    before = getattr(q, getter)()
+    for b in bad:
+        getattr(q, setter)(b)
+        check(getattr(q, getter)() == before, "%s(%r) refused, %r kept (got %r)" % (setter, b, before,
+                                                                                   getattr(q, getter)()))
+q.SetPositionsOrigin(1.0, 2.0, 3.0)
+for b in ((math.nan, 0, 0), (0, math.inf, 0), (0, 0, 1e300)):
+    q.SetPositionsOrigin(*b)
+    check(q.GetPositionsOrigin() == (1.0, 2.0, 3.0),
+          "SetPositionsOrigin%r refused (got %r)" % (b, q.GetPositionsOrigin()))
+pcss = q.GetMethod()
+for b in (99, -1, q.GetMethodMaxValue() + 1):
+    q.SetMethod(b)
+    check(q.GetMethod() == pcss, "SetMethod(%d) refused, pcss kept (got %s)" % (b, P.GetMethodName(q.GetMethod())))
+for b in ("bogus", "", "HARD", P.GetMethodName(99)):
+    check(not q.SetMethodByName(b) and q.GetMethod() == pcss, "SetMethodByName(%r) refused" % b)
+check(P.GetMethodName(99) == "unknown", "GetMethodName(99) is 'unknown' (got %r)" % P.GetMethodName(99))
+q.SetDelegatePass(q)
+check(q.GetDelegatePass() is None, "SetDelegatePass(itself) refused")
+
 print("%d solver options checked; %d failures" % (n, len(failures)))
 sys.exit(1 if failures else 0)
