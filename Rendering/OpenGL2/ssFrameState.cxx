@@ -63,6 +63,12 @@ std::string CheckFarAndOverflowingLights(
   bool far = false;
   for (auto& l : lights)
   {
+    if (!l.Planner.valid && l.Planner.castsShadows && !l.Planner.headlight)
+    {
+      // (the plan said it; stop 45's Python sweep found a light whose position
+      // is its focal point unshadowed with nothing printed)
+      sep() << "light " << l.ShaderIndex << " casts no shadow: " << l.Planner.invalidReason;
+    }
     LightFrame d;
     l.TrueFrame = l.Frame;
     if (l.Planner.valid && !scene.Empty() && FarLightAsDirectional(l.Frame, scene.Center(), scene.Diagonal(), d))

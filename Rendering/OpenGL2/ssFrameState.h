@@ -78,7 +78,9 @@ std::vector<ShadowLight> CollectLights(vtkRenderer* ren, const glm::dvec3& origi
 /// directional frame it is for the scene (ss::FarLightAsDirectional; TrueFrame
 /// keeps the light as it is, for the triangle solvers); a light
 /// whose colour x intensity exceeds the float range is reported (VTK's
-/// shading of it is black). Returns the warning text, empty when none;
+/// shading of it is black), and so is a shadow-casting light the pass cannot
+/// frame (its position at its focal point, a NaN coordinate: the planner's
+/// invalidReason, stop 45). Returns the warning text, empty when none;
 /// `origin` (the frame's) places the lights it names in world coordinates.
 std::string CheckFarAndOverflowingLights(
   std::vector<ShadowLight>& lights, const Box& scene, const glm::dvec3& origin);

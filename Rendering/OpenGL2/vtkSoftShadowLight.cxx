@@ -11,6 +11,8 @@
 #include "vtkObjectFactory.h"
 
 #include <cmath>
+#include <sstream>
+#include <stdexcept>
 
 vtkStandardNewMacro(vtkSoftShadowLight);
 vtkInformationKeyRestrictedMacro(vtkSoftShadowLight, AREA_SIZE, DoubleVector, 2);
@@ -149,14 +151,26 @@ ss::LightFrame vtkSoftShadowLight::MakeLightFrame(vtkLight* light, const double 
   }
   double size[2];
   vtkSoftShadowLight::GetAreaSize(light, size);
-  // a zero side is a point light (scene-format.md; the planner's rule too)
-  if (size[0] > 0.0 && size[1] > 0.0)
+  try
   {
-    double up[3] = { 0, 0, 0 };
-    vtkSoftShadowLight::GetAreaUp(light, up);
-    return ss::MakeRectLightFrame(p - o, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
+    // a zero side is a point light (scene-format.md; the planner's rule too)
+    if (size[0] > 0.0 && size[1] > 0.0)
+    {
+      double up[3] = { 0, 0, 0 };
+      vtkSoftShadowLight::GetAreaUp(light, up);
+      return ss::MakeRectLightFrame(p - o, f - p, glm::dvec3(up[0], up[1], up[2]), glm::dvec2(size[0], size[1]));
+    }
+    return ss::MakePointLightFrame(p - o);
   }
-  return ss::MakePointLightFrame(p - o);
+  catch (const std::exception& e)
+  {
+    // (the frames' messages give coordinates relative to the float origin:
+    // the world's are what the user set)
+    std::ostringstream msg;
+    msg << e.what() << " (the light at (" << p.x << ", " << p.y << ", " << p.z << ") towards (" << f.x << ", "
+        << f.y << ", " << f.z << ") in world coordinates)";
+    throw std::invalid_argument(msg.str());
+  }
 }
 
 void vtkSoftShadowLight::PrintSelf(ostream& os, vtkIndent indent)

@@ -134,6 +134,12 @@ bool vtkSoftShadowPass::SetMethodByName(const char* name)
   return true;
 }
 
+int vtkSoftShadowPass::FindMethod(const char* name)
+{
+  const ss::SolverEntry* entry = name ? ss::FindSolverEntry(std::string(name)) : nullptr;
+  return entry ? static_cast<int>(entry->Method) : -1;
+}
+
 const char* vtkSoftShadowPass::GetMethodName(int method)
 {
   const ss::SolverEntry* entry = ss::FindSolverEntry(static_cast<ss::Method>(method));

@@ -101,6 +101,8 @@ public:
    * name is an error naming it (the method is kept) and returns false.
    */
   bool SetMethodByName(const char* name);
+  /** The number of the method of this name; -1 (and no error) for an unknown name. */
+  static int FindMethod(const char* name);
   /** The method's name; "unknown" for a number that is no method. */
   static const char* GetMethodName(int method);
   /** Every method's name, comma-separated, in the registry's order. */

@@ -234,8 +234,30 @@ for b in (99, -1, q.GetMethodMaxValue() + 1):
 for b in ("bogus", "", "HARD", P.GetMethodName(99)):
     check(not q.SetMethodByName(b) and q.GetMethod() == pcss, "SetMethodByName(%r) refused" % b)
 check(P.GetMethodName(99) == "unknown", "GetMethodName(99) is 'unknown' (got %r)" % P.GetMethodName(99))
+check(P.FindMethod("bogus") == -1 and P.GetMethodName(P.FindMethod("gears")) == "gears",
+      "FindMethod: -1 for an unknown name, the number of a known one")
 q.SetDelegatePass(q)
 check(q.GetDelegatePass() is None, "SetDelegatePass(itself) refused")
+
+# A shadow-casting light the pass cannot frame (its position at its focal
+# point) is warned about in world coordinates, not only named in the plan
+seen = []
+
+
+def on_warning(obj, event, data=None):
+    seen.append(str(data))
+
+
+on_warning.CallDataType = "string0"
+shadows.AddObserver("WarningEvent", on_warning)
+light.SetFocalPoint(0.5, 0, 4)
+vtkObject.GlobalWarningDisplayOn()  # (off, VTK's macros fire no event either)
+win.Render()
+vtkObject.GlobalWarningDisplayOff()
+text = " ".join(seen)
+print("degenerate light: %s" % text)
+check("casts no shadow" in text and "(0.5, 0, 4)" in text,
+      "a light at its focal point is warned about with its world position (got %r)" % text)
 
 print("%d solver options checked; %d failures" % (n, len(failures)))
 sys.exit(1 if failures else 0)
