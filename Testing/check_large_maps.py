@@ -6,7 +6,9 @@ ParaView sweep, stop 44):
   (4096) on the demo scene, whose tiles need less; before, the tiles were
   drawn into no texture (GL errors) and the shadows came out wrong;
 - shadow_map_size=16384 must render shadows (at the largest size the context
-  holds, with a note when smaller); before, the command failed (no shadows).
+  holds, with a note when smaller); before, the command failed (no shadows);
+- asm_memory_mb=4096 must render ASM's shadows (an atlas the context holds,
+  with a note); before (stop 45), the light was left unshadowed.
 
 usage: check_large_maps.py SOFTSHADOWS SCENE OUTDIR"""
 import json
@@ -66,7 +68,31 @@ else:
         failures.append("shadow_map_size=16384: no shadows (%d pixels with V < 0.5)" % shadow)
     if size < 16384 and not note:
         failures.append("shadow_map_size=16384: maps of %d without a note" % size)
+# ASM's atlas at the top of asm_memory_mb's range (stop 45's Python sweep:
+# 2048 and 4096 MB could not be allocated and left the light unshadowed): it
+# is halved until it can be, with a note, and gives the 16 MB budget's V
+# (the sphere's few nodes fit both)
+vis_a = {}
+for mb in (16, 4096):
+    vis_a[mb] = os.path.join(out, "asm_%d.pfm" % mb)
+    stats_a = os.path.join(out, "asm_%d.json" % mb)
+    cmd = [exe, "render", scene, "--method", "asm", "--size", "160x120", "--option", "asm_memory_mb=%d" % mb,
+           "--visibility", vis_a[mb], "--stats", stats_a]
+    run = subprocess.run(cmd, env=env, capture_output=True, text=True)
+    if run.returncode != 0:
+        failures.append("%s: exit code %d: %s" % (" ".join(cmd), run.returncode, run.stderr))
+        continue
+    with open(stats_a) as f:
+        atlas = json.load(f)["pass"]["asm"]["atlas"]
+    print("asm_memory_mb=%d: atlas of %d bytes (%s)" % (mb, atlas["bytes"], atlas["note"] or "no note"))
+    if mb == 4096 and atlas["bytes"] < (4096 << 20) // 2 and not atlas["note"]:
+        failures.append("asm_memory_mb=4096: a smaller atlas without a note")
+if len(vis_a) == 2 and os.path.exists(vis_a[4096]):
+    d = json.loads(subprocess.run([exe, "compare", vis_a[4096], vis_a[16]], capture_output=True, text=True).stdout)
+    print("asm 4096 MB vs 16 MB: %s" % d["all"])
+    if d["all"]["pixels"] < 1000 or d["all"]["max"] != 0.0:
+        failures.append("asm_memory_mb=4096 changes V: %s" % json.dumps(d["all"]))
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print("pvsm_max_tile=16384 renders like 4096; shadow_map_size=16384 renders shadows")
+print("pvsm_max_tile=16384 renders like 4096; shadow_map_size=16384 renders shadows; asm's atlas fits the context")

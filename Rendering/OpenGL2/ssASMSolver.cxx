@@ -200,11 +200,38 @@ bool ASMSolver::EnsureResources(SolverFrame& frame)
     this->Reset();
     // §3.2: the atlas holds the pages the budget allows and no more
     const long long pages = this->BudgetBytes / this->Settings.PageBytes();
-    const ASMAtlasLayout layout =
+    ASMAtlasLayout layout =
       PlanAtlas(pages, this->Settings.pageSize, limits.maxTextureSize, limits.maxArrayTextureLayers);
     std::string error;
-    if (layout.pages <= 0 ||
-      !this->Tex.EnsureAtlas(layout, this->Settings.pageSize, this->Settings.SummarySize(), error))
+    bool allocated = layout.pages > 0 &&
+      this->Tex.EnsureAtlas(layout, this->Settings.pageSize, this->Settings.SummarySize(), error);
+    // An atlas the context cannot allocate (a budget within the option's
+    // range, 2048 MB on llvmpipe: stop 45's Python sweep found the light then
+    // unshadowed) is halved until it can, down to a point light's 6 roots,
+    // with a warning: the budget is a ceiling, never exceeded.
+    long long tried = layout.pages;
+    while (!allocated && tried / 2 >= 6)
+    {
+      tried /= 2;
+      layout = PlanAtlas(tried, this->Settings.pageSize, limits.maxTextureSize, limits.maxArrayTextureLayers);
+      std::string again;
+      allocated = layout.pages > 0 &&
+        this->Tex.EnsureAtlas(layout, this->Settings.pageSize, this->Settings.SummarySize(), again);
+    }
+    if (allocated && layout.pages < pages)
+    {
+      std::ostringstream note;
+      note << "ASM: this context could not allocate the atlas of " << pages << " pages that "
+           << this->Opt.MemoryMB << " MB holds; it uses " << layout.pages << " pages ("
+           << layout.pages * this->Settings.PageBytes() / 1048576.0 << " MB)";
+      vtkWarningWithObjectMacro(frame.Reporter, << note.str() << ".");
+      this->AtlasNote = note.str();
+    }
+    else if (allocated)
+    {
+      this->AtlasNote.clear();
+    }
+    if (!allocated)
     {
       vtkErrorWithObjectMacro(frame.Reporter,
         << (error.empty() ? "ASM: a memory budget of " + std::to_string(this->Opt.MemoryMB) +
@@ -882,7 +909,7 @@ std::string ASMSolver::GetStatsJSON() const
     << ", \"atlas\": {\"width\": " << this->Tex.Layout.Width(this->Tex.PageSize)
     << ", \"height\": " << this->Tex.Layout.Height(this->Tex.PageSize) << ", \"layers\": " << this->Tex.Layout.layers
     << ", \"capped_by_gl\": " << (this->Tex.Layout.capped ? "true" : "false") << ", \"bytes\": " << this->Tex.AtlasBytes()
-    << "}, \"nodes\": " << t.LiveNodes() << ", \"nodes_per_level\": [";
+    << ", \"note\": \"" << this->AtlasNote << "\"}, \"nodes\": " << t.LiveNodes() << ", \"nodes_per_level\": [";
   for (std::size_t l = 0; l < perLevel.size(); ++l)
   {
     o << (l ? ", " : "") << perLevel[l];

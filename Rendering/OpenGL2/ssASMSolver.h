@@ -115,6 +115,7 @@ private:
   long long BudgetBytes = 0;
   std::string PageNote;   ///< why the pages are smaller than ASMPageSize (Configure), or empty
   std::string PageWarned; ///< the note last warned about
+  std::string AtlasNote;  ///< why the atlas holds fewer pages than the budget (EnsureResources), or empty
   std::string ShapeKey; ///< settings the tree was built with
   ASMTree Tree;
   ASMCostModel Cost;
