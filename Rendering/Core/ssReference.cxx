@@ -129,6 +129,7 @@ struct ReferenceSolver::Impl
   RTCDevice Device = nullptr;
   RTCScene Scene = nullptr;
   glm::dvec3 Center{ 0.0 };
+  double Unit = 1.0; ///< a power of two near Scale: Embree's length unit (SetTriangles)
   double Scale = 1.0; ///< the bulk's diagonal (ssTriangleSet.h)
   std::size_t Triangles = 0, Skipped = 0;
   std::vector<float> Opacity;
@@ -180,6 +181,12 @@ void ReferenceSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::
   P->Triangles = sel.kept;
   P->Center = sel.center;
   P->Scale = sel.scale;
+  // Embree sees the casters in units of a power of two near their scale
+  // (exact: no rounding changes), so that its own tolerances meet a scene of
+  // unit size whatever the world's units. Stop 45's Python sweep: scaled by
+  // 1e14 or 1e-12, the ground truth missed about 1,000 pixels of shadow that
+  // GEARS found (1e-8 .. 1e8 were exact).
+  P->Unit = sel.scale > 0.0 && std::isfinite(sel.scale) ? std::ldexp(1.0, std::ilogb(sel.scale)) : 1.0;
   P->Opacity.clear();
   P->Translucent = false;
   P->Scene = rtcNewScene(P->Device);
@@ -205,7 +212,7 @@ void ReferenceSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::
       }
       for (int j = 0; j < 3; ++j)
       {
-        const glm::dvec3 r = v[3 * t + j] - P->Center;
+        const glm::dvec3 r = (v[3 * t + j] - P->Center) / P->Unit;
         vb[9 * out + 3 * j + 0] = static_cast<float>(r.x);
         vb[9 * out + 3 * j + 1] = static_cast<float>(r.y);
         vb[9 * out + 3 * j + 2] = static_cast<float>(r.z);
@@ -297,7 +304,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
     {
       glm::dvec3 t;
       sample(0, s, t);
-      const glm::dvec3 r = directional ? t : t - P->Center;
+      const glm::dvec3 r = directional ? t : (t - P->Center) / P->Unit;
       fixedFloat = fixedFloat && std::max({ std::abs(r.x), std::abs(r.y), std::abs(r.z) }) < 1e18;
       fixed[3 * s] = static_cast<float>(r.x);
       fixed[3 * s + 1] = static_cast<float>(r.y);
@@ -368,7 +375,8 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
       // Push the start off the surface by the offset GEARS uses, scaled to
       // the casters and to the distance from their centre (ssTriangleSet.h).
       const double eps = StartOffset(p - P->Center, P->Scale);
-      const glm::dvec3 start = p + N * eps - P->Center;
+      const glm::dvec3 startWorld = p + N * eps;
+      const glm::dvec3 start = (startWorld - P->Center) / P->Unit; // (Embree's units)
       const float sx = static_cast<float>(start.x), sy = static_cast<float>(start.y), sz = static_cast<float>(start.z);
       const float nx = static_cast<float>(N.x), ny = static_cast<float>(N.y), nz = static_cast<float>(N.z);
       double visible = 0.0;
@@ -429,10 +437,10 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
               }
               else
               {
-                dir = target - (start + P->Center);
+                dir = target - startWorld;
                 tf = glm::length(dir);
                 dir = tf > 0.0 ? dir / tf : dir;
-                tf = std::min(tf * (1.0 - 1e-6), 1e30); // (float's range: nothing lies beyond)
+                tf = std::min(tf / P->Unit * (1.0 - 1e-6), 1e30); // (float's range: nothing lies beyond)
               }
               ok = tf > 0.0;
               dx = static_cast<float>(dir.x);
@@ -450,7 +458,7 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
           rays.dir_x[q2] = ok ? dx : 0.0f;
           rays.dir_y[q2] = ok ? dy : 0.0f;
           rays.dir_z[q2] = ok ? dz : 1.0f;
-          rays.tnear[q2] = ok ? static_cast<float>(eps) : 0.0f;
+          rays.tnear[q2] = ok ? static_cast<float>(eps / P->Unit) : 0.0f;
           rays.tfar[q2] = ok ? tfar : -1.0f;
           rays.time[q2] = 0.0f;
           rays.mask[q2] = ok ? 0xFFFFFFFFu : 0u;
@@ -491,7 +499,8 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
             if (!P->Volumes.empty())
             {
               const glm::dvec3 dir(rays.dir_x[q2], rays.dir_y[q2], rays.dir_z[q2]);
-              const glm::dvec3 a = start + P->Center, b = a + dir * static_cast<double>(laneLen[q2]);
+              const double len = static_cast<double>(laneLen[q2]) * (directional ? 1.0 : P->Unit); // (world)
+              const glm::dvec3 a = startWorld, b = a + dir * len;
               double tau = 0.0;
               for (const auto& vol : P->Volumes)
               {
