@@ -21,20 +21,30 @@ os.makedirs(out, exist_ok=True)
 env = dict(os.environ)
 env.pop("DISPLAY", None)
 failures = []
-vis = {}
-for tile in (4096, 16384):
-    vis[tile] = os.path.join(out, "tile_%d.pfm" % tile)
-    stats = os.path.join(out, "tile_%d.json" % tile)
-    cmd = [exe, "render", scene, "--method", "pvsm", "--size", "160x120", "--option", "pvsm_max_tile=%d" % tile,
-           "--visibility", vis[tile], "--stats", stats]
+
+
+def render(name, method, option):
+    """Renders the scene at 160x120 with one --option; (visibility path, stats)
+    or (path, None) after a failure, which it records."""
+    vis_path, stats_path = os.path.join(out, name + ".pfm"), os.path.join(out, name + ".json")
+    cmd = [exe, "render", scene, "--method", method, "--size", "160x120", "--option", option,
+           "--visibility", vis_path, "--stats", stats_path]
     run = subprocess.run(cmd, env=env, capture_output=True, text=True)
     if run.returncode != 0:
         failures.append("%s: exit code %d: %s" % (" ".join(cmd), run.returncode, run.stderr))
-        continue
+        return vis_path, None
     if "GL error" in run.stderr or "OpenGL error" in run.stderr or "ERR|" in run.stderr:
-        failures.append("pvsm_max_tile=%d: errors: %s" % (tile, run.stderr))
-    with open(stats) as f:
-        used = json.dumps(json.load(f)).split('"max_tile_used": ')[1].split(",")[0]
+        failures.append("%s: errors: %s" % (option, run.stderr))
+    with open(stats_path) as f:
+        return vis_path, json.load(f)
+
+
+vis = {}
+for tile in (4096, 16384):
+    vis[tile], st = render("tile_%d" % tile, "pvsm", "pvsm_max_tile=%d" % tile)
+    if st is None:
+        continue
+    used = json.dumps(st).split('"max_tile_used": ')[1].split(",")[0]
     print("pvsm_max_tile=%d: tiles up to %s used" % (tile, used))
 if not failures:
     cmp = subprocess.run([exe, "compare", vis[4096], vis[16384]], capture_output=True, text=True)
@@ -44,16 +54,9 @@ if not failures:
     if a["pixels"] < 1000 or a["max"] != 0.0 or d["background_mismatch"] != 0:
         failures.append("pvsm_max_tile=16384 changes V: %s" % json.dumps(d))
 # the whole-view shadow maps at 16384
-vis_m = os.path.join(out, "maps_16384.pfm")
-stats_m = os.path.join(out, "maps_16384.json")
-cmd = [exe, "render", scene, "--method", "pcss", "--size", "160x120", "--option", "shadow_map_size=16384",
-       "--visibility", vis_m, "--stats", stats_m]
-run = subprocess.run(cmd, env=env, capture_output=True, text=True)
-if run.returncode != 0:
-    failures.append("%s: exit code %d: %s" % (" ".join(cmd), run.returncode, run.stderr))
-else:
-    with open(stats_m) as f:
-        text = json.dumps(json.load(f))
+vis_m, st = render("maps_16384", "pcss", "shadow_map_size=16384")
+if st is not None:
+    text = json.dumps(st)
     size = int(text.split('"shadow_map_size": ')[1].split(",")[0])
     note = text.split('"shadow_map_size_note": "')[1].split('"')[0]
     with open(vis_m, "rb") as f:
@@ -74,16 +77,10 @@ else:
 # (the sphere's few nodes fit both)
 vis_a = {}
 for mb in (16, 4096):
-    vis_a[mb] = os.path.join(out, "asm_%d.pfm" % mb)
-    stats_a = os.path.join(out, "asm_%d.json" % mb)
-    cmd = [exe, "render", scene, "--method", "asm", "--size", "160x120", "--option", "asm_memory_mb=%d" % mb,
-           "--visibility", vis_a[mb], "--stats", stats_a]
-    run = subprocess.run(cmd, env=env, capture_output=True, text=True)
-    if run.returncode != 0:
-        failures.append("%s: exit code %d: %s" % (" ".join(cmd), run.returncode, run.stderr))
+    vis_a[mb], st = render("asm_%d" % mb, "asm", "asm_memory_mb=%d" % mb)
+    if st is None:
         continue
-    with open(stats_a) as f:
-        atlas = json.load(f)["pass"]["asm"]["atlas"]
+    atlas = st["pass"]["asm"]["atlas"]
     print("asm_memory_mb=%d: atlas of %d bytes (%s)" % (mb, atlas["bytes"], atlas["note"] or "no note"))
     if mb == 4096 and atlas["bytes"] < (4096 << 20) // 2 and not atlas["note"]:
         failures.append("asm_memory_mb=4096: a smaller atlas without a note")

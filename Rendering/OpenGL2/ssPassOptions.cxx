@@ -272,61 +272,58 @@ ssForwardOption(FilterMaxQuads, int)
 // --- frame-wide numbers that are not solver options: NaN and inf refused
 // (stop 45's Python sweep: a NaN constant bias turned every pixel of hard
 // black, and the clamp macros let NaN through)
+namespace
+{
+// member = value clamped to [lo, hi]; a value that is NaN (or, when lo and hi
+// are infinite, inf) is an error naming `what`, and member is kept. Whether
+// the member changed.
+bool SetChecked(vtkObject* self, const char* what, double& member, double value, double lo, double hi)
+{
+  if (std::isnan(value) || (std::isinf(value) && (std::isinf(lo) || std::isinf(hi))))
+  {
+    vtkErrorWithObjectMacro(self, << what << ": " << value << " is not a usable number; " << member << " kept");
+    return false;
+  }
+  value = std::min(std::max(value, lo), hi);
+  if (member == value)
+  {
+    return false;
+  }
+  member = value;
+  return true;
+}
+
+constexpr double kAny = std::numeric_limits<double>::infinity();
+}
+
 void vtkSoftShadowPass::SetConstantBias(double texels)
 {
-  if (!std::isfinite(texels))
+  if (SetChecked(this, "SetConstantBias", this->ConstantBias, texels, -kAny, kAny))
   {
-    vtkErrorMacro("SetConstantBias: " << texels << " is not a finite number of texels; " << this->ConstantBias
-                                      << " kept");
-    return;
-  }
-  if (this->ConstantBias != texels)
-  {
-    this->ConstantBias = texels;
     this->Modified();
   }
 }
 
 void vtkSoftShadowPass::SetSlopeBias(double texels)
 {
-  if (!std::isfinite(texels))
+  if (SetChecked(this, "SetSlopeBias", this->SlopeBias, texels, -kAny, kAny))
   {
-    vtkErrorMacro("SetSlopeBias: " << texels << " is not a finite number of texels; " << this->SlopeBias << " kept");
-    return;
-  }
-  if (this->SlopeBias != texels)
-  {
-    this->SlopeBias = texels;
     this->Modified();
   }
 }
 
 void vtkSoftShadowPass::SetNormalOffset(double texels)
 {
-  if (std::isnan(texels))
+  if (SetChecked(this, "SetNormalOffset", this->NormalOffset, texels, 0.0, 16.0))
   {
-    vtkErrorMacro("SetNormalOffset: NaN is no number of texels; " << this->NormalOffset << " kept");
-    return;
-  }
-  texels = std::min(std::max(texels, 0.0), 16.0);
-  if (this->NormalOffset != texels)
-  {
-    this->NormalOffset = texels;
     this->Modified();
   }
 }
 
 void vtkSoftShadowPass::SetInteractiveUpdateRate(double rate)
 {
-  if (std::isnan(rate))
+  if (SetChecked(this, "SetInteractiveUpdateRate", this->InteractiveUpdateRate, rate, 1e-6, 1e6))
   {
-    vtkErrorMacro("SetInteractiveUpdateRate: NaN is no rate; " << this->InteractiveUpdateRate << " kept");
-    return;
-  }
-  rate = std::min(std::max(rate, 1e-6), 1e6);
-  if (this->InteractiveUpdateRate != rate)
-  {
-    this->InteractiveUpdateRate = rate;
     this->Modified();
   }
 }
