@@ -122,7 +122,14 @@ void GBuffer::InjectOutputs(std::string& fragmentShader, std::size_t mainPos, st
   // (to the camera when there is none). The shadow-map solvers take the
   // receiver's plane from it: a faceted surface with interpolated normals is
   // the facet, not the smooth normal's tangent plane (issue 17).
-  impl += "    vec3 ssGN = cross(dFdx(ssVC), dFdy(ssVC));\n"
+  // Each derivative is scaled by its largest component first: in a scene of
+  // 1e12 units a pixel spans 5e9, the cross product's squared length passes
+  // the float range, and the normal came out 0 with w = 1 (ASM then read
+  // every receiver as facing away: a black picture; stop 45's Python sweep).
+  impl += "    vec3 ssDX = dFdx(ssVC), ssDY = dFdy(ssVC);\n"
+          "    float ssMX = max(max(abs(ssDX.x), abs(ssDX.y)), abs(ssDX.z));\n"
+          "    float ssMY = max(max(abs(ssDY.x), abs(ssDY.y)), abs(ssDY.z));\n"
+          "    vec3 ssGN = (ssMX > 0.0 && ssMY > 0.0) ? cross(ssDX / ssMX, ssDY / ssMY) : vec3(0.0);\n"
           "    float ssGL = length(ssGN);\n"
           "    ssGN = (ssGL > 0.0) ? ssGN / ssGL : vec3(0.0);\n";
   impl += haveN ? "    vec3 ssSN = normalize(normalVCVSOutput);\n"

@@ -371,6 +371,14 @@ add_test(NAME cli.render.far_from_origin
     "${_ss_data}/GoodScenes/far_origin_reference.json" "${_ss_data}/GoodScenes/far_from_origin.json"
     "${_ss_out}/far_from_origin")
 set_tests_properties(cli.render.far_from_origin PROPERTIES LABELS "cli" TIMEOUT 300)
+# The same scene in units 1e12 times larger renders the same frame (stop 45:
+# the G-buffer's facet normal overflowed float there, came out 0, and ASM's
+# picture was black; the reference, in Embree's units, lost shadow at 1e14).
+add_test(NAME cli.render.scale_1e12
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
+    "${_ss_data}/GoodScenes/scale_1.json" "${_ss_data}/GoodScenes/scale_1e12.json"
+    "${_ss_out}/scale_1e12" hard,pcss,asm,gears,reference)
+set_tests_properties(cli.render.scale_1e12 PROPERTIES LABELS "cli" TIMEOUT 300)
 # --output takes the picture of the last measured frame and changes nothing
 # that --visibility reports (before, one more render gave both).
 add_test(NAME cli.render.output_same_frame
