@@ -55,24 +55,20 @@ namespace
 // 0.24-0.41 where the reference has 0.49; stop 45's Python sweep).
 LightFrame SampleFrame(const LightFrame& light, int i, int j, int k, const Box& receivers, const Box& casters)
 {
-  LightFrame sample = LightSampleFrame(light, i, j, k);
+  const LightFrame sample = LightSampleFrame(light, i, j, k);
   Box scene = receivers;
   scene.Add(casters);
-  if (scene.Empty() || sample.type == LightType::Directional)
+  // Whether a rect light faces the scene is decided from its centre: a sample
+  // 5e29 off it is in the same plane, but FarLightAsDirectional's own facing
+  // test, from the sample's centre, loses the scene's distance from the plane
+  // to rounding. Facing, the sample goes there as the point it is.
+  if (scene.Empty() || (light.type == LightType::Rect && !(glm::dot(light.n, scene.Center() - light.center) > 0.0)))
   {
     return sample;
   }
-  // (whether a rect light faces the scene is decided from its centre: a sample
-  // 5e29 off it is in the same plane, but the dot product with its own offset
-  // loses the scene's distance from the plane to rounding)
-  const glm::dvec3 toScene = scene.Center() - sample.center;
-  const double dist = glm::length(toScene);
-  const bool faces = light.type != LightType::Rect || glm::dot(light.n, scene.Center() - light.center) > 0.0;
-  if (faces && std::isfinite(dist) && dist > kFarLightRatio * scene.Diagonal())
-  {
-    return MakeDirectionalLightFrame(toScene / dist, 0.0); // (a sample is a point)
-  }
-  return sample;
+  LightFrame far;
+  const LightFrame point = sample.type == LightType::Rect ? MakePointLightFrame(sample.center) : sample;
+  return FarLightAsDirectional(point, scene.Center(), scene.Diagonal(), far) ? far : sample;
 }
 }
 
