@@ -738,6 +738,68 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   return V;
 }
 
+void AddGearsStats(GearsStats& a, const GearsStats& st)
+{
+  // -1 is "not counted": a solve that did not count makes the sum -1
+  auto counted = [](double sum, double add) { return add < 0.0 ? -1.0 : std::max(sum, 0.0) + add; };
+  a.msProject += st.msProject;
+  a.msPrefixSum += st.msPrefixSum;
+  a.msRelate += st.msRelate;
+  a.msSort += st.msSort;
+  a.msRaster += st.msRaster;
+  a.msTotal += st.msTotal;
+  a.triangles = st.triangles;
+  a.samples += st.samples;
+  a.gridCells += st.gridCells;
+  a.grid = st.grid;
+  a.pairs += st.pairs;
+  a.trianglesPerCellMax = std::max(a.trianglesPerCellMax, st.trianglesPerCellMax);
+  a.samplesPerCellMax = std::max(a.samplesPerCellMax, st.samplesPerCellMax);
+  // averages over all non-empty cells of the solves folded in
+  const std::size_t cells = a.nonEmptyCells + st.nonEmptyCells;
+  a.trianglesPerCellAvg = cells ? (a.trianglesPerCellAvg * a.nonEmptyCells + st.trianglesPerCellAvg * st.nonEmptyCells) /
+      static_cast<double>(cells)
+                                : 0.0;
+  a.nonEmptyCells = cells;
+  a.samplesPerCellAvg = cells ? static_cast<double>(a.samples) / cells : 0.0;
+  a.assignmentsTotal += st.assignmentsTotal;
+  a.assignmentsNecessary = counted(a.assignmentsNecessary, st.assignmentsNecessary);
+  a.fullGridTriangles += st.fullGridTriangles;
+  a.lutFallbacks += st.lutFallbacks;
+  a.msPrepare += st.msPrepare;
+  a.prepareReused += st.prepareReused;
+  a.clusters = st.clusters;
+  a.clusterPairs += st.clusterPairs;
+  a.droppedTriangles += st.droppedTriangles;
+  a.clustersCulled += st.clustersCulled;
+  a.trianglesCulled += st.trianglesCulled;
+  a.clustersBelowHorizon += st.clustersBelowHorizon;
+  a.trianglesBelowHorizon += st.trianglesBelowHorizon;
+  a.clustersBehindOccluders += st.clustersBehindOccluders;
+  a.groups += st.groups;
+  a.assignmentsListed += st.assignmentsListed;
+  a.assignmentsRasterised += st.assignmentsRasterised;
+  a.coveredSkips += st.coveredSkips;
+  a.outsidePyramid += st.outsidePyramid;
+  a.occluderBoxes = st.occluderBoxes;
+  a.simd = st.simd;
+  a.farLightWarped = a.farLightWarped || st.farLightWarped;
+  a.cpuCellLists += st.cpuCellLists;
+  a.cpuGroups += st.cpuGroups;
+  a.cpuPixels += st.cpuPixels;
+  a.cellsInUmbra += st.cellsInUmbra;
+  a.windingPixels += st.windingPixels;
+  a.windingDeclined += st.windingDeclined;
+  a.filteredPairs += st.filteredPairs;
+  a.windingMembers += st.windingMembers;
+  a.windingRest += st.windingRest;
+  a.windingContour += st.windingContour;
+  a.windingTested += st.windingTested;
+  a.contourTriangles += st.contourTriangles;
+  a.contourNecessary = counted(a.contourNecessary, st.contourNecessary);
+  a.contourEdgesNecessary = counted(a.contourEdgesNecessary, st.contourEdgesNecessary);
+}
+
 std::string GearsStatsToJSON(const GearsStats& s)
 {
   std::ostringstream o;

@@ -150,6 +150,13 @@ struct GearsStats
   double contourEdgesNecessary = -1;
 };
 
+/// Folds one solve's stats into a frame's (several lights, cube faces): times,
+/// counts and pairs summed, maxima kept, averages weighted by non-empty cells,
+/// the per-solver facts (triangles, clusters, occluder boxes, kernels) taken
+/// from the latest; a "not counted" (-1) stays -1 until a solve counts it.
+/// Every field of GearsStats, so that no stat reads 0 when it happened.
+void AddGearsStats(GearsStats& a, const GearsStats& st);
+
 /// One pixel's light bitmask: row j (light v axis), bit i (light u axis);
 /// a set bit is a blocked (or below-horizon) light sample.
 using GearsMask = std::array<std::uint32_t, 32>;

@@ -262,47 +262,8 @@ void TriangleSolver::EndFrame(SolverFrame& frame)
 
 void TriangleSolver::Accumulate(const GearsStats& st)
 {
-  GearsStats& a = this->LastGearsStats;
-  a.msProject += st.msProject;
-  a.msPrefixSum += st.msPrefixSum;
-  a.msRelate += st.msRelate;
-  a.msSort += st.msSort;
-  a.msRaster += st.msRaster;
-  a.msTotal += st.msTotal;
-  a.triangles = st.triangles;
-  a.samples += st.samples;
-  a.gridCells += st.gridCells;
-  a.nonEmptyCells += st.nonEmptyCells;
-  a.pairs += st.pairs;
-  a.trianglesPerCellMax = std::max(a.trianglesPerCellMax, st.trianglesPerCellMax);
-  a.samplesPerCellMax = std::max(a.samplesPerCellMax, st.samplesPerCellMax);
-  a.assignmentsTotal += st.assignmentsTotal;
-  a.assignmentsNecessary =
-    st.assignmentsNecessary < 0 ? -1.0 : std::max(a.assignmentsNecessary, 0.0) + st.assignmentsNecessary;
-  a.fullGridTriangles += st.fullGridTriangles;
-  a.lutFallbacks += st.lutFallbacks;
-  // the culling's counts (gears.md, "Fewer assignments"): the closed pieces
-  // of prepared casters show in droppedTriangles and occluderBoxes
-  a.msPrepare += st.msPrepare;
-  a.clusters = st.clusters;
-  a.clusterPairs += st.clusterPairs;
-  a.droppedTriangles += st.droppedTriangles;
-  a.clustersCulled += st.clustersCulled;
-  a.trianglesCulled += st.trianglesCulled;
-  a.groups += st.groups;
-  a.assignmentsListed += st.assignmentsListed;
-  a.assignmentsRasterised += st.assignmentsRasterised;
-  a.coveredSkips += st.coveredSkips;
-  a.occluderBoxes = st.occluderBoxes;
-  a.simd = st.simd;
-  a.farLightWarped = a.farLightWarped || st.farLightWarped; // (any of the frame's lights)
-  a.cellsInUmbra += st.cellsInUmbra;
+  AddGearsStats(this->LastGearsStats, st); // (ssGEARS.h: every field)
   ++this->GearsLights;
-  // averages over all non-empty cells of the frame's GEARS lights
-  a.trianglesPerCellAvg = (a.trianglesPerCellAvg * (a.nonEmptyCells - st.nonEmptyCells) +
-                            st.trianglesPerCellAvg * st.nonEmptyCells) /
-    std::max<std::size_t>(a.nonEmptyCells, 1);
-  a.samplesPerCellAvg = a.nonEmptyCells ? static_cast<double>(a.samples) / a.nonEmptyCells : 0.0;
 }
 
 std::string TriangleSolver::GetStatsJSON() const

@@ -510,3 +510,57 @@ TEST(GEARS, AStrayFarTriangleChangesNoShadow)
     }
   }
 }
+
+// The pass folds each light's (and cube face's) stats into the frame's with
+// AddGearsStats. Before stop 46 it copied the fields one by one and missed
+// ten of them: the frame reported 0 filtered pairs and 0 winding pixels while
+// both ran. Folding one solve into an empty frame must give that solve's stats
+// in every JSON field, and folding a second must add its counts.
+TEST(GEARS, StatsFoldEveryField)
+{
+  GearsStats s;
+  double v = 1.0;
+  auto next = [&v]() { return v += 1.0; };
+  for (double* f : { &s.msProject, &s.msPrefixSum, &s.msRelate, &s.msSort, &s.msRaster, &s.msTotal,
+         &s.trianglesPerCellAvg, &s.assignmentsTotal, &s.assignmentsNecessary, &s.msPrepare, &s.trianglesBelowHorizon,
+         &s.assignmentsListed, &s.assignmentsRasterised, &s.cpuCellLists, &s.cpuGroups, &s.cpuPixels,
+         &s.windingMembers, &s.windingRest, &s.windingContour, &s.windingTested, &s.contourTriangles,
+         &s.contourNecessary, &s.contourEdgesNecessary })
+  {
+    *f = next();
+  }
+  for (std::size_t* f : { &s.triangles, &s.samples, &s.gridCells, &s.nonEmptyCells, &s.pairs, &s.trianglesPerCellMax,
+         &s.samplesPerCellMax, &s.fullGridTriangles, &s.lutFallbacks, &s.prepareReused, &s.clusters,
+         &s.clusterPairs, &s.droppedTriangles, &s.clustersCulled, &s.trianglesCulled, &s.clustersBelowHorizon,
+         &s.clustersBehindOccluders, &s.groups, &s.coveredSkips, &s.outsidePyramid, &s.occluderBoxes,
+         &s.cellsInUmbra, &s.windingPixels, &s.windingDeclined, &s.filteredPairs })
+  {
+    *f = static_cast<std::size_t>(next());
+  }
+  s.grid = 7;
+  s.samplesPerCellAvg = static_cast<double>(s.samples) / s.nonEmptyCells;
+  s.simd = "avx512";
+  s.farLightWarped = true;
+
+  GearsStats frame;
+  AddGearsStats(frame, s);
+  EXPECT_EQ(GearsStatsToJSON(frame), GearsStatsToJSON(s));
+
+  AddGearsStats(frame, s);
+  EXPECT_EQ(frame.filteredPairs, 2 * s.filteredPairs);
+  EXPECT_EQ(frame.windingPixels, 2 * s.windingPixels);
+  EXPECT_EQ(frame.windingMembers, 2 * s.windingMembers);
+  EXPECT_EQ(frame.outsidePyramid, 2 * s.outsidePyramid);
+  EXPECT_EQ(frame.clustersBelowHorizon, 2 * s.clustersBelowHorizon);
+  EXPECT_EQ(frame.assignmentsNecessary, 2 * s.assignmentsNecessary);
+  EXPECT_EQ(frame.trianglesPerCellMax, s.trianglesPerCellMax);
+  EXPECT_DOUBLE_EQ(frame.trianglesPerCellAvg, s.trianglesPerCellAvg);
+  EXPECT_DOUBLE_EQ(frame.samplesPerCellAvg, s.samplesPerCellAvg);
+  EXPECT_EQ(frame.triangles, s.triangles) << "per-solver facts are the latest, not summed";
+
+  // a solve that did not count what is necessary makes the frame's count -1
+  GearsStats uncounted = s;
+  uncounted.assignmentsNecessary = -1.0;
+  AddGearsStats(frame, uncounted);
+  EXPECT_EQ(frame.assignmentsNecessary, -1.0);
+}
