@@ -129,6 +129,7 @@ struct PixelParams
   int project;         ///< the projection test applies (k > 1, W > 0, H > 0)
   std::uint32_t fullRows = 0; ///< bit j: mask row j is full (0: no covered test)
   float nearEps = 0.0f;       ///< the pixel's start offset (the start rule's reach)
+  float ao[3] = { 0.0f, 0.0f, 0.0f }; ///< |c| per axis, c as the group's arrays took it (the float bound)
 };
 /// A sample group's start points for the winding count's members (in float,
 /// relative to the cell's centre): their box, the largest start offset, the

@@ -115,6 +115,10 @@ PixelParams MakePixelParams(const CellJob& job, const CellScratch& w, const Grou
   pp.sy = static_cast<float>(S.y - gv.o.y);
   pp.sz = static_cast<float>(S.z - gv.o.z);
   pp.cz = static_cast<float>(gv.o.z);
+  for (int a = 0; a < 3; ++a)
+  {
+    pp.ao[a] = std::abs(static_cast<float>(gv.o[a])); // (ClusterFilter subtracts float(o))
+  }
   pp.Sx = static_cast<float>(S.x);
   pp.Sy = static_cast<float>(S.y);
   pp.Sz = static_cast<float>(S.z);

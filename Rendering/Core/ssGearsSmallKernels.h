@@ -14,13 +14,23 @@
 // (ties included), or whose projection is too thin to orient, gets
 // kUndecided and goes through the exact raster.
 //
-// The bound: the float vertices relative to the cell's centre err by a few
-// float ulps of the light-frame coordinates (at most 1e-6 of the extent R =
-// 1e5 m and the light's distance), S by a few ulps of its own; through the
-// projection that is 0.1 m q k / W plus 1e-6 of the coordinates in sample
-// units (mu, mv below, per vertex at most), and an edge function
-// E = du (sv - va) - dv (su - ua) over spans Wu, Wv errs by less than
-// 3 (Wu mv + Wv mu) + 4 mu mv + 4e-7 Wu Wv.
+// The bound (stop 46; it was 1e-6 of the scene's extent R per coordinate,
+// which the canopy's leaves crossed for a quarter of their candidates). Per
+// coordinate c of a vertex, the kernel's X_c - s_c differs from the exact
+// raster's B_c - S_c (double, light frame) by the roundings of fl(B_c) (the
+// face's columns), of fl(o_c) and of their difference (ClusterFilter), and of
+// s_c = fl(S_c - o_c) (MakePixelParams): with u = 2^-24 and |B_c| <= |X_c| +
+// |o_c|, at most E_c = u (2 |X_c| + 2 |o_c| + |s_c|); twice that is taken,
+// 2.4e-7 (|X_c| + |o_c|) + 1.2e-7 |s_c|. Through the projection
+// du = (X - s_x) q k / W with q = gnum / d, d = s_z - Z: E_x moves du by
+// q (k / W) E_x, and the depth's error E_z + u |d| changes q by that over d,
+// moving du by |du| E_z / d (the term a bound from R alone left out: large
+// for a vertex far to the side of S and close to it). The remaining roundings
+// (q's division, the products, the offset bx) are relative, at most a few u
+// of |du| + |bx|: 1e-6 (|du| + ax + 1). Per lane mu (mv) is the largest over
+// the vertices, and an edge function E = du (sv - va) - dv (su - ua) over
+// spans Wu, Wv errs by less than 3 (Wu mv + Wv mu) + 4 mu mv + 4e-7 Wu Wv.
+// (GEARSFiltered.NearTiesSeenFromTheSideAndFarAway builds such near ties.)
 
 // Lane q of the result is base[idx[q]] where mask is set, else 0 (32-bit
 // lanes; the winding count's kernels use it too).
@@ -148,20 +158,24 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
       const VF sigma = GatherVF(g.nx, idx) * p.sx + GatherVF(g.ny, idx) * p.sy + GatherVF(g.nz, idx) * p.sz -
         GatherVF(g.nd, idx);
       ok &= Abs(sigma) > p.nearEps + m;
-      // projections in sample units and their rounding bounds
-      VF u[3], w[3], mu = zero, mv = zero, qm = zero;
+      // projections in sample units and their rounding bounds (above)
+      VF u[3], w[3], mu = zero, mv = zero, au = zero, av = zero;
+      const float esx = 1.2e-7f * std::abs(p.sx), esy = 1.2e-7f * std::abs(p.sy), esz = 1.2e-7f * std::abs(p.sz);
       for (int v = 0; v < 3; ++v)
       {
-        const VF q = gnum / (ok ? d[v] : one);
+        const VF dd = ok ? d[v] : one, q = gnum / dd;
         const VF du = (X[v] - p.sx) * q * p.kx, dv = (Y[v] - p.sy) * q * p.ky;
         u[v] = du + bx;
         w[v] = dv + by;
-        mu = Max(mu, Abs(du));
-        mv = Max(mv, Abs(dv));
-        qm = Max(qm, q);
+        const VF ex = 2.4e-7f * (Abs(X[v]) + p.ao[0]) + esx, ey = 2.4e-7f * (Abs(Y[v]) + p.ao[1]) + esy;
+        const VF rz = (2.4e-7f * (Abs(Z[v]) + p.ao[2]) + esz) / dd;
+        mu = Max(mu, q * p.kx * ex + Abs(du) * rz);
+        mv = Max(mv, q * p.ky * ey + Abs(dv) * rz);
+        au = Max(au, Abs(du));
+        av = Max(av, Abs(dv));
       }
-      mu = 0.1f * m * qm * p.kx + 1e-6f * (mu + ax + 1.0f);
-      mv = 0.1f * m * qm * p.ky + 1e-6f * (mv + ay + 1.0f);
+      mu += 1e-6f * (au + ax + 1.0f);
+      mv += 1e-6f * (av + ay + 1.0f);
       const VF Wu = Max(Max(u[0], u[1]), u[2]) - Min(Min(u[0], u[1]), u[2]) + (i1 - i0) + 2.0f;
       const VF Wv = Max(Max(w[0], w[1]), w[2]) - Min(Min(w[0], w[1]), w[2]) + (j1 - j0) + 2.0f;
       const VF tol = 3.0f * (Wu * mv + Wv * mu) + 4.0f * mu * mv + 4e-7f * Wu * Wv;

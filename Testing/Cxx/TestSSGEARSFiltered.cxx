@@ -9,11 +9,13 @@
 //    samples (dyadic: the edge functions are 0 there), where the raster's tie
 //    rule decides: those candidates must be left to the exact raster.
 #include "ssGEARS.h"
+#include "ssGearsInternal.h"
 #include "ssGearsTestScenes.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 using namespace ss;
@@ -152,4 +154,202 @@ TEST(GEARSFiltered, SamplesOnProjectedEdgesFollowTheRastersTieRule)
   EXPECT_EQ(a[0], b[0]);
   EXPECT_GT(sto.assignmentsRasterised, 0.0);
   EXPECT_EQ(st.filteredPairs, 0u) << "every candidate has a tie: none may be decided in float";
+}
+
+namespace
+{
+// x moved to within a hair of the midpoint between float(x) and its
+// neighbour on side `side`, so that rounding it to float errs by almost
+// half an ulp (the float bound's worst case).
+double NearMidpoint(double x, double side)
+{
+  const float f = static_cast<float>(x);
+  const float g = std::nextafter(f, side > 0.0 ? INFINITY : -INFINITY);
+  return f + 0.4999 * (static_cast<double>(g) - f);
+}
+
+struct TieCounts
+{
+  std::size_t decided = 0, wrong = 0, samples = 0;
+};
+
+// One pixel against `n` triangles through the rejection and small-triangle
+// kernels, their inputs made as the solver makes them (ClusterFilter's
+// fl(fl(B) - fl(o)), MakePixelParams); every decided bit is checked
+// against the projection computed in long double from the double B and S
+// the exact raster starts from.
+void CheckKernels(const gears::KernelTable& K, const glm::dvec3& S, const glm::dvec3& o, const std::vector<glm::dvec3>& B,
+  int k, double W, double H, double margin, TieCounts& c)
+{
+  const std::size_t n = B.size() / 3, pad = n + gears::kPad;
+  std::vector<std::vector<float>> col(15, std::vector<float>(pad, 0.0f));
+  const float of[3] = { static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z) };
+  for (std::size_t t = 0; t < n; ++t)
+  {
+    for (int v = 0; v < 3; ++v)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        col[3 * v + a][t] = static_cast<float>(B[3 * t + v][a]) - of[a];
+      }
+    }
+    const glm::dvec3 nT = glm::cross(B[3 * t + 1] - B[3 * t], B[3 * t + 2] - B[3 * t]);
+    const glm::dvec3 un = nT / glm::length(nT);
+    const float nx = static_cast<float>(un.x), ny = static_cast<float>(un.y), nz = static_cast<float>(un.z);
+    col[9][t] = nx;
+    col[10][t] = ny;
+    col[11][t] = nz;
+    col[12][t] = static_cast<float>(glm::dot(un, B[3 * t])) - ((nx * of[0] + ny * of[1]) + nz * of[2]);
+  }
+  gears::GroupArrays ga;
+  const float** cols[15] = { &ga.x0, &ga.y0, &ga.z0, &ga.x1, &ga.y1, &ga.z1, &ga.x2, &ga.y2, &ga.z2, &ga.nx, &ga.ny,
+    &ga.nz, &ga.nd, &ga.front, &ga.back };
+  for (int q = 0; q < 15; ++q)
+  {
+    *cols[q] = col[q].data();
+  }
+  ga.n = n;
+  gears::PixelParams pp;
+  pp.sx = static_cast<float>(S.x - o.x);
+  pp.sy = static_cast<float>(S.y - o.y);
+  pp.sz = static_cast<float>(S.z - o.z);
+  pp.cz = of[2];
+  pp.Sx = static_cast<float>(S.x);
+  pp.Sy = static_cast<float>(S.y);
+  pp.Sz = static_cast<float>(S.z);
+  pp.px = pp.py = pp.pz = 0.0f;
+  pp.kx = static_cast<float>(k / W);
+  pp.ky = static_cast<float>(k / H);
+  pp.off = static_cast<float>(0.5 * k - 0.5);
+  pp.last = static_cast<float>(k - 1);
+  pp.m = static_cast<float>(margin);
+  pp.dir = 0;
+  pp.project = 1;
+  for (int a = 0; a < 3; ++a)
+  {
+    pp.ao[a] = std::abs(of[a]);
+  }
+  std::vector<float> box(4 * pad);
+  std::vector<std::uint32_t> cand(pad);
+  gears::RejectCounts rc;
+  const std::size_t nc = K.reject(ga, pp, cand.data(), box.data(), pad, rc);
+  const float* boxCols[4] = { box.data(), box.data() + pad, box.data() + 2 * pad, box.data() + 3 * pad };
+  const std::size_t stride = nc + gears::kPad;
+  std::vector<std::uint32_t> out((1 + gears::kSmallSide) * stride + 64, 0u);
+  K.small(ga, pp, cand.data(), nc, boxCols, out.data(), stride);
+  for (std::size_t q = 0; q < nc; ++q)
+  {
+    if (out[q] == gears::kUndecided)
+    {
+      continue;
+    }
+    ++c.decided;
+    const std::size_t t = cand[q];
+    long double P[3][2];
+    for (int v = 0; v < 3; ++v)
+    {
+      const glm::dvec3& b = B[3 * t + v];
+      const long double f = static_cast<long double>(S.z) / (static_cast<long double>(S.z) - b.z);
+      P[v][0] = S.x + (static_cast<long double>(b.x) - S.x) * f;
+      P[v][1] = S.y + (static_cast<long double>(b.y) - S.y) * f;
+    }
+    const long double area = (P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[1][1] - P[0][1]) * (P[2][0] - P[0][0]);
+    for (int j = 0; j < k; ++j)
+    {
+      const int r = j - static_cast<int>(out[q]);
+      const std::uint32_t bits = r >= 0 && r < gears::kSmallSide ? out[(1 + r) * stride + q] : 0u;
+      for (int i = 0; i < k; ++i)
+      {
+        const long double x = ((i + 0.5L) / k - 0.5L) * W, y = ((j + 0.5L) / k - 0.5L) * H;
+        long double least = INFINITY, scale = 0.0L;
+        for (int e = 0; e < 3; ++e)
+        {
+          const long double* a = P[e];
+          const long double* b = P[(e + 1) % 3];
+          const long double E = ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) * (area > 0 ? 1 : -1);
+          least = std::min(least, E);
+          scale = std::max(scale, std::abs(b[0] - a[0]) + std::abs(b[1] - a[1]));
+        }
+        if (std::abs(least) <= 1e-15L * scale * (std::abs(x) + std::abs(y) + W + H))
+        {
+          continue; // a tie in long double: no side to check
+        }
+        ++c.samples;
+        c.wrong += (least > 0) != (((bits >> i) & 1u) != 0) ? 1 : 0;
+      }
+    }
+  }
+}
+}
+
+// The float bound's worst cases, at the kernels: cells far from the light
+// and from the frame's origin (large coordinates: large roundings), pixel
+// samples far to the side of the light (steep projections, where a vertex's
+// depth error moves its projection most), vertices near S and near the
+// light, every rounding of the inputs near half an ulp, and projected edges
+// passing 1e-7 to 1e-1 of a sample spacing from a row of samples. No decided
+// bit may differ from the projection in long double.
+TEST(GEARSFiltered, WorstCaseRoundingNearTiesAtTheKernels)
+{
+  std::mt19937 rng(46);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  auto sign = [&]() { return U(rng) < 0.5 ? -1.0 : 1.0; };
+  std::vector<std::pair<std::string, const gears::KernelTable*>> tables = { { "scalar", &gears::KernelsScalar() } };
+  for (GearsSimd isa : sstest::RunnableIsas())
+  {
+    if (isa == GearsSimd::AVX2)
+    {
+      tables.emplace_back("avx2", &gears::KernelsAVX2());
+    }
+    if (isa == GearsSimd::AVX512)
+    {
+      tables.emplace_back("avx512", &gears::KernelsAVX512());
+    }
+  }
+  for (const auto& [name, K] : tables)
+  {
+    TieCounts c;
+    for (int trial = 0; trial < 3000; ++trial)
+    {
+      const int k = trial % 2 ? 32 : 16;
+      const double W = 0.3 + 3.0 * U(rng), H = W * (0.6 + 0.8 * U(rng));
+      const double depth = std::pow(10.0, -0.5 + 3.5 * U(rng));
+      const double side = std::pow(10.0, -1.0 + 4.0 * U(rng)) * std::min(1.0, 30.0 * depth);
+      glm::dvec3 S(sign() * side * U(rng), sign() * side * U(rng), depth);
+      const double cell = std::pow(10.0, -2.0 + 2.0 * U(rng));
+      glm::dvec3 o = S + cell * glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5);
+      o.z = std::max(o.z, 0.5 * depth);
+      for (int a = 0; a < 3; ++a)
+      {
+        o[a] = NearMidpoint(o[a], sign());
+        S[a] = o[a] + NearMidpoint(S[a] - o[a], sign());
+      }
+      const double R = glm::length(S) + W + H;
+      std::vector<glm::dvec3> B;
+      for (int t = 0; t < 16; ++t)
+      {
+        const int i = static_cast<int>(U(rng) * (k - 4)), j = 1 + static_cast<int>(U(rng) * (k - 2));
+        const int a = 1 + static_cast<int>(U(rng) * 3), b = static_cast<int>(U(rng) * 3);
+        const double delta = sign() * std::pow(10.0, -7.0 + 6.0 * U(rng)) * H / k;
+        auto toward = [&](double si, double sj, double dv) {
+          const glm::dvec3 P(((si + 0.5) / k - 0.5) * W, ((sj + 0.5) / k - 0.5) * H + dv, 0.0);
+          const double f = U(rng) < 0.3 ? 0.98 * U(rng) : (U(rng) < 0.5 ? 0.005 + 0.05 * U(rng) : 0.9 + 0.095 * U(rng));
+          glm::dvec3 v = S + f * (P - S);
+          for (int q = 0; q < 3; ++q)
+          {
+            v[q] = NearMidpoint(v[q], sign());
+          }
+          return v;
+        };
+        B.push_back(toward(i, j, delta));
+        B.push_back(toward(i + a, j, delta));
+        B.push_back(toward(i + b + 0.2 + 0.6 * U(rng), j + (U(rng) < 0.5 ? -0.8 : 0.8), 0.0)); // (between samples)
+      }
+      CheckKernels(*K, S, o, B, k, W, H, 1e-5 * R, c);
+    }
+    EXPECT_EQ(c.wrong, 0u) << name << ": " << c.wrong << " of " << c.samples << " decided samples wrong";
+    EXPECT_GT(c.decided, 2000u) << name << ": the float test should decide many of these candidates";
+    std::printf("%s: %zu candidates decided, %zu samples checked, %zu wrong\n", name.c_str(), c.decided, c.samples,
+      c.wrong);
+  }
 }
