@@ -942,7 +942,12 @@ long long ASMSolver::GetMemoryBytes() const
 
 int ASMSolver::GetNumberOfGraphicsResources() const
 {
-  return this->Tex.CountGraphicsResources() + (this->QueryQuad ? 1 : 0);
+  int vaos = 0;
+  for (const auto* vao : { &this->NodeVAO, &this->IdVAO, &this->SummaryVAO })
+  {
+    vaos += *vao ? 1 : 0;
+  }
+  return this->Tex.CountGraphicsResources() + (this->QueryQuad ? 1 : 0) + vaos;
 }
 
 void ASMSolver::ReleaseGraphicsResources(vtkWindow* w)
@@ -950,7 +955,9 @@ void ASMSolver::ReleaseGraphicsResources(vtkWindow* w)
   this->Reset();
   this->Tex.ReleaseGraphicsResources(w);
   ReleaseQuad(this->QueryQuad, w);
-  for (auto* vao : { &this->NodeVAO, &this->IdVAO })
+  // every vertex array (the summary's too: until stop 46 it outlived the
+  // context, and a renderer moved to a new window drew through a stale name)
+  for (auto* vao : { &this->NodeVAO, &this->IdVAO, &this->SummaryVAO })
   {
     if (*vao)
     {
@@ -958,8 +965,10 @@ void ASMSolver::ReleaseGraphicsResources(vtkWindow* w)
       *vao = nullptr;
     }
   }
+  this->NodeVAOUploads = this->IdVAOUploads = this->SummaryVAOUploads = 0;
   this->NodeProgram = nullptr;
   this->IdProgram = nullptr;
+  this->SummaryProgram = nullptr;
   this->Refining = false;
 }
 }

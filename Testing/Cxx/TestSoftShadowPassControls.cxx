@@ -1,15 +1,21 @@
 // What a VTK application drives besides the method (issue 24): progress
 // events while the pass solves, stopping a long render through the render
 // window's abort mechanism, and interactive frames that fit the frame budget
-// (DesiredUpdateRate) while the still frame after them uses the method asked for.
+// (DesiredUpdateRate) while the still frame after them uses the method asked for;
+// a renderer moved to a new window.
 #include "ssRenderTestUtilities.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
+#include "vtkFloatArray.h"
+#include "vtkOutputWindow.h"
+#include "vtkStringOutputWindow.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -233,4 +239,78 @@ TEST(SoftShadowPassControls, AbortStopsTheGearsPieceSearch)
     differ += !(again.V[i] == expected.V[i] || (std::isnan(again.V[i]) && std::isnan(expected.V[i])));
   }
   EXPECT_EQ(differ, 0u);
+}
+
+// A renderer moved from a window that is then finalised to a new one (a
+// ParaView view re-parented, a script's second window): every method must
+// release what it made in the old context when the renderer leaves it, and
+// render the same picture in the new window without a GL error. Until stop 46
+// ASM kept its summary pass's vertex array across the move and drew through a
+// stale name (GL errors on every node; llvmpipe's picture was right by luck).
+TEST(SoftShadowPassControls, EveryMethodMovesToANewWindow)
+{
+  std::vector<std::string> names;
+  std::istringstream list(vtkSoftShadowPass::GetMethodNames());
+  for (std::string n; std::getline(list, n, ',');)
+  {
+    names.push_back(n.substr(n.find_first_not_of(' ')));
+  }
+  vtkOutputWindow* previous = vtkOutputWindow::GetInstance();
+  previous->Register(nullptr);
+  vtkNew<vtkStringOutputWindow> out;
+  vtkOutputWindow::SetInstance(out);
+  for (const std::string& name : names)
+  {
+    for (int backend : { vtkSoftShadowPass::GEARS_BACKEND_CPU, vtkSoftShadowPass::GEARS_BACKEND_GL })
+    {
+      if (name == "none" || (backend == vtkSoftShadowPass::GEARS_BACKEND_GL && name != "gears"))
+      {
+        continue;
+      }
+      SCOPED_TRACE(name + (backend ? " (gl)" : ""));
+      Stage s;
+      s.pass->SetReferenceSamples(4);
+      s.pass->SetGearsSamples(4);
+      s.pass->SetAverageSamples(2);
+      s.pass->SetShadowMapSize(512);
+      s.pass->SetGearsBackend(backend);
+      ASSERT_TRUE(s.pass->SetMethodByName(name.c_str()));
+      const Frame first = s.Render();
+      ASSERT_FALSE(first.V.empty());
+      s.window->RemoveRenderer(s.renderer);
+      EXPECT_EQ(s.pass->GetNumberOfGraphicsResources(), 0) << "left in the old window's context";
+      s.window->Finalize();
+      vtkNew<vtkRenderWindow> moved;
+      moved->SetOffScreenRendering(1);
+      moved->SetSize(200, 150);
+      moved->SetMultiSamples(0);
+      moved->AddRenderer(s.renderer);
+      const std::size_t mark = out->GetOutput().size();
+      moved->Render();
+      const std::string log = out->GetOutput().substr(mark);
+      EXPECT_EQ(log.find("OpenGL errors"), std::string::npos) << log.substr(0, 600);
+      EXPECT_EQ(log.find("ERR|"), std::string::npos) << log.substr(0, 600);
+      vtkNew<vtkFloatArray> v;
+      ASSERT_TRUE(s.pass->GetVisibilityImage(0, v));
+      ASSERT_EQ(static_cast<std::size_t>(v->GetNumberOfValues()), first.V.size());
+      double maxDiff = 0.0;
+      for (std::size_t i = 0; i < first.V.size(); ++i)
+      {
+        const float b = v->GetValue(static_cast<vtkIdType>(i));
+        if (std::isnan(first.V[i]) != std::isnan(b))
+        {
+          maxDiff = 1.0;
+        }
+        else if (!std::isnan(b))
+        {
+          maxDiff = std::max(maxDiff, static_cast<double>(std::abs(first.V[i] - b)));
+        }
+      }
+      EXPECT_LT(maxDiff, 1e-6) << "the new window's picture differs from the old one's";
+      moved->RemoveRenderer(s.renderer);
+      EXPECT_EQ(s.pass->GetNumberOfGraphicsResources(), 0);
+    }
+  }
+  vtkOutputWindow::SetInstance(previous);
+  previous->UnRegister(nullptr);
 }
