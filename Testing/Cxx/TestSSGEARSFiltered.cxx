@@ -174,12 +174,13 @@ struct TieCounts
 };
 
 // One pixel against `n` triangles through the rejection and small-triangle
-// kernels, their inputs made as the solver makes them (ClusterFilter's
+// kernels (a rect light in the plane z = 0 of the light frame, or `dir`: a
+// directional light whose sample (i, j) is the direction (x_i, y_j, -1)), their inputs made as the solver makes them (ClusterFilter's
 // fl(fl(B) - fl(o)), MakePixelParams); every decided bit is checked
 // against the projection computed in long double from the double B and S
 // the exact raster starts from.
-void CheckKernels(const gears::KernelTable& K, const glm::dvec3& S, const glm::dvec3& o, const std::vector<glm::dvec3>& B,
-  int k, double W, double H, double margin, TieCounts& c)
+void CheckKernels(const gears::KernelTable& K, bool dir, const glm::dvec3& S, const glm::dvec3& o,
+  const std::vector<glm::dvec3>& B, int k, double W, double H, double margin, TieCounts& c)
 {
   const std::size_t n = B.size() / 3, pad = n + gears::kPad;
   std::vector<std::vector<float>> col(15, std::vector<float>(pad, 0.0f));
@@ -223,7 +224,7 @@ void CheckKernels(const gears::KernelTable& K, const glm::dvec3& S, const glm::d
   pp.off = static_cast<float>(0.5 * k - 0.5);
   pp.last = static_cast<float>(k - 1);
   pp.m = static_cast<float>(margin);
-  pp.dir = 0;
+  pp.dir = dir ? 1 : 0;
   pp.project = 1;
   for (int a = 0; a < 3; ++a)
   {
@@ -249,9 +250,11 @@ void CheckKernels(const gears::KernelTable& K, const glm::dvec3& S, const glm::d
     for (int v = 0; v < 3; ++v)
     {
       const glm::dvec3& b = B[3 * t + v];
-      const long double f = static_cast<long double>(S.z) / (static_cast<long double>(S.z) - b.z);
-      P[v][0] = S.x + (static_cast<long double>(b.x) - S.x) * f;
-      P[v][1] = S.y + (static_cast<long double>(b.y) - S.y) * f;
+      // where the segment from S through b meets the light (dir: its direction)
+      const long double d = static_cast<long double>(S.z) - b.z;
+      const long double f = dir ? 1.0L / d : static_cast<long double>(S.z) / d;
+      P[v][0] = (dir ? 0.0L : S.x) + (static_cast<long double>(b.x) - S.x) * f;
+      P[v][1] = (dir ? 0.0L : S.y) + (static_cast<long double>(b.y) - S.y) * f;
     }
     const long double area = (P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[1][1] - P[0][1]) * (P[2][0] - P[0][0]);
     for (int j = 0; j < k; ++j)
@@ -282,7 +285,8 @@ void CheckKernels(const gears::KernelTable& K, const glm::dvec3& S, const glm::d
 }
 }
 
-// The float bound's worst cases, at the kernels: cells far from the light
+// The float bound's worst cases, at the kernels (rect and directional
+// lights): cells far from the light
 // and from the frame's origin (large coordinates: large roundings), pixel
 // samples far to the side of the light (steep projections, where a vertex's
 // depth error moves its projection most), vertices near S and near the
@@ -312,7 +316,8 @@ TEST(GEARSFiltered, WorstCaseRoundingNearTiesAtTheKernels)
     for (int trial = 0; trial < 3000; ++trial)
     {
       const int k = trial % 2 ? 32 : 16;
-      const double W = 0.3 + 3.0 * U(rng), H = W * (0.6 + 0.8 * U(rng));
+      const bool dir = trial % 3 == 2; // (W, H: then the extent of the directions' tangents)
+      const double W = dir ? 0.01 + 0.5 * U(rng) : 0.3 + 3.0 * U(rng), H = W * (0.6 + 0.8 * U(rng));
       const double depth = std::pow(10.0, -0.5 + 3.5 * U(rng));
       const double side = std::pow(10.0, -1.0 + 4.0 * U(rng)) * std::min(1.0, 30.0 * depth);
       glm::dvec3 S(sign() * side * U(rng), sign() * side * U(rng), depth);
@@ -334,7 +339,7 @@ TEST(GEARSFiltered, WorstCaseRoundingNearTiesAtTheKernels)
         auto toward = [&](double si, double sj, double dv) {
           const glm::dvec3 P(((si + 0.5) / k - 0.5) * W, ((sj + 0.5) / k - 0.5) * H + dv, 0.0);
           const double f = U(rng) < 0.3 ? 0.98 * U(rng) : (U(rng) < 0.5 ? 0.005 + 0.05 * U(rng) : 0.9 + 0.095 * U(rng));
-          glm::dvec3 v = S + f * (P - S);
+          glm::dvec3 v = dir ? S + f * depth * glm::dvec3(P.x, P.y, -1.0) : S + f * (P - S);
           for (int q = 0; q < 3; ++q)
           {
             v[q] = NearMidpoint(v[q], sign());
@@ -345,7 +350,7 @@ TEST(GEARSFiltered, WorstCaseRoundingNearTiesAtTheKernels)
         B.push_back(toward(i + a, j, delta));
         B.push_back(toward(i + b + 0.2 + 0.6 * U(rng), j + (U(rng) < 0.5 ? -0.8 : 0.8), 0.0)); // (between samples)
       }
-      CheckKernels(*K, S, o, B, k, W, H, 1e-5 * R, c);
+      CheckKernels(*K, dir, S, o, B, k, W, H, 1e-5 * R, c);
     }
     EXPECT_EQ(c.wrong, 0u) << name << ": " << c.wrong << " of " << c.samples << " decided samples wrong";
     EXPECT_GT(c.decided, 2000u) << name << ": the float test should decide many of these candidates";
