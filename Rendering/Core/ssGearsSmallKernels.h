@@ -30,7 +30,13 @@
 // of |du| + |bx|: 1e-6 (|du| + ax + 1). Per lane mu (mv) is the largest over
 // the vertices, and an edge function E = du (sv - va) - dv (su - ua) over
 // spans Wu, Wv errs by less than 3 (Wu mv + Wv mu) + 4 mu mv + 4e-7 Wu Wv.
-// (GEARSFiltered.NearTiesSeenFromTheSideAndFarAway builds such near ties.)
+// The gates take the same roundings: a vertex counts as between S and the
+// light when d > m + E_z (d errs by at most E_z / 2), and S as off the
+// triangle's plane when |sigma| > nearEps + m + E_sigma, E_sigma = 7.2e-7
+// (|s|_1 + |o|_1) + 3.6e-7 |X_0|_1: twice the roundings of the float unit
+// normal (u per component, against |S| = |s + o|), of fl(S - o), fl(o), fl(n . B0)
+// and the float dot products.
+// (GEARSFiltered.WorstCaseRoundingNearTiesAtTheKernels builds such cases.)
 
 // Lane q of the result is base[idx[q]] where mask is set, else 0 (32-bit
 // lanes; the winding count's kernels use it too).
@@ -144,12 +150,17 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
         Y[v] = GatherVF(P[3 * v + 1], idx);
         Z[v] = GatherVF(P[3 * v + 2], idx);
       }
-      // strictly between S and the light, S off the plane beyond the start rule's reach
-      VF d[3];
+      // strictly between S and the light, S off the plane beyond the start
+      // rule's reach: each beyond its own rounding too (a cell centre far
+      // from S rounds d and sigma on a grid coarser than the margin; the
+      // review of stop 46 found vertices just behind S passing d > m alone)
+      const float esx = 1.2e-7f * std::abs(p.sx), esy = 1.2e-7f * std::abs(p.sy), esz = 1.2e-7f * std::abs(p.sz);
+      VF d[3], ez[3];
       for (int v = 0; v < 3; ++v)
       {
         d[v] = p.sz - Z[v];
-        ok &= d[v] > m;
+        ez[v] = 2.4e-7f * (Abs(Z[v]) + p.ao[2]) + esz; // E_z: d errs by at most half of it
+        ok &= d[v] > m + ez[v];
         if (!p.dir)
         {
           ok &= p.cz + Z[v] > m;
@@ -157,10 +168,11 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
       }
       const VF sigma = GatherVF(g.nx, idx) * p.sx + GatherVF(g.ny, idx) * p.sy + GatherVF(g.nz, idx) * p.sz -
         GatherVF(g.nd, idx);
-      ok &= Abs(sigma) > p.nearEps + m;
+      const float so = std::abs(p.sx) + std::abs(p.sy) + std::abs(p.sz) + p.ao[0] + p.ao[1] + p.ao[2];
+      const VF esig = 7.2e-7f * so + 3.6e-7f * (Abs(X[0]) + Abs(Y[0]) + Abs(Z[0]));
+      ok &= Abs(sigma) > p.nearEps + m + esig;
       // projections in sample units and their rounding bounds (above)
       VF u[3], w[3], mu = zero, mv = zero, au = zero, av = zero;
-      const float esx = 1.2e-7f * std::abs(p.sx), esy = 1.2e-7f * std::abs(p.sy), esz = 1.2e-7f * std::abs(p.sz);
       for (int v = 0; v < 3; ++v)
       {
         const VF dd = ok ? d[v] : one, q = gnum / dd;
@@ -168,7 +180,7 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
         u[v] = du + bx;
         w[v] = dv + by;
         const VF ex = 2.4e-7f * (Abs(X[v]) + p.ao[0]) + esx, ey = 2.4e-7f * (Abs(Y[v]) + p.ao[1]) + esy;
-        const VF rz = (2.4e-7f * (Abs(Z[v]) + p.ao[2]) + esz) / dd;
+        const VF rz = ez[v] / dd;
         mu = Max(mu, q * p.kx * ex + Abs(du) * rz);
         mv = Max(mv, q * p.ky * ey + Abs(dv) * rz);
         au = Max(au, Abs(du));

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -356,5 +357,182 @@ TEST(GEARSFiltered, WorstCaseRoundingNearTiesAtTheKernels)
     EXPECT_GT(c.decided, 2000u) << name << ": the float test should decide many of these candidates";
     std::printf("%s: %zu candidates decided, %zu samples checked, %zu wrong\n", name.c_str(), c.decided, c.samples,
       c.wrong);
+  }
+}
+
+namespace
+{
+// The exact raster's rows of triangle t (light frame = world, Lc = 0) for S,
+// as DrawPixel draws them: SetupBatch, then its bits (kind 4), spans (1) or
+// the start rule (2); kind 0 draws nothing.
+std::array<std::uint32_t, 48> ExactRows(const gears::KernelTable& K, const std::vector<float>& V,
+  const std::vector<glm::dvec3>& B, std::uint32_t t, const float* const* box, const glm::dvec3& S, double eps, int k,
+  double W, double H)
+{
+  std::vector<std::int8_t> closed(B.size() / 3 + 16, 0);
+  gears::ExactSource src;
+  src.V = V.data();
+  src.closed = closed.data();
+  for (int a = 0; a < 3; ++a)
+  {
+    src.Lc[a] = 0.0;
+    src.u[a] = a == 0 ? 1.0 : 0.0;
+    src.v[a] = a == 1 ? 1.0 : 0.0;
+    src.n[a] = a == 2 ? 1.0 : 0.0;
+  }
+  for (int q = 0; q < 4; ++q)
+  {
+    src.corner[q][0] = ((q & 1) ? 0.5 : -0.5) * W;
+    src.corner[q][1] = ((q & 2) ? 0.5 : -0.5) * H;
+    src.corner[q][2] = 0.0;
+  }
+  src.dir = false;
+  gears::ExactPixel ep;
+  ep.Sx = S.x;
+  ep.Sy = S.y;
+  ep.Sz = S.z;
+  ep.eps = eps;
+  ep.W = W;
+  ep.H = H;
+  ep.invK = 1.0 / k;
+  ep.k = k;
+  ep.dir = false;
+  ep.project = true;
+  gears::ExactBatch eb;
+  std::uint32_t ids[8], gids[8];
+  std::fill(ids, ids + 8, t);
+  std::fill(gids, gids + 8, t);
+  K.setup(eb, src, ids, box, gids, ep, 1);
+  std::array<std::uint32_t, 48> rows{};
+  if (eb.kind[0] == 4)
+  {
+    for (int r = 0; r < gears::kPointRows && eb.j0[0] + r <= eb.j1[0]; ++r)
+    {
+      rows[static_cast<std::size_t>(eb.j0[0] + r)] = eb.bits[r][0];
+    }
+  }
+  else if (eb.kind[0] == 1)
+  {
+    K.spans(eb, 0, k, rows.data());
+  }
+  else if (eb.kind[0] == 2)
+  {
+    const std::array<std::uint32_t, 48> none{};
+    gears::RasterizeNearTriangle(gears::MakeLightSpace(S, W, H, false, k), B[3 * t], B[3 * t + 1], B[3 * t + 2], eps,
+      rows.data(), none.data());
+  }
+  return rows;
+}
+}
+
+// Found by stop 46's review: a cell centre far behind S (cells hold samples
+// along the grid camera's rays, so one may span a floor far below the
+// casters) rounds d = s_z - Z and the plane distance sigma on a grid much
+// coarser than the margin. A vertex just behind S then passed d > m, and
+// the float test decided bits the exact raster does not set (it sees a
+// triangle through S's depth). Each gate now adds its own rounding bound.
+// Every decided candidate's rows must be the exact raster's, with and
+// without a start offset, on every instruction set.
+TEST(GEARSFiltered, CellCentreFarBehindAVertexJustBehindS)
+{
+  std::vector<std::pair<std::string, const gears::KernelTable*>> tables = { { "scalar", &gears::KernelsScalar() } };
+  for (GearsSimd isa : sstest::RunnableIsas())
+  {
+    if (isa != GearsSimd::Scalar)
+    {
+      tables.emplace_back(isa == GearsSimd::AVX2 ? "avx2" : "avx512",
+        isa == GearsSimd::AVX2 ? &gears::KernelsAVX2() : &gears::KernelsAVX512());
+    }
+  }
+  const int k = 8;
+  const double W = 1.0, H = 1.0, margin = 3e-5; // casters near the light: R = 3
+  for (const auto& [name, K] : tables)
+  {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    std::size_t decided = 0, wrong = 0;
+    for (int trial = 0; trial < 6000; ++trial)
+    {
+      // (far: 1e3 or 1e4 R; with a start offset, the vertex 1e-4 behind S)
+      const bool offset = trial % 2 == 1;
+      const float F = (offset ? 1e4f : 1e3f) * (1.0f + float(static_cast<int>(U(rng) * 100)) * 1e-4f);
+      const double g = std::nextafter(F, INFINITY) - F;
+      const glm::dvec3 o(0.0, 0.0, double(F) - (0.3 + 0.2 * U(rng)) * g);
+      const glm::dvec3 S(0.0, 0.0, 1.0 + U(rng) * g);
+      const double eps = offset ? 3e-5 : 0.0;
+      const float Vz = offset ? static_cast<float>(S.z + 1e-4) : std::nextafter(static_cast<float>(S.z), INFINITY);
+      std::vector<glm::dvec3> B = { { 0.0, 0.0, double(Vz) } };
+      const double a1 = 6.28 * U(rng), a2 = a1 + 1.5 + U(rng);
+      for (const auto& [r, a] : { std::pair<double, double>{ 0.15 + 0.3 * U(rng), a1 }, { 0.15 + 0.3 * U(rng), a2 } })
+      {
+        const glm::dvec3 P(r * std::cos(a), r * std::sin(a), 0.0);
+        const glm::dvec3 v = S + (0.3 + 0.6 * U(rng)) * (P - S);
+        B.emplace_back(static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z));
+      }
+      std::vector<float> V(9 + 64, 0.0f);
+      for (int q = 0; q < 9; ++q)
+      {
+        V[static_cast<std::size_t>(q)] = static_cast<float>(B[static_cast<std::size_t>(q / 3)][q % 3]);
+      }
+      // the kernels' inputs, as the solver makes them
+      const std::size_t pad = 1 + gears::kPad;
+      std::vector<std::vector<float>> col(15, std::vector<float>(pad, 0.0f));
+      const float of[3] = { 0.0f, 0.0f, static_cast<float>(o.z) };
+      for (int q = 0; q < 9; ++q)
+      {
+        col[static_cast<std::size_t>(q)][0] = static_cast<float>(B[static_cast<std::size_t>(q / 3)][q % 3]) - of[q % 3];
+      }
+      const glm::dvec3 nT = glm::cross(B[1] - B[0], B[2] - B[0]), un = nT / glm::length(nT);
+      const float nx = static_cast<float>(un.x), ny = static_cast<float>(un.y), nz = static_cast<float>(un.z);
+      col[9][0] = nx;
+      col[10][0] = ny;
+      col[11][0] = nz;
+      col[12][0] = static_cast<float>(glm::dot(un, B[0])) - ((nx * of[0] + ny * of[1]) + nz * of[2]);
+      gears::GroupArrays ga;
+      const float** cols[15] = { &ga.x0, &ga.y0, &ga.z0, &ga.x1, &ga.y1, &ga.z1, &ga.x2, &ga.y2, &ga.z2, &ga.nx,
+        &ga.ny, &ga.nz, &ga.nd, &ga.front, &ga.back };
+      for (int q = 0; q < 15; ++q)
+      {
+        *cols[q] = col[static_cast<std::size_t>(q)].data();
+      }
+      ga.n = 1;
+      gears::PixelParams pp;
+      pp.sx = pp.sy = 0.0f;
+      pp.sz = static_cast<float>(S.z - o.z);
+      pp.cz = of[2];
+      pp.Sx = pp.Sy = 0.0f;
+      pp.Sz = static_cast<float>(S.z);
+      pp.px = pp.py = pp.pz = 0.0f;
+      pp.kx = static_cast<float>(k / W);
+      pp.ky = static_cast<float>(k / H);
+      pp.off = static_cast<float>(0.5 * k - 0.5);
+      pp.last = static_cast<float>(k - 1);
+      pp.m = static_cast<float>(margin);
+      pp.dir = 0;
+      pp.project = 1;
+      pp.nearEps = static_cast<float>(eps);
+      pp.ao[2] = std::abs(of[2]);
+      std::vector<float> box(4 * pad);
+      std::vector<std::uint32_t> cand(pad);
+      gears::RejectCounts rc;
+      const std::size_t nc = K->reject(ga, pp, cand.data(), box.data(), pad, rc);
+      const float* boxCols[4] = { box.data(), box.data() + pad, box.data() + 2 * pad, box.data() + 3 * pad };
+      const std::size_t stride = nc + gears::kPad;
+      std::vector<std::uint32_t> out((1 + gears::kSmallSide) * stride + 64, 0u);
+      K->small(ga, pp, cand.data(), nc, boxCols, out.data(), stride);
+      if (nc == 0 || out[0] == gears::kUndecided)
+      {
+        continue;
+      }
+      ++decided;
+      const std::array<std::uint32_t, 48> exact = ExactRows(*K, V, B, 0, boxCols, S, eps, k, W, H);
+      for (int j = 0; j < k; ++j)
+      {
+        const int r = j - static_cast<int>(out[0]);
+        const std::uint32_t mine = r >= 0 && r < gears::kSmallSide ? out[static_cast<std::size_t>(1 + r) * stride] : 0u;
+        wrong += mine != exact[static_cast<std::size_t>(j)] ? 1 : 0;
+      }
+    }
+    EXPECT_EQ(wrong, 0u) << name << ": rows of " << decided << " decided candidates differ from the exact raster's";
   }
 }
