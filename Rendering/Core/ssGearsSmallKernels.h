@@ -29,7 +29,9 @@
 // (q's division, the products, the offset bx) are relative, at most a few u
 // of |du| + |bx|: 1e-6 (|du| + ax + 1). Per lane mu (mv) is the largest over
 // the vertices, and an edge function E = du (sv - va) - dv (su - ua) over
-// spans Wu, Wv errs by less than 3 (Wu mv + Wv mu) + 4 mu mv + 4e-7 Wu Wv.
+// spans Wu, Wv errs by less than 3 (Wu mv + Wv mu) + 4 mu mv + 1e-6 Wu Wv
+// (the edge function's own roundings are at most 8 u Wu Wv = 4.8e-7 Wu Wv, the
+// review of stop 46 counted; the term was 4e-7 until then).
 // The gates take the same roundings: a vertex counts as between S and the
 // light when d > m + E_z (d errs by at most E_z / 2), and S as off the
 // triangle's plane when |sigma| > nearEps + m + E_sigma, E_sigma = 7.2e-7
@@ -190,7 +192,7 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
       mv += 1e-6f * (av + ay + 1.0f);
       const VF Wu = Max(Max(u[0], u[1]), u[2]) - Min(Min(u[0], u[1]), u[2]) + (i1 - i0) + 2.0f;
       const VF Wv = Max(Max(w[0], w[1]), w[2]) - Min(Min(w[0], w[1]), w[2]) + (j1 - j0) + 2.0f;
-      const VF tol = 3.0f * (Wu * mv + Wv * mu) + 4.0f * mu * mv + 4e-7f * Wu * Wv;
+      const VF tol = 3.0f * (Wu * mv + Wv * mu) + 4.0f * mu * mv + 1e-6f * Wu * Wv;
       // orientation of the projected triangle
       const VF area = (u[1] - u[0]) * (w[2] - w[0]) - (w[1] - w[0]) * (u[2] - u[0]);
       ok &= Abs(area) > tol;
