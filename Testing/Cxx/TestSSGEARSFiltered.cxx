@@ -174,17 +174,27 @@ struct TieCounts
   std::size_t decided = 0, wrong = 0, samples = 0;
 };
 
-// One pixel against `n` triangles through the rejection and small-triangle
-// kernels (a rect light in the plane z = 0 of the light frame, or `dir`: a
-// directional light whose sample (i, j) is the direction (x_i, y_j, -1)), their inputs made as the solver makes them (ClusterFilter's
-// fl(fl(B) - fl(o)), MakePixelParams); every decided bit is checked
-// against the projection computed in long double from the double B and S
-// the exact raster starts from.
-void CheckKernels(const gears::KernelTable& K, bool dir, const glm::dvec3& S, const glm::dvec3& o,
-  const std::vector<glm::dvec3>& B, int k, double W, double H, double margin, TieCounts& c)
+// One pixel against the triangles B (light frame) through the rejection and
+// small-triangle kernels, their inputs made as the solver makes them
+// (ClusterFilter's fl(fl(B) - fl(o)) and plane columns, MakePixelParams): a
+// rect light in the plane z = 0 of the light frame, or `dir`: a directional
+// light whose sample (i, j) is the direction (x_i, y_j, -1). cand: the kept
+// triangles; out: the float test's first rows (or kUndecided) and bits.
+struct KernelRun
 {
-  const std::size_t n = B.size() / 3, pad = n + gears::kPad;
-  std::vector<std::vector<float>> col(15, std::vector<float>(pad, 0.0f));
+  std::vector<std::uint32_t> cand, out;
+  std::vector<float> box;
+  std::size_t pad = 0, stride = 0;
+  const float* boxCols[4] = {};
+};
+
+KernelRun RunKernels(const gears::KernelTable& K, bool dir, const glm::dvec3& S, const glm::dvec3& o,
+  const std::vector<glm::dvec3>& B, int k, double W, double H, double margin, double eps)
+{
+  const std::size_t n = B.size() / 3;
+  KernelRun run;
+  run.pad = n + gears::kPad;
+  std::vector<std::vector<float>> col(15, std::vector<float>(run.pad, 0.0f));
   const float of[3] = { static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z) };
   for (std::size_t t = 0; t < n; ++t)
   {
@@ -192,7 +202,7 @@ void CheckKernels(const gears::KernelTable& K, bool dir, const glm::dvec3& S, co
     {
       for (int a = 0; a < 3; ++a)
       {
-        col[3 * v + a][t] = static_cast<float>(B[3 * t + v][a]) - of[a];
+        col[static_cast<std::size_t>(3 * v + a)][t] = static_cast<float>(B[3 * t + v][a]) - of[a];
       }
     }
     const glm::dvec3 nT = glm::cross(B[3 * t + 1] - B[3 * t], B[3 * t + 2] - B[3 * t]);
@@ -208,7 +218,7 @@ void CheckKernels(const gears::KernelTable& K, bool dir, const glm::dvec3& S, co
     &ga.nz, &ga.nd, &ga.front, &ga.back };
   for (int q = 0; q < 15; ++q)
   {
-    *cols[q] = col[q].data();
+    *cols[q] = col[static_cast<std::size_t>(q)].data();
   }
   ga.n = n;
   gears::PixelParams pp;
@@ -227,18 +237,35 @@ void CheckKernels(const gears::KernelTable& K, bool dir, const glm::dvec3& S, co
   pp.m = static_cast<float>(margin);
   pp.dir = dir ? 1 : 0;
   pp.project = 1;
+  pp.nearEps = static_cast<float>(eps);
   for (int a = 0; a < 3; ++a)
   {
     pp.ao[a] = std::abs(of[a]);
   }
-  std::vector<float> box(4 * pad);
-  std::vector<std::uint32_t> cand(pad);
+  run.box.assign(4 * run.pad, 0.0f);
+  run.cand.assign(run.pad, 0u);
   gears::RejectCounts rc;
-  const std::size_t nc = K.reject(ga, pp, cand.data(), box.data(), pad, rc);
-  const float* boxCols[4] = { box.data(), box.data() + pad, box.data() + 2 * pad, box.data() + 3 * pad };
-  const std::size_t stride = nc + gears::kPad;
-  std::vector<std::uint32_t> out((1 + gears::kSmallSide) * stride + 64, 0u);
-  K.small(ga, pp, cand.data(), nc, boxCols, out.data(), stride);
+  const std::size_t nc = K.reject(ga, pp, run.cand.data(), run.box.data(), run.pad, rc);
+  run.cand.resize(nc);
+  for (int q = 0; q < 4; ++q)
+  {
+    run.boxCols[q] = run.box.data() + static_cast<std::size_t>(q) * run.pad;
+  }
+  run.stride = nc + gears::kPad;
+  run.out.assign((1 + gears::kSmallSide) * run.stride + 64, 0u);
+  K.small(ga, pp, run.cand.data(), nc, run.boxCols, run.out.data(), run.stride);
+  return run;
+}
+
+// RunKernels, then every decided bit checked against the projection computed
+// in long double from the double B and S the exact raster starts from.
+void CheckKernels(const gears::KernelTable& K, bool dir, const glm::dvec3& S, const glm::dvec3& o,
+  const std::vector<glm::dvec3>& B, int k, double W, double H, double margin, TieCounts& c)
+{
+  const KernelRun run = RunKernels(K, dir, S, o, B, k, W, H, margin, 0.0);
+  const std::vector<std::uint32_t>& out = run.out;
+  const std::vector<std::uint32_t>& cand = run.cand;
+  const std::size_t nc = cand.size(), stride = run.stride;
   for (std::size_t q = 0; q < nc; ++q)
   {
     if (out[q] == gears::kUndecided)
@@ -474,62 +501,18 @@ TEST(GEARSFiltered, CellCentreFarBehindAVertexJustBehindS)
       {
         V[static_cast<std::size_t>(q)] = static_cast<float>(B[static_cast<std::size_t>(q / 3)][q % 3]);
       }
-      // the kernels' inputs, as the solver makes them
-      const std::size_t pad = 1 + gears::kPad;
-      std::vector<std::vector<float>> col(15, std::vector<float>(pad, 0.0f));
-      const float of[3] = { 0.0f, 0.0f, static_cast<float>(o.z) };
-      for (int q = 0; q < 9; ++q)
-      {
-        col[static_cast<std::size_t>(q)][0] = static_cast<float>(B[static_cast<std::size_t>(q / 3)][q % 3]) - of[q % 3];
-      }
-      const glm::dvec3 nT = glm::cross(B[1] - B[0], B[2] - B[0]), un = nT / glm::length(nT);
-      const float nx = static_cast<float>(un.x), ny = static_cast<float>(un.y), nz = static_cast<float>(un.z);
-      col[9][0] = nx;
-      col[10][0] = ny;
-      col[11][0] = nz;
-      col[12][0] = static_cast<float>(glm::dot(un, B[0])) - ((nx * of[0] + ny * of[1]) + nz * of[2]);
-      gears::GroupArrays ga;
-      const float** cols[15] = { &ga.x0, &ga.y0, &ga.z0, &ga.x1, &ga.y1, &ga.z1, &ga.x2, &ga.y2, &ga.z2, &ga.nx,
-        &ga.ny, &ga.nz, &ga.nd, &ga.front, &ga.back };
-      for (int q = 0; q < 15; ++q)
-      {
-        *cols[q] = col[static_cast<std::size_t>(q)].data();
-      }
-      ga.n = 1;
-      gears::PixelParams pp;
-      pp.sx = pp.sy = 0.0f;
-      pp.sz = static_cast<float>(S.z - o.z);
-      pp.cz = of[2];
-      pp.Sx = pp.Sy = 0.0f;
-      pp.Sz = static_cast<float>(S.z);
-      pp.px = pp.py = pp.pz = 0.0f;
-      pp.kx = static_cast<float>(k / W);
-      pp.ky = static_cast<float>(k / H);
-      pp.off = static_cast<float>(0.5 * k - 0.5);
-      pp.last = static_cast<float>(k - 1);
-      pp.m = static_cast<float>(margin);
-      pp.dir = 0;
-      pp.project = 1;
-      pp.nearEps = static_cast<float>(eps);
-      pp.ao[2] = std::abs(of[2]);
-      std::vector<float> box(4 * pad);
-      std::vector<std::uint32_t> cand(pad);
-      gears::RejectCounts rc;
-      const std::size_t nc = K->reject(ga, pp, cand.data(), box.data(), pad, rc);
-      const float* boxCols[4] = { box.data(), box.data() + pad, box.data() + 2 * pad, box.data() + 3 * pad };
-      const std::size_t stride = nc + gears::kPad;
-      std::vector<std::uint32_t> out((1 + gears::kSmallSide) * stride + 64, 0u);
-      K->small(ga, pp, cand.data(), nc, boxCols, out.data(), stride);
-      if (nc == 0 || out[0] == gears::kUndecided)
+      const KernelRun run = RunKernels(*K, false, S, o, B, k, W, H, margin, eps);
+      if (run.cand.empty() || run.out[0] == gears::kUndecided)
       {
         continue;
       }
       ++decided;
-      const std::array<std::uint32_t, 48> exact = ExactRows(*K, V, B, 0, boxCols, S, eps, k, W, H);
+      const std::array<std::uint32_t, 48> exact = ExactRows(*K, V, B, 0, run.boxCols, S, eps, k, W, H);
       for (int j = 0; j < k; ++j)
       {
-        const int r = j - static_cast<int>(out[0]);
-        const std::uint32_t mine = r >= 0 && r < gears::kSmallSide ? out[static_cast<std::size_t>(1 + r) * stride] : 0u;
+        const int r = j - static_cast<int>(run.out[0]);
+        const std::uint32_t mine =
+          r >= 0 && r < gears::kSmallSide ? run.out[static_cast<std::size_t>(1 + r) * run.stride] : 0u;
         wrong += mine != exact[static_cast<std::size_t>(j)] ? 1 : 0;
       }
     }
