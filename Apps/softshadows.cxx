@@ -240,14 +240,15 @@ int Render(const std::vector<std::string>& args)
   }
   const bool vtkMethod = method == "vtk";
   vtkNew<vtkSoftShadowPass> pass;
-  if (!vtkMethod && vtkSoftShadowPass::FindMethod(method.c_str()) < 0)
-  {
-    const std::string available = vtkSoftShadowPass::GetMethodNames() + ", vtk";
-    throw UsageError("--method: unknown method '" + method + "' (expected " + available + ")");
-  }
   if (!vtkMethod)
   {
-    pass->SetMethod(vtkSoftShadowPass::FindMethod(method.c_str()));
+    const int number = vtkSoftShadowPass::FindMethod(method.c_str());
+    if (number < 0)
+    {
+      const std::string available = vtkSoftShadowPass::GetMethodNames() + ", vtk";
+      throw UsageError("--method: unknown method '" + method + "' (expected " + available + ")");
+    }
+    pass->SetMethod(number);
   }
   if (vtkMethod && (!visibility.empty() || !positions.empty()))
   {

@@ -5,6 +5,7 @@
 #include "ssLightFrame.h"
 #include "ssPolyDataTriangles.h"
 #include "ssReference.h"
+#include "ssTriangleSet.h"
 
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
@@ -280,10 +281,7 @@ int vtkLightVisibilityFilter::RequestData(
   // within 1e30, as the lights); the others get NaN. Before (stop 45's
   // Python sweep) it was the bounds' centre, so one infinite point put the
   // origin at infinity and every output value was NaN.
-  auto usable = [](const double* p) {
-    return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) && std::fabs(p[0]) <= 1e30 &&
-      std::fabs(p[1]) <= 1e30 && std::fabs(p[2]) <= 1e30;
-  };
+  auto usable = [](const double* p) { return ss::WithinSolverReach(glm::dvec3(p[0], p[1], p[2])); };
   glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
   for (vtkIdType i = 0; i < n; ++i)
   {

@@ -89,8 +89,7 @@ TriangleSelection SelectTriangles(
     bool ok = true;
     for (int j = 0; j < 3; ++j)
     {
-      const glm::dvec3& p = v[3 * t + j];
-      ok = ok && std::fabs(p.x) <= 1e30 && std::fabs(p.y) <= 1e30 && std::fabs(p.z) <= 1e30; // (false for NaN)
+      ok = ok && WithinSolverReach(v[3 * t + j]);
     }
     if (ok)
     {

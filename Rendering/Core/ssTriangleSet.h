@@ -3,6 +3,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -27,8 +28,16 @@ struct TriangleBulk
 /// `keep`, when not empty, has one flag per triangle (0: left out).
 TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& vertices, const std::vector<char>& keep = {});
 
+/// Whether the CPU solvers can take point p: finite and within 1e30 of the
+/// origin on every axis (their floats hold points relative to an origin; a
+/// point beyond that overflows them). False for NaN.
+inline bool WithinSolverReach(const glm::dvec3& p)
+{
+  return std::fabs(p.x) <= 1e30 && std::fabs(p.y) <= 1e30 && std::fabs(p.z) <= 1e30;
+}
+
 /// Which triangles of a caster list the CPU solvers keep: finite vertices
-/// within 1e30 of the origin (the solvers' floats hold them relative to the
+/// within 1e30 of the origin (WithinSolverReach) (the solvers' floats hold them relative to the
 /// bulk; stop 45: one vertex at 1e39 in a baked surface made every point
 /// V = 0), non-zero area and, when asked, opacity > 0 — and where their bulk lies
 /// (`center` is the solvers' float origin).

@@ -5,6 +5,7 @@
 // Options() (ssPVSMSolver.cxx, ...).
 #include "ssPassInternals.h"
 #include "ssSolverRegistry.h"
+#include "ssTriangleSet.h"
 
 #include "vtkObjectFactory.h"
 
@@ -332,17 +333,13 @@ void vtkSoftShadowPass::SetPositionsOrigin(double x, double y, double z)
 {
   // the G-buffer holds float positions relative to it: beyond 1e30 their
   // squares leave the float range (and NaN positions no surface at all)
-  const double o[3] = { x, y, z };
-  for (double c : o)
+  if (!ss::WithinSolverReach(glm::dvec3(x, y, z)))
   {
-    if (!std::isfinite(c) || std::fabs(c) > 1e30)
-    {
-      vtkErrorMacro("SetPositionsOrigin: (" << x << ", " << y << ", " << z
-                                            << ") is not a finite point within 1e30 of the world origin; ("
-                                            << this->PositionsOrigin[0] << ", " << this->PositionsOrigin[1]
-                                            << ", " << this->PositionsOrigin[2] << ") kept");
-      return;
-    }
+    vtkErrorMacro("SetPositionsOrigin: (" << x << ", " << y << ", " << z
+                                          << ") is not a finite point within 1e30 of the world origin; ("
+                                          << this->PositionsOrigin[0] << ", " << this->PositionsOrigin[1] << ", "
+                                          << this->PositionsOrigin[2] << ") kept");
+    return;
   }
   if (this->PositionsOrigin[0] != x || this->PositionsOrigin[1] != y || this->PositionsOrigin[2] != z)
   {

@@ -123,14 +123,14 @@ int vtkSoftShadowPass::GetMethodMaxValue()
 
 bool vtkSoftShadowPass::SetMethodByName(const char* name)
 {
-  const ss::SolverEntry* entry = name ? ss::FindSolverEntry(std::string(name)) : nullptr;
-  if (!entry)
+  const int method = FindMethod(name);
+  if (method < 0)
   {
     vtkErrorMacro("SetMethodByName: unknown method '" << (name ? name : "(null)") << "' (" << GetMethodNames()
                                                       << "); " << GetMethodName(this->Method) << " kept");
     return false;
   }
-  this->SetMethod(static_cast<int>(entry->Method));
+  this->SetMethod(method);
   return true;
 }
 

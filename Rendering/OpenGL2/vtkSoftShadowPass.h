@@ -93,7 +93,7 @@ public:
    */
   virtual void SetMethod(int method);
   vtkGetMacro(Method, int);
-  /** SetMethod clamps to this range: every registered method (ssSolverRegistry). */
+  /** SetMethod accepts this range: every registered method (ssSolverRegistry). */
   virtual int GetMethodMinValue();
   virtual int GetMethodMaxValue();
   /**
