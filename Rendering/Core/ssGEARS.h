@@ -55,6 +55,12 @@ struct GearsOptions
   bool depthOrder = true;        ///< blockers nearest the receivers first (masks fill early)
   bool horizonCulling = true;    ///< cull clusters (per cell) and triangles (per group) below every sample's tangent plane
   bool occluderCulling = true;   ///< cull clusters every segment to which passes through a drawn inner occluder
+  /// With the winding count, a cell's inner occluders are drawn into its
+  /// masks while they fill at least half of the masks they were drawn into,
+  /// judged from the cell's first occluderProbe open samples on (a partly
+  /// filled mask saves the winding count little; gears.md, "Inner occluders
+  /// drawn where they fill masks"). 0: into every open mask. No mask changes.
+  int occluderProbe = 4;
   int groupSize = 0;             ///< split a cell's samples into groups of at most this many (0: 16 with the winding count, else 8)
   int groupMinTriangles = 48;    ///< ... when its culled list has at least this many triangles
   /// A pixel's mask from the contour edges of the triangles of its list that
@@ -133,6 +139,7 @@ struct GearsStats
   /// sample groups, and the pixels (rejection, exact raster, V).
   double cpuCellLists = 0, cpuGroups = 0, cpuPixels = 0;
   std::size_t cellsInUmbra = 0; ///< cells whose samples the horizon and inner occluders left in umbra
+  std::size_t occluderDrawsStopped = 0; ///< cells whose inner occluders stopped being drawn (occluderProbe)
   // the winding count (windingCount): pixels it solved, pixels it declined
   // (rasterised instead), members counted and the rest of the lists
   // rasterised (summed over sample groups), contour edges stepped exactly

@@ -526,7 +526,7 @@ struct CellCounters
   std::size_t clustersBelowHorizon = 0; ///< horizon rule, per cell
   std::size_t clustersBehindOccluders = 0; ///< inner-occluder rule, per cell
   double trianglesBelowHorizon = 0;     ///< horizon rule, per group
-  std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0;
+  std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0, occluderDrawsStopped = 0;
   // the winding count (ssGearsWinding.cxx): pixels solved by it and declined
   // (a contour vertex on a sample row, an edge along one), members and the
   // rest of the lists (summed over groups), contour edges stepped (summed
