@@ -658,6 +658,7 @@ struct CellScratch
   std::vector<float> box;
   std::vector<std::uint32_t> cand;
   std::vector<std::uint32_t> smallBits; ///< the filtered float test's bits per candidate
+  std::vector<float> smallIn[kSmallColumns]; ///< ... and its inputs, per candidate (the rejection kernel's)
   std::uint64_t groupSerial = 0;               ///< counts the thread's sample groups (GroupView::serial)
   std::uint64_t filteredGroup = 0;             ///< the group whose last pixel tried the filtered test ...
   bool filteredPaid = true;                    ///< ... and whether it decided enough candidates
