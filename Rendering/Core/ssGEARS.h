@@ -77,7 +77,8 @@ struct GearsOptions
   /// Small candidates wholly between S and the light get their bits from
   /// their projection in float where every sample is decided beyond the
   /// rounding bound (same bits; gears.md "Small triangles in float"), the
-  /// others from the exact raster.
+  /// others from the exact raster. It reads its inputs as the per-pair
+  /// rejection compacts them, so it runs only with pairRejection.
   bool filteredRaster = true;
   /// A rect or point light deeper than kFarLightRatio scene diagonals in front
   /// of the casters is solved as the directional light a projective map of
@@ -139,7 +140,7 @@ struct GearsStats
   /// sample groups, and the pixels (rejection, exact raster, V).
   double cpuCellLists = 0, cpuGroups = 0, cpuPixels = 0;
   std::size_t cellsInUmbra = 0; ///< cells whose samples the horizon and inner occluders left in umbra
-  std::size_t occluderDrawsStopped = 0; ///< cells whose inner occluders stopped being drawn (occluderProbe)
+  std::size_t occluderDrawsStopped = 0; ///< cells where an open mask went without the inner occluders' draw (occluderProbe)
   // the winding count (windingCount): pixels it solved, pixels it declined
   // (rasterised instead), members counted and the rest of the lists
   // rasterised (summed over sample groups), contour edges stepped exactly

@@ -323,6 +323,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
         // on the 5M assembly the draw cost 41% of the cell lists)
         const std::uint32_t probe = winding ? static_cast<std::uint32_t>(std::max(0, opt.occluderProbe)) : 0u;
         std::uint32_t opened = 0, filled = 0;
+        bool stopped = false; // (counted once an open mask goes without the draw)
         for (std::uint32_t q = 0; q < ns; ++q)
         {
           PixelState& ps = w.state[q];
@@ -334,8 +335,13 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
             if (probe > 0 && opened >= probe && 2 * filled < opened)
             {
               drawn = false; // (the inner-occluder rule needs every open mask drawn)
-              ++cc.occluderDrawsStopped;
+              stopped = true;
             }
+          }
+          else if (stopped && !ps.full)
+          {
+            ++cc.occluderDrawsStopped;
+            stopped = false;
           }
           allFull = allFull && ps.full;
         }

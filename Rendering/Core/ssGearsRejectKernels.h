@@ -32,9 +32,10 @@ static inline VF Recip(VF x)
 }
 
 // Pairs this pixel keeps, written to out (indices into the group); returns
-// their count; box gets, per entry, the samples it may cover. keep is
-// scratch of g.n + SS_GEARS_LANES ints, box's columns hold stride >= g.n +
-// SS_GEARS_LANES floats; the group's arrays hold SS_GEARS_LANES - 1 readable
+// their count; box gets, per entry, the samples it may cover. out holds
+// g.n + SS_GEARS_LANES entries, box's columns stride >= g.n + SS_GEARS_LANES
+// floats, and keep's kSmallColumns columns (when not null) as many: whole
+// vectors are written; the group's arrays hold SS_GEARS_LANES - 1 readable
 // floats past n. A pair is rejected
 // when, by more than the margins:
 //  - all three vertices lie beyond the pixel's depth, or behind the light;
