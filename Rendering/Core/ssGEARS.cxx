@@ -719,6 +719,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
   st.cpuGroups = counters.msGroups;
   st.cpuPixels = counters.msExact;
   st.cellsInUmbra = counters.cellsInUmbra;
+  st.occluderDrawsStopped = counters.occluderDrawsStopped;
   st.lutFallbacks = counters.lutFallbacks;
   st.windingPixels = counters.windingPixels;
   st.windingDeclined = counters.windingDeclined;
@@ -788,6 +789,7 @@ void AddGearsStats(GearsStats& a, const GearsStats& st)
   a.cpuGroups += st.cpuGroups;
   a.cpuPixels += st.cpuPixels;
   a.cellsInUmbra += st.cellsInUmbra;
+  a.occluderDrawsStopped += st.occluderDrawsStopped;
   a.windingPixels += st.windingPixels;
   a.windingDeclined += st.windingDeclined;
   a.filteredPairs += st.filteredPairs;
@@ -824,6 +826,7 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"assignments_listed\": " << s.assignmentsListed << ", \"assignments_rasterised\": " << s.assignmentsRasterised
     << ", \"cpu_ms\": {\"cell_lists\": " << s.cpuCellLists
     << ", \"groups\": " << s.cpuGroups << ", \"pixels\": " << s.cpuPixels << "}, \"cells_in_umbra\": " << s.cellsInUmbra
+    << ", \"occluder_draws_stopped\": " << s.occluderDrawsStopped
     << ", \"winding\": {\"pixels\": " << s.windingPixels << ", \"declined\": " << s.windingDeclined
     << ", \"members\": " << s.windingMembers << ", \"rest\": " << s.windingRest
     << ", \"contour_edges\": " << s.windingContour << ", \"contour_tested\": " << s.windingTested

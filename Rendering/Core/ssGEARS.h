@@ -55,6 +55,12 @@ struct GearsOptions
   bool depthOrder = true;        ///< blockers nearest the receivers first (masks fill early)
   bool horizonCulling = true;    ///< cull clusters (per cell) and triangles (per group) below every sample's tangent plane
   bool occluderCulling = true;   ///< cull clusters every segment to which passes through a drawn inner occluder
+  /// With the winding count, a cell's inner occluders are drawn into its
+  /// masks while they fill at least half of the masks they were drawn into,
+  /// judged from the cell's first occluderProbe open samples on (a partly
+  /// filled mask saves the winding count little; gears.md, "Inner occluders
+  /// drawn where they fill masks"). 0: into every open mask. No mask changes.
+  int occluderProbe = 4;
   int groupSize = 0;             ///< split a cell's samples into groups of at most this many (0: 16 with the winding count, else 8)
   int groupMinTriangles = 48;    ///< ... when its culled list has at least this many triangles
   /// A pixel's mask from the contour edges of the triangles of its list that
@@ -71,7 +77,8 @@ struct GearsOptions
   /// Small candidates wholly between S and the light get their bits from
   /// their projection in float where every sample is decided beyond the
   /// rounding bound (same bits; gears.md "Small triangles in float"), the
-  /// others from the exact raster.
+  /// others from the exact raster. It reads its inputs as the per-pair
+  /// rejection compacts them, so it runs only with pairRejection.
   bool filteredRaster = true;
   /// A rect or point light deeper than kFarLightRatio scene diagonals in front
   /// of the casters is solved as the directional light a projective map of
@@ -133,6 +140,7 @@ struct GearsStats
   /// sample groups, and the pixels (rejection, exact raster, V).
   double cpuCellLists = 0, cpuGroups = 0, cpuPixels = 0;
   std::size_t cellsInUmbra = 0; ///< cells whose samples the horizon and inner occluders left in umbra
+  std::size_t occluderDrawsStopped = 0; ///< cells where an open mask went without the inner occluders' draw (occluderProbe)
   // the winding count (windingCount): pixels it solved, pixels it declined
   // (rasterised instead), members counted and the rest of the lists
   // rasterised (summed over sample groups), contour edges stepped exactly

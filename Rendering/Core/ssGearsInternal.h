@@ -526,7 +526,7 @@ struct CellCounters
   std::size_t clustersBelowHorizon = 0; ///< horizon rule, per cell
   std::size_t clustersBehindOccluders = 0; ///< inner-occluder rule, per cell
   double trianglesBelowHorizon = 0;     ///< horizon rule, per group
-  std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0;
+  std::size_t groups = 0, lutFallbacks = 0, coveredSkips = 0, cellsInUmbra = 0, occluderDrawsStopped = 0;
   // the winding count (ssGearsWinding.cxx): pixels solved by it and declined
   // (a contour vertex on a sample row, an edge along one), members and the
   // rest of the lists (summed over groups), contour edges stepped (summed
@@ -658,6 +658,7 @@ struct CellScratch
   std::vector<float> box;
   std::vector<std::uint32_t> cand;
   std::vector<std::uint32_t> smallBits; ///< the filtered float test's bits per candidate
+  std::vector<float> smallIn[kSmallColumns]; ///< ... and its inputs, per candidate (the rejection kernel's)
   std::uint64_t groupSerial = 0;               ///< counts the thread's sample groups (GroupView::serial)
   std::uint64_t filteredGroup = 0;             ///< the group whose last pixel tried the filtered test ...
   bool filteredPaid = true;                    ///< ... and whether it decided enough candidates

@@ -58,6 +58,10 @@ constexpr std::int32_t kNbrIndex = 0x3FFFFFFF, kNbrSameDirection = 0x40000000;
 /// j0, or kUndecided.
 constexpr int kSmallSide = 8;
 constexpr std::uint32_t kUndecided = 0xFFFFFFFFu; ///< (its top bit tells it from a row index: DrawPixel)
+/// Its inputs, compacted by the rejection kernel (no gathers: they were a
+/// third of SmallBits on the canopy): x0 y0 z0 x1 y1 z1 x2 y2 z2, nx ny nz nd,
+/// the box i0 i1 j0 j1.
+constexpr int kSmallColumns = 17;
 
 /// Candidates whose sample box is at most kPointRows x kPointCols get their
 /// bits by evaluating the constraints at each sample (SetupBatch).
@@ -184,9 +188,11 @@ struct KernelTable
 {
   const char* name;
   int lanes; ///< doubles per vector: candidates per SetupBatch
-  /// box: 4 columns of `stride` floats (i0, i1, j0, j1 per entry)
-  std::size_t (*reject)(
-    const GroupArrays&, const PixelParams&, std::uint32_t* out, float* box, std::size_t stride, RejectCounts& counts);
+  /// box: 4 columns of `stride` floats (i0, i1, j0, j1 per entry). keep
+  /// (null: none): kSmallColumns columns that get each kept entry's
+  /// coordinates, plane and box at its place in out (SmallBits reads them).
+  std::size_t (*reject)(const GroupArrays&, const PixelParams&, std::uint32_t* out, float* box, std::size_t stride,
+    float* const* keep, RejectCounts& counts);
   /// The winding count (ssGearsWindingKernels.h): a sample group's members
   /// (status per entry; the other entries' ids and 15 columns compacted into
   /// restIds / rest, as GroupFilter does, their count returned), their
@@ -198,12 +204,12 @@ struct KernelTable
   int (*steps)(const ExactSource& src, const std::int32_t* ia, const std::int32_t* ib, const double* sg, std::size_t n,
     const ExactPixel& p, std::int16_t* delta);
   bool (*count)(const std::int16_t* delta, int k, std::uint32_t* rows);
-  /// The exact raster's bits of small candidates (cand: group indices, box:
-  /// the 4 box columns): out[q] is candidate q's first row j0, or kUndecided;
-  /// out[(1 + r) stride + q] its bits in row j0 + r, in place (0 when
-  /// undecided). Rows hold n rounded up to SS_GEARS_LANES entries.
-  void (*small)(const GroupArrays&, const PixelParams&, const std::uint32_t* cand, std::size_t n, const float* const* box,
-    std::uint32_t* out, std::size_t stride);
+  /// The exact raster's bits of small candidates (in: the kSmallColumns
+  /// columns reject kept, from candidate 0 of the batch on): out[q] is
+  /// candidate q's first row j0, or kUndecided; out[(1 + r) stride + q] its
+  /// bits in row j0 + r, in place (0 when undecided). Rows hold n rounded up
+  /// to SS_GEARS_LANES entries.
+  void (*small)(const float* const* in, const PixelParams&, std::size_t n, std::uint32_t* out, std::size_t stride);
   /// Group lists: the entries that may reach the shaft (null: all) and lie
   /// above one of the np horizon planes (4 floats each; 0 planes: all):
   /// their ids to out, their 15 columns to dst; below += those in the
@@ -256,7 +262,8 @@ static inline VF Max(VF a, VF b)
 }
 static inline VF Abs(VF a)
 {
-  return a < 0.0f ? -a : a;
+  // (the sign bit cleared: one AND; a comparison and a select were three)
+  return (VF)((VI)a & 0x7fffffff);
 }
 
 typedef double VD __attribute__((vector_size(4 * SS_GEARS_LANES)));      // SS_GEARS_LANES / 2 doubles
@@ -290,6 +297,32 @@ static inline unsigned RowMask(VL v)
 #endif
 }
 
+#if SS_GEARS_LANES == 8
+// Per 8-lane mask, the kept lanes' indices, a byte each from the lowest: the
+// AVX2 compaction's permutation (AVX2 has no compress instruction).
+struct CompactTable
+{
+  std::uint64_t idx[256];
+};
+static constexpr CompactTable MakeCompactTable()
+{
+  CompactTable t{};
+  for (unsigned m = 0; m < 256; ++m)
+  {
+    int c = 0;
+    for (int q = 0; q < 8; ++q)
+    {
+      if ((m >> q) & 1u)
+      {
+        t.idx[m] |= static_cast<std::uint64_t>(q) << (8 * c++);
+      }
+    }
+  }
+  return t;
+}
+static constexpr CompactTable kCompactTable = MakeCompactTable();
+#endif
+
 // The lanes of v where keep is set, stored contiguously from dst (which
 // must hold SS_GEARS_LANES writable entries: whole vectors are written);
 // returns their count.
@@ -301,6 +334,12 @@ static inline int Compact(const V& v, VI keep, E* dst)
   const __mmask16 mk = _mm512_movepi32_mask(reinterpret_cast<const __m512i&>(keep));
   const __m512i x = _mm512_maskz_compress_epi32(mk, reinterpret_cast<const __m512i&>(v));
   _mm512_storeu_si512(dst, x);
+  return __builtin_popcount(mk);
+#elif SS_GEARS_LANES == 8
+  const unsigned mk = LaneMask(keep);
+  const __m256i idx = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kCompactTable.idx[mk])));
+  const __m256i x = _mm256_permutevar8x32_epi32(reinterpret_cast<const __m256i&>(v), idx);
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst), x);
   return __builtin_popcount(mk);
 #else
   int c = 0;

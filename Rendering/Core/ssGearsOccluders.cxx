@@ -7,7 +7,9 @@
 // one box, its mask is full, and the thousands of small faces behind which
 // the light disappears need not be drawn (UmbraBox in ssGearsPixel.cxx). The
 // boxes travel through the grid as clusters of 12 triangles (pass 1, pass 2,
-// the shaft culling) but are never rasterised.
+// the shaft culling). Where no box hides a whole cell, its faces are drawn
+// first into the cell's masks (their bits are the solid's too), with the
+// winding count only while that fills masks (SolveCells, occluderProbe).
 //
 // The boxes come from a voxel grid over the piece: voxels touched by a
 // triangle's bounding box are surface; a flood fill from the grid's border

@@ -302,6 +302,17 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     const std::size_t cn = std::min(kChunk, gv.ng - c0);
     std::size_t ncand = cn;
     std::uint32_t* cand = w.cand.data();
+    // the filtered float test reads its inputs as the rejection kept them
+    const bool small = filtered && tryFiltered && opt.pairRejection;
+    float* keep[kSmallColumns];
+    if (small)
+    {
+      for (int q = 0; q < kSmallColumns; ++q)
+      {
+        Grow(w.smallIn[q], kChunk + kPad);
+        keep[q] = w.smallIn[q].data();
+      }
+    }
     if (opt.pairRejection)
     {
       GroupArrays ga = gv.ga;
@@ -316,7 +327,7 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
       // when counting what is necessary)
       pp.fullRows = necessaryMode ? 0u : fullRows;
       RejectCounts rc;
-      ncand = K.reject(ga, pp, cand, w.box.data() + c0, stride, rc);
+      ncand = K.reject(ga, pp, cand, w.box.data() + c0, stride, small ? keep : nullptr, rc);
       const std::size_t inFullRows = rc.covered;
       cc.outsidePyramid += rc.outsidePyramid;
       for (std::size_t q = 0; q < ncand; ++q)
@@ -340,7 +351,7 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
     cc.total += counts * static_cast<double>(ncand);
     // --- small candidates between S and the light: their bits from the
     // filtered float test (ssGearsSmallKernels.h), the others go on
-    if (filtered && tryFiltered && ncand >= kFilteredMin)
+    if (small && ncand >= kFilteredMin)
     {
       // in batches, so that a mask that fills stops it as it stops the raster
       constexpr std::size_t kOut = kFilteredBatch + kPad; // (a row of the kernel's output)
@@ -358,7 +369,12 @@ void DrawPixel(const CellJob& job, const KernelTable& K, CellScratch& w, const G
           }
           continue;
         }
-        K.small(gv.ga, pp, cand + b0, bn, boxCols, out, kOut);
+        const float* in[kSmallColumns];
+        for (int q = 0; q < kSmallColumns; ++q)
+        {
+          in[q] = keep[q] + b0;
+        }
+        K.small(in, pp, bn, out, kOut);
         // without branches: an undecided candidate is kept for the raster
         // and ORs zeros into rows 0.. (the static_assert above)
         const std::size_t left0 = undecided;

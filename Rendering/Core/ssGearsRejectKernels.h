@@ -32,9 +32,10 @@ static inline VF Recip(VF x)
 }
 
 // Pairs this pixel keeps, written to out (indices into the group); returns
-// their count; box gets, per entry, the samples it may cover. keep is
-// scratch of g.n + SS_GEARS_LANES ints, box's columns hold stride >= g.n +
-// SS_GEARS_LANES floats; the group's arrays hold SS_GEARS_LANES - 1 readable
+// their count; box gets, per entry, the samples it may cover. out holds
+// g.n + SS_GEARS_LANES entries, box's columns stride >= g.n + SS_GEARS_LANES
+// floats, and keep's kSmallColumns columns (when not null) as many: whole
+// vectors are written; the group's arrays hold SS_GEARS_LANES - 1 readable
 // floats past n. A pair is rejected
 // when, by more than the margins:
 //  - all three vertices lie beyond the pixel's depth, or behind the light;
@@ -49,7 +50,7 @@ static inline VF Recip(VF x)
 //    (for a closed piece, S in front of an outward face: the closed-mesh rule);
 //  - all three vertices lie below the pixel's tangent plane.
 static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p, std::uint32_t* out, float* box,
-  std::size_t stride, RejectCounts& counts)
+  std::size_t stride, float* const* keep, RejectCounts& counts)
 {
   const VF zero = VF{} + 0.0f, one = zero + 1.0f;
   const float m = p.m;
@@ -159,7 +160,19 @@ static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p
     const VI inRange = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
     counts.outsidePyramid +=
       static_cast<std::size_t>(__builtin_popcount(LaneMask(outside & ~(oneSide | below) & inRange)));
-    c += static_cast<std::size_t>(Compact(lane + static_cast<int>(i), k & ~covered, out + c));
+    const VI kept = k & ~covered;
+    const int nk = Compact(lane + static_cast<int>(i), kept, out + c);
+    if (keep && nk > 0)
+    {
+      // the small-triangle test's inputs, in the order of kSmallColumns
+      const VF col[kSmallColumns] = { X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, Load(g.nx + i), Load(g.ny + i), Load(g.nz + i),
+        Load(g.nd + i), bi0, bi1, bj0, bj1 };
+      for (int q = 0; q < kSmallColumns; ++q)
+      {
+        Compact(col[q], kept, keep[q] + c);
+      }
+    }
+    c += static_cast<std::size_t>(nk);
   }
   return c;
 }

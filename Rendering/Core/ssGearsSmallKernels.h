@@ -41,7 +41,7 @@
 // (GEARSFiltered.WorstCaseRoundingNearTiesAtTheKernels builds such cases.)
 
 // Lane q of the result is base[idx[q]] where mask is set, else 0 (32-bit
-// lanes; the winding count's kernels use it too).
+// lanes; the winding count's kernels use it).
 static inline VI GatherI(const std::int32_t* base, VI idx, VI mask)
 {
   // (masked forms: GCC 12's plain ones warn of an uninitialised operand)
@@ -71,14 +71,6 @@ static inline VI GatherI(const std::int32_t* base, VI idx, VI mask)
   return v;
 #endif
 }
-// Lane q of the result is base[idx[q]].
-static inline VF GatherVF(const float* base, VI idx)
-{
-  const VI v = GatherI(reinterpret_cast<const std::int32_t*>(base), idx, VI{} - 1);
-  VF f;
-  __builtin_memcpy(&f, &v, sizeof(f));
-  return f;
-}
 
 // The largest lane of v.
 static inline int HMax(VI v)
@@ -105,8 +97,8 @@ static inline int HMax(VI v)
 #endif
 }
 
-static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const std::uint32_t* cand, std::size_t n,
-  const float* const* box, std::uint32_t* out, std::size_t stride)
+static inline void SmallBits(
+  const float* const* in, const PixelParams& p, std::size_t n, std::uint32_t* out, std::size_t stride)
 {
   VI lane;
   for (int q = 0; q < SS_GEARS_LANES; ++q)
@@ -119,24 +111,11 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
   const float Sxo = p.dir ? 0.0f : p.Sx, Syo = p.dir ? 0.0f : p.Sy;
   const float bx = Sxo * p.kx + p.off, by = Syo * p.ky + p.off;
   const float ax = std::abs(Sxo * p.kx) + p.off, ay = std::abs(Syo * p.ky) + p.off;
-  const float* const P[9] = { g.x0, g.y0, g.z0, g.x1, g.y1, g.z1, g.x2, g.y2, g.z2 };
   for (std::size_t i = 0; i < n; i += SS_GEARS_LANES)
   {
+    // (the columns are padded: lanes past n load what lies there, and drop)
     const VI inRange = lane + static_cast<int>(i) < VI{} + static_cast<int>(n);
-    VI idx;
-    if (i + SS_GEARS_LANES <= n)
-    {
-      __builtin_memcpy(&idx, cand + i, sizeof(idx));
-    }
-    else
-    {
-      for (int q = 0; q < SS_GEARS_LANES; ++q)
-      {
-        idx[q] = static_cast<int>(cand[i + q < n ? i + q : i]);
-      }
-    }
-    const VF i0 = GatherVF(box[0], idx), i1 = GatherVF(box[1], idx), j0 = GatherVF(box[2], idx),
-             j1 = GatherVF(box[3], idx);
+    const VF i0 = Load(in[13] + i), i1 = Load(in[14] + i), j0 = Load(in[15] + i), j1 = Load(in[16] + i);
     VI ok = inRange & (i1 - i0 < float(kSmallSide)) & (j1 - j0 < float(kSmallSide)) & (VI{} + (p.project ? -1 : 0));
     VUI out0 = VUI{} + kUndecided, rowsOut[kSmallSide];
     for (int r = 0; r < kSmallSide; ++r)
@@ -148,9 +127,9 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
       VF X[3], Y[3], Z[3];
       for (int v = 0; v < 3; ++v)
       {
-        X[v] = GatherVF(P[3 * v], idx);
-        Y[v] = GatherVF(P[3 * v + 1], idx);
-        Z[v] = GatherVF(P[3 * v + 2], idx);
+        X[v] = Load(in[3 * v] + i);
+        Y[v] = Load(in[3 * v + 1] + i);
+        Z[v] = Load(in[3 * v + 2] + i);
       }
       // strictly between S and the light, S off the plane beyond the start
       // rule's reach: each beyond its own rounding too (a cell centre far
@@ -168,8 +147,7 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
           ok &= p.cz + Z[v] > m;
         }
       }
-      const VF sigma = GatherVF(g.nx, idx) * p.sx + GatherVF(g.ny, idx) * p.sy + GatherVF(g.nz, idx) * p.sz -
-        GatherVF(g.nd, idx);
+      const VF sigma = Load(in[9] + i) * p.sx + Load(in[10] + i) * p.sy + Load(in[11] + i) * p.sz - Load(in[12] + i);
       const float so = std::abs(p.sx) + std::abs(p.sy) + std::abs(p.sz) + p.ao[0] + p.ao[1] + p.ao[2];
       const VF esig = 7.2e-7f * so + 3.6e-7f * (Abs(X[0]) + Abs(Y[0]) + Abs(Z[0]));
       ok &= Abs(sigma) > p.nearEps + m + esig;
@@ -216,8 +194,8 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
         // whose bits are never set)
         VF colTerm[3][kSmallSide];
         VUI colBit[kSmallSide];
-        VI colIn[kSmallSide];
         const VI ci = __builtin_convertvector(i0, VI);
+        const VF inf = zero + __builtin_inff();
         for (int c = 0; c < cols; ++c)
         {
           const VF su = i0 + float(c);
@@ -225,32 +203,51 @@ static inline void SmallBits(const GroupArrays& g, const PixelParams& p, const s
           {
             colTerm[e][c] = ev[e] * (su - u[e]);
           }
+          // a column past the lane's box: E_0 = -inf there, so its samples
+          // are outside (no bit, not undecided) without a range test
+          colTerm[0][c] = su <= i1 ? colTerm[0][c] : inf;
           colBit[c] = (VUI{} + 1u) << (VUI)((ci + c) & 31);
-          colIn[c] = su <= i1;
         }
         VI undecided = VI{};
+#if SS_GEARS_LANES == 16
+        // (in mask registers: GCC turns the comparisons' masks into vectors)
+        const __m512 tol16 = reinterpret_cast<const __m512&>(tol);
+        __mmask16 undecided16 = 0;
+#endif
         for (int r = 0; r < rows; ++r)
         {
           const VF sv = j0 + float(r);
-          const VI rowIn = sv <= j1;
           VF rowTerm[3];
           for (int e = 0; e < 3; ++e)
           {
             rowTerm[e] = eu[e] * (sv - w[e]);
           }
+          rowTerm[0] = sv <= j1 ? rowTerm[0] : zero - inf; // (a row past the box: the same)
           VUI acc = VUI{} + 0u;
           for (int c = 0; c < cols; ++c)
           {
             // inside: every E above tol; outside: one below -tol; both from
-            // the least E (finite on the lanes kept: their area is)
-            const VI at = rowIn & colIn[c];
+            // the least E (finite on the lanes kept inside their box: their
+            // area is; NaN, should it come, is undecided)
             const VF least = Min(Min(rowTerm[0] - colTerm[0][c], rowTerm[1] - colTerm[1][c]), rowTerm[2] - colTerm[2][c]);
-            const VI in = at & (least > tol);
-            undecided |= at & ~in & ~(least < -tol);
-            acc |= (VUI)in & colBit[c];
+#if SS_GEARS_LANES == 16
+            const __m512 l = reinterpret_cast<const __m512&>(least);
+            const __m512i a = reinterpret_cast<const __m512i&>(acc);
+            const __m512i o = _mm512_mask_or_epi32(a, _mm512_cmp_ps_mask(l, tol16, _CMP_GT_OQ), a,
+              reinterpret_cast<const __m512i&>(colBit[c]));
+            __builtin_memcpy(&acc, &o, sizeof(acc));
+            undecided16 |= _mm512_cmp_ps_mask(_mm512_abs_ps(l), tol16, _CMP_NGT_UQ);
+#else
+            undecided |= ~(Abs(least) > tol);
+            acc |= (VUI)(least > tol) & colBit[c];
+#endif
           }
           rowsOut[r] = acc;
         }
+#if SS_GEARS_LANES == 16
+        const __m512i u16 = _mm512_movm_epi32(undecided16);
+        __builtin_memcpy(&undecided, &u16, sizeof(undecided));
+#endif
         ok &= ~undecided;
         for (int r = 0; r < rows; ++r)
         {

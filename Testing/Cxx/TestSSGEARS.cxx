@@ -533,7 +533,7 @@ TEST(GEARS, StatsFoldEveryField)
          &s.samplesPerCellMax, &s.fullGridTriangles, &s.lutFallbacks, &s.prepareReused, &s.clusters,
          &s.clusterPairs, &s.droppedTriangles, &s.clustersCulled, &s.trianglesCulled, &s.clustersBelowHorizon,
          &s.clustersBehindOccluders, &s.groups, &s.coveredSkips, &s.outsidePyramid, &s.occluderBoxes,
-         &s.cellsInUmbra, &s.windingPixels, &s.windingDeclined, &s.filteredPairs })
+         &s.cellsInUmbra, &s.windingPixels, &s.windingDeclined, &s.filteredPairs, &s.occluderDrawsStopped })
   {
     *f = static_cast<std::size_t>(next());
   }

@@ -245,7 +245,16 @@ KernelRun RunKernels(const gears::KernelTable& K, bool dir, const glm::dvec3& S,
   run.box.assign(4 * run.pad, 0.0f);
   run.cand.assign(run.pad, 0u);
   gears::RejectCounts rc;
-  const std::size_t nc = K.reject(ga, pp, run.cand.data(), run.box.data(), run.pad, rc);
+  // the float test's inputs as the rejection keeps them (as DrawPixel does)
+  std::vector<std::vector<float>> kept(gears::kSmallColumns, std::vector<float>(run.pad, 0.0f));
+  float* keep[gears::kSmallColumns];
+  const float* in[gears::kSmallColumns];
+  for (int q = 0; q < gears::kSmallColumns; ++q)
+  {
+    keep[q] = kept[static_cast<std::size_t>(q)].data();
+    in[q] = keep[q];
+  }
+  const std::size_t nc = K.reject(ga, pp, run.cand.data(), run.box.data(), run.pad, keep, rc);
   run.cand.resize(nc);
   for (int q = 0; q < 4; ++q)
   {
@@ -253,7 +262,7 @@ KernelRun RunKernels(const gears::KernelTable& K, bool dir, const glm::dvec3& S,
   }
   run.stride = nc + gears::kPad;
   run.out.assign((1 + gears::kSmallSide) * run.stride + 64, 0u);
-  K.small(ga, pp, run.cand.data(), nc, run.boxCols, run.out.data(), run.stride);
+  K.small(in, pp, nc, run.out.data(), run.stride);
   return run;
 }
 
