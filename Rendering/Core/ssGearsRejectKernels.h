@@ -134,7 +134,8 @@ static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p
       missed |= outside;
     }
     // the triangle's plane: S and the light on one side
-    const VF sigma = Load(g.nx + i) * p.sx + Load(g.ny + i) * p.sy + Load(g.nz + i) * p.sz - Load(g.nd + i);
+    const VF NX = Load(g.nx + i), NY = Load(g.ny + i), NZ = Load(g.nz + i), ND = Load(g.nd + i);
+    const VF sigma = NX * p.sx + NY * p.sy + NZ * p.sz - ND;
     const VI oneSide = ((sigma > m) & (Load(g.front + i) > 0.5f)) | ((sigma < -m) & (Load(g.back + i) > 0.5f));
     // the pixel's horizon
     const VF t0 = p.px * X0 + p.py * Y0 + p.pz * Z0 - sig;
@@ -165,8 +166,7 @@ static inline std::size_t RejectPairs(const GroupArrays& g, const PixelParams& p
     if (keep && nk > 0)
     {
       // the small-triangle test's inputs, in the order of kSmallColumns
-      const VF col[kSmallColumns] = { X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, Load(g.nx + i), Load(g.ny + i), Load(g.nz + i),
-        Load(g.nd + i), bi0, bi1, bj0, bj1 };
+      const VF col[kSmallColumns] = { X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, NX, NY, NZ, ND, bi0, bi1, bj0, bj1 };
       for (int q = 0; q < kSmallColumns; ++q)
       {
         Compact(col[q], kept, keep[q] + c);

@@ -36,10 +36,10 @@ inline bool WithinSolverReach(const glm::dvec3& p)
   return std::fabs(p.x) <= 1e30 && std::fabs(p.y) <= 1e30 && std::fabs(p.z) <= 1e30;
 }
 
-/// Which triangles of a caster list the CPU solvers keep: finite vertices
-/// within 1e30 of the origin (WithinSolverReach) (the solvers' floats hold them relative to the
-/// bulk; stop 45: one vertex at 1e39 in a baked surface made every point
-/// V = 0), non-zero area and, when asked, opacity > 0 — and where their bulk lies
+/// Which triangles of a caster list the CPU solvers keep: vertices
+/// WithinSolverReach (the solvers' floats hold them relative to the bulk;
+/// stop 45: one vertex at 1e39 in a baked surface made every point V = 0),
+/// non-zero area and, when asked, opacity > 0 — and where their bulk lies
 /// (`center` is the solvers' float origin).
 struct TriangleSelection
 {
