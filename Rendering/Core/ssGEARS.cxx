@@ -421,6 +421,13 @@ GearsTriangleData GearsSolver::Data() const
   return r;
 }
 
+std::vector<std::uint32_t> GearsSolver::EdgeNeighbours() const
+{
+  std::vector<std::uint32_t> nbr;
+  GlobalNeighbours(P->D, nbr);
+  return nbr;
+}
+
 std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3& origin,
   const float* positions, const float* normals, std::size_t n, const GearsOptions& options,
   GearsStats* statsOut, std::vector<GearsMask>* masksOut, GearsAssignment* assignOut) const

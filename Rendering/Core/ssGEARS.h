@@ -314,6 +314,12 @@ public:
   std::array<glm::dvec3, 3> Triangle(std::size_t t) const;
   /// The triangles as stored (for the GL backend, which uploads them).
   GearsTriangleData Data() const;
+  /// For the GL backend's winding count: per stored triangle t and edge m
+  /// (vertices m, m + 1 mod 3) the stored triangle across it, with the same
+  /// two bit-identical vertices, as its index | 0x80000000 when the edge runs
+  /// the same way in both, or 0xFFFFFFFF (a boundary; an edge held by three
+  /// triangles pairs two of them). Computed on each call (0.3 s on 5M).
+  std::vector<std::uint32_t> EdgeNeighbours() const;
 
 private:
   struct Impl;

@@ -350,6 +350,11 @@ struct GearsNeighbours
   std::vector<Across> across;
   std::uint64_t arrangement = 0; ///< the SolverData::arrangement they are of (0: none)
 };
+/// Per real triangle t and edge m: the triangle on the other side with the
+/// same two bit-identical vertices, by its solver index (| kSameDirection when
+/// running the same way), or kNoNeighbour (BuildNeighbours' pairing; the GL
+/// backend's winding count). Empty beyond kNeighbourId triangles.
+void GlobalNeighbours(const SolverData& d, std::vector<std::uint32_t>& out);
 void BuildNeighbours(const SolverData& d, GearsNeighbours& out);
 
 // ---------------------------------------------------------------------------

@@ -153,7 +153,7 @@ void LocalNeighbours(const SolverData& d, const std::vector<std::uint32_t>& clus
 }
 }
 
-void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
+void GlobalNeighbours(const SolverData& d, std::vector<std::uint32_t>& out)
 {
   // Any symmetric pairing of half-edges between the same two bit-identical
   // vertices lets their steps cancel (an edge held by three triangles keeps
@@ -162,24 +162,15 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
   // hash table each, and what is left (the chunks' borders) in one global
   // pass of hash buckets.
   const std::size_t nt = d.real;
-  out.nbr.clear();
-  out.across.clear();
-  if (nt == 0 || !KernelOffsetsFit(d.Triangles()))
+  out.clear();
+  if (nt == 0 || nt > kNeighbourId)
   {
-    // (the kernels address a triangle's floats with 32-bit offsets: a mesh
-    // this large is rasterised without the winding count)
     return;
   }
-  std::vector<std::uint32_t> clusterOf(nt, 0);
-  for (std::size_t c = 0; c + 1 < d.clusterFirst.size() && c < d.realClusters; ++c)
-  {
-    std::fill(clusterOf.begin() + d.clusterFirst[c], clusterOf.begin() + d.clusterFirst[c + 1],
-      static_cast<std::uint32_t>(c));
-  }
   const std::size_t nh = 3 * nt;
-  out.nbr.assign(nh, kNoNeighbour);
+  out.assign(nh, kNoNeighbour);
   const float* V = d.V.data();
-  std::uint32_t* nbr = out.nbr.data();
+  std::uint32_t* nbr = out.data();
   auto hashOf = [&](std::size_t h) {
     const EdgeKey e = HalfEdge(V, h);
     const std::uint32_t* lo = Less(e.b, e.a) ? e.b : e.a;
@@ -249,7 +240,6 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
   const std::size_t nr = rest.size();
   if (nr < 2)
   {
-    LocalNeighbours(d, clusterOf, out);
     return;
   }
   int bits = 1;
@@ -294,6 +284,25 @@ void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
       }
     }
   });
+}
+
+void BuildNeighbours(const SolverData& d, GearsNeighbours& out)
+{
+  out.nbr.clear();
+  out.across.clear();
+  if (d.real == 0 || !KernelOffsetsFit(d.Triangles()))
+  {
+    // (the kernels address a triangle's floats with 32-bit offsets: a mesh
+    // this large is rasterised without the winding count)
+    return;
+  }
+  GlobalNeighbours(d, out.nbr);
+  std::vector<std::uint32_t> clusterOf(d.real, 0);
+  for (std::size_t c = 0; c + 1 < d.clusterFirst.size() && c < d.realClusters; ++c)
+  {
+    std::fill(clusterOf.begin() + d.clusterFirst[c], clusterOf.begin() + d.clusterFirst[c + 1],
+      static_cast<std::uint32_t>(c));
+  }
   LocalNeighbours(d, clusterOf, out);
 }
 

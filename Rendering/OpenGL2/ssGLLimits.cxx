@@ -57,6 +57,8 @@ GLLimits QueryGLLimits()
   L.maxArrayTextureLayers = Lowered(L.maxArrayTextureLayers, "SOFTSHADOWS_GL_MAX_ARRAY_TEXTURE_LAYERS", L.lowered);
   L.maxSSBOBytes = Lowered(L.maxSSBOBytes, "SOFTSHADOWS_GL_MAX_SSBO_BYTES", L.lowered);
   L.maxSSBOBindings = Lowered(L.maxSSBOBindings, "SOFTSHADOWS_GL_MAX_SSBO_BINDINGS", L.lowered);
+  L.maxComputeSSBOBlocks =
+    Lowered(L.maxComputeSSBOBlocks, "SOFTSHADOWS_GL_MAX_COMPUTE_SSBO_BLOCKS", L.lowered);
   return L;
 }
 

@@ -8,6 +8,7 @@
 #include "ssGearsCSAssign.h"
 #include "ssGearsCSCommon.h"
 #include "ssGearsCSRaster.h"
+#include "ssGearsCSWinding.h"
 #include "vtk_glew.h"
 
 #include <algorithm>
@@ -61,6 +62,11 @@ enum Binding
   BTriLF,
   BPixStart,
   BPixOrder,
+  BNbr,      // the winding count (glsl/ssGearsCSWinding.glsl)
+  BPairStat,
+  BSlotStat,
+  BWind,
+  BTriN,
   NumBindings
 };
 
@@ -82,12 +88,16 @@ constexpr std::uint32_t kChunk = 384;
 // the most storage blocks one kernel declares (K_RASTER's USE_* list in
 // glsl/ssGearsCSCommon.glsl); checked against GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS
 constexpr int kMaxKernelBlocks = 13;
+// with the winding count, K_RASTER declares one more (WINDING); with fewer
+// blocks the GL backend runs without it
+constexpr int kWindingKernelBlocks = 14;
 constexpr int kMaxGrid = 240;
 // depth buckets per cell (K_PASS2): the order of a cell's list, nearest the
 // receivers first, so that umbra masks fill early (the CPU's depth order)
 constexpr std::size_t kDepthBuckets = 16;
 // (the sort's keys c * kDepthBuckets + b and its buffers stay small)
-static_assert(std::size_t(kMaxGrid) * kMaxGrid * kDepthBuckets < (std::size_t(1) << 24), "sort keys");
+// (x 4: the winding count's classes, K_WFLAG)
+static_assert(std::size_t(kMaxGrid) * kMaxGrid * kDepthBuckets * 4 < (std::size_t(1) << 24), "sort keys");
 
 std::uint32_t Ord(float f)
 {
@@ -115,7 +125,7 @@ struct GearsGL::Impl
   std::vector<Buffer> ScanSums; // one per recursion level
   std::map<std::string, GLuint> Programs;
   std::map<std::pair<GLuint, std::string>, GLint> Locations;
-  std::uint64_t TriVersion = 0;
+  std::uint64_t TriVersion = 0, NbrVersion = 0;
   std::int64_t MaxBlock = 0;
   int MaxBindings = 0, MaxKernelBlocks = 0;
   GLuint Current = 0;
@@ -173,18 +183,23 @@ struct GearsGL::Impl
     }
   }
 
-  GLuint Program(const std::string& kernel, std::string* why)
+  // kernel: its K_* define; extra: one more define (or none)
+  GLuint Program(const std::string& kernel, std::string* why, const char* extra = nullptr)
   {
     const GLuint wg = (kernel == "K_SCAN_BLOCK" || kernel == "K_SCAN_ADD") ? kScanWG : kWG;
     std::ostringstream head;
     head << "#version 430\n#define " << kernel << "\n#define WG " << wg << "\n";
+    if (extra)
+    {
+      head << "#define " << extra << "\n";
+    }
     const std::string key = head.str();
     auto it = Programs.find(key);
     if (it != Programs.end())
     {
       return it->second;
     }
-    const std::string src = key + ssGearsCSCommon + ssGearsCSAssign + ssGearsCSRaster;
+    const std::string src = key + ssGearsCSCommon + ssGearsCSAssign + ssGearsCSRaster + ssGearsCSWinding;
     std::string error;
     const GLuint prog = CompileComputeProgram(src, error);
     if (!prog)
@@ -308,6 +323,7 @@ struct GearsGL::Impl
     }
     ScanSums.clear();
     TriVersion = 0;
+    NbrVersion = 0;
   }
 };
 
@@ -439,12 +455,30 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   {
     return false;
   }
+  // the winding count (glsl/ssGearsCSWinding.glsl): where the CPU backend's
+  // would run, with the triangles' light-frame copy (K_TOLIGHT) and the
+  // buffers it needs
+  const bool dirLight0 = light.type == LightType::Directional;
+  const double W0 = dirLight0 ? 2.0 * std::tan(0.5 * light.angularDiameter) : light.width;
+  const double H0 = dirLight0 ? W0 : light.height;
+  const bool pre = 72 * NT <= maxBlock; // (the triangles' light-frame copy fits)
+  const bool windingBlocks = I.MaxKernelBlocks >= kWindingKernelBlocks;
+  bool winding = opt.windingCount && !opt.countNecessary && k > 1 && pre && windingBlocks && W0 > 0.0 &&
+    H0 > 0.0 && NT > 0 && NT < 0x7FFFFFFFu && 16 * NT <= maxBlock;
   const char* names[] = { "K_START", "K_PROJECT", "K_CELL", "K_SAT_ROWS", "K_SAT_COLS", "K_RMQ", "K_PASS1",
-    "K_PASS2", "K_HIST", "K_SCATTER", "K_PIXSORT", "K_TOLIGHT", "K_RASTER", "K_FINISH" };
+    "K_PASS2", "K_HIST", "K_SCATTER", "K_PIXSORT", "K_TOLIGHT", "K_RASTER", "K_FINISH", "K_WFLAG", "K_WINDING" };
   std::map<std::string, GLuint> prog;
   for (const char* nm : names)
   {
-    prog[nm] = I.Program(nm, why);
+    const std::string name = nm;
+    if (!winding && (name == "K_WFLAG" || name == "K_WINDING"))
+    {
+      continue;
+    }
+    // (K_RASTER reads wind[] where the context has the blocks, K_SCATTER
+    // copies the pairs' statuses where the count runs)
+    const bool w = (name == "K_RASTER" && windingBlocks) || ((name == "K_SCATTER" || name == "K_TOLIGHT") && winding);
+    prog[nm] = I.Program(nm, why, w ? "WINDING" : nullptr);
     if (!prog[nm])
     {
       return false;
@@ -474,7 +508,21 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Upload(I.Buf[BTriV], D.vertices, 9 * 4 * NT);
     I.Upload(I.Buf[BTriA], D.opacity, 4 * NT);
     I.TriVersion = D.version;
+    I.NbrVersion = 0;
   }
+  if (winding && I.NbrVersion != D.version)
+  {
+    // the edge neighbours, once per set of triangles (counted in msPrepare)
+    const auto tn = Clock::now();
+    const std::vector<std::uint32_t> nbr = solver.EdgeNeighbours();
+    if (nbr.size() == 3 * NT)
+    {
+      I.Upload(I.Buf[BNbr], nbr.data(), 4 * nbr.size());
+      I.NbrVersion = D.version;
+    }
+    st.msPrepare += Ms(tn, Clock::now());
+  }
+  winding = winding && I.NbrVersion == D.version;
   {
     // the closed-mesh rule of the CPU backend, for this light
     const std::vector<std::int8_t> flags8 = solver.ClosedRuleFlags(light, opt);
@@ -505,6 +553,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     }
     red[8 * f + 6] = Ord(0.0f);
   }
+  red[61] = Ord(0.0f); // (atomicMax: the largest start offset)
   I.Upload(I.Buf[BRed], red.data(), 4 * red.size());
   I.Ensure(I.Buf[BPixCell], 4 * n);
   I.Fill(I.Buf[BMasks], 128 * n, 0u); // the bitmasks: the raster's state between chunks
@@ -528,7 +577,8 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   I.U("uType", type);
   I.Uu("uFullRow", fullRow);
   I.Items(n);
-  I.Download(I.Buf[BRed], red.data(), 4 * 56);
+  I.Download(I.Buf[BRed], red.data(), 4 * 62);
+  const double epsMax = Unord(red[61]);
 
   const int numFaces = (L.type == LightType::Point) ? 6 : 1;
   double assignmentsTotal = 0, assignmentsNecessary = 0;
@@ -710,23 +760,75 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     auto t2 = Clock::now();
     st.msPrefixSum += Ms(t1, t2);
 
-    // --- 3.3 pass 2: the pairs
+    // --- 3.3 pass 2: the pairs; keys per cell: the depth buckets, times the
+    // winding count's four classes (K_WFLAG) where it runs
+    const std::size_t cellKeys = buckets * (winding ? 4 : 1);
     I.Ensure(I.Buf[BPairTri], 4 * numPairs);
     I.Ensure(I.Buf[BPairCell], 4 * numPairs);
     I.Use(prog["K_PASS2"]);
     cameraUniforms();
     shaftUniforms();
     I.U("uBuckets", static_cast<int>(buckets));
+    I.Uu("uCellKeys", static_cast<std::uint32_t>(cellKeys));
     I.Ud("uMaxDepth", maxDepth);
     I.Items(NT);
     glFinish();
     auto t3 = Clock::now();
     st.msRelate += Ms(t2, t3);
 
-    // --- sort on the cell and the depth bucket (K_PASS2): counting sort
-    // (histogram, prefix sum, scatter); cell c's list is the buckets
-    // c B .. (c + 1) B - 1, nearest the receivers first
-    const std::size_t NB = NC * buckets;
+    // the triangles in the light's frame once per face, when the buffer fits
+    // the winding count's margin: the shafts' plus 1e-6 of the face's reach
+    // (the farthest start plus the farthest vertex from the light's centre)
+    const glm::dvec3 reachS = glm::max(glm::abs(lo - C.Lc), glm::abs(hi - C.Lc));
+    const double far = glm::length(reachS) + glm::length(C.Lc) + D.extent;
+    const double windingMargin = shaftMargin + 1e-6 * far;
+    if (pre)
+    {
+      I.Ensure(I.Buf[BTriL], 72 * NT);
+      I.Ensure(I.Buf[BTriLF], 36 * NT);
+      I.Use(prog["K_TOLIGHT"]);
+      cameraUniforms();
+      if (winding)
+      {
+        I.Ensure(I.Buf[BTriN], 16 * NT);
+        I.U("uDir", dirLight ? 1 : 0);
+        I.Ud("uW", W);
+        I.Ud("uH", H);
+        I.Ud("uMargin", windingMargin);
+        I.Ud("uFar", far);
+      }
+      I.Items(NT);
+    }
+    const int hand = glm::dot(glm::cross(C.u, C.v), C.n) < 0.0 ? -1 : 1;
+    if (windingBlocks)
+    {
+      I.Ensure(I.Buf[BWind], 4 * n); // (K_RASTER declares it whether or not the count runs)
+    }
+    if (winding)
+    {
+      // the winding count's statuses and contour edges per pair, and its
+      // class in the cell's list
+      I.Ensure(I.Buf[BPairStat], 4 * numPairs);
+      I.Ensure(I.Buf[BSlotStat], 4 * numPairs);
+      I.Use(prog["K_WFLAG"]);
+      cameraUniforms();
+      shaftUniforms();
+      I.Ud("uEpsMax", epsMax);
+      I.Ud("uMargin", windingMargin);
+      I.U("uHand", hand);
+      I.Uu("uBuckets", static_cast<std::uint32_t>(buckets));
+      I.Uu("uCellKeys", static_cast<std::uint32_t>(cellKeys));
+      I.Items(numPairs);
+      glFinish();
+      const auto tw = Clock::now();
+      st.msRelate += Ms(t3, tw);
+      t3 = tw;
+    }
+
+    // --- sort on the key (K_PASS2, K_WFLAG): counting sort (histogram,
+    // prefix sum, scatter); cell c's list is the keys c K .. (c + 1) K - 1
+    // (K = cellKeys), in each class nearest the receivers first
+    const std::size_t NB = NC * cellKeys;
     I.Fill(I.Buf[BCellBegin], 4 * (NB + 1), 0u);
     I.Fill(I.Buf[BCursor], 4 * NB, 0u);
     I.Ensure(I.Buf[BSorted], 4 * numPairs);
@@ -741,12 +843,13 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     std::vector<std::uint32_t> cellBegin(NB + 1);
     I.Download(I.Buf[BCellBegin], cellBegin.data(), 4 * (NB + 1));
     std::size_t longestList = 0;
+    const std::size_t drawnKeys = std::min(cellKeys, 3 * buckets); // (class 3 is never drawn)
     for (std::size_t c = 0; c < NC; ++c)
     {
       if (cellCount[c])
       {
-        const std::size_t nt = cellBegin[(c + 1) * buckets] - cellBegin[c * buckets];
-        longestList = std::max(longestList, nt);
+        const std::size_t nt = cellBegin[(c + 1) * cellKeys] - cellBegin[c * cellKeys];
+        longestList = std::max<std::size_t>(longestList, cellBegin[c * cellKeys + drawnKeys] - cellBegin[c * cellKeys]);
         st.trianglesPerCellMax = std::max(st.trianglesPerCellMax, nt);
         sumTrisPerCell += nt;
         assignmentsTotal += static_cast<double>(nt) * cellCount[c];
@@ -756,23 +859,27 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     auto t4 = Clock::now();
     st.msSort += Ms(t3, t4);
 
-    // --- step 4: the bitmasks
+    // --- step 4: the bitmasks (first the winding count's, where it runs)
     const double hx = (0.5 - 0.5 / k) * W, hy = (0.5 - 0.5 / k) * H;
     const double slackX = 1e-7 * (W / k) + 1e-12 * D.extent, slackY = 1e-7 * (H / k) + 1e-12 * D.extent;
-    // the triangles in the light's frame once per face, when the buffer fits
-    const bool pre = 72 * NT <= maxBlock;
-    if (pre)
+    if (winding)
     {
-      I.Ensure(I.Buf[BTriL], 72 * NT);
-      I.Ensure(I.Buf[BTriLF], 36 * NT);
-      I.Use(prog["K_TOLIGHT"]);
+      I.Use(prog["K_WINDING"]);
       cameraUniforms();
-      I.Items(NT);
+      I.U("uK", k);
+      I.U("uDir", dirLight ? 1 : 0);
+      I.Ud("uW", W);
+      I.Ud("uH", H);
+      I.Ud("uInvK", 1.0 / k);
+      I.Uu("uBuckets", static_cast<std::uint32_t>(buckets));
+      I.Uu("uCellKeys", static_cast<std::uint32_t>(cellKeys));
+      I.Uu("uMinList", static_cast<std::uint32_t>(std::max(0, opt.windingMinList)));
+      I.Items(samples);
     }
     I.Use(prog["K_RASTER"]);
     cameraUniforms();
     I.U("uPre", pre ? 1 : 0);
-    I.U("uHand", glm::dot(glm::cross(C.u, C.v), C.n) < 0.0 ? -1 : 1);
+    I.U("uHand", hand);
     I.Ud("uInvK", 1.0 / k);
     I.U("uK", k);
     I.U("uDir", dirLight ? 1 : 0);
@@ -785,7 +892,12 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Ud("uYlo", -hy - slackY);
     I.Ud("uYhi", hy + slackY);
     I.Uu("uChunkSize", kChunk);
+    if (windingBlocks)
+    {
+      I.U("uWinding", winding ? 1 : 0);
+    }
     I.Uu("uBuckets", static_cast<std::uint32_t>(buckets));
+    I.Uu("uCellKeys", static_cast<std::uint32_t>(cellKeys));
     const std::size_t chunks = std::max<std::size_t>(1, (longestList + kChunk - 1) / kChunk);
     for (std::size_t ch = 0; ch < chunks; ++ch)
     {
@@ -799,6 +911,11 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Items(n);
     glFinish();
     st.msRaster += Ms(t4, Clock::now());
+  }
+  if (winding)
+  {
+    st.windingPixels = I.ReadUint(I.Buf[BRed], 62);
+    st.windingDeclined = I.ReadUint(I.Buf[BRed], 63);
   }
   V.resize(n);
   I.Download(I.Buf[BVis], V.data(), 4 * n);

@@ -17,7 +17,9 @@ namespace ss
 /// the summed-area table and the range-maximum table of the grid, shadow-volume
 /// boxes with P_far (pass 1), a prefix sum, the (triID, cellID) pairs (pass 2),
 /// a counting sort on the cell (atomics + prefix sum) and the per-pixel k x k
-/// bitmasks. The bitmask arithmetic repeats the CPU backend's double
+/// bitmasks, with the CPU backend's winding count where it applies (members
+/// decided per cell, their contour edges' steps per pixel; declined pixels and
+/// the rest of each list rasterised). The bitmask arithmetic repeats the CPU backend's double
 /// operations in the same order, so both give identical bitmasks on the same
 /// inputs (tested on Mesa).
 ///

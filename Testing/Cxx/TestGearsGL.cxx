@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <random>
@@ -66,12 +67,14 @@ struct Compare
   double maxV = 0.0;
 };
 
+// (cpuOpt: the CPU backend's options, if not opt)
 Compare SolveBoth(GearsGL& gl, const GearsSolver& cpu, const LightFrame& light, const glm::dvec3& origin,
-  const sstest::Scene& s, const GearsOptions& opt, GearsStats* cpuStats = nullptr, GearsStats* glStats = nullptr)
+  const sstest::Scene& s, const GearsOptions& opt, GearsStats* cpuStats = nullptr, GearsStats* glStats = nullptr,
+  const GearsOptions* cpuOpt = nullptr)
 {
   const std::size_t n = s.pos.size() / 3;
   std::vector<GearsMask> mc, mg;
-  const auto Vc = cpu.Solve(light, origin, s.pos.data(), s.nrm.data(), n, opt, cpuStats, &mc);
+  const auto Vc = cpu.Solve(light, origin, s.pos.data(), s.nrm.data(), n, cpuOpt ? *cpuOpt : opt, cpuStats, &mc);
   std::vector<float> Vg;
   std::string why;
   EXPECT_TRUE(gl.Solve(cpu, light, origin, s.pos.data(), s.nrm.data(), n, opt, Vg, glStats, &mg, &why)) << why;
@@ -273,7 +276,7 @@ TEST(GearsGL, ConnectedMeshesEqualTheCPUsWindingCount)
     GearsSolver cpu;
     cpu.SetTriangles(m.tris, {});
     cpu.SetPieces(sstest::PiecesOf(m.tris));
-    std::size_t pixels = 0, partial = 0, winding = 0;
+    std::size_t pixels = 0, partial = 0, winding = 0, glWinding = 0, glDeclined = 0;
     for (const LightFrame& light : sstest::AreaLights(glm::dvec3(0.0), 1.0))
     {
       for (int k : { 16, 32 })
@@ -289,13 +292,113 @@ TEST(GearsGL, ConnectedMeshesEqualTheCPUsWindingCount)
         pixels += c.pixels;
         partial += c.partial;
         winding += cs.windingPixels;
+        glWinding += gs.windingPixels;
+        glDeclined += gs.windingDeclined;
       }
     }
     std::cout << "connected meshes: " << pixels << " pixel solves, " << partial << " in penumbra, " << winding
-              << " by the CPU's winding count, GL identical\n";
+              << " by the CPU's winding count, " << glWinding << " by the GL's (" << glDeclined
+              << " declined), GL identical\n";
     EXPECT_GT(winding, pixels / 2); // the CPU took its winding count
+    EXPECT_GT(glWinding, pixels / 2); // and the GL backend its own
     EXPECT_GT(partial, pixels / 10);
   }
+}
+
+// The GL backend's own winding count (glsl/ssGearsCSWinding.glsl) against
+// the CPU backend's raster alone (no winding count there): broken meshes
+// (flipped triangles, a fin, an unwelded seam, a duplicate, slivers) near
+// and far from the origin and at small and large scales, and a grid whose
+// vertex rows project exactly onto sample rows (declined there, rasterised).
+TEST(GearsGL, WindingCountOnBrokenMeshesAndSampleRows)
+{
+  Context ctx;
+  GearsGL gl;
+  const sstest::Mesh broken = sstest::BrokenSheet();
+  struct Place
+  {
+    glm::dvec3 offset;
+    double scale;
+  };
+  for (const Place& at : { Place{ glm::dvec3(0.0), 1.0 }, Place{ glm::dvec3(3e5, -1e5, 2e4), 1.0 },
+         Place{ glm::dvec3(0.0), 1e-4 }, Place{ glm::dvec3(0.0), 1e4 } })
+  {
+    std::vector<glm::dvec3> tris = broken.tris;
+    for (auto& v : tris)
+    {
+      v = at.offset + at.scale * v;
+    }
+    sstest::Scene px = broken.pixels;
+    for (auto& p : px.pos)
+    {
+      p = static_cast<float>(at.scale * p);
+    }
+    GearsSolver cpu;
+    cpu.SetTriangles(tris, {});
+    cpu.SetPieces(sstest::PiecesOf(tris));
+    std::size_t pixels = 0, partial = 0, glWinding = 0, glDeclined = 0;
+    for (const LightFrame& light : sstest::AreaLights(at.offset, at.scale))
+    {
+      for (int k : { 8, 16, 32 })
+      {
+        GearsOptions opt;
+        opt.k = k;
+        opt.windingMinList = 1;
+        opt.grid = k == 16 ? 8 : 0;
+        GearsOptions raster = opt;
+        raster.windingCount = false;
+        GearsStats gs;
+        const Compare c = SolveBoth(gl, cpu, light, at.offset, px, opt, nullptr, &gs, &raster);
+        EXPECT_EQ(c.maskMismatch, 0u) << "scale " << at.scale << " light " << int(light.type) << " k " << k;
+        EXPECT_EQ(c.vMismatch, 0u) << "scale " << at.scale << " light " << int(light.type) << " k " << k;
+        pixels += c.pixels;
+        partial += c.partial;
+        glWinding += gs.windingPixels;
+        glDeclined += gs.windingDeclined;
+      }
+    }
+    std::cout << "broken sheet at scale " << at.scale << ", offset " << at.offset.x << ": " << pixels << " pixel solves, " << partial
+              << " in penumbra, " << glWinding << " by the GL's winding count (" << glDeclined << " declined)\n";
+    EXPECT_GT(glWinding, pixels / 2);
+    EXPECT_GT(partial, pixels / 10);
+  }
+  // vertex rows exactly on sample rows at k = 8 (TestSSGEARSWinding's
+  // VerticesOnSampleRowsAreDeclined): declined, and the same bits
+  sstest::Scene rowsPx;
+  for (int i = 0; i < 9; ++i)
+  {
+    rowsPx.pos.insert(rowsPx.pos.end(), { -0.5f + 0.125f * i, 0.0f, 0.0f });
+    rowsPx.nrm.insert(rowsPx.nrm.end(), { 0.0f, 0.0f, 0.0f });
+  }
+  GearsSolver grid;
+  grid.SetTriangles(sstest::Sheet(16, 16, -1.0625, 0.9375, -1.0625, 0.9375, [](double, double) { return 1.0; }), {});
+  const LightFrame L = MakeRectLightFrame({ 0.0, 0.0, 2.0 }, { 0, 0, -1 }, { 0, 1, 0 }, { 2.0, 2.0 });
+  GearsOptions opt;
+  opt.k = 8;
+  opt.windingMinList = 1;
+  GearsOptions raster = opt;
+  raster.windingCount = false;
+  GearsStats gs;
+  const Compare c = SolveBoth(gl, grid, L, glm::dvec3(0.0), rowsPx, opt, nullptr, &gs, &raster);
+  EXPECT_EQ(c.maskMismatch, 0u);
+  EXPECT_GT(gs.windingDeclined, 0u);
+
+  // a context with 13 storage blocks per compute shader (GL 4.3 guarantees
+  // 8; llvmpipe has 16): the GL backend runs without its winding count
+  setenv("SOFTSHADOWS_GL_MAX_COMPUTE_SSBO_BLOCKS", "13", 1);
+  GearsGL small;
+  GearsSolver cpu;
+  cpu.SetTriangles(broken.tris, {});
+  GearsOptions opt13;
+  opt13.k = 16;
+  opt13.windingMinList = 1;
+  GearsStats gs13;
+  const Compare c13 = SolveBoth(small, cpu, sstest::AreaLights(glm::dvec3(0.0), 1.0)[0], glm::dvec3(0.0),
+    broken.pixels, opt13, nullptr, &gs13);
+  unsetenv("SOFTSHADOWS_GL_MAX_COMPUTE_SSBO_BLOCKS");
+  EXPECT_EQ(c13.maskMismatch, 0u);
+  EXPECT_EQ(gs13.windingPixels, 0u);
+  EXPECT_GT(c13.partial, 0u);
 }
 
 // The GL backend keeps the triangles between solves. SetClusters rearranges

@@ -29,44 +29,13 @@ using namespace ss;
 
 namespace {
 using sstest::AreaLights;
+using sstest::BrokenSheet;
 using sstest::BumpyAndWavy;
 using sstest::Mesh;
 using sstest::PiecesOf;
 using sstest::Sheet;
 using sstest::TorusThroughSphere;
 using sstest::WithFloor;
-
-// A wavy sheet with defects: flipped triangles, an edge held by three
-// triangles (a fin), an unwelded seam (one half shifted by a hair), a
-// duplicated triangle, and a strip of slivers.
-Mesh Broken() {
-  std::vector<glm::dvec3> t =
-      Sheet(30, 30, -1.2, 0.0, -1.2, 1.2, [](double x, double y) {
-        return 1.5 + 0.2 * std::sin(6.0 * x + 2.0 * y);
-      });
-  const std::vector<glm::dvec3> right =
-      Sheet(30, 30, 1e-7, 1.2, -1.2, 1.2, [](double x, double y) {
-        return 1.5 + 0.2 * std::sin(6.0 * x + 2.0 * y);
-      });
-  t.insert(t.end(), right.begin(), right.end());
-  for (std::size_t f = 5; f < t.size() / 3; f += 17) {
-    std::swap(t[3 * f + 1], t[3 * f + 2]); // flipped
-  }
-  const glm::dvec3 a = t[3 * 100], b = t[3 * 100 + 1];
-  t.insert(
-      t.end(),
-      {a, b, 0.5 * (a + b) + glm::dvec3(0.0, 0.0, 0.3)}); // a fin on an edge
-  t.insert(t.end(), {t[3 * 200], t[3 * 200 + 1], t[3 * 200 + 2]}); // duplicated
-  for (int i = 0; i < 40; ++i) {
-    // slivers: a fan of needles sharing edges
-    const double y = -1.0 + 0.05 * i;
-    t.insert(t.end(), {glm::dvec3(-0.8, y, 2.2), glm::dvec3(0.8, y + 1e-6, 2.2),
-                       glm::dvec3(0.8, y + 0.05, 2.2)});
-    t.insert(t.end(), {glm::dvec3(-0.8, y, 2.2), glm::dvec3(0.8, y + 0.05, 2.2),
-                       glm::dvec3(-0.8, y + 0.05, 2.2)});
-  }
-  return WithFloor(t, 13);
-}
 
 struct Result {
   std::size_t pixels = 0, differing = 0, winding = 0, declined = 0,
@@ -137,7 +106,7 @@ TEST(GEARSWinding, MasksEqualTheRasterOnConnectedMeshes) {
 }
 
 TEST(GEARSWinding, MasksEqualTheRasterOnBrokenMeshes) {
-  const Result r = Compare(Broken(), glm::dvec3(0.0), 1.0, {8, 16, 32});
+  const Result r = Compare(BrokenSheet(), glm::dvec3(0.0), 1.0, {8, 16, 32});
   EXPECT_EQ(r.differing, 0u);
   EXPECT_GT(r.winding, r.pixels / 2);
 }

@@ -101,6 +101,7 @@ void main()
             atomicMax(sRed[b + 3 + c], Ord(FloatUp(S[c])));
           }
           atomicMax(sRed[b + 6], Ord(FloatUp(dot(S - uLc, n))));
+          atomicMax(red[61], Ord(FloatUp(eps))); // (the winding count's margin)
         }
       }
     }
@@ -212,7 +213,7 @@ void main()
 }
 #endif
 
-#if defined(K_PASS1) || defined(K_PASS2)
+#if defined(K_PASS1) || defined(K_PASS2) || defined(K_WFLAG)
 // The cell shafts (issue 23's twelfth round; the CPU backend's cell culling,
 // ssGearsCells.cxx): a pair whose triangle lies wholly outside the shaft from
 // the cell's samples (K_CELL's box of their starts) to the light is not
@@ -224,52 +225,90 @@ uniform double uW, uH, uShaftMargin;
 // One side of MakeShaft (ssGearsPairs.cxx) in double: every point of a
 // segment from a start in [lo1, hi1] x [loz, hiz] to the light satisfies
 // a + sl z <= x <= b + tl z.
+// (`precise` throughout: K_WFLAG repeats pass 2's test for a neighbour and
+// must get the same answer from its own compilation)
 dvec4 ShaftSide(double lo1, double hi1, double side, double loz, double hiz)
 {
   if (uDir != 0)
   {
-    return dvec4(lo1 - 0.5LF * side * hiz, 0.5LF * side, hi1 + 0.5LF * side * hiz, -0.5LF * side);
+    precise dvec4 r = dvec4(lo1 - 0.5LF * side * hiz, 0.5LF * side, hi1 + 0.5LF * side * hiz, -0.5LF * side);
+    return r;
   }
-  return dvec4(-0.5LF * side, min((lo1 + 0.5LF * side) / loz, (lo1 + 0.5LF * side) / hiz), 0.5LF * side,
-    max((hi1 - 0.5LF * side) / loz, (hi1 - 0.5LF * side) / hiz));
+  precise double a0 = (lo1 + 0.5LF * side) / loz, a1 = (lo1 + 0.5LF * side) / hiz;
+  precise double b0 = (hi1 - 0.5LF * side) / loz, b1 = (hi1 - 0.5LF * side) / hiz;
+  return dvec4(-0.5LF * side, min(a0, a1), 0.5LF * side, max(b0, b1));
+}
+// vertex coordinate x at depth z beyond a + s z by more than m on the low
+// (below) or the high side
+bool Below(double x, double z, double a, double s, double m)
+{
+  precise double bound = a + s * z - m;
+  return x < bound;
+}
+bool Above(double x, double z, double a, double s, double m)
+{
+  precise double bound = a + s * z + m;
+  return x > bound;
 }
 // Whether all three vertices lie beyond one plane of cell c's shaft by more
 // than the margin (written out: llvmpipe's loop budget counts every loop).
-bool OutsideShaft(dvec3 A, dvec3 B, dvec3 C, uint c)
+// Cell c's shaft: its box of starts and its four sides (none where a start
+// lies on the light's plane: no finite slopes).
+struct Shaft
 {
-  dvec3 lo = dvec3(Unord(cellBox[6u * c]), Unord(cellBox[6u * c + 1u]), Unord(cellBox[6u * c + 2u]));
-  dvec3 hi = -dvec3(Unord(cellBox[6u * c + 3u]), Unord(cellBox[6u * c + 4u]), Unord(cellBox[6u * c + 5u]));
-  if (uDir == 0 && !(lo.z > 0.0))
+  dvec3 lo, hi;
+  dvec4 sx, sy;
+  bool finite;
+};
+Shaft CellShaft(uint c)
+{
+  Shaft s;
+  s.lo = dvec3(Unord(cellBox[6u * c]), Unord(cellBox[6u * c + 1u]), Unord(cellBox[6u * c + 2u]));
+  s.hi = -dvec3(Unord(cellBox[6u * c + 3u]), Unord(cellBox[6u * c + 4u]), Unord(cellBox[6u * c + 5u]));
+  s.finite = uDir != 0 || s.lo.z > 0.0;
+  s.sx = ShaftSide(s.lo.x, s.hi.x, uW, s.lo.z, s.hi.z);
+  s.sy = ShaftSide(s.lo.y, s.hi.y, uH, s.lo.z, s.hi.z);
+  return s;
+}
+bool OutsideShaftOf(dvec3 A, dvec3 B, dvec3 C, Shaft s)
+{
+  if (!s.finite)
   {
-    return false; // a start on the light's plane: no finite slopes
+    return false;
   }
-  dvec4 sx = ShaftSide(lo.x, hi.x, uW, lo.z, hi.z), sy = ShaftSide(lo.y, hi.y, uH, lo.z, hi.z);
+  dvec3 hi = s.hi;
+  dvec4 sx = s.sx, sy = s.sy;
   double m = uShaftMargin;
-  if (A.x < sx.x + sx.y * A.z - m && B.x < sx.x + sx.y * B.z - m && C.x < sx.x + sx.y * C.z - m)
+  if (Below(A.x, A.z, sx.x, sx.y, m) && Below(B.x, B.z, sx.x, sx.y, m) && Below(C.x, C.z, sx.x, sx.y, m))
   {
     return true;
   }
-  if (A.x > sx.z + sx.w * A.z + m && B.x > sx.z + sx.w * B.z + m && C.x > sx.z + sx.w * C.z + m)
+  if (Above(A.x, A.z, sx.z, sx.w, m) && Above(B.x, B.z, sx.z, sx.w, m) && Above(C.x, C.z, sx.z, sx.w, m))
   {
     return true;
   }
-  if (A.y < sy.x + sy.y * A.z - m && B.y < sy.x + sy.y * B.z - m && C.y < sy.x + sy.y * C.z - m)
+  if (Below(A.y, A.z, sy.x, sy.y, m) && Below(B.y, B.z, sy.x, sy.y, m) && Below(C.y, C.z, sy.x, sy.y, m))
   {
     return true;
   }
-  if (A.y > sy.z + sy.w * A.z + m && B.y > sy.z + sy.w * B.z + m && C.y > sy.z + sy.w * C.z + m)
+  if (Above(A.y, A.z, sy.z, sy.w, m) && Above(B.y, B.z, sy.z, sy.w, m) && Above(C.y, C.z, sy.z, sy.w, m))
   {
     return true;
   }
-  if (uDir == 0 && A.z < -m && B.z < -m && C.z < -m)
+  precise double mz = -m, hz = hi.z + m;
+  if (uDir == 0 && A.z < mz && B.z < mz && C.z < mz)
   {
     return true; // behind the light's plane
   }
-  return A.z > hi.z + m && B.z > hi.z + m && C.z > hi.z + m; // beyond every start
+  return A.z > hz && B.z > hz && C.z > hz; // beyond every start
+}
+bool CellKeepsOf(uint c, Shaft s, dvec3 A, dvec3 B, dvec3 C)
+{
+  return cellCount[c] != 0u && (uShaft == 0 || !OutsideShaftOf(A, B, C, s));
 }
 bool CellKeeps(uint c, dvec3 A, dvec3 B, dvec3 C)
 {
-  return cellCount[c] != 0u && (uShaft == 0 || !OutsideShaft(A, B, C, c));
+  return CellKeepsOf(c, CellShaft(c), A, B, C);
 }
 dvec3 LightVertex(uint t, uint m)
 {
@@ -498,6 +537,7 @@ void main()
 // listed triangles' depths (pass 1's nearest, red[60], to the farthest
 // sample); only the order depends on them, not a bit.
 uniform int uBuckets;
+uniform uint uCellKeys; // sort keys per cell: uBuckets, times 4 with the winding count's classes (K_WFLAG)
 uniform double uMaxDepth;
 void main()
 {
@@ -525,7 +565,7 @@ void main()
       if (CellKeeps(c, L0, L1, L2))
       {
         pairTri[o] = t;
-        pairCell[o] = c * uint(uBuckets) + bucket;
+        pairCell[o] = c * uCellKeys + bucket;
         ++o;
       }
     }
@@ -551,7 +591,11 @@ void main()
   if (q < uN)
   {
     uint c = pairCell[q];
-    sorted[cellBegin[c] + atomicAdd(cursor[c], 1u)] = pairTri[q];
+    uint a = cellBegin[c] + atomicAdd(cursor[c], 1u);
+    sorted[a] = pairTri[q];
+#ifdef WINDING
+    slotStat[a] = pairStat[q];
+#endif
   }
 }
 #endif

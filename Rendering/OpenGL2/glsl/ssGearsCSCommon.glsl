@@ -109,6 +109,10 @@ uniform int uG;      // grid resolution
 #define USE_CellBegin
 #define USE_Cursor
 #define USE_Sorted
+#ifdef WINDING
+#define USE_PairStat
+#define USE_SlotStat
+#endif
 #endif
 #ifdef K_FINISH
 #define USE_Face
@@ -126,6 +130,9 @@ uniform int uG;      // grid resolution
 #define USE_TriV
 #define USE_TriL
 #define USE_TriLF
+#ifdef WINDING
+#define USE_TriN
+#endif
 #endif
 #ifdef K_RASTER
 #define USE_PixOrder
@@ -141,6 +148,37 @@ uniform int uG;      // grid resolution
 #define USE_Masks
 #define USE_Nec
 #define USE_Closed
+#ifdef WINDING
+#define USE_Wind
+#endif
+#endif
+#ifdef K_WFLAG
+#define USE_PairTri
+#define USE_PairCell
+#define USE_PairStat
+#define USE_TriL
+#define USE_TriV
+#define USE_CellBox
+#define USE_CellCnt
+#define USE_Box
+#define USE_Closed
+#define USE_Nbr
+#define USE_TriN
+#endif
+#ifdef K_WINDING
+#define USE_TriV
+#define USE_TriL
+#define USE_TriLF
+#define USE_Closed
+#define USE_PixOrder
+#define USE_PixCell
+#define USE_Smp
+#define USE_CellBegin
+#define USE_Sorted
+#define USE_SlotStat
+#define USE_Masks
+#define USE_Wind
+#define USE_Red
 #endif
 
 #ifdef USE_TriV
@@ -232,6 +270,30 @@ layout(std430, binding = 29) buffer PixOrder { uint pixOrder[]; };     // the fa
 #ifdef USE_TriLF
 layout(std430, binding = 27) buffer TriLF { float triLF[]; };         // triL rounded to float (K_RASTER's pre-test)
 #endif
+// the winding count (glsl/ssGearsCSWinding.glsl)
+#ifdef USE_Nbr
+// per triangle edge the triangle across it (| 0x80000000: the edge runs the
+// same way in both) or 0xFFFFFFFF (GearsSolver::EdgeNeighbours)
+layout(std430, binding = 30) readonly buffer Nbr { uint nbr[]; };
+#endif
+#ifdef USE_PairStat
+// per pair (K_WFLAG): bits 0-1 its triangle's status in its cell (0 rest,
+// 1 / 2 a member with every start in front of / behind its plane, 3 never
+// drawn there), bits 2-4 its edges on the cell's contour
+layout(std430, binding = 31) buffer PairStat { uint pairStat[]; };
+#endif
+#ifdef USE_SlotStat
+layout(std430, binding = 32) buffer SlotStat { uint slotStat[]; };    // pairStat per slot of `sorted`
+#endif
+#ifdef USE_TriN
+// per triangle (K_TOLIGHT): its unit normal in the light's frame, rounded to
+// float, and flags: 1 its side is trusted, 2 / 4 the whole light in front
+// of / behind its plane (K_WFLAG's Status)
+layout(std430, binding = 34) buffer TriN { vec4 triN[]; };
+#endif
+#ifdef USE_Wind
+layout(std430, binding = 33) buffer Wind { uint wind[]; };            // per pixel: 1 if the count solved its members
+#endif
 #ifdef USE_CellBox
 // per cell the light-frame box of its samples' starts, 6 ordered float bits,
 // all kept with atomicMin: lo x y z rounded down, then -hi x y z (hi rounded up)
@@ -242,7 +304,8 @@ layout(std430, binding = 26) buffer CellBox { uint cellBox[]; };
 // 48..51: 2-D min x, min y, max x, max y; 56: full-grid triangles;
 // 57: scan overflow flag; 58: pairs outside their cell's shaft (a statistic:
 // it wraps past 2^32); 60: the nearest depth of a listed triangle (pass 1,
-// for pass 2's depth buckets).
+// for pass 2's depth buckets); 61: the largest start offset (K_START);
+// 62, 63: pixels the winding count solved and declined.
 
 // Floats as uints whose order is the floats' order (for atomicMin/Max).
 uint Ord(float f)

@@ -19,6 +19,9 @@ void main()
 #endif
 
 #ifdef K_TOLIGHT
+#ifdef WINDING
+void PlaneOf(uint t, dvec3 B0, dvec3 B1, dvec3 B2); // (glsl/ssGearsCSWinding.glsl)
+#endif
 // per face, every triangle's vertices in the light's frame once (the CPU
 // backend does this once per cell), instead of once per pixel and triangle
 void main()
@@ -37,11 +40,15 @@ void main()
       triLF[9 * t + 3 * m + 1] = F.y;
       triLF[9 * t + 3 * m + 2] = F.z;
     }
+#ifdef WINDING
+    PlaneOf(t, dvec3(triL[9 * t], triL[9 * t + 1], triL[9 * t + 2]),
+      dvec3(triL[9 * t + 3], triL[9 * t + 4], triL[9 * t + 5]), dvec3(triL[9 * t + 6], triL[9 * t + 7], triL[9 * t + 8]));
+#endif
   }
 }
 #endif
 
-#ifdef K_RASTER
+#if defined(K_RASTER) || defined(K_WINDING)
 // Step 4 [§4.2]: per pixel sample the k x k bitmask of hidden light samples
 // from its cell's triangles, in the light's frame (origin L_c, axes u v n).
 // The arithmetic repeats Rendering/Core's exact raster (ssGearsRaster.cxx:
@@ -574,10 +581,23 @@ void DrawSurvivor(uint tri, uint info)
   }
 }
 
+#endif
+
+#ifdef K_RASTER
 // Chunk uChunk of the pixel's cell list (uChunkSize triangles): the rows
-// persist in masks[] between chunks and K_FINISH turns them into V.
+// persist in masks[] between chunks and K_FINISH turns them into V. With the
+// winding count (K_WINDING, glsl/ssGearsCSWinding.glsl), masks[] starts with
+// its rows where it solved the pixel, and there only the rest of the list
+// is drawn.
 uniform uint uChunk, uChunkSize;
-uniform uint uBuckets; // cell c's list: the depth buckets c uBuckets .. (c + 1) uBuckets - 1 (K_PASS2)
+// Cell c's list: the sort keys c uCellKeys .. (c + 1) uCellKeys - 1 (K_PASS2),
+// uBuckets depth buckets per class. With the winding count (uCellKeys =
+// 4 uBuckets) the classes of K_WFLAG: the members with contour edges, the
+// rest, the other members, and those never drawn in the cell (skipped).
+uniform uint uBuckets, uCellKeys;
+#ifdef WINDING
+uniform int uWinding; // K_WINDING's rows and wind[] are there
+#endif
 void main()
 {
   uint gi = GID();
@@ -587,8 +607,18 @@ void main()
   }
   uint i = pixOrder[gi]; // (the face's pixels, cell by cell: K_PIXSORT)
   uint c = pixCell[i];
-  uint a0 = cellBegin[c * uBuckets] + uChunk * uChunkSize;
-  uint end = min(cellBegin[(c + 1u) * uBuckets], a0 + uChunkSize);
+  uint k0 = c * uCellKeys;
+  uint first = cellBegin[k0], last = cellBegin[k0 + min(uCellKeys, 3u * uBuckets)];
+#ifdef WINDING
+  if (uWinding != 0 && wind[i] != 0u)
+  {
+    // the count solved the members: the rest alone
+    first = cellBegin[k0 + uBuckets];
+    last = cellBegin[k0 + 2u * uBuckets];
+  }
+#endif
+  uint a0 = first + uChunk * uChunkSize;
+  uint end = min(last, a0 + uChunkSize);
   if (uChunk > 0u && a0 >= end)
   {
     return; // this cell's list ended in an earlier chunk
@@ -652,8 +682,10 @@ void main()
   }
   for (int j = 0; j < 32; ++j)
   {
-    rows[j] = uChunk == 0u ? belowRows[j] : masks[32u * i + uint(j)];
+    // (before the first chunk masks[] holds the winding count's rows or 0)
+    rows[j] = uChunk == 0u ? (belowRows[j] | masks[32u * i + uint(j)]) : masks[32u * i + uint(j)];
   }
+
   gFull = 0;
   for (int j = 0; j < uK; ++j)
   {
