@@ -41,8 +41,9 @@ uniform double uFar;    // the face's reach: the farthest start plus the farthes
 // Per triangle, what K_WFLAG's Status needs of its plane whatever the cell:
 // the unit normal, whether its side can be trusted, and the light's side.
 // The side is trusted only where it is far above every rounding: not a
-// sliver (|e1 x e2| > 1e-9 |e1| |e2|: the unit normal is then good to 1e-7
-// relative, 2e-7 once rounded to float, so a distance measured with it errs
+// sliver (|e1 x e2| > 1e-9 |e1| |e2|, the sine of the angle at B0, which is
+// what the cross product's relative error depends on: the unit normal is
+// then good to 1e-7 relative, 2e-7 once rounded to float, so a distance measured with it errs
 // by less than the margin's 1e-6 uFar), and where the raster's det =
 // (e1 x e2) . (B0 - S), from coordinates relative to S, which errs by about
 // 4u uFar^2 |e| + 3u |e1 x e2| uFar (u = 2^-53), is below |e1 x e2| uMargin
@@ -72,7 +73,7 @@ void PlaneOf(uint t, dvec3 B0, dvec3 B1, dvec3 B2)
     double lm = uDir != 0 ? 1e-6LF : uMargin;
     flags = 1u | (cmin > lm ? 2u : 0u) | (cmax < -lm ? 4u : 0u);
   }
-  triN[t] = vec4(nf, uintBitsToFloat(flags));
+  triN[t] = uvec4(floatBitsToUint(nf.x), floatBitsToUint(nf.y), floatBitsToUint(nf.z), flags);
 }
 #endif
 
@@ -100,13 +101,13 @@ uint Status(uint t, dvec3 lo, dvec3 hi)
   {
     return 0u;
   }
-  vec4 nf = triN[t];
-  uint flags = floatBitsToUint(nf.w);
+  uvec4 nb = triN[t];
+  uint flags = nb.w;
   if ((flags & 1u) == 0u)
   {
     return 0u; // its side is not trusted (PlaneOf)
   }
-  dvec3 un = dvec3(nf.xyz);
+  dvec3 un = dvec3(uintBitsToFloat(nb.x), uintBitsToFloat(nb.y), uintBitsToFloat(nb.z));
   precise dvec3 ctr = 0.5LF * (lo + hi);
   precise dvec3 hw = 0.5LF * (hi - lo);
   precise double sigma = Dot(un, ctr) - Dot(un, B0);
@@ -183,12 +184,15 @@ void main()
 #ifdef K_WINDING
 uniform uint uBuckets, uCellKeys;
 uniform uint uMinList; // shorter lists: the raster alone (the CPU's windingMinList)
-// llvmpipe's loop budget (65535 iterations in all, ssGearsGL.cxx): at most
-// kListBudget slots, kRowBudget edge rows, and 2 x 1056 for the steps' table
-const uint kListBudget = 32768u;
-const int kRowBudget = 24000;
+// llvmpipe's loop budget (65535 iterations in all, ssGearsGL.cxx). It counts
+// the iterations of a SIMD vector of invocations: an inner loop runs while
+// any of its pixels needs it, so per-pixel counts do not bound it. Hence the
+// only loops are over the list's slots (the vector's pixels share a cell's
+// list, or take the longest of theirs), 3 edges each, and the steps' table
+// (1056 to clear, 1056 to count); an edge's rows are written out. At most
+// kListBudget slots: 4 x 15,000 + 2,112 iterations.
+const uint kListBudget = 15000u;
 int delta[1056]; // the count's steps: k rows of k + 1
-int gIters;
 
 // a projected vertex (sample units) within rounding of a sample row near the samples
 bool NearRow(double px, double py)
@@ -237,23 +241,13 @@ bool EdgeSteps(dvec3 Ba, dvec3 Bb, double sg)
   gP[0] = p;
   gQ4[0] = q;
   gSteep[0] = !(abs(p) <= 1e6LF && abs(q) <= 1e6LF);
-  gIters += j1 - j0 + 1;
-  if (gIters > kRowBudget)
-  {
-    return false;
-  }
   int step = B > 0.0 ? 1 : -1;
-  for (int j = j0; j <= j1; ++j)
-  {
-    double jd = double(j);
-    precise double ej = gF[0].A + gF[0].C * jd;
-    double r = RowBound(0, ej, jd, false);
-    double at = B > 0.0 ? r : r + 1.0LF;
-    if (at <= double(uK - 1))
-    {
-      delta[j * (uK + 1) + int(max(at, 0.0LF))] += step;
-    }
-  }
+  // rows j0 .. j1, written out (the loop budget above)
+#define STEP1(J) if ((J) >= j0 && (J) <= j1) { precise double ej = gF[0].A + gF[0].C * double(J); double r = RowBound(0, ej, double(J), false); double at = B > 0.0 ? r : r + 1.0LF; if (at <= double(uK - 1)) { delta[(J) * (uK + 1) + int(max(at, 0.0LF))] += step; } }
+#define STEP4(J) STEP1(J) STEP1((J) + 1) STEP1((J) + 2) STEP1((J) + 3)
+#define STEP16(J) STEP4(J) STEP4((J) + 4) STEP4((J) + 8) STEP4((J) + 12)
+  STEP16(0)
+  STEP16(16)
   return true;
 }
 bool Count(uint i, uint a0, uint a1)
@@ -263,7 +257,6 @@ bool Count(uint i, uint a0, uint a1)
   {
     delta[q] = 0;
   }
-  gIters = 0;
   for (uint a = a0; a < a1; ++a)
   {
     uint s = slotStat[a];
@@ -284,10 +277,13 @@ bool Count(uint i, uint a0, uint a1)
     {
       return false;
     }
-    if (((edges & 1u) != 0u && !EdgeSteps(B0, B1, sg)) || ((edges & 2u) != 0u && !EdgeSteps(B1, B2, sg)) ||
-      ((edges & 4u) != 0u && !EdgeSteps(B2, B0, sg)))
+    dvec3 Bm[3] = dvec3[3](B0, B1, B2);
+    for (int m = 0; m < 3; ++m)
     {
-      return false;
+      if (((edges >> uint(m)) & 1u) != 0u && !EdgeSteps(Bm[m], Bm[(m + 1) % 3], sg))
+      {
+        return false;
+      }
     }
   }
   // the counts along the rows (a negative count: a contour that does not close)
