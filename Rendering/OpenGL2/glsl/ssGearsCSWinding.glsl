@@ -186,13 +186,16 @@ uniform uint uBuckets, uCellKeys;
 uniform uint uMinList; // shorter lists: the raster alone (the CPU's windingMinList)
 // llvmpipe's loop budget (65535 iterations in all, ssGearsGL.cxx). It counts
 // the iterations of a SIMD vector of invocations: an inner loop runs while
-// any of its pixels needs it, so per-pixel counts do not bound it. Hence the
-// only loops are over the list's slots (the vector's pixels share a cell's
-// list, or take the longest of theirs), 3 edges each, and the steps' table
-// (1056 to clear, 1056 to count); an edge's rows are written out. At most
-// kListBudget slots: 4 x 15,000 + 2,112 iterations.
-const uint kListBudget = 15000u;
+// any of its pixels needs it, so a pixel's own count does not bound it. The
+// bound is per slot of the list (the vector's pixels share a cell's list, or
+// take the longest of theirs): the slot, 3 edges, at most k rows each; and
+// 2 k (k + 1) for the steps' table. A cell with more contour slots than
+// that allows is declined (ListBudget).
 int delta[1056]; // the count's steps: k rows of k + 1
+uint ListBudget()
+{
+  return uint((65535 - 2 * uK * (uK + 1) - 64) / (3 * uK + 4));
+}
 
 // a projected vertex (sample units) within rounding of a sample row near the samples
 bool NearRow(double px, double py)
@@ -242,12 +245,17 @@ bool EdgeSteps(dvec3 Ba, dvec3 Bb, double sg)
   gQ4[0] = q;
   gSteep[0] = !(abs(p) <= 1e6LF && abs(q) <= 1e6LF);
   int step = B > 0.0 ? 1 : -1;
-  // rows j0 .. j1, written out (the loop budget above)
-#define STEP1(J) if ((J) >= j0 && (J) <= j1) { precise double ej = gF[0].A + gF[0].C * double(J); double r = RowBound(0, ej, double(J), false); double at = B > 0.0 ? r : r + 1.0LF; if (at <= double(uK - 1)) { delta[(J) * (uK + 1) + int(max(at, 0.0LF))] += step; } }
-#define STEP4(J) STEP1(J) STEP1((J) + 1) STEP1((J) + 2) STEP1((J) + 3)
-#define STEP16(J) STEP4(J) STEP4((J) + 4) STEP4((J) + 8) STEP4((J) + 12)
-  STEP16(0)
-  STEP16(16)
+  for (int j = j0; j <= j1; ++j)
+  {
+    double jd = double(j);
+    precise double ej = gF[0].A + gF[0].C * jd;
+    double r = RowBound(0, ej, jd, false);
+    double at = B > 0.0 ? r : r + 1.0LF;
+    if (at <= double(uK - 1))
+    {
+      delta[j * (uK + 1) + int(max(at, 0.0LF))] += step;
+    }
+  }
   return true;
 }
 bool Count(uint i, uint a0, uint a1)
@@ -322,8 +330,13 @@ void main()
   uint k0 = c * uCellKeys;
   uint a0 = cellBegin[k0], a1 = cellBegin[k0 + uBuckets];
   wind[i] = 0u;
-  if (cellBegin[k0 + 3u * uBuckets] - a0 < uMinList || a1 - a0 > kListBudget)
+  if (cellBegin[k0 + 3u * uBuckets] - a0 < uMinList)
   {
+    return;
+  }
+  if (a1 - a0 > ListBudget())
+  {
+    atomicAdd(red[63], 1u); // declined: too many contour slots for the loop budget
     return;
   }
   dvec3 S = ToLight(Start(i));
