@@ -197,12 +197,13 @@ uint ListBudget()
   return uint((65535 - 2 * uK * (uK + 1) - 64) / (3 * uK + 4));
 }
 
-// a projected vertex (sample units) within rounding of a sample row near the samples
-bool NearRow(double px, double py)
+// a projected vertex (sample units) within rounding of a sample row near the
+// samples (ex, ey: the rounding's bounds from the magnitudes, EdgeSteps)
+bool NearRow(double px, double py, double ex, double ey)
 {
   double yr = floor(py + 0.5LF);
-  return yr >= 0.0 && yr <= double(uK - 1) && abs(py - yr) <= 1e-7LF * (1.0LF + abs(py)) && px >= -1.0 &&
-    px <= double(uK);
+  return yr >= 0.0 && yr <= double(uK - 1) && abs(py - yr) <= 1e-7LF * (1.0LF + abs(py)) + ey && px >= -1.0 - ex &&
+    px <= double(uK) + ex;
 }
 // The steps of the contour edge from Ba to Bb of a member whose raster takes
 // side sg: ContourSteps of Rendering/Core/ssGearsWindingKernels.h, with the
@@ -221,14 +222,22 @@ bool EdgeSteps(dvec3 Ba, dvec3 Bb, double sg)
   precise double pya = (oy + (Ba.y - gSy) * qa) * ky + hk;
   precise double pxb = (ox + (Bb.x - gSx) * qb) * kx + hk;
   precise double pyb = (oy + (Bb.y - gSy) * qb) * ky + hk;
-  if (!(FiniteD(pxa) && FiniteD(pya) && FiniteD(pxb) && FiniteD(pyb)) || NearRow(pxa, pya) || NearRow(pxb, pyb))
+  // 1e-14 of the magnitudes the projection's sums cancel (sample units): about
+  // 9 times their rounding; they matter only for a light tiny beside its
+  // distance (below about 1e-7 of it the 1e-7 terms no longer cover it)
+  precise double exa = 1e-14LF * ((abs(ox) + (abs(Ba.x) + abs(gSx)) * abs(qa)) * kx);
+  precise double eya = 1e-14LF * ((abs(oy) + (abs(Ba.y) + abs(gSy)) * abs(qa)) * ky);
+  precise double exb = 1e-14LF * ((abs(ox) + (abs(Bb.x) + abs(gSx)) * abs(qb)) * kx);
+  precise double eyb = 1e-14LF * ((abs(oy) + (abs(Bb.y) + abs(gSy)) * abs(qb)) * ky);
+  if (!(FiniteD(pxa) && FiniteD(pya) && FiniteD(pxb) && FiniteD(pyb)) || NearRow(pxa, pya, exa, eya) ||
+    NearRow(pxb, pyb, exb, eyb))
   {
     return false;
   }
   double top = double(uK) + 1.0LF;
   double c0 = clamp(min(pya, pyb), -2.0LF, top), c1 = clamp(max(pya, pyb), -2.0LF, top);
   int j0 = max(int(ceil(c0)), 0), j1 = min(int(ceil(c1)) - 1, uK - 1);
-  if (j0 > j1 || min(pxa, pxb) > double(uK - 1) + 1e-7LF * (1.0LF + abs(pxa) + abs(pxb)))
+  if (j0 > j1 || min(pxa, pxb) > double(uK - 1) + 1e-7LF * (1.0LF + abs(pxa) + abs(pxb)) + exa + exb)
   {
     return true; // no row, or right of every sample: no step
   }
