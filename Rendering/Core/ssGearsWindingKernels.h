@@ -237,21 +237,30 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
       B[v][2] = (rx * src.n[0] + ry * src.n[1]) + rz * src.n[2];
     }
     // projections in sample units (WindingMask's Project)
-    VD px[2], py[2];
+    // (tx, ty: 1e-14 of the magnitudes the projection's sums cancel, in
+    // sample units, about 9 times their rounding (some 10 roundings of
+    // 2^-53 each). They matter only for a light tiny beside its distance:
+    // below about 1e-7 of it the 1e-7 terms no longer cover the rounding.)
+    VD px[2], py[2], tx[2], ty[2];
     for (int v = 0; v < 2; ++v)
     {
       const VD q = (p.dir ? VD{} + 1.0 : VD{} + p.Sz) / (p.Sz - B[v][2]);
       const double ox = p.dir ? 0.0 : p.Sx, oy = p.dir ? 0.0 : p.Sy;
       px[v] = (ox + (B[v][0] - p.Sx) * q) * kx + hk;
       py[v] = (oy + (B[v][1] - p.Sy) * q) * ky + hk;
+      const VD aq = q < 0.0 ? -q : q;
+      const VD bx = B[v][0] < 0.0 ? -B[v][0] : B[v][0], by = B[v][1] < 0.0 ? -B[v][1] : B[v][1];
+      tx[v] = 1e-14 * ((std::abs(ox) + (bx + std::abs(p.Sx)) * aq) * kx);
+      ty[v] = 1e-14 * ((std::abs(oy) + (by + std::abs(p.Sy)) * aq) * ky);
     }
     // a vertex within rounding of a row near the samples: declined
     for (int v = 0; v < 2; ++v)
     {
       const VD yr = __builtin_convertvector(__builtin_convertvector(py[v] + 0.5 + 4.0, VJ), VD) - 4.0; // round (y > -4.5)
       const VD ad = py[v] - yr;
-      const VL near = (yr >= 0.0) & (yr <= k - 1.0) & ((ad < 0.0 ? -ad : ad) <= 1e-7 * (1.0 + (py[v] < 0.0 ? -py[v] : py[v]))) &
-        (px[v] >= -1.0) & (px[v] <= double(k));
+      const VL near = (yr >= 0.0) & (yr <= k - 1.0) &
+        ((ad < 0.0 ? -ad : ad) <= 1e-7 * (1.0 + (py[v] < 0.0 ? -py[v] : py[v])) + ty[v]) &
+        (px[v] >= -1.0 - tx[v]) & (px[v] <= double(k) + tx[v]);
       if (RowMask(near & valid))
       {
         return -1;
@@ -268,7 +277,7 @@ static inline int ContourSteps(const ExactSource& src, const std::int32_t* ia, c
     const VD ceil0 = t0 + (t0 < c0 ? one : zero), ceil1 = t1 + (t1 < c1 ? one : zero);
     const VD j0 = ceil0 < 0.0 ? zero : ceil0;
     const VD j1 = (ceil1 - 1.0) > kmax ? kmax : ceil1 - 1.0;
-    const VL live = valid & (j0 <= j1) & !(xmin > (k - 1.0) + 1e-7 * (1.0 + ax0 + ax1));
+    const VL live = valid & (j0 <= j1) & !(xmin > (k - 1.0) + 1e-7 * (1.0 + ax0 + ax1) + tx[0] + tx[1]);
     const unsigned liveBits = RowMask(live);
     if (!liveBits)
     {

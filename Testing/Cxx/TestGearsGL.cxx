@@ -401,6 +401,60 @@ TEST(GearsGL, WindingCountOnBrokenMeshesAndSampleRows)
   EXPECT_GT(c13.partial, 0u);
 }
 
+// llvmpipe's loop budget counts the iterations of a SIMD vector of pixels:
+// an inner loop runs while any of its pixels needs it. Eight pixels share
+// one cell (grid 1); each has thin isolated triangles of its own, whose long
+// edges cross all 32 sample rows for it and none for the others, so the
+// pixels step their rows at different slots of the list. With 120 each, a
+// first version kept every pixel within its own row budget while the
+// vector's count passed 65535: the count was cut short and about 870 bits
+// per pixel were missing (the review of stop 48). The budget is now per
+// slot of the list (3 k + 4 iterations): 960 contour slots are declined
+// (and rasterised), 480 are counted; the bits are the raster's either way.
+TEST(GearsGL, WindingCountWithinTheLoopBudgetOfASimdVector)
+{
+  Context ctx;
+  GearsGL gl;
+  const LightFrame L = MakeRectLightFrame({ 0.0, 0.0, 2.0 }, { 0, 0, -1 }, { 0, 1, 0 }, { 2.0, 2.0 });
+  const int pixels = 8;
+  for (int per : { 120, 60 })
+  {
+    std::vector<glm::dvec3> tris;
+    sstest::Scene px;
+    for (int p = 0; p < pixels; ++p)
+    {
+      const double y = -4.0 * (pixels - 1) / 2.0 + 4.0 * p;
+      px.pos.insert(px.pos.end(), { 0.0f, float(y), 0.0f });
+      px.nrm.insert(px.nrm.end(), { 0.0f, 0.0f, 1.0f });
+      for (int i = 0; i < per; ++i)
+      {
+        const double x0 = -0.24 + 0.48 * (i + 0.5) / per, w = 0.004;
+        const double ylo = 0.75 * y - 0.3 - 0.0001 * (i % 7), yhi = 0.75 * y + 0.3 + 0.0001 * (i % 5);
+        const double z = 0.5 + 0.0001 * (i % 11);
+        for (const glm::dvec3& v :
+          { glm::dvec3(x0, ylo, z), glm::dvec3(x0 + w, ylo, z), glm::dvec3(x0 + 0.5 * w, yhi, z) })
+        {
+          tris.push_back(glm::dvec3(float(v.x), float(v.y), float(v.z)));
+        }
+      }
+    }
+    GearsSolver cpu;
+    cpu.SetTriangles(tris, {});
+    GearsOptions opt;
+    opt.k = 32;
+    opt.grid = 1;
+    GearsOptions raster = opt;
+    raster.windingCount = false;
+    GearsStats gs;
+    const Compare c = SolveBoth(gl, cpu, L, glm::dvec3(0.0), px, opt, nullptr, &gs, &raster);
+    EXPECT_EQ(c.partial, std::size_t(pixels)) << per;
+    EXPECT_EQ(c.maskMismatch, 0u) << per;
+    EXPECT_EQ(c.vMismatch, 0u) << per;
+    // (3 x 32 + 4 iterations per slot: 960 slots pass the budget, 480 do not)
+    EXPECT_EQ(per == 120 ? gs.windingDeclined : gs.windingPixels, std::size_t(pixels)) << per;
+  }
+}
+
 // The GL backend keeps the triangles between solves. SetClusters rearranges
 // them in the solver (the Filters module's clusters), so the next solve must
 // not draw the old order's vertices with the new order's closed-rule flags.

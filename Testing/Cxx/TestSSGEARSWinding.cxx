@@ -167,6 +167,66 @@ TEST(GEARSWinding, VerticesOnSampleRowsAreDeclined) {
   }
 }
 
+// Rect lights tiny beside their distance (1e-3 to 1e-9 of it): the
+// projection's sums cancel large magnitudes, and the declines' tolerances
+// grow with them (tx, ty in ContourSteps). Pixels without a start offset
+// around the origin see a boundary vertex of a wavy sheet, on the line to the
+// light's centre, project into the middle of the light: penumbrae only the
+// light's size wide.
+TEST(GEARSWinding, TinyLightsBesideTheirDistance) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const std::vector<glm::dvec3> t =
+      Sheet(60, 60, -1.0, 1.0, -1.0, 1.0, [](double x, double y) {
+        return 1.0 + 0.1 * std::sin(7.0 * x) * std::cos(5.0 * y);
+      });
+  GearsSolver g;
+  g.SetTriangles(t, {});
+  for (double W : {1e-3, 1e-6, 1e-9}) {
+    std::size_t pixels = 0, differ = 0, partial = 0, winding = 0;
+    for (int li = 0; li < 6; ++li) {
+      glm::dvec3 v(0.0);
+      while (!(std::abs(v.x) == 1.0 || std::abs(v.y) == 1.0)) {
+        v = t[static_cast<std::size_t>((U(rng) + 1.0) * 0.5 * (t.size() - 1))];
+      }
+      const glm::dvec3 c = v * (3.0 / v.z);
+      const LightFrame L = MakeRectLightFrame(
+          c, {0.01 * U(rng), 0.01 * U(rng), -1}, {0, 1, 0},
+          {W, W * (1.0 + 0.3 * U(rng))});
+      std::vector<float> pos, nrm;
+      const double reach = W * v.z / (c.z - v.z);
+      for (int i = 0; i < 2000; ++i) {
+        pos.insert(pos.end(), {float(reach * U(rng)), float(reach * U(rng)), 0.0f});
+        nrm.insert(nrm.end(), {0.0f, 0.0f, 0.0f}); // (no start offset)
+      }
+      for (int k : {8, 32}) {
+        GearsOptions on, off;
+        on.k = off.k = k;
+        on.windingMinList = 1;
+        off.windingCount = false;
+        GearsStats st;
+        std::vector<GearsMask> a, b;
+        const std::size_t n = pos.size() / 3;
+        g.Solve(L, glm::dvec3(0.0), pos.data(), nrm.data(), n, on, &st, &a);
+        const std::vector<float> Vb = g.Solve(L, glm::dvec3(0.0), pos.data(),
+                                              nrm.data(), n, off, nullptr, &b);
+        for (std::size_t p = 0; p < n; ++p) {
+          ++pixels;
+          differ += a[p] == b[p] ? 0 : 1;
+          partial += Vb[p] > 0.0f && Vb[p] < 1.0f;
+        }
+        winding += st.windingPixels;
+      }
+    }
+    std::printf("light %g of its distance: %zu pixels, %zu partial, %zu by "
+                "the winding count, %zu differing\n",
+                W / 3.0, pixels, partial, winding, differ);
+    EXPECT_EQ(differ, 0u) << W;
+    EXPECT_GT(partial, pixels / 50) << W;
+    EXPECT_GT(winding, pixels / 2) << W;
+  }
+}
+
 // Table 9 as the timed solve assigns (GearsOptions::necessaryWithWinding):
 // the count's assignments are its contour edges (and their triangles), the
 // raster's the rest of each list. On connected meshes that is far fewer

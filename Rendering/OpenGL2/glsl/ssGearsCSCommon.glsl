@@ -287,9 +287,10 @@ layout(std430, binding = 32) buffer SlotStat { uint slotStat[]; };    // pairSta
 #endif
 #ifdef USE_TriN
 // per triangle (K_TOLIGHT): its unit normal in the light's frame, rounded to
-// float, and flags: 1 its side is trusted, 2 / 4 the whole light in front
-// of / behind its plane (K_WFLAG's Status)
-layout(std430, binding = 34) buffer TriN { vec4 triN[]; };
+// float (as bits), and flags: 1 its side is trusted, 2 / 4 the whole light in
+// front of / behind its plane (K_WFLAG's Status). Integers, not floats: a
+// GPU may flush the flags' bit pattern (a denormal float) to 0.
+layout(std430, binding = 34) buffer TriN { uvec4 triN[]; };
 #endif
 #ifdef USE_Wind
 layout(std430, binding = 33) buffer Wind { uint wind[]; };            // per pixel: 1 if the count solved its members

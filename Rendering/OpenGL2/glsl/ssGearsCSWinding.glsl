@@ -41,8 +41,9 @@ uniform double uFar;    // the face's reach: the farthest start plus the farthes
 // Per triangle, what K_WFLAG's Status needs of its plane whatever the cell:
 // the unit normal, whether its side can be trusted, and the light's side.
 // The side is trusted only where it is far above every rounding: not a
-// sliver (|e1 x e2| > 1e-9 |e1| |e2|: the unit normal is then good to 1e-7
-// relative, 2e-7 once rounded to float, so a distance measured with it errs
+// sliver (|e1 x e2| > 1e-9 |e1| |e2|, the sine of the angle at B0, which is
+// what the cross product's relative error depends on: the unit normal is
+// then good to 1e-7 relative, 2e-7 once rounded to float, so a distance measured with it errs
 // by less than the margin's 1e-6 uFar), and where the raster's det =
 // (e1 x e2) . (B0 - S), from coordinates relative to S, which errs by about
 // 4u uFar^2 |e| + 3u |e1 x e2| uFar (u = 2^-53), is below |e1 x e2| uMargin
@@ -72,7 +73,7 @@ void PlaneOf(uint t, dvec3 B0, dvec3 B1, dvec3 B2)
     double lm = uDir != 0 ? 1e-6LF : uMargin;
     flags = 1u | (cmin > lm ? 2u : 0u) | (cmax < -lm ? 4u : 0u);
   }
-  triN[t] = vec4(nf, uintBitsToFloat(flags));
+  triN[t] = uvec4(floatBitsToUint(nf.x), floatBitsToUint(nf.y), floatBitsToUint(nf.z), flags);
 }
 #endif
 
@@ -100,13 +101,13 @@ uint Status(uint t, dvec3 lo, dvec3 hi)
   {
     return 0u;
   }
-  vec4 nf = triN[t];
-  uint flags = floatBitsToUint(nf.w);
+  uvec4 nb = triN[t];
+  uint flags = nb.w;
   if ((flags & 1u) == 0u)
   {
     return 0u; // its side is not trusted (PlaneOf)
   }
-  dvec3 un = dvec3(nf.xyz);
+  dvec3 un = dvec3(uintBitsToFloat(nb.x), uintBitsToFloat(nb.y), uintBitsToFloat(nb.z));
   precise dvec3 ctr = 0.5LF * (lo + hi);
   precise dvec3 hw = 0.5LF * (hi - lo);
   precise double sigma = Dot(un, ctr) - Dot(un, B0);
@@ -183,19 +184,26 @@ void main()
 #ifdef K_WINDING
 uniform uint uBuckets, uCellKeys;
 uniform uint uMinList; // shorter lists: the raster alone (the CPU's windingMinList)
-// llvmpipe's loop budget (65535 iterations in all, ssGearsGL.cxx): at most
-// kListBudget slots, kRowBudget edge rows, and 2 x 1056 for the steps' table
-const uint kListBudget = 32768u;
-const int kRowBudget = 24000;
+// llvmpipe's loop budget (65535 iterations in all, ssGearsGL.cxx). It counts
+// the iterations of a SIMD vector of invocations: an inner loop runs while
+// any of its pixels needs it, so a pixel's own count does not bound it. The
+// bound is per slot of the list (the vector's pixels share a cell's list, or
+// take the longest of theirs): the slot, 3 edges, at most k rows each; and
+// 2 k (k + 1) for the steps' table. A cell with more contour slots than
+// that allows is declined (ListBudget).
 int delta[1056]; // the count's steps: k rows of k + 1
-int gIters;
+uint ListBudget()
+{
+  return uint((65535 - 2 * uK * (uK + 1) - 64) / (3 * uK + 4));
+}
 
-// a projected vertex (sample units) within rounding of a sample row near the samples
-bool NearRow(double px, double py)
+// a projected vertex (sample units) within rounding of a sample row near the
+// samples (ex, ey: the rounding's bounds from the magnitudes, EdgeSteps)
+bool NearRow(double px, double py, double ex, double ey)
 {
   double yr = floor(py + 0.5LF);
-  return yr >= 0.0 && yr <= double(uK - 1) && abs(py - yr) <= 1e-7LF * (1.0LF + abs(py)) && px >= -1.0 &&
-    px <= double(uK);
+  return yr >= 0.0 && yr <= double(uK - 1) && abs(py - yr) <= 1e-7LF * (1.0LF + abs(py)) + ey && px >= -1.0 - ex &&
+    px <= double(uK) + ex;
 }
 // The steps of the contour edge from Ba to Bb of a member whose raster takes
 // side sg: ContourSteps of Rendering/Core/ssGearsWindingKernels.h, with the
@@ -214,14 +222,22 @@ bool EdgeSteps(dvec3 Ba, dvec3 Bb, double sg)
   precise double pya = (oy + (Ba.y - gSy) * qa) * ky + hk;
   precise double pxb = (ox + (Bb.x - gSx) * qb) * kx + hk;
   precise double pyb = (oy + (Bb.y - gSy) * qb) * ky + hk;
-  if (!(FiniteD(pxa) && FiniteD(pya) && FiniteD(pxb) && FiniteD(pyb)) || NearRow(pxa, pya) || NearRow(pxb, pyb))
+  // 1e-14 of the magnitudes the projection's sums cancel (sample units): about
+  // 9 times their rounding; they matter only for a light tiny beside its
+  // distance (below about 1e-7 of it the 1e-7 terms no longer cover it)
+  precise double exa = 1e-14LF * ((abs(ox) + (abs(Ba.x) + abs(gSx)) * abs(qa)) * kx);
+  precise double eya = 1e-14LF * ((abs(oy) + (abs(Ba.y) + abs(gSy)) * abs(qa)) * ky);
+  precise double exb = 1e-14LF * ((abs(ox) + (abs(Bb.x) + abs(gSx)) * abs(qb)) * kx);
+  precise double eyb = 1e-14LF * ((abs(oy) + (abs(Bb.y) + abs(gSy)) * abs(qb)) * ky);
+  if (!(FiniteD(pxa) && FiniteD(pya) && FiniteD(pxb) && FiniteD(pyb)) || NearRow(pxa, pya, exa, eya) ||
+    NearRow(pxb, pyb, exb, eyb))
   {
     return false;
   }
   double top = double(uK) + 1.0LF;
   double c0 = clamp(min(pya, pyb), -2.0LF, top), c1 = clamp(max(pya, pyb), -2.0LF, top);
   int j0 = max(int(ceil(c0)), 0), j1 = min(int(ceil(c1)) - 1, uK - 1);
-  if (j0 > j1 || min(pxa, pxb) > double(uK - 1) + 1e-7LF * (1.0LF + abs(pxa) + abs(pxb)))
+  if (j0 > j1 || min(pxa, pxb) > double(uK - 1) + 1e-7LF * (1.0LF + abs(pxa) + abs(pxb)) + exa + exb)
   {
     return true; // no row, or right of every sample: no step
   }
@@ -237,11 +253,6 @@ bool EdgeSteps(dvec3 Ba, dvec3 Bb, double sg)
   gP[0] = p;
   gQ4[0] = q;
   gSteep[0] = !(abs(p) <= 1e6LF && abs(q) <= 1e6LF);
-  gIters += j1 - j0 + 1;
-  if (gIters > kRowBudget)
-  {
-    return false;
-  }
   int step = B > 0.0 ? 1 : -1;
   for (int j = j0; j <= j1; ++j)
   {
@@ -263,7 +274,6 @@ bool Count(uint i, uint a0, uint a1)
   {
     delta[q] = 0;
   }
-  gIters = 0;
   for (uint a = a0; a < a1; ++a)
   {
     uint s = slotStat[a];
@@ -284,10 +294,13 @@ bool Count(uint i, uint a0, uint a1)
     {
       return false;
     }
-    if (((edges & 1u) != 0u && !EdgeSteps(B0, B1, sg)) || ((edges & 2u) != 0u && !EdgeSteps(B1, B2, sg)) ||
-      ((edges & 4u) != 0u && !EdgeSteps(B2, B0, sg)))
+    dvec3 Bm[3] = dvec3[3](B0, B1, B2);
+    for (int m = 0; m < 3; ++m)
     {
-      return false;
+      if (((edges >> uint(m)) & 1u) != 0u && !EdgeSteps(Bm[m], Bm[(m + 1) % 3], sg))
+      {
+        return false;
+      }
     }
   }
   // the counts along the rows (a negative count: a contour that does not close)
@@ -326,8 +339,13 @@ void main()
   uint k0 = c * uCellKeys;
   uint a0 = cellBegin[k0], a1 = cellBegin[k0 + uBuckets];
   wind[i] = 0u;
-  if (cellBegin[k0 + 3u * uBuckets] - a0 < uMinList || a1 - a0 > kListBudget)
+  if (cellBegin[k0 + 3u * uBuckets] - a0 < uMinList)
   {
+    return;
+  }
+  if (a1 - a0 > ListBudget())
+  {
+    atomicAdd(red[63], 1u); // declined: too many contour slots for the loop budget
     return;
   }
   dvec3 S = ToLight(Start(i));
