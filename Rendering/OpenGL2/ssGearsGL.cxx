@@ -464,7 +464,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   const bool pre = 72 * NT <= maxBlock; // (the triangles' light-frame copy fits)
   const bool windingBlocks = I.MaxKernelBlocks >= kWindingKernelBlocks;
   bool winding = opt.windingCount && !opt.countNecessary && k > 1 && pre && windingBlocks && W0 > 0.0 &&
-    H0 > 0.0 && NT > 0 && NT < 0x7FFFFFFFu && 16 * NT <= maxBlock;
+    H0 > 0.0 && NT > 0 && NT <= 0x3FFFFFFFu && 16 * NT <= maxBlock;
   const char* names[] = { "K_START", "K_PROJECT", "K_CELL", "K_SAT_ROWS", "K_SAT_COLS", "K_RMQ", "K_PASS1",
     "K_PASS2", "K_HIST", "K_SCATTER", "K_PIXSORT", "K_TOLIGHT", "K_RASTER", "K_FINISH", "K_WFLAG", "K_WINDING" };
   std::map<std::string, GLuint> prog;
@@ -475,9 +475,11 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     {
       continue;
     }
-    // (K_RASTER reads wind[] where the context has the blocks, K_SCATTER
-    // copies the pairs' statuses where the count runs)
-    const bool w = (name == "K_RASTER" && windingBlocks) || ((name == "K_SCATTER" || name == "K_TOLIGHT") && winding);
+    // (K_RASTER reads wind[] where the context has the blocks; where the
+    // count runs, K_TOLIGHT writes the planes and K_SCATTER copies the
+    // pairs' statuses)
+    const bool w =
+      (name == "K_RASTER" && windingBlocks) || ((name == "K_SCATTER" || name == "K_TOLIGHT") && winding);
     prog[nm] = I.Program(nm, why, w ? "WINDING" : nullptr);
     if (!prog[nm])
     {
@@ -522,7 +524,13 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     }
     st.msPrepare += Ms(tn, Clock::now());
   }
-  winding = winding && I.NbrVersion == D.version;
+  if (winding && I.NbrVersion != D.version)
+  {
+    // (no table: the count does not run, and neither do its kernels' variants)
+    winding = false;
+    prog["K_SCATTER"] = I.Program("K_SCATTER", why);
+    prog["K_TOLIGHT"] = I.Program("K_TOLIGHT", why);
+  }
   {
     // the closed-mesh rule of the CPU backend, for this light
     const std::vector<std::int8_t> flags8 = solver.ClosedRuleFlags(light, opt);
@@ -776,12 +784,12 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     auto t3 = Clock::now();
     st.msRelate += Ms(t2, t3);
 
-    // the triangles in the light's frame once per face, when the buffer fits
     // the winding count's margin: the shafts' plus 1e-6 of the face's reach
     // (the farthest start plus the farthest vertex from the light's centre)
     const glm::dvec3 reachS = glm::max(glm::abs(lo - C.Lc), glm::abs(hi - C.Lc));
     const double far = glm::length(reachS) + glm::length(C.Lc) + D.extent;
     const double windingMargin = shaftMargin + 1e-6 * far;
+    // the triangles in the light's frame once per face, when the buffer fits
     if (pre)
     {
       I.Ensure(I.Buf[BTriL], 72 * NT);
@@ -849,7 +857,8 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
       if (cellCount[c])
       {
         const std::size_t nt = cellBegin[(c + 1) * cellKeys] - cellBegin[c * cellKeys];
-        longestList = std::max<std::size_t>(longestList, cellBegin[c * cellKeys + drawnKeys] - cellBegin[c * cellKeys]);
+        const std::size_t drawn = cellBegin[c * cellKeys + drawnKeys] - cellBegin[c * cellKeys];
+        longestList = std::max(longestList, drawn);
         st.trianglesPerCellMax = std::max(st.trianglesPerCellMax, nt);
         sumTrisPerCell += nt;
         assignmentsTotal += static_cast<double>(nt) * cellCount[c];

@@ -357,8 +357,8 @@ TEST(GearsGL, WindingCountOnBrokenMeshesAndSampleRows)
         glDeclined += gs.windingDeclined;
       }
     }
-    std::cout << "broken sheet at scale " << at.scale << ", offset " << at.offset.x << ": " << pixels << " pixel solves, " << partial
-              << " in penumbra, " << glWinding << " by the GL's winding count (" << glDeclined << " declined)\n";
+    std::cout << "broken sheet at scale " << at.scale << ", offset " << at.offset.x << ": " << pixels
+              << " pixel solves, " << partial << " in penumbra, " << glWinding << " by the GL's winding count (" << glDeclined << " declined)\n";
     EXPECT_GT(glWinding, pixels / 2);
     EXPECT_GT(partial, pixels / 10);
   }

@@ -41,8 +41,10 @@ void main()
       triLF[9 * t + 3 * m + 2] = F.z;
     }
 #ifdef WINDING
-    PlaneOf(t, dvec3(triL[9 * t], triL[9 * t + 1], triL[9 * t + 2]),
-      dvec3(triL[9 * t + 3], triL[9 * t + 4], triL[9 * t + 5]), dvec3(triL[9 * t + 6], triL[9 * t + 7], triL[9 * t + 8]));
+    dvec3 B0 = dvec3(triL[9 * t], triL[9 * t + 1], triL[9 * t + 2]);
+    dvec3 B1 = dvec3(triL[9 * t + 3], triL[9 * t + 4], triL[9 * t + 5]);
+    dvec3 B2 = dvec3(triL[9 * t + 6], triL[9 * t + 7], triL[9 * t + 8]);
+    PlaneOf(t, B0, B1, B2);
 #endif
   }
 }
