@@ -96,6 +96,16 @@ Compare SolveBoth(GearsGL& gl, const GearsSolver& cpu, const LightFrame& light, 
   }
   return c;
 }
+
+// The GL backend with opt (its winding count on) against the CPU backend's
+// raster alone (no winding count there).
+Compare AgainstTheRaster(GearsGL& gl, const GearsSolver& cpu, const LightFrame& light, const glm::dvec3& origin,
+  const sstest::Scene& s, const GearsOptions& opt, GearsStats* glStats)
+{
+  GearsOptions raster = opt;
+  raster.windingCount = false;
+  return SolveBoth(gl, cpu, light, origin, s, opt, nullptr, glStats, &raster);
+}
 }
 
 TEST(GearsGL, IdenticalBitmasksToTheCPUBackend)
@@ -345,10 +355,8 @@ TEST(GearsGL, WindingCountOnBrokenMeshesAndSampleRows)
         opt.k = k;
         opt.windingMinList = 1;
         opt.grid = k == 16 ? 8 : 0;
-        GearsOptions raster = opt;
-        raster.windingCount = false;
         GearsStats gs;
-        const Compare c = SolveBoth(gl, cpu, light, at.offset, px, opt, nullptr, &gs, &raster);
+        const Compare c = AgainstTheRaster(gl, cpu, light, at.offset, px, opt, &gs);
         EXPECT_EQ(c.maskMismatch, 0u) << "scale " << at.scale << " light " << int(light.type) << " k " << k;
         EXPECT_EQ(c.vMismatch, 0u) << "scale " << at.scale << " light " << int(light.type) << " k " << k;
         pixels += c.pixels;
@@ -376,10 +384,8 @@ TEST(GearsGL, WindingCountOnBrokenMeshesAndSampleRows)
   GearsOptions opt;
   opt.k = 8;
   opt.windingMinList = 1;
-  GearsOptions raster = opt;
-  raster.windingCount = false;
   GearsStats gs;
-  const Compare c = SolveBoth(gl, grid, L, glm::dvec3(0.0), rowsPx, opt, nullptr, &gs, &raster);
+  const Compare c = AgainstTheRaster(gl, grid, L, glm::dvec3(0.0), rowsPx, opt, &gs);
   EXPECT_EQ(c.maskMismatch, 0u);
   EXPECT_GT(gs.windingDeclined, 0u);
 
@@ -443,10 +449,8 @@ TEST(GearsGL, WindingCountWithinTheLoopBudgetOfASimdVector)
     GearsOptions opt;
     opt.k = 32;
     opt.grid = 1;
-    GearsOptions raster = opt;
-    raster.windingCount = false;
     GearsStats gs;
-    const Compare c = SolveBoth(gl, cpu, L, glm::dvec3(0.0), px, opt, nullptr, &gs, &raster);
+    const Compare c = AgainstTheRaster(gl, cpu, L, glm::dvec3(0.0), px, opt, &gs);
     EXPECT_EQ(c.partial, std::size_t(pixels)) << per;
     EXPECT_EQ(c.maskMismatch, 0u) << per;
     EXPECT_EQ(c.vMismatch, 0u) << per;
