@@ -381,6 +381,24 @@ dvec3 Sub(dvec3 a, dvec3 b)
   return r;
 }
 
+// The light's corners (w x h in its frame; for a directional light the
+// corner directions) against the plane through B0 with normal n: the least
+// and the largest n . (corner - B0), or n . corner (K_RASTER's Visit, the
+// winding count's PlaneOf).
+void LightCornerRange(dvec3 n, dvec3 B0, double w, double h, bool dir, out double lo, out double hi)
+{
+  lo = 1e300LF;
+  hi = -1e300LF;
+  for (int q = 0; q < 4; ++q)
+  {
+    double a1 = (q & 1) != 0 ? 0.5LF : -0.5LF, b1 = (q & 2) != 0 ? 0.5LF : -0.5LF;
+    precise dvec3 corner = dvec3(a1 * w, b1 * h, dir ? -1.0LF : 0.0LF);
+    precise double v = Dot(n, dir ? corner : Sub(corner, B0));
+    lo = min(lo, v);
+    hi = max(hi, v);
+  }
+}
+
 // ---------------------------------------------------------------- camera C
 uniform int uOrtho;
 uniform dvec3 uE, uLc, uU, uV, uNrm; // eye, light centre, face axes

@@ -420,15 +420,8 @@ bool Visit(uint tri)
   if (near)
   {
     // gS and every light sample on one side of the plane: no crossing
-    double cmin = 1e300LF, cmax = -1e300LF;
-    for (int q = 0; q < 4; ++q)
-    {
-      double a1 = (q & 1) != 0 ? 0.5LF : -0.5LF, b1 = (q & 2) != 0 ? 0.5LF : -0.5LF;
-      precise dvec3 corner = dvec3(a1 * uW, b1 * uH, gDirLight ? -1.0LF : 0.0LF);
-      precise double v = Dot(pn, gDirLight ? corner : Sub(corner, Bv[0]));
-      cmin = min(cmin, v);
-      cmax = max(cmax, v);
-    }
+    double cmin, cmax;
+    LightCornerRange(pn, Bv[0], uW, uH, gDirLight, cmin, cmax);
     if ((sigma > 0.0 && cmin >= 0.0) || (sigma < 0.0 && cmax <= 0.0))
     {
       return false;
@@ -583,6 +576,21 @@ void DrawSurvivor(uint tri, uint info)
   }
 }
 
+// Pixel i's start in the light's frame, and the sample space and state seen
+// from it (K_RASTER, K_WINDING)
+dvec3 PixelFrame(uint i)
+{
+  dvec3 S = ToLight(Start(i));
+  gD0 = uDir != 0 ? dvec3(0.0, 0.0, -1.0) : -S;
+  gDu = dvec3(uW, 0.0, 0.0);
+  gDv = dvec3(0.0, uH, 0.0);
+  gDirLight = uDir != 0;
+  gS = S;
+  gSx = S.x;
+  gSy = S.y;
+  gSd = S.z;
+  return S;
+}
 #endif
 
 #ifdef K_RASTER
@@ -638,10 +646,7 @@ void main()
       return;
     }
   }
-  dvec3 S = ToLight(Start(i));
-  gD0 = uDir != 0 ? dvec3(0.0, 0.0, -1.0) : -S;
-  gDu = dvec3(uW, 0.0, 0.0);
-  gDv = dvec3(0.0, uH, 0.0);
+  dvec3 S = PixelFrame(i);
   // light samples below the tangent plane are not seen (reference rule)
   for (int j = 0; j < 32; ++j)
   {
@@ -694,14 +699,9 @@ void main()
     gFull += rows[j] == uFullRow ? 1 : 0;
   }
   gNecessary = 0u;
-  gDirLight = uDir != 0;
-  gS = S;
   gHN = hN;
   gHlen = sqrt(Dot(hN, hN)); // (0: no horizon test)
   double hlen = gHlen;
-  gSx = S.x;
-  gSy = S.y;
-  gSd = S.z;
   fS = SafeFloat(S);
   fN = vec3(hN); // (a unit vector)
   fNl1 = hlen > 0.0 ? abs(fN.x) + abs(fN.y) + abs(fN.z) : 0.0;

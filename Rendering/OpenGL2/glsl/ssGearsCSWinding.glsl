@@ -60,16 +60,8 @@ void PlaneOf(uint t, dvec3 B0, dvec3 B1, dvec3 B2)
   {
     precise dvec3 un = pn / len;
     nf = vec3(un);
-    // the light's corners (directions for a directional light) against the plane
-    double cmin = 1e300LF, cmax = -1e300LF;
-    for (int q = 0; q < 4; ++q)
-    {
-      double a1 = (q & 1) != 0 ? 0.5LF : -0.5LF, b1 = (q & 2) != 0 ? 0.5LF : -0.5LF;
-      precise dvec3 corner = dvec3(a1 * uW, b1 * uH, uDir != 0 ? -1.0LF : 0.0LF);
-      precise double v = Dot(un, uDir != 0 ? corner : Sub(corner, B0));
-      cmin = min(cmin, v);
-      cmax = max(cmax, v);
-    }
+    double cmin, cmax;
+    LightCornerRange(un, B0, uW, uH, uDir != 0, cmin, cmax);
     double lm = uDir != 0 ? 1e-6LF : uMargin;
     flags = 1u | (cmin > lm ? 2u : 0u) | (cmax < -lm ? 4u : 0u);
   }
@@ -348,15 +340,7 @@ void main()
     atomicAdd(red[63], 1u); // declined: too many contour slots for the loop budget
     return;
   }
-  dvec3 S = ToLight(Start(i));
-  gD0 = uDir != 0 ? dvec3(0.0, 0.0, -1.0) : -S;
-  gDu = dvec3(uW, 0.0, 0.0);
-  gDv = dvec3(0.0, uH, 0.0);
-  gDirLight = uDir != 0;
-  gS = S;
-  gSx = S.x;
-  gSy = S.y;
-  gSd = S.z;
+  PixelFrame(i);
   if (Count(i, a0, a1))
   {
     wind[i] = 1u;
