@@ -31,6 +31,10 @@ uint GroupID()
 uniform uint uN;     // items of this dispatch (pixels, triangles, pairs, cells)
 uniform int uFace;   // cube face (point light) or 0
 uniform int uG;      // grid resolution
+// depth layers per grid cell (K_CELL): cell c of the G x G grid holds the
+// list cells c uLayers .. c uLayers + uLayers - 1, one per slice of its
+// samples' depth range (1: no split)
+uniform int uLayers;
 
 // ---------------------------------------------------------------- buffers
 // Each kernel declares only the buffers it uses (at most 16 per shader).
