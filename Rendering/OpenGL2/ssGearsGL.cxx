@@ -417,13 +417,16 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
       // --- 3.3 pass 1 and the prefix sum of cellsN
       I.Ensure(I.Buf[BBox], 16 * NT);
       I.Fill(I.Buf[BOff], 4 * (NT + 1), 0u);
-      const std::uint32_t zero = 0;
-      glBindBuffer(GL_SHADER_STORAGE_BUFFER, I.Buf[BRed].id);
-      glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 56, 4, &zero);
-      glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 57, 4, &zero);
-      glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 58, 4, &zero);
-      const std::uint32_t none = 0xFFFFFFFFu; // (atomicMin)
-      glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 60, 4, &none);
+      const std::uint32_t zero = 0, none = 0xFFFFFFFFu; // (none: atomicMin)
+      auto resetCounters = [&]() {
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, I.Buf[BRed].id);
+        for (int q : { 56, 57, 58, 59 })
+        {
+          glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * q, 4, &zero);
+        }
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 60, 4, &none);
+      };
+      resetCounters();
       I.Use(prog["K_PASS1"]);
       cameraUniforms();
       shaftUniforms();
@@ -448,6 +451,28 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
         glUniform3dv(I.Loc("uCorner"), 4, corner);
         glUniform3dv(I.Loc("uAway"), 4, away);
       }
+      if (faceLayers > 1 && NT >= kLayerSample * kWG)
+      {
+        // the layers' pairs estimated from every kLayerSample-th triangle:
+        // where they would not fit one buffer, one layer at once (where the
+        // estimate falls short, the check after the full pass runs it again)
+        I.Uu("uSample", static_cast<std::uint32_t>(kLayerSample));
+        I.Uu("uN", static_cast<std::uint32_t>(NT));
+        I.Dispatch((NT / kLayerSample + kWG) / kWG);
+        const double estimate = double(kLayerSample) * I.ReadUint(I.Buf[BRed], 59);
+        const bool wrapped = I.ReadUint(I.Buf[BRed], 57) != 0;
+        I.Uu("uSample", 0u);
+        resetCounters();
+        if (wrapped || 4.0 * estimate > 0.9 * double(maxBlock))
+        {
+          faceLayers = 1;
+          NL = NC;
+          I.LayersFit = false;
+          t0 = Clock::now();
+          st.msPrefixSum += Ms(t1, t0);
+          continue;
+        }
+      }
       I.Items(NT);
       if (!I.Scan(I.Buf[BOff], NT + 1, 0, why))
       {
@@ -469,6 +494,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
         faceLayers = 1;
         NL = NC;
         I.LayersFit = false;
+        ++st.layersRetried;
         t0 = Clock::now();
         st.msPrefixSum += Ms(t1, t0); // (the first pass 1 in its stage's time)
         continue;

@@ -100,6 +100,9 @@ constexpr std::size_t kDepthBuckets = 16;
 // (x 4: the winding count's classes, K_WFLAG)
 // depth layers per grid cell at most (K_CELL; pass 1 and 2 write them out)
 constexpr int kMaxLayers = 4;
+// pass 1 estimates the layers' pairs from every kLayerSample-th triangle
+// (where there are at least kLayerSample * kWG)
+constexpr std::size_t kLayerSample = 16;
 static_assert(std::size_t(kMaxGrid) * kMaxGrid * kMaxLayers * kDepthBuckets * 4 < (std::size_t(1) << 24), "sort keys");
 
 std::uint32_t Ord(float f)

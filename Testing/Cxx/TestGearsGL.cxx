@@ -630,30 +630,84 @@ TEST(GearsGL, DepthLayersSplitCellsAndFallBackWhereTheirPairsDoNotFit)
   EXPECT_LT(rest[2], 0.5 * rest[1]);
   ASSERT_GT(pairs[2], pairs[1]);
 
-  // an SSBO limit between the pairs without layers and with 2
-  const std::size_t limit = 2 * (pairs[1] + pairs[2]);
-  ASSERT_GE(limit, 128 * s.pos.size() / 3); // (the bitmasks still fit)
-  setenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES", std::to_string(limit).c_str(), 1);
+  // An SSBO limit between the pairs without layers and with 2. Pass 1 first
+  // estimates the layers' pairs from every 16th triangle: on these casters
+  // that finds them too many. On the skewed copy every 16th triangle lies
+  // below both sheets (no pairs), the estimate falls short, and the full
+  // pass 1 finds them too many and runs again.
+  sstest::Scene skew = s;
+  for (std::size_t t = 0; t < skew.tris.size() / 3; t += 16)
   {
-    GearsGL gl;
-    opt.depthLayers = 2;
-    for (int solve = 0; solve < 2; ++solve)
+    for (int v = 0; v < 3; ++v)
     {
-      GearsStats gs;
-      const Compare c = AgainstTheRaster(gl, cpu, light, glm::dvec3(0.0), s, opt, &gs);
-      EXPECT_EQ(c.maskMismatch, 0u) << "solve " << solve;
-      EXPECT_EQ(gs.layers, 1) << "solve " << solve;
-      EXPECT_EQ(gs.pairs, pairs[1]) << "solve " << solve;
+      skew.tris[3 * t + v] = glm::dvec3(0.01 * v, 0.01 * (v == 2), -5.0);
     }
-    // other triangles: layers again where their pairs fit
-    sstest::Scene few = s;
-    few.tris.resize(60);
-    GearsSolver cpuFew;
-    cpuFew.SetTriangles(few.tris, {});
-    GearsStats gs;
-    const Compare c = AgainstTheRaster(gl, cpuFew, light, glm::dvec3(0.0), few, opt, &gs);
-    EXPECT_EQ(c.maskMismatch, 0u);
-    EXPECT_EQ(gs.layers, 2);
   }
-  unsetenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES");
+  GearsSolver cpuSkew;
+  cpuSkew.SetTriangles(skew.tris, {});
+  {
+    // (the input order kept, clusters of 32: the GL backend's triangle t is
+    // input triangle t)
+    const std::size_t nt = skew.tris.size() / 3;
+    std::vector<std::size_t> order(nt), first;
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      order[t] = t;
+    }
+    for (std::size_t f = 0; f <= nt; f += 32)
+    {
+      first.push_back(f);
+    }
+    if (first.back() != nt)
+    {
+      first.push_back(nt);
+    }
+    cpuSkew.SetClusters(order, first);
+  }
+  for (const bool skewed : { false, true })
+  {
+    const sstest::Scene& sc = skewed ? skew : s;
+    const GearsSolver& cs = skewed ? cpuSkew : cpu;
+    std::size_t p1 = pairs[1], p2 = pairs[2];
+    if (skewed)
+    {
+      GearsGL gl;
+      GearsStats g1, g2;
+      opt.depthLayers = 1;
+      AgainstTheRaster(gl, cs, light, glm::dvec3(0.0), sc, opt, &g1);
+      opt.depthLayers = 2;
+      AgainstTheRaster(gl, cs, light, glm::dvec3(0.0), sc, opt, &g2);
+      p1 = g1.pairs;
+      p2 = g2.pairs;
+      ASSERT_GT(p2, p1 + p1 / 10);
+    }
+    const std::size_t limit = 2 * (p1 + p2);
+    ASSERT_GE(limit, 128 * sc.pos.size() / 3); // (the bitmasks still fit)
+    setenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES", std::to_string(limit).c_str(), 1);
+    {
+      GearsGL gl;
+      opt.depthLayers = 2;
+      for (int solve = 0; solve < 2; ++solve)
+      {
+        GearsStats gs;
+        const Compare c = AgainstTheRaster(gl, cs, light, glm::dvec3(0.0), sc, opt, &gs);
+        EXPECT_EQ(c.maskMismatch, 0u) << "skewed " << skewed << " solve " << solve;
+        EXPECT_EQ(gs.layers, 1) << "skewed " << skewed << " solve " << solve;
+        EXPECT_EQ(gs.pairs, p1) << "skewed " << skewed << " solve " << solve;
+        // the full pass 1 ran twice only where the estimate fell short, and
+        // only in the first solve (the next starts with one layer)
+        EXPECT_EQ(gs.layersRetried, skewed && solve == 0 ? 1u : 0u) << "skewed " << skewed << " solve " << solve;
+      }
+      // other triangles: layers again where their pairs fit
+      sstest::Scene few = sc;
+      few.tris.resize(60);
+      GearsSolver cpuFew;
+      cpuFew.SetTriangles(few.tris, {});
+      GearsStats gs;
+      const Compare c = AgainstTheRaster(gl, cpuFew, light, glm::dvec3(0.0), few, opt, &gs);
+      EXPECT_EQ(c.maskMismatch, 0u);
+      EXPECT_EQ(gs.layers, 2);
+    }
+    unsetenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES");
+  }
 }

@@ -438,6 +438,10 @@ dvec3 LightVertex(uint t, uint m)
 uniform double uMaxDepth, uMinDepth;
 uniform int uCorners, uRetract;
 uniform dvec3 uCorner[4], uAway[4];
+// > 0: an estimate (ssGearsGL.cxx, kLayerSample): triangles uSample i only,
+// their lists' count summed into red[59] (a wrap sets red[57]), nothing else
+// kept (the host resets the counters this touches)
+uniform uint uSample;
 int Log2(int n)
 {
   int l = 0;
@@ -489,7 +493,7 @@ ivec4 VolumeBox(dvec3 B[3], double d[3], double far)
 }
 void main()
 {
-  uint t = GID();
+  uint t = GID() * max(uSample, 1u);
   if (t >= uN)
   {
     return;
@@ -537,7 +541,10 @@ void main()
       }
     }
   }
-  box[t] = b;
+  if (uSample == 0u)
+  {
+    box[t] = b;
+  }
   uint n = 0u;
   if (b.x <= b.z && b.y <= b.w && uShaft != 0)
   {
@@ -570,6 +577,15 @@ void main()
     // the nearest listed depth (pass 2's order; clamped: float(double) is
     // undefined beyond the float range)
     atomicMin(red[60], Ord(FloatDown(clamp(dMin, -1e38LF, 1e38LF))));
+  }
+  if (uSample != 0u)
+  {
+    uint before = atomicAdd(red[59], n);
+    if (before + n < before)
+    {
+      atomicOr(red[57], 1u);
+    }
+    return;
   }
   off[t] = n;
 }
