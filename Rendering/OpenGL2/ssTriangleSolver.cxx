@@ -52,7 +52,8 @@ const OptionList& TriangleSolver::DeclaredOptions()
     BoolOption("gears_cell_culling", "GearsCellCulling", "Gears Cell Culling", true,
       "gears: cull clusters and triangles per grid cell and sample group (shaft, horizon, inner occluders; same V)"),
     IntOption("gears_gl_layers", "GearsGLLayers", "Gears GL Layers", 1, 4, 2,
-      "gears, GL backend: split each grid cell's samples where their depths leave a gap into up to this many lists (same V)"),
+      "gears, GL backend: split each grid cell's samples where their depths leave a gap into up to this many "
+      "lists (same V)"),
   };
   return options;
 }

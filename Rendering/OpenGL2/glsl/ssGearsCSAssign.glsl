@@ -231,7 +231,7 @@ void main()
 }
 #endif
 
-#if defined(K_SAT_ROWS) || defined(K_PASS1)
+#ifdef K_SAT_ROWS
 // grid cell c (of the G x G) has samples in one of its depth layers
 bool NonEmpty(uint c)
 {
