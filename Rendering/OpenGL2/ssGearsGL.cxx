@@ -129,7 +129,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   // (K_CELL); without the shafts pass 1 counts grid cells (its summed-area
   // table), so one; where a solve of these triangles found the layers' pairs
   // too many for a buffer, one
-  const int layers = opt.shaftCulling && (I.LayersFit || I.TriVersion != D.version)
+  int layers = opt.shaftCulling && (I.LayersFit || I.TriVersion != D.version)
     ? std::clamp(opt.depthLayers, 1, kMaxLayers)
     : 1;
   // a cell's list in depth order (GearsOptions::depthOrder): one sort key per
@@ -157,6 +157,18 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   const bool windingBlocks = I.MaxKernelBlocks >= kWindingKernelBlocks;
   bool winding = opt.windingCount && !opt.countNecessary && k > 1 && pre && windingBlocks && W0 > 0.0 &&
     H0 > 0.0 && NT > 0 && NT <= 0x3FFFFFFFu && 16 * NT <= maxBlock;
+  // the sort's keys (cellBegin, cursor): per list cell the depth buckets,
+  // times 4 with the winding count; fewer layers where they would not fit
+  // one buffer (GL 4.3 guarantees 16 MB: a grid of 240 with 4 layers needs 59)
+  const std::size_t keysPerList = buckets * (winding ? 4 : 1);
+  while (layers > 1 && 4 * (NC * layers * keysPerList + 1) > maxBlock)
+  {
+    --layers;
+  }
+  if (!fits(4 * (NC * layers * keysPerList + 1), "the cells' sort keys"))
+  {
+    return false;
+  }
   const char* names[] = { "K_START", "K_PROJECT", "K_CELL", "K_SAT_ROWS", "K_SAT_COLS", "K_RMQ", "K_PASS1",
     "K_PASS2", "K_HIST", "K_SCATTER", "K_PIXSORT", "K_TOLIGHT", "K_RASTER", "K_FINISH", "K_WFLAG", "K_WINDING" };
   std::map<std::string, GLuint> prog;

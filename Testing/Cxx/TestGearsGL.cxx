@@ -710,4 +710,43 @@ TEST(GearsGL, DepthLayersSplitCellsAndFallBackWhereTheirPairsDoNotFit)
     }
     unsetenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES");
   }
+
+  // The sort's keys (4 bytes per list cell and key: 16 depth buckets times 4
+  // classes) on a grid of 40: 819,200 bytes with two layers, 409,600 with
+  // one. Under a 600,000-byte limit the solve takes one layer; under 300,000
+  // it declines, naming them.
+  sstest::Scene few = s;
+  few.tris.resize(60);
+  GearsSolver cpuFew;
+  cpuFew.SetTriangles(few.tris, {});
+  GearsOptions fine = opt;
+  fine.grid = 40;
+  fine.depthLayers = 2;
+  for (const std::size_t limit : { 600000, 300000 })
+  {
+    setenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES", std::to_string(limit).c_str(), 1);
+    GearsGL gl;
+    std::vector<float> V;
+    std::vector<GearsMask> masks;
+    GearsStats gs;
+    std::string why;
+    const std::size_t n = few.pos.size() / 3;
+    const bool ran =
+      gl.Solve(cpuFew, light, glm::dvec3(0.0), few.pos.data(), few.nrm.data(), n, fine, V, &gs, &masks, &why);
+    if (limit == 600000)
+    {
+      ASSERT_TRUE(ran) << why;
+      EXPECT_EQ(gs.layers, 1);
+      std::vector<GearsMask> cpuMasks;
+      cpuFew.Solve(light, glm::dvec3(0.0), few.pos.data(), few.nrm.data(), n, fine, nullptr, &cpuMasks);
+      ASSERT_EQ(cpuMasks.size(), masks.size());
+      EXPECT_EQ(std::memcmp(cpuMasks.data(), masks.data(), masks.size() * sizeof(GearsMask)), 0);
+    }
+    else
+    {
+      EXPECT_FALSE(ran);
+      EXPECT_NE(why.find("sort keys"), std::string::npos) << why;
+    }
+    unsetenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES");
+  }
 }
