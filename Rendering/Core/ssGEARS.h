@@ -109,7 +109,7 @@ struct GearsStats
   std::size_t samples = 0;       ///< pixel samples lit by the light (in front of it)
   std::size_t gridCells = 0;     ///< G x G (x faces for a point light)
   int grid = 0;                  ///< G as used (GearsOptions::grid 0: automatic)
-  int layers = 0;                ///< GL backend: depth layers per grid cell as used (GearsOptions::depthLayers)
+  int layers = 0;                ///< GL backend: depth layers per grid cell, the most a face used (depthLayers)
   std::size_t layersRetried = 0; ///< GL backend: faces whose pass 1 found the layers' pairs too many and ran again
   std::size_t nonEmptyCells = 0; ///< cells with at least one pixel sample (GL: lists, a cell's layers each)
   std::size_t pairs = 0;         ///< (triID, cellID) pairs

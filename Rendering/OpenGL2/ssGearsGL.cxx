@@ -491,18 +491,12 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
         return false;
       }
       numPairs = I.ReadUint(I.Buf[BOff], NT);
-      if (I.ReadUint(I.Buf[BRed], 57))
+      const bool pairsWrapped = I.ReadUint(I.Buf[BRed], 57) != 0;
+      if ((pairsWrapped || 4 * numPairs > maxBlock) && faceLayers > 1)
       {
-        if (why)
-        {
-          *why = "GEARS GL backend: more than 2^32 (triangle, cell) pairs";
-        }
-        return false;
-      }
-      if (4 * numPairs > maxBlock && faceLayers > 1)
-      {
-        // more pairs than one buffer holds: this face once more without
-        // layers (fewer pairs), and the next solves of these triangles too
+        // more pairs than one buffer holds (or than 32 bits count): this
+        // face once more without layers (fewer pairs), and the next solves
+        // of these triangles too
         faceLayers = 1;
         NL = NC;
         I.LayersFit = false;
@@ -510,6 +504,14 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
         t0 = Clock::now();
         st.msPrefixSum += Ms(t1, t0); // (the first pass 1 in its stage's time)
         continue;
+      }
+      if (pairsWrapped)
+      {
+        if (why)
+        {
+          *why = "GEARS GL backend: more than 2^32 (triangle, cell) pairs";
+        }
+        return false;
       }
       if (!fits(4 * numPairs, "the (triangle, cell) pairs"))
       {

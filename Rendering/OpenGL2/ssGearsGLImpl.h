@@ -96,13 +96,15 @@ constexpr int kMaxGrid = 240;
 // depth buckets per cell (K_PASS2): the order of a cell's list, nearest the
 // receivers first, so that umbra masks fill early (the CPU's depth order)
 constexpr std::size_t kDepthBuckets = 16;
-// (the sort's keys c * kDepthBuckets + b and its buffers stay small)
-// (x 4: the winding count's classes, K_WFLAG)
 // depth layers per grid cell at most (K_CELL; pass 1 and 2 write them out)
 constexpr int kMaxLayers = 4;
 // pass 1 estimates the layers' pairs from every kLayerSample-th triangle
 // (where there are at least kLayerSample * kWG)
 constexpr std::size_t kLayerSample = 16;
+// The sort's keys (list cell) x kDepthBuckets x 4 (the winding count's
+// classes, K_WFLAG) stay below 2^24, so a key fits 32 bits with room. Their
+// buffers (4 bytes per key: 59 MB at this bound) are checked against the
+// context's SSBO limit at run time, with fewer layers where they do not fit.
 static_assert(std::size_t(kMaxGrid) * kMaxGrid * kMaxLayers * kDepthBuckets * 4 < (std::size_t(1) << 24), "sort keys");
 
 std::uint32_t Ord(float f)
