@@ -209,8 +209,10 @@ void WriteGearsBenchReport(const json& meta, const json& rows, const fs::path& p
        << r["lut_fallbacks"] << " |\n";
   }
   md << "\n## Stage times of the GL backend, ms (glFinish after each stage)\n\n"
-     << "| scene | size | k | project pixels | pass 1 + prefix sum | pass 2 | sort | bitmasks | total |\n"
-     << "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+     << "Layers: the depth layers a grid cell's samples were split into (`gears.md`, \"Depth layers on the GL "
+        "backend\"); pass 2 includes the winding count's per-pair flags.\n\n"
+     << "| scene | size | k | layers | project pixels | pass 1 + prefix sum | pass 2 | sort | bitmasks | total |\n"
+     << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : rows)
   {
     if (!r.value("gl_ran", false))
@@ -218,7 +220,8 @@ void WriteGearsBenchReport(const json& meta, const json& rows, const fs::path& p
       continue;
     }
     const auto& ms = r["gl_stats"]["ms"];
-    md << "| " << Scene(r) << " | " << Fmt(Num(ms, "project"), 3) << " | " << Fmt(Num(ms, "prefix_sum"), 3) << " | "
+    md << "| " << Scene(r) << " | " << r["gl_stats"].value("gl_layers", 0) << " | " << Fmt(Num(ms, "project"), 3)
+       << " | " << Fmt(Num(ms, "prefix_sum"), 3) << " | "
        << Fmt(Num(ms, "relate"), 3) << " | " << Fmt(Num(ms, "sort"), 3) << " | " << Fmt(Num(ms, "raster"), 3) << " | "
        << Fmt(Num(ms, "total"), 3) << " |\n";
   }

@@ -760,6 +760,8 @@ void AddGearsStats(GearsStats& a, const GearsStats& st)
   a.samples += st.samples;
   a.gridCells += st.gridCells;
   a.grid = st.grid;
+  a.layers = std::max(a.layers, st.layers);
+  a.layersRetried += st.layersRetried;
   a.pairs += st.pairs;
   a.trianglesPerCellMax = std::max(a.trianglesPerCellMax, st.trianglesPerCellMax);
   a.samplesPerCellMax = std::max(a.samplesPerCellMax, st.samplesPerCellMax);
@@ -815,7 +817,9 @@ std::string GearsStatsToJSON(const GearsStats& s)
   o << "{\"ms\": {\"project\": " << s.msProject << ", \"prefix_sum\": " << s.msPrefixSum
     << ", \"relate\": " << s.msRelate << ", \"sort\": " << s.msSort << ", \"raster\": " << s.msRaster
     << ", \"total\": " << s.msTotal << "}, \"triangles\": " << s.triangles << ", \"samples\": " << s.samples
-    << ", \"grid\": " << s.grid << ", \"grid_cells\": " << s.gridCells << ", \"non_empty_cells\": " << s.nonEmptyCells
+    << ", \"grid\": " << s.grid << ", \"gl_layers\": " << s.layers << ", \"gl_layers_retried\": " << s.layersRetried
+    << ", \"grid_cells\": " << s.gridCells
+    << ", \"non_empty_cells\": " << s.nonEmptyCells
     << ", \"pairs\": " << s.pairs << ", \"triangles_per_cell\": {\"max\": " << s.trianglesPerCellMax
     << ", \"avg\": " << s.trianglesPerCellAvg << "}, \"samples_per_cell\": {\"max\": " << s.samplesPerCellMax
     << ", \"avg\": " << s.samplesPerCellAvg << "}, \"assignments\": {\"total\": " << s.assignmentsTotal

@@ -86,6 +86,10 @@ struct GearsOptions
   /// vertices; gears.md "Far lights"); false: in its own float frame, whose
   /// culling margin then outgrows the scene (same V, far slower).
   bool farLightWarp = true;
+  /// GL backend: a grid cell's samples are split where their depths leave a
+  /// gap into up to this many lists (1-4; same bits, gears.md "Depth layers
+  /// on the GL backend"). The CPU backend's sample groups do this there.
+  int depthLayers = 2;
   GearsSimd simd = GearsSimd::Auto;
   SolveProgress progress;        ///< optional: called between chunks of step 4's cells; false stops
 };
@@ -105,7 +109,9 @@ struct GearsStats
   std::size_t samples = 0;       ///< pixel samples lit by the light (in front of it)
   std::size_t gridCells = 0;     ///< G x G (x faces for a point light)
   int grid = 0;                  ///< G as used (GearsOptions::grid 0: automatic)
-  std::size_t nonEmptyCells = 0; ///< cells with at least one pixel sample
+  int layers = 0;                ///< GL backend: depth layers per grid cell, the most a face used (depthLayers)
+  std::size_t layersRetried = 0; ///< GL backend: faces whose pass 1 found the layers' pairs too many and ran again
+  std::size_t nonEmptyCells = 0; ///< cells with at least one pixel sample (GL: lists, a cell's layers each)
   std::size_t pairs = 0;         ///< (triID, cellID) pairs
   std::size_t trianglesPerCellMax = 0;
   double trianglesPerCellAvg = 0; ///< over non-empty cells
@@ -143,7 +149,8 @@ struct GearsStats
   std::size_t occluderDrawsStopped = 0; ///< cells where an open mask went without the inner occluders' draw (occluderProbe)
   // the winding count (windingCount): pixels it solved, pixels it declined
   // (rasterised instead), members counted and the rest of the lists
-  // rasterised (summed over sample groups), contour edges stepped exactly
+  // rasterised (summed over sample groups; GL: over lists, a grid cell's
+  // depth layers each), contour edges stepped exactly
   // (summed over pixels)
   std::size_t windingPixels = 0, windingDeclined = 0;
   std::size_t filteredPairs = 0; ///< pairs whose bits the filtered float test gave (filteredRaster)

@@ -255,7 +255,13 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       }
       const Shaft shaft = RelativeShaft(lo, hi, W, H, dir, m, glm::dvec3(0.0));
       const Shaft* cellShaft = opt.shaftCulling ? &shaft : nullptr;
-      const glm::dvec3 o = 0.5 * (lo + hi);
+      // the kernel arrays' float origin: the point of the cell's box of starts
+      // nearest the casters' centre. Where the box is small that is within its
+      // size of its centre; where a few starts lie far out (a broken receiver's
+      // sliver reaching 1e10) the box's centre would lie far from the scene,
+      // and the triangles' float coordinates relative to it would lose every
+      // bit (V = 1 in shadow, gears.md "Receivers at huge distances")
+      const glm::dvec3 o = glm::clamp(ft.ToLight(glm::dvec3(0.0)), lo, hi);
       const float of[3] = { static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z) };
       std::size_t nl = 0, tested = 0;
       // --- inner occluders first (their clusters lead the cell's list): a

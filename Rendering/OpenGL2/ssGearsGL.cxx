@@ -2,330 +2,15 @@
 // this file sizes the buffers, dispatches the stages in the order of the CPU
 // backend (Rendering/Core/ssGEARS.cxx) and collects the paper's statistics.
 #include "ssGearsGL.h"
-#include "ssComputeProgram.h"
 #include "ssGLLimits.h"
-
-#include "ssGearsCSAssign.h"
-#include "ssGearsCSCommon.h"
-#include "ssGearsCSRaster.h"
-#include "ssGearsCSWinding.h"
-#include "vtk_glew.h"
+#include "ssGearsGLImpl.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstring>
 #include <limits>
-#include <map>
-#include <sstream>
 
 namespace ss
 {
-namespace
-{
-using Clock = std::chrono::steady_clock;
-double Ms(Clock::time_point a, Clock::time_point b)
-{
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-// SSBO binding points (glsl/ssGearsCS.glsl)
-enum Binding
-{
-  BTriV = 0,
-  BTriA,
-  BPos,
-  BNrm,
-  BSmp,
-  BFace,
-  BVis,
-  BRed,
-  BPixCell,
-  BCellCnt,
-  BCellDep,
-  BSat,
-  BRmq,
-  BBox,
-  BOff,
-  BPairTri,
-  BPairCell,
-  BCellBegin,
-  BCursor,
-  BSorted,
-  BMasks,
-  BNec,
-  BScanData,
-  BScanSums,
-  BTriL,
-  BClosed,
-  BCellBox,
-  BTriLF,
-  BPixStart,
-  BPixOrder,
-  BNbr,      // the winding count (glsl/ssGearsCSWinding.glsl)
-  BPairStat,
-  BSlotStat,
-  BWind,
-  BTriN,
-  NumBindings
-};
-
-constexpr GLuint kWG = 64;        // work group size of the per-item kernels
-constexpr GLuint kScanWG = 256;   // scan: 4 x 256 = 1024 elements per group
-constexpr std::size_t kScanElems = 1024;
-// Mesa's llvmpipe ends an invocation after 65535 loop iterations in all
-// (LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop of a shader) and gives
-// no error. So no kernel loops without bound: the bitmask kernel takes a
-// pixel's cell list in chunks of kChunk triangles, and passes 1 and 2 loop
-// over at most G + G^2 cells (pass 1's other loops add under 100
-// iterations: 57,940 at the cap of 240). A triangle that is drawn costs the
-// bitmask kernel at most about 120 iterations at k = 32 while Table 9 is
-// counted (its three phases' loops, 32 rows to clear, draw and compare):
-// 46,000 for a chunk of 384 (512 came to 61,000 once the phases were split).
-// Near triangles (within the start offset of S) cost about 60 more; a chunk
-// holds only a few of them.
-constexpr std::uint32_t kChunk = 384;
-// the most storage blocks one kernel declares (K_RASTER's USE_* list in
-// glsl/ssGearsCSCommon.glsl); checked against GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS
-constexpr int kMaxKernelBlocks = 13;
-// with the winding count, K_RASTER declares one more (WINDING); with fewer
-// blocks the GL backend runs without it
-constexpr int kWindingKernelBlocks = 14;
-constexpr int kMaxGrid = 240;
-// depth buckets per cell (K_PASS2): the order of a cell's list, nearest the
-// receivers first, so that umbra masks fill early (the CPU's depth order)
-constexpr std::size_t kDepthBuckets = 16;
-// (the sort's keys c * kDepthBuckets + b and its buffers stay small)
-// (x 4: the winding count's classes, K_WFLAG)
-static_assert(std::size_t(kMaxGrid) * kMaxGrid * kDepthBuckets * 4 < (std::size_t(1) << 24), "sort keys");
-
-std::uint32_t Ord(float f)
-{
-  std::uint32_t b;
-  std::memcpy(&b, &f, 4);
-  return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
-}
-float Unord(std::uint32_t u)
-{
-  const std::uint32_t b = (u & 0x80000000u) ? (u & 0x7FFFFFFFu) : ~u;
-  float f;
-  std::memcpy(&f, &b, 4);
-  return f;
-}
-}
-
-struct GearsGL::Impl
-{
-  struct Buffer
-  {
-    GLuint id = 0;
-    std::size_t capacity = 0;
-  };
-  Buffer Buf[NumBindings];
-  std::vector<Buffer> ScanSums; // one per recursion level
-  std::map<std::string, GLuint> Programs;
-  std::map<std::pair<GLuint, std::string>, GLint> Locations;
-  std::uint64_t TriVersion = 0, NbrVersion = 0;
-  std::int64_t MaxBlock = 0;
-  int MaxBindings = 0, MaxKernelBlocks = 0;
-  GLuint Current = 0;
-
-  void Ensure(Buffer& b, std::size_t bytes)
-  {
-    bytes = std::max<std::size_t>(bytes, 16);
-    if (!b.id)
-    {
-      glGenBuffers(1, &b.id);
-    }
-    if (b.capacity < bytes)
-    {
-      const std::size_t cap = std::max(bytes, b.capacity + b.capacity / 2);
-      glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id);
-      glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(cap), nullptr, GL_DYNAMIC_COPY);
-      b.capacity = cap;
-    }
-  }
-  void Upload(Buffer& b, const void* data, std::size_t bytes)
-  {
-    Ensure(b, bytes);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id);
-    if (bytes)
-    {
-      glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(bytes), data);
-    }
-  }
-  void Fill(Buffer& b, std::size_t bytes, std::uint32_t value)
-  {
-    Ensure(b, bytes);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id);
-    glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, 0, static_cast<GLsizeiptr>((bytes + 3) / 4 * 4),
-      GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
-  }
-  void Download(Buffer& b, void* out, std::size_t bytes, std::size_t offset = 0)
-  {
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), out);
-  }
-  std::uint32_t ReadUint(Buffer& b, std::size_t index)
-  {
-    std::uint32_t v = 0;
-    Download(b, &v, 4, 4 * index);
-    return v;
-  }
-  void BindAll()
-  {
-    for (int i = 0; i < NumBindings; ++i)
-    {
-      if (Buf[i].id)
-      {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(i), Buf[i].id);
-      }
-    }
-  }
-
-  // kernel: its K_* define; extra: one more define (or none)
-  GLuint Program(const std::string& kernel, std::string* why, const char* extra = nullptr)
-  {
-    const GLuint wg = (kernel == "K_SCAN_BLOCK" || kernel == "K_SCAN_ADD") ? kScanWG : kWG;
-    std::ostringstream head;
-    head << "#version 430\n#define " << kernel << "\n#define WG " << wg << "\n";
-    if (extra)
-    {
-      head << "#define " << extra << "\n";
-    }
-    const std::string key = head.str();
-    auto it = Programs.find(key);
-    if (it != Programs.end())
-    {
-      return it->second;
-    }
-    const std::string src = key + ssGearsCSCommon + ssGearsCSAssign + ssGearsCSRaster + ssGearsCSWinding;
-    std::string error;
-    const GLuint prog = CompileComputeProgram(src, error);
-    if (!prog)
-    {
-      if (why)
-      {
-        *why = "GEARS GL: " + kernel + " " + error;
-      }
-      return 0;
-    }
-    Programs[key] = prog;
-    return prog;
-  }
-
-  GLint Loc(const char* name)
-  {
-    const auto key = std::make_pair(Current, std::string(name));
-    auto it = Locations.find(key);
-    if (it != Locations.end())
-    {
-      return it->second;
-    }
-    const GLint l = glGetUniformLocation(Current, name);
-    Locations[key] = l;
-    return l;
-  }
-  void Use(GLuint prog)
-  {
-    Current = prog;
-    glUseProgram(prog);
-  }
-  void U(const char* n, int v) { glUniform1i(Loc(n), v); }
-  void Uu(const char* n, std::uint32_t v) { glUniform1ui(Loc(n), v); }
-  void Ud(const char* n, double v) { glUniform1d(Loc(n), v); }
-  void U3(const char* n, const glm::dvec3& v) { glUniform3d(Loc(n), v.x, v.y, v.z); }
-
-  // groups work groups, split over x and y (at most 65535 per axis)
-  void Dispatch(std::size_t groups)
-  {
-    if (!groups)
-    {
-      return;
-    }
-    BindAll();
-    const GLuint gx = static_cast<GLuint>(std::min<std::size_t>(groups, 65535));
-    const GLuint gy = static_cast<GLuint>((groups + gx - 1) / gx);
-    glDispatchCompute(gx, gy, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-  }
-  // one invocation per item of the current program (uN = items)
-  void Items(std::size_t items)
-  {
-    Uu("uN", static_cast<std::uint32_t>(items));
-    Dispatch((items + kWG - 1) / kWG);
-  }
-
-  // In-place exclusive prefix sum of `count` uints of buffer b [§4.2]:
-  // blocks of 1024 scanned in shared memory, their totals scanned
-  // recursively and added back.
-  bool Scan(Buffer& b, std::size_t count, std::size_t level, std::string* why)
-  {
-    const std::size_t blocks = (count + kScanElems - 1) / kScanElems;
-    if (ScanSums.size() <= level)
-    {
-      ScanSums.resize(level + 1);
-    }
-    Ensure(ScanSums[level], 4 * blocks);
-    const GLuint block = Program("K_SCAN_BLOCK", why), add = Program("K_SCAN_ADD", why);
-    if (!block || !add)
-    {
-      return false;
-    }
-    Buffer savedData = Buf[BScanData], savedSums = Buf[BScanSums];
-    Buf[BScanData] = b;
-    Buf[BScanSums] = ScanSums[level];
-    Use(block);
-    Uu("uN", static_cast<std::uint32_t>(count));
-    Dispatch(blocks);
-    Buf[BScanData] = savedData;
-    Buf[BScanSums] = savedSums;
-    if (blocks > 1)
-    {
-      Buffer sums = ScanSums[level];
-      if (!Scan(sums, blocks, level + 1, why))
-      {
-        return false;
-      }
-      Buf[BScanData] = b;
-      Buf[BScanSums] = ScanSums[level];
-      Use(add);
-      Uu("uN", static_cast<std::uint32_t>(count));
-      Dispatch((count + kScanWG - 1) / kScanWG);
-      Buf[BScanData] = savedData;
-      Buf[BScanSums] = savedSums;
-    }
-    return true;
-  }
-
-  void Release()
-  {
-    for (auto& p : Programs)
-    {
-      glDeleteProgram(p.second);
-    }
-    Programs.clear();
-    Locations.clear();
-    for (auto& b : Buf)
-    {
-      if (b.id)
-      {
-        glDeleteBuffers(1, &b.id);
-      }
-      b = Buffer{};
-    }
-    for (auto& b : ScanSums)
-    {
-      if (b.id)
-      {
-        glDeleteBuffers(1, &b.id);
-      }
-    }
-    ScanSums.clear();
-    TriVersion = 0;
-    NbrVersion = 0;
-  }
-};
 
 GearsGL::GearsGL()
   : P(new Impl)
@@ -440,6 +125,13 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   const std::size_t NT = D.count;
   const int G = std::clamp(opt.grid > 0 ? opt.grid : 128, 1, 4096); // 0: automatic, the raster's 128
   const std::size_t NC = static_cast<std::size_t>(G) * G;
+  // each grid cell's samples split by depth into this many list cells
+  // (K_CELL); without the shafts pass 1 counts grid cells (its summed-area
+  // table), so one; where a solve of these triangles found the layers' pairs
+  // too many for a buffer, one
+  int layers = opt.shaftCulling && (I.LayersFit || I.TriVersion != D.version)
+    ? std::clamp(opt.depthLayers, 1, kMaxLayers)
+    : 1;
   // a cell's list in depth order (GearsOptions::depthOrder): one sort key per
   // (cell, depth bucket); off, one bucket per cell
   const std::size_t buckets = opt.depthOrder ? kDepthBuckets : 1;
@@ -465,6 +157,18 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   const bool windingBlocks = I.MaxKernelBlocks >= kWindingKernelBlocks;
   bool winding = opt.windingCount && !opt.countNecessary && k > 1 && pre && windingBlocks && W0 > 0.0 &&
     H0 > 0.0 && NT > 0 && NT <= 0x3FFFFFFFu && 16 * NT <= maxBlock;
+  // the sort's keys (cellBegin, cursor): per list cell the depth buckets,
+  // times 4 with the winding count; fewer layers where they would not fit
+  // one buffer (GL 4.3 guarantees 16 MB: a grid of 240 with 4 layers needs 59)
+  const std::size_t keysPerList = buckets * (winding ? 4 : 1);
+  while (layers > 1 && 4 * (NC * layers * keysPerList + 1) > maxBlock)
+  {
+    --layers;
+  }
+  if (!fits(4 * (NC * layers * keysPerList + 1), "the cells' sort keys"))
+  {
+    return false;
+  }
   const char* names[] = { "K_START", "K_PROJECT", "K_CELL", "K_SAT_ROWS", "K_SAT_COLS", "K_RMQ", "K_PASS1",
     "K_PASS2", "K_HIST", "K_SCATTER", "K_PIXSORT", "K_TOLIGHT", "K_RASTER", "K_FINISH", "K_WFLAG", "K_WINDING" };
   std::map<std::string, GLuint> prog;
@@ -511,6 +215,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Upload(I.Buf[BTriA], D.opacity, 4 * NT);
     I.TriVersion = D.version;
     I.NbrVersion = 0;
+    I.LayersFit = true;
   }
   if (winding && I.NbrVersion != D.version)
   {
@@ -617,9 +322,11 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     }
     GearsGridCamera C = GearsFaceCamera(L, f, lo, hi, opt.eyeDistance);
     const double maxDepth = Unord(red[8 * f + 6]);
+    int faceLayers = layers; // (K_CELL; fewer where the pairs do not fit)
     auto cameraUniforms = [&]() {
       I.U("uFace", f);
       I.U("uG", G);
+      I.U("uLayers", faceLayers);
       I.U("uOrtho", C.ortho ? 1 : 0);
       I.U3("uE", C.E);
       I.U3("uLc", C.Lc);
@@ -649,120 +356,179 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     std::uint32_t box2[4];
     I.Download(I.Buf[BRed], box2, 16, 4 * 48);
     GearsFitGrid(C, G, Unord(box2[0]), Unord(box2[2]), Unord(box2[1]), Unord(box2[3]));
-    I.Fill(I.Buf[BCellCnt], 4 * NC, 0u);
-    I.Fill(I.Buf[BCellDep], 4 * NC, Ord(-std::numeric_limits<float>::infinity()));
-    I.Fill(I.Buf[BCellBox], 24 * NC, 0xFFFFFFFFu); // (atomicMin on every slot)
-    I.Use(prog["K_CELL"]);
-    cameraUniforms();
-    I.Items(n);
-    std::vector<std::uint32_t> cellCount(NC);
-    I.Download(I.Buf[BCellCnt], cellCount.data(), 4 * NC);
-    std::size_t samples = 0, nonEmpty = 0;
-    for (std::size_t c = 0; c < NC; ++c)
+    // (a second round without layers where their pairs do not fit)
+    std::size_t NL = NC * faceLayers, samples = 0, numPairs = 0;
+    std::vector<std::uint32_t> cellCount;
+    for (;;)
     {
-      samples += cellCount[c];
-      nonEmpty += cellCount[c] > 0;
-      st.samplesPerCellMax = std::max<std::size_t>(st.samplesPerCellMax, cellCount[c]);
+      I.Fill(I.Buf[BCellCnt], 4 * NL, 0u);
+      // (per grid cell the farthest depth, the nearest, the depth bins in use;
+      // sized first: a larger buffer would not keep the first fills)
+      I.Ensure(I.Buf[BCellDep], 12 * NC);
+      I.Fill(I.Buf[BCellDep], 4 * NC, Ord(-std::numeric_limits<float>::infinity()));
+      I.Fill(I.Buf[BCellDep], 4 * NC, Ord(std::numeric_limits<float>::infinity()), 4 * NC);
+      I.Fill(I.Buf[BCellDep], 4 * NC, 0u, 8 * NC); // (the bins in use: atomicOr)
+      I.Fill(I.Buf[BCellBox], 24 * NL, 0xFFFFFFFFu); // (atomicMin on every slot)
+      I.Use(prog["K_CELL"]);
+      cameraUniforms();
+      for (int stage = faceLayers > 1 ? 0 : 2; stage < 3; ++stage)
+      {
+        I.U("uStage", stage);
+        I.Items(n);
+      }
+      cellCount.resize(NL);
+      I.Download(I.Buf[BCellCnt], cellCount.data(), 4 * NL);
+      samples = 0;
+      for (std::size_t c = 0; c < NL; ++c)
+      {
+        samples += cellCount[c];
+      }
+      // the face's pixels cell by cell, for the bitmask kernel (K_PIXSORT)
+      {
+        std::vector<std::uint32_t> pixStart(NL + 1, 0u);
+        for (std::size_t c = 0; c < NL; ++c)
+        {
+          pixStart[c + 1] = pixStart[c] + cellCount[c];
+        }
+        I.Upload(I.Buf[BPixStart], pixStart.data(), 4 * (NL + 1));
+        I.Ensure(I.Buf[BPixOrder], 4 * std::max<std::size_t>(samples, 1));
+        I.Fill(I.Buf[BCursor], 4 * NL, 0u);
+        I.Use(prog["K_PIXSORT"]);
+        I.U("uFace", f);
+        I.Items(n);
+      }
+      // summed-area table of non-empty cells, range-maximum table of far depths
+      I.Fill(I.Buf[BSat], 4 * (G + 1) * (G + 1), 0u);
+      I.Use(prog["K_SAT_ROWS"]);
+      I.U("uG", G);
+      I.U("uLayers", faceLayers);
+      I.Items(G);
+      I.Use(prog["K_SAT_COLS"]);
+      I.U("uG", G);
+      I.Items(G);
+      if (opt.retractToFarthest)
+      {
+        I.Ensure(I.Buf[BRmq], 4 * NC * levels * levels);
+        I.Use(prog["K_RMQ"]);
+        I.U("uG", G);
+        I.U("uL", levels);
+        for (int ly = 0; ly < levels; ++ly)
+        {
+          for (int lx = 0; lx < levels; ++lx)
+          {
+            I.U("uLx", lx);
+            I.U("uLy", ly);
+            I.Items(NC);
+          }
+        }
+      }
+      glFinish();
+      t1 = Clock::now();
+      st.msProject += Ms(t0, t1);
+
+      // --- 3.3 pass 1 and the prefix sum of cellsN
+      I.Ensure(I.Buf[BBox], 16 * NT);
+      I.Fill(I.Buf[BOff], 4 * (NT + 1), 0u);
+      const std::uint32_t zero = 0, none = 0xFFFFFFFFu; // (none: atomicMin)
+      auto resetCounters = [&]() {
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, I.Buf[BRed].id);
+        for (int q : { 56, 57, 58, 59 })
+        {
+          glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * q, 4, &zero);
+        }
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 60, 4, &none);
+      };
+      resetCounters();
+      I.Use(prog["K_PASS1"]);
+      cameraUniforms();
+      shaftUniforms();
+      I.U("uL", levels);
+      I.Ud("uMaxDepth", maxDepth);
+      I.Ud("uMinDepth", 1e-9 * std::max(D.extent, diag));
+      I.U("uCorners", (L.type == LightType::Point) ? 1 : 4);
+      I.U("uRetract", opt.retractToFarthest ? 1 : 0);
+      {
+        double corner[12], away[12];
+        for (int c = 0; c < 4; ++c)
+        {
+          const double a = (c & 1) ? 0.5 : -0.5, b = (c & 2) ? 0.5 : -0.5;
+          const glm::dvec3 co = L.center + a * L.width * L.u + b * L.height * L.v;
+          const glm::dvec3 aw = L.n - a * T * L.u - b * T * L.v;
+          for (int q = 0; q < 3; ++q)
+          {
+            corner[3 * c + q] = co[q];
+            away[3 * c + q] = aw[q];
+          }
+        }
+        glUniform3dv(I.Loc("uCorner"), 4, corner);
+        glUniform3dv(I.Loc("uAway"), 4, away);
+      }
+      if (faceLayers > 1 && NT >= kLayerSample * kWG)
+      {
+        // the layers' pairs estimated from every kLayerSample-th triangle:
+        // where they would not fit one buffer, one layer at once (where the
+        // estimate falls short, the check after the full pass runs it again)
+        I.Uu("uSample", static_cast<std::uint32_t>(kLayerSample));
+        I.Uu("uN", static_cast<std::uint32_t>(NT));
+        I.Dispatch((NT / kLayerSample + kWG) / kWG);
+        const double estimate = double(kLayerSample) * I.ReadUint(I.Buf[BRed], 59);
+        const bool wrapped = I.ReadUint(I.Buf[BRed], 57) != 0;
+        I.Uu("uSample", 0u);
+        resetCounters();
+        if (wrapped || 4.0 * estimate > 0.9 * double(maxBlock))
+        {
+          faceLayers = 1;
+          NL = NC;
+          I.LayersFit = false;
+          t0 = Clock::now();
+          st.msPrefixSum += Ms(t1, t0);
+          continue;
+        }
+      }
+      I.Items(NT);
+      if (!I.Scan(I.Buf[BOff], NT + 1, 0, why))
+      {
+        return false;
+      }
+      numPairs = I.ReadUint(I.Buf[BOff], NT);
+      const bool pairsWrapped = I.ReadUint(I.Buf[BRed], 57) != 0;
+      if ((pairsWrapped || 4 * numPairs > maxBlock) && faceLayers > 1)
+      {
+        // more pairs than one buffer holds (or than 32 bits count): this
+        // face once more without layers (fewer pairs), and the next solves
+        // of these triangles too
+        faceLayers = 1;
+        NL = NC;
+        I.LayersFit = false;
+        ++st.layersRetried;
+        t0 = Clock::now();
+        st.msPrefixSum += Ms(t1, t0); // (the first pass 1 in its stage's time)
+        continue;
+      }
+      if (pairsWrapped)
+      {
+        if (why)
+        {
+          *why = "GEARS GL backend: more than 2^32 (triangle, cell) pairs";
+        }
+        return false;
+      }
+      if (!fits(4 * numPairs, "the (triangle, cell) pairs"))
+      {
+        return false;
+      }
+      break;
     }
+    st.layers = std::max(st.layers, faceLayers);
     st.samples += samples;
     st.gridCells += NC;
-    // the face's pixels cell by cell, for the bitmask kernel (K_PIXSORT)
+    for (std::size_t c = 0; c < NL; ++c)
     {
-      std::vector<std::uint32_t> pixStart(NC + 1, 0u);
-      for (std::size_t c = 0; c < NC; ++c)
-      {
-        pixStart[c + 1] = pixStart[c] + cellCount[c];
-      }
-      I.Upload(I.Buf[BPixStart], pixStart.data(), 4 * (NC + 1));
-      I.Ensure(I.Buf[BPixOrder], 4 * std::max<std::size_t>(samples, 1));
-      I.Fill(I.Buf[BCursor], 4 * NC, 0u);
-      I.Use(prog["K_PIXSORT"]);
-      I.U("uFace", f);
-      I.Items(n);
+      st.nonEmptyCells += cellCount[c] > 0;
+      st.samplesPerCellMax = std::max<std::size_t>(st.samplesPerCellMax, cellCount[c]);
     }
-    st.nonEmptyCells += nonEmpty;
-    // summed-area table of non-empty cells, range-maximum table of far depths
-    I.Fill(I.Buf[BSat], 4 * (G + 1) * (G + 1), 0u);
-    I.Use(prog["K_SAT_ROWS"]);
-    I.U("uG", G);
-    I.Items(G);
-    I.Use(prog["K_SAT_COLS"]);
-    I.U("uG", G);
-    I.Items(G);
-    if (opt.retractToFarthest)
-    {
-      I.Ensure(I.Buf[BRmq], 4 * NC * levels * levels);
-      I.Use(prog["K_RMQ"]);
-      I.U("uG", G);
-      I.U("uL", levels);
-      for (int ly = 0; ly < levels; ++ly)
-      {
-        for (int lx = 0; lx < levels; ++lx)
-        {
-          I.U("uLx", lx);
-          I.U("uLy", ly);
-          I.Items(NC);
-        }
-      }
-    }
-    glFinish();
-    t1 = Clock::now();
-    st.msProject += Ms(t0, t1);
-
-    // --- 3.3 pass 1 and the prefix sum of cellsN
-    I.Ensure(I.Buf[BBox], 16 * NT);
-    I.Fill(I.Buf[BOff], 4 * (NT + 1), 0u);
-    const std::uint32_t zero = 0;
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, I.Buf[BRed].id);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 56, 4, &zero);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 57, 4, &zero);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 58, 4, &zero);
-    const std::uint32_t none = 0xFFFFFFFFu; // (atomicMin)
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 4 * 60, 4, &none);
-    I.Use(prog["K_PASS1"]);
-    cameraUniforms();
-    shaftUniforms();
-    I.U("uL", levels);
-    I.Ud("uMaxDepth", maxDepth);
-    I.Ud("uMinDepth", 1e-9 * std::max(D.extent, diag));
-    I.U("uCorners", (L.type == LightType::Point) ? 1 : 4);
-    I.U("uRetract", opt.retractToFarthest ? 1 : 0);
-    {
-      double corner[12], away[12];
-      for (int c = 0; c < 4; ++c)
-      {
-        const double a = (c & 1) ? 0.5 : -0.5, b = (c & 2) ? 0.5 : -0.5;
-        const glm::dvec3 co = L.center + a * L.width * L.u + b * L.height * L.v;
-        const glm::dvec3 aw = L.n - a * T * L.u - b * T * L.v;
-        for (int q = 0; q < 3; ++q)
-        {
-          corner[3 * c + q] = co[q];
-          away[3 * c + q] = aw[q];
-        }
-      }
-      glUniform3dv(I.Loc("uCorner"), 4, corner);
-      glUniform3dv(I.Loc("uAway"), 4, away);
-    }
-    I.Items(NT);
-    if (!I.Scan(I.Buf[BOff], NT + 1, 0, why))
-    {
-      return false;
-    }
-    const std::size_t numPairs = I.ReadUint(I.Buf[BOff], NT);
     st.fullGridTriangles += I.ReadUint(I.Buf[BRed], 56);
     st.trianglesCulled += I.ReadUint(I.Buf[BRed], 58); // outside their cell's shaft
-    if (I.ReadUint(I.Buf[BRed], 57))
-    {
-      if (why)
-      {
-        *why = "GEARS GL backend: more than 2^32 (triangle, cell) pairs";
-      }
-      return false;
-    }
-    if (!fits(4 * numPairs, "the (triangle, cell) pairs"))
-    {
-      return false;
-    }
     st.pairs += numPairs;
     glFinish();
     auto t2 = Clock::now();
@@ -836,7 +602,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     // --- sort on the key (K_PASS2, K_WFLAG): counting sort (histogram,
     // prefix sum, scatter); cell c's list is the keys c K .. (c + 1) K - 1
     // (K = cellKeys), in each class nearest the receivers first
-    const std::size_t NB = NC * cellKeys;
+    const std::size_t NB = NL * cellKeys;
     I.Fill(I.Buf[BCellBegin], 4 * (NB + 1), 0u);
     I.Fill(I.Buf[BCursor], 4 * NB, 0u);
     I.Ensure(I.Buf[BSorted], 4 * numPairs);
@@ -852,7 +618,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     I.Download(I.Buf[BCellBegin], cellBegin.data(), 4 * (NB + 1));
     std::size_t longestList = 0;
     const std::size_t drawnKeys = std::min(cellKeys, 3 * buckets); // (class 3 is never drawn)
-    for (std::size_t c = 0; c < NC; ++c)
+    for (std::size_t c = 0; c < NL; ++c)
     {
       if (cellCount[c])
       {
@@ -862,6 +628,13 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
         st.trianglesPerCellMax = std::max(st.trianglesPerCellMax, nt);
         sumTrisPerCell += nt;
         assignmentsTotal += static_cast<double>(nt) * cellCount[c];
+        if (winding)
+        {
+          // (the CPU's members and rest, summed over lists instead of groups)
+          const std::size_t rest = cellBegin[c * cellKeys + 2 * buckets] - cellBegin[c * cellKeys + buckets];
+          st.windingRest += static_cast<double>(rest);
+          st.windingMembers += static_cast<double>(drawn - rest);
+        }
       }
     }
     glFinish();

@@ -51,6 +51,9 @@ const OptionList& TriangleSolver::DeclaredOptions()
       "gears: on dense meshes, each pixel's mask from the contour edges of the triangles between it and the light (a winding count; same V)"),
     BoolOption("gears_cell_culling", "GearsCellCulling", "Gears Cell Culling", true,
       "gears: cull clusters and triangles per grid cell and sample group (shaft, horizon, inner occluders; same V)"),
+    IntOption("gears_gl_layers", "GearsGLLayers", "Gears GL Layers", 1, 4, 2,
+      "gears, GL backend: split each grid cell's samples where their depths leave a gap into up to this many "
+      "lists (same V)"),
   };
   return options;
 }
@@ -64,6 +67,7 @@ void TriangleSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.Gears.k = opt("gears_samples");
   this->Opt.Gears.grid = opt("gears_grid");
   this->Opt.Gears.windingCount = opt("gears_winding") != 0;
+  this->Opt.Gears.depthLayers = opt("gears_gl_layers");
   this->Opt.Gears.raster = opt("gears_raster") == 1 ? GearsRaster::LUT : GearsRaster::EdgePlane;
   this->Opt.Gears.countNecessary = opt("gears_necessary") != 0;
   this->Opt.GearsOnGL = opt("gears_backend") == vtkSoftShadowPass::GEARS_BACKEND_GL;

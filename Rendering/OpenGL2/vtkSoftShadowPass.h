@@ -198,6 +198,8 @@ public:
   virtual bool GetGearsWinding();
   virtual void GearsWindingOn();
   virtual void GearsWindingOff();
+  virtual void SetGearsGLLayers(int v);
+  virtual int GetGearsGLLayers();
   virtual void SetGearsBackend(int v);
   virtual int GetGearsBackend();
   // pvsm (ssPVSMSolver)

@@ -556,3 +556,197 @@ TEST(GearsGL, TranslucentCastersDeclinedAndDegenerateInput)
   EXPECT_NE(why.find("LUT"), std::string::npos) << why;
   gl.ReleaseGraphicsResources();
 }
+
+// Depth layers (GearsOptions::depthLayers, K_CELL): two receiving sheets, one
+// above the other, with casters between them and above both, so that every
+// grid cell holds samples of both sheets and the gap between them splits it.
+// The masks stay the CPU's with 1 to 4 layers; with 2, more lists hold
+// samples (the split happened) and fewer list entries are left to the raster
+// (the casters between the sheets are members for the lower sheet's lists).
+// Where the layers' pairs do not fit one buffer (a lowered SSBO limit, as on
+// llvmpipe's 128 MB with 1M triangles) the face runs once more without
+// layers, with the same masks, and so do the next solves of those triangles.
+TEST(GearsGL, DepthLayersSplitCellsAndFallBackWhereTheirPairsDoNotFit)
+{
+  Context ctx;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.0, 1.0), Below(0.3, 0.7), Above(1.3, 2.0), S(0.05, 0.25);
+  sstest::Scene s;
+  for (int t = 0; t < 3000; ++t)
+  {
+    const glm::dvec3 c(U(rng), U(rng), t % 2 ? Below(rng) : Above(rng));
+    for (int v = 0; v < 3; ++v)
+    {
+      s.tris.push_back(c + S(rng) * glm::dvec3(U(rng), U(rng), 0.3 * U(rng)));
+    }
+  }
+  for (int y = 0; y < 20; ++y)
+  {
+    for (int x = 0; x < 20; ++x)
+    {
+      for (float z : { 0.0f, 1.0f })
+      {
+        s.pos.insert(s.pos.end(), { -1.2f + 0.12f * static_cast<float>(x), -1.2f + 0.12f * static_cast<float>(y), z });
+        s.nrm.insert(s.nrm.end(), { 0.0f, 0.0f, 1.0f });
+      }
+    }
+  }
+  GearsSolver cpu;
+  cpu.SetTriangles(s.tris, {});
+  LightFrame light;
+  light.type = LightType::Rect;
+  light.center = glm::dvec3(0.2, -0.1, 5.0);
+  light.n = glm::dvec3(0.0, 0.0, -1.0);
+  light.u = glm::dvec3(1.0, 0.0, 0.0);
+  light.v = glm::dvec3(0.0, -1.0, 0.0);
+  light.width = light.height = 1.5;
+  GearsOptions opt;
+  opt.k = 16;
+  opt.grid = 12;
+  opt.windingMinList = 1;
+  std::size_t pairs[5] = {}, lists[5] = {};
+  double rest[5] = {};
+  {
+    GearsGL gl;
+    for (int layers = 1; layers <= 4; ++layers)
+    {
+      opt.depthLayers = layers;
+      GearsStats gs;
+      const Compare c = AgainstTheRaster(gl, cpu, light, glm::dvec3(0.0), s, opt, &gs);
+      EXPECT_EQ(c.maskMismatch, 0u) << layers << " layers";
+      EXPECT_EQ(c.vMismatch, 0u) << layers << " layers";
+      EXPECT_GT(c.partial, c.pixels / 10);
+      EXPECT_EQ(gs.layers, layers);
+      pairs[layers] = gs.pairs;
+      lists[layers] = gs.nonEmptyCells;
+      rest[layers] = gs.windingRest;
+      EXPECT_GT(gs.windingPixels, c.pixels / 2);
+    }
+  }
+  std::cout << "depth layers 1-4: lists " << lists[1] << " " << lists[2] << " " << lists[3] << " " << lists[4]
+            << ", pairs " << pairs[1] << " " << pairs[2] << " " << pairs[3] << " " << pairs[4]
+            << ", rest " << rest[1] << " " << rest[2] << "\n";
+  EXPECT_GE(lists[2], lists[1] + lists[1] / 2); // nearly every cell split in two
+  EXPECT_LT(rest[2], 0.5 * rest[1]);
+  ASSERT_GT(pairs[2], pairs[1]);
+
+  // An SSBO limit between the pairs without layers and with 2. Pass 1 first
+  // estimates the layers' pairs from every 16th triangle: on these casters
+  // that finds them too many. On the skewed copy every 16th triangle lies
+  // below both sheets (no pairs), the estimate falls short, and the full
+  // pass 1 finds them too many and runs again.
+  sstest::Scene skew = s;
+  for (std::size_t t = 0; t < skew.tris.size() / 3; t += 16)
+  {
+    for (int v = 0; v < 3; ++v)
+    {
+      skew.tris[3 * t + v] = glm::dvec3(0.01 * v, 0.01 * (v == 2), -5.0);
+    }
+  }
+  GearsSolver cpuSkew;
+  cpuSkew.SetTriangles(skew.tris, {});
+  {
+    // (the input order kept, clusters of 32: the GL backend's triangle t is
+    // input triangle t)
+    const std::size_t nt = skew.tris.size() / 3;
+    std::vector<std::size_t> order(nt), first;
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      order[t] = t;
+    }
+    for (std::size_t f = 0; f <= nt; f += 32)
+    {
+      first.push_back(f);
+    }
+    if (first.back() != nt)
+    {
+      first.push_back(nt);
+    }
+    cpuSkew.SetClusters(order, first);
+  }
+  for (const bool skewed : { false, true })
+  {
+    const sstest::Scene& sc = skewed ? skew : s;
+    const GearsSolver& cs = skewed ? cpuSkew : cpu;
+    std::size_t p1 = pairs[1], p2 = pairs[2];
+    if (skewed)
+    {
+      GearsGL gl;
+      GearsStats g1, g2;
+      opt.depthLayers = 1;
+      AgainstTheRaster(gl, cs, light, glm::dvec3(0.0), sc, opt, &g1);
+      opt.depthLayers = 2;
+      AgainstTheRaster(gl, cs, light, glm::dvec3(0.0), sc, opt, &g2);
+      p1 = g1.pairs;
+      p2 = g2.pairs;
+      ASSERT_GT(p2, p1 + p1 / 10);
+    }
+    const std::size_t limit = 2 * (p1 + p2);
+    ASSERT_GE(limit, 128 * sc.pos.size() / 3); // (the bitmasks still fit)
+    setenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES", std::to_string(limit).c_str(), 1);
+    {
+      GearsGL gl;
+      opt.depthLayers = 2;
+      for (int solve = 0; solve < 2; ++solve)
+      {
+        GearsStats gs;
+        const Compare c = AgainstTheRaster(gl, cs, light, glm::dvec3(0.0), sc, opt, &gs);
+        EXPECT_EQ(c.maskMismatch, 0u) << "skewed " << skewed << " solve " << solve;
+        EXPECT_EQ(gs.layers, 1) << "skewed " << skewed << " solve " << solve;
+        EXPECT_EQ(gs.pairs, p1) << "skewed " << skewed << " solve " << solve;
+        // the full pass 1 ran twice only where the estimate fell short, and
+        // only in the first solve (the next starts with one layer)
+        EXPECT_EQ(gs.layersRetried, skewed && solve == 0 ? 1u : 0u) << "skewed " << skewed << " solve " << solve;
+      }
+      // other triangles: layers again where their pairs fit
+      sstest::Scene few = sc;
+      few.tris.resize(60);
+      GearsSolver cpuFew;
+      cpuFew.SetTriangles(few.tris, {});
+      GearsStats gs;
+      const Compare c = AgainstTheRaster(gl, cpuFew, light, glm::dvec3(0.0), few, opt, &gs);
+      EXPECT_EQ(c.maskMismatch, 0u);
+      EXPECT_EQ(gs.layers, 2);
+    }
+    unsetenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES");
+  }
+
+  // The sort's keys (4 bytes per list cell and key: 16 depth buckets times 4
+  // classes) on a grid of 40: 819,200 bytes with two layers, 409,600 with
+  // one. Under a 600,000-byte limit the solve takes one layer; under 300,000
+  // it declines, naming them.
+  sstest::Scene few = s;
+  few.tris.resize(60);
+  GearsSolver cpuFew;
+  cpuFew.SetTriangles(few.tris, {});
+  GearsOptions fine = opt;
+  fine.grid = 40;
+  fine.depthLayers = 2;
+  for (const std::size_t limit : { 600000, 300000 })
+  {
+    setenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES", std::to_string(limit).c_str(), 1);
+    GearsGL gl;
+    std::vector<float> V;
+    std::vector<GearsMask> masks;
+    GearsStats gs;
+    std::string why;
+    const std::size_t n = few.pos.size() / 3;
+    const bool ran =
+      gl.Solve(cpuFew, light, glm::dvec3(0.0), few.pos.data(), few.nrm.data(), n, fine, V, &gs, &masks, &why);
+    if (limit == 600000)
+    {
+      ASSERT_TRUE(ran) << why;
+      EXPECT_EQ(gs.layers, 1);
+      std::vector<GearsMask> cpuMasks;
+      cpuFew.Solve(light, glm::dvec3(0.0), few.pos.data(), few.nrm.data(), n, fine, nullptr, &cpuMasks);
+      ASSERT_EQ(cpuMasks.size(), masks.size());
+      EXPECT_EQ(std::memcmp(cpuMasks.data(), masks.data(), masks.size() * sizeof(GearsMask)), 0);
+    }
+    else
+    {
+      EXPECT_FALSE(ran);
+      EXPECT_NE(why.find("sort keys"), std::string::npos) << why;
+    }
+    unsetenv("SOFTSHADOWS_GL_MAX_SSBO_BYTES");
+  }
+}

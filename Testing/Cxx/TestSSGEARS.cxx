@@ -511,6 +511,87 @@ TEST(GEARS, AStrayFarTriangleChangesNoShadow)
   }
 }
 
+// A few receivers far out (a broken receiver mesh: a sliver's G-buffer
+// positions run out to a vertex at 1e10) share grid cells with the ordinary
+// ones. Before stop 49 the CPU backend held a cell's triangles in float
+// relative to the centre of its box of starts, 5e9 from the scene: every bit
+// of a unit triangle was lost and up to 286 of 313 ordinary receivers came
+// out lit (V = 1) where the reference shadows them. The ordinary receivers'
+// V must equal the reference's whatever the far ones do, and every V is
+// finite. (The far ones' own V is not asserted: at 1e10 neither the float
+// reference nor either GEARS backend resolves unit casters; gears.md.)
+TEST(GEARS, FarOutReceiversLeaveTheOthersRight)
+{
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> U(-1.0, 1.0), R(0.03, 0.25), P(0.0, 1.0);
+  Scene s;
+  const double slab[3][2] = { { 0.15, 0.45 }, { 0.75, 1.05 }, { 1.35, 2.0 } };
+  for (int t = 0; t < 300; ++t)
+  {
+    const double* z = slab[t % 3];
+    const glm::dvec3 c(1.2 * U(rng), 1.2 * U(rng), z[0] + (z[1] - z[0]) * P(rng));
+    const double r = R(rng);
+    for (int v = 0; v < 3; ++v)
+    {
+      s.tris.push_back(c + r * glm::dvec3(U(rng), U(rng), 0.3 * U(rng)));
+    }
+  }
+  for (int y = 0; y < 12; ++y)
+  {
+    for (int x = 0; x < 12; ++x)
+    {
+      for (float z : { 0.0f, 0.6f, 1.2f })
+      {
+        if (P(rng) < 0.3)
+        {
+          continue;
+        }
+        s.pos.insert(s.pos.end(), { float(-1.3 + 2.6 * (x + 0.5) / 12), float(-1.3 + 2.6 * (y + 0.5) / 12), z });
+        s.nrm.insert(s.nrm.end(), { 0.0f, 0.0f, 1.0f });
+      }
+    }
+  }
+  const std::size_t ordinary = s.pos.size() / 3;
+  for (int i = 0; i < 60; ++i)
+  {
+    float p[3] = { float(U(rng)), float(U(rng)), float(0.6 * (i % 3)) };
+    p[i % 3] = (i % 2) ? 1e10f : -1e10f;
+    s.pos.insert(s.pos.end(), { p[0], p[1], p[2] });
+    s.nrm.insert(s.nrm.end(), { 0.0f, 0.0f, 1.0f });
+  }
+  const std::size_t n = s.pos.size() / 3;
+  GearsSolver g;
+  g.SetTriangles(s.tris, {});
+  ReferenceSolver ref;
+  ref.SetTriangles(s.tris, {});
+  std::size_t shadowed = 0;
+  for (const LightFrame& light : sstest::AreaLights(glm::dvec3(0.0), 1.0))
+  {
+    ReferenceOptions ro;
+    ro.k = 16;
+    const std::vector<float> Vr = ref.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, ro);
+    for (int grid : { 1, 8, 0 })
+    {
+      GearsOptions o;
+      o.k = 16;
+      o.grid = grid;
+      const std::vector<float> V = g.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, o);
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        ASSERT_TRUE(std::isfinite(V[i]) && V[i] >= 0.0f && V[i] <= 1.0f) << i;
+        if (i < ordinary)
+        {
+          differ += !(std::abs(double(V[i]) - Vr[i]) < 1e-6);
+          shadowed += Vr[i] < 1.0f;
+        }
+      }
+      EXPECT_EQ(differ, 0u) << "light type " << int(light.type) << ", grid " << grid;
+    }
+  }
+  EXPECT_GT(shadowed, ordinary); // the casters shadow many ordinary receivers
+}
+
 // The pass folds each light's (and cube face's) stats into the frame's with
 // AddGearsStats. Before stop 46 it copied the fields one by one and missed
 // ten of them: the frame reported 0 filtered pairs and 0 winding pixels while

@@ -111,7 +111,8 @@ for bad in (-1, 12, 99):
 # panel showed it and state files saved it)
 for name, bad, kept in (("ShadowLight", 5, 1), ("AdaptToFrameBudget", -3, 1), ("ShowPlanAnnotation", 7, 0),
                         ("LightSizeUnits", 4, 0), ("ShadowLightPlacement", 9, 0), ("GearsBackend", 2, 0),
-                        ("GearsWinding", 3, 1), ("Method", 12, 3)):
+                        ("GearsWinding", 3, 1), ("GearsGLLayers", 9, 2), ("GearsGLLayers", 0, 2),
+                        ("Method", 12, 3)):
     before = view.GetProperty(name).SMProperty.GetElement(0)
     view.GetProperty(name).SetElement(0, bad)
     got = view.GetProperty(name).SMProperty.GetElement(0)

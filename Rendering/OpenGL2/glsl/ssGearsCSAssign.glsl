@@ -131,6 +131,68 @@ void main()
 #ifdef K_CELL
 // 3.2: samples to cells; per cell the count, the farthest depth (rounded up)
 // and the light-frame box of the starts (rounded outwards) for pass 2's shaft.
+//
+// With depth layers (uLayers > 1; the GL backend's form of the CPU's sample
+// groups) a grid cell's samples are split where their depths leave a gap, so
+// that a list cell holds samples of one layer of the surface (an isosurface's
+// sheets, a part and the floor below it) and more of the triangles it lists
+// lie between all of them and the light (K_WFLAG's members). Three dispatches:
+// - uStage 0: each grid cell's range of depths (cellDepth[c] the farthest,
+//   cellDepth[G^2 + c] the nearest);
+// - uStage 1: which of 32 equal bins of that range hold a sample (a bit each,
+//   cellDepth[2 G^2 + c]);
+// - uStage 2 (alone without layers): each sample's list cell, c uLayers plus
+//   the number of the cell's uLayers - 1 longest empty runs of bins below its
+//   bin. A cell with fewer gaps keeps fewer layers; one whose depths leave
+//   none (a tilted plane) stays whole.
+// The layers only choose which samples share a list: each list cell's box is
+// its own samples', so no bit depends on them.
+uniform int uStage;
+// (NaN or an empty range: bin 0)
+uint DepthBin(double d, uint c)
+{
+  uint G2 = uint(uG * uG);
+  double lo = double(Unord(cellDepth[G2 + c])), hi = double(Unord(cellDepth[c]));
+  double f = 32.0LF * (d - lo) / (hi - lo);
+  return f >= 31.0LF ? 31u : (f > 0.0LF ? uint(f) : 0u);
+}
+// the layer of bin b among the bins in use (occ): the number of the uLayers - 1
+// longest empty runs between used bins that lie below b (the lower first on ties)
+uint LayerOf(uint occ, uint b)
+{
+  uint taken = 0u; // bins of the runs already chosen
+  uint layer = 0u;
+  for (int g = 0; g < uLayers - 1; ++g)
+  {
+    uint bestLen = 0u, bestAt = 0u, len = 0u;
+    bool seen = false;
+    for (uint q = 0u; q < 32u; ++q)
+    {
+      bool used = (occ & (1u << q)) != 0u;
+      if (used)
+      {
+        if (seen && len > bestLen && (taken & (1u << (q - 1u))) == 0u)
+        {
+          bestLen = len;
+          bestAt = q - 1u;
+        }
+        seen = true;
+        len = 0u;
+      }
+      else if (seen)
+      {
+        ++len;
+      }
+    }
+    if (bestLen == 0u)
+    {
+      break;
+    }
+    taken |= 1u << bestAt; // (a run is marked by its last bin)
+    layer += bestAt < b ? 1u : 0u;
+  }
+  return layer;
+}
 void main()
 {
   uint i = GID();
@@ -138,9 +200,26 @@ void main()
   {
     dvec3 S = Start(i);
     uint c = CellOf(ToGrid(Project(S)));
+    double d = Depth(S);
+    uint G2 = uint(uG * uG);
+    if (uStage == 0)
+    {
+      atomicMax(cellDepth[c], Ord(NextUp(float(d))));
+      atomicMin(cellDepth[G2 + c], Ord(FloatDown(d)));
+      return;
+    }
+    if (uStage == 1)
+    {
+      atomicOr(cellDepth[2u * G2 + c], 1u << DepthBin(d, c));
+      return;
+    }
+    atomicMax(cellDepth[c], Ord(NextUp(float(d))));
+    if (uLayers > 1)
+    {
+      c = c * uint(uLayers) + LayerOf(cellDepth[2u * G2 + c], DepthBin(d, c));
+    }
     pixCell[i] = c;
     atomicAdd(cellCount[c], 1u);
-    atomicMax(cellDepth[c], Ord(NextUp(float(Depth(S)))));
     dvec3 B = ToLight(S);
     atomicMin(cellBox[6u * c], Ord(FloatDown(B.x)));
     atomicMin(cellBox[6u * c + 1u], Ord(FloatDown(B.y)));
@@ -149,6 +228,19 @@ void main()
     atomicMin(cellBox[6u * c + 4u], Ord(FloatDown(-B.y)));
     atomicMin(cellBox[6u * c + 5u], Ord(FloatDown(-B.z)));
   }
+}
+#endif
+
+#ifdef K_SAT_ROWS
+// grid cell c (of the G x G) has samples in one of its depth layers
+bool NonEmpty(uint c)
+{
+  uint n = 0u;
+  for (uint l = 0u; l < uint(uLayers); ++l)
+  {
+    n += cellCount[c * uint(uLayers) + l];
+  }
+  return n != 0u;
 }
 #endif
 
@@ -163,7 +255,7 @@ void main()
     uint G1 = uint(uG) + 1u;
     for (uint x = 0u; x < uint(uG); ++x)
     {
-      run += cellCount[y * uint(uG) + x] > 0u ? 1u : 0u;
+      run += NonEmpty(y * uint(uG) + x) ? 1u : 0u;
       sat[(y + 1u) * G1 + x + 1u] = run;
     }
   }
@@ -310,6 +402,28 @@ bool CellKeeps(uint c, dvec3 A, dvec3 B, dvec3 C)
 {
   return CellKeepsOf(c, CellShaft(c), A, B, C);
 }
+#if defined(K_PASS1) || defined(K_PASS2)
+// The list cells of grid cell c (its depth layers, K_CELL) that keep the
+// triangle, a bit each. Written out, not looped: llvmpipe's loop budget
+// counts these as pass 1's and 2's G^2 iterations each (at most 4 layers).
+uint KeptLayers(uint c, dvec3 A, dvec3 B, dvec3 C)
+{
+  uint L = uint(uLayers), m = CellKeeps(c * L, A, B, C) ? 1u : 0u;
+  if (L > 1u && CellKeeps(c * L + 1u, A, B, C))
+  {
+    m |= 2u;
+  }
+  if (L > 2u && CellKeeps(c * L + 2u, A, B, C))
+  {
+    m |= 4u;
+  }
+  if (L > 3u && CellKeeps(c * L + 3u, A, B, C))
+  {
+    m |= 8u;
+  }
+  return m;
+}
+#endif
 dvec3 LightVertex(uint t, uint m)
 {
   return ToLight(dvec3(triV[9u * t + 3u * m], triV[9u * t + 3u * m + 1u], triV[9u * t + 3u * m + 2u]));
@@ -324,6 +438,10 @@ dvec3 LightVertex(uint t, uint m)
 uniform double uMaxDepth, uMinDepth;
 uniform int uCorners, uRetract;
 uniform dvec3 uCorner[4], uAway[4];
+// > 0: an estimate (ssGearsGL.cxx, kLayerSample): triangles uSample i only,
+// their lists' count summed into red[59] (a wrap sets red[57]), nothing else
+// kept (the host resets the counters this touches)
+uniform uint uSample;
 int Log2(int n)
 {
   int l = 0;
@@ -375,7 +493,7 @@ ivec4 VolumeBox(dvec3 B[3], double d[3], double far)
 }
 void main()
 {
-  uint t = GID();
+  uint t = GID() * max(uSample, 1u);
   if (t >= uN)
   {
     return;
@@ -423,7 +541,10 @@ void main()
       }
     }
   }
-  box[t] = b;
+  if (uSample == 0u)
+  {
+    box[t] = b;
+  }
   uint n = 0u;
   if (b.x <= b.z && b.y <= b.w && uShaft != 0)
   {
@@ -434,9 +555,10 @@ void main()
     {
       for (int x = b.x; x <= b.z; ++x)
       {
-        uint c = uint(y * uG + x);
-        nonEmpty += cellCount[c] != 0u ? 1u : 0u;
-        n += CellKeeps(c, L0, L1, L2) ? 1u : 0u;
+        uint c = uint(y * uG + x), L = uint(uLayers);
+        nonEmpty += (cellCount[c * L] != 0u ? 1u : 0u) + (L > 1u && cellCount[c * L + 1u] != 0u ? 1u : 0u) +
+          (L > 2u && cellCount[c * L + 2u] != 0u ? 1u : 0u) + (L > 3u && cellCount[c * L + 3u] != 0u ? 1u : 0u);
+        n += uint(bitCount(KeptLayers(c, L0, L1, L2)));
       }
     }
     if (nonEmpty > n)
@@ -455,6 +577,15 @@ void main()
     // the nearest listed depth (pass 2's order; clamped: float(double) is
     // undefined beyond the float range)
     atomicMin(red[60], Ord(FloatDown(clamp(dMin, -1e38LF, 1e38LF))));
+  }
+  if (uSample != 0u)
+  {
+    uint before = atomicAdd(red[59], n);
+    if (before + n < before)
+    {
+      atomicOr(red[57], 1u);
+    }
+    return;
   }
   off[t] = n;
 }
@@ -539,6 +670,12 @@ void main()
 uniform int uBuckets;
 uniform uint uCellKeys; // sort keys per cell: uBuckets, times 4 with the winding count's classes (K_WFLAG)
 uniform double uMaxDepth;
+void Put(inout uint o, uint t, uint c, uint bucket)
+{
+  pairTri[o] = t;
+  pairCell[o] = c * uCellKeys + bucket;
+  ++o;
+}
 void main()
 {
   uint t = GID();
@@ -561,12 +698,23 @@ void main()
   {
     for (int x = b.x; x <= b.z; ++x)
     {
-      uint c = uint(y * uG + x);
-      if (CellKeeps(c, L0, L1, L2))
+      uint c = uint(y * uG + x), L = uint(uLayers);
+      uint m = KeptLayers(c, L0, L1, L2);
+      if ((m & 1u) != 0u)
       {
-        pairTri[o] = t;
-        pairCell[o] = c * uCellKeys + bucket;
-        ++o;
+        Put(o, t, c * L, bucket);
+      }
+      if ((m & 2u) != 0u)
+      {
+        Put(o, t, c * L + 1u, bucket);
+      }
+      if ((m & 4u) != 0u)
+      {
+        Put(o, t, c * L + 2u, bucket);
+      }
+      if ((m & 8u) != 0u)
+      {
+        Put(o, t, c * L + 3u, bucket);
       }
     }
   }

@@ -31,6 +31,10 @@ uint GroupID()
 uniform uint uN;     // items of this dispatch (pixels, triangles, pairs, cells)
 uniform int uFace;   // cube face (point light) or 0
 uniform int uG;      // grid resolution
+// depth layers per grid cell (K_CELL): cell c of the G x G grid holds the
+// list cells c uLayers .. c uLayers + uLayers - 1, one per slice of its
+// samples' depth range (1: no split)
+uniform int uLayers;
 
 // ---------------------------------------------------------------- buffers
 // Each kernel declares only the buffers it uses (at most 16 per shader).
@@ -304,8 +308,9 @@ layout(std430, binding = 26) buffer CellBox { uint cellBox[]; };
 // Red layout: face f (0..5) at 8 f: min x y z, max x y z, max depth;
 // 48..51: 2-D min x, min y, max x, max y; 56: full-grid triangles;
 // 57: scan overflow flag; 58: pairs outside their cell's shaft (a statistic:
-// it wraps past 2^32); 60: the nearest depth of a listed triangle (pass 1,
-// for pass 2's depth buckets); 61: the largest start offset (K_START);
+// it wraps past 2^32); 59: pass 1's estimate of the pairs (uSample); 60: the
+// nearest depth of a listed triangle (pass 1, for pass 2's depth buckets);
+// 61: the largest start offset (K_START);
 // 62, 63: pixels the winding count solved and declined.
 
 // Floats as uints whose order is the floats' order (for atomicMin/Max).

@@ -134,7 +134,7 @@ bool Cancels(uint v, uint c, Shaft sh, uint st)
   }
   uint n = v & 0x7FFFFFFFu;
   ivec4 b = box[n];
-  int x = int(c) % uG, y = int(c) / uG;
+  int x = int(c / uint(uLayers)) % uG, y = int(c / uint(uLayers)) / uG; // (the grid cell of list cell c)
   if (x < b.x || x > b.z || y < b.y || y > b.w)
   {
     return false;
