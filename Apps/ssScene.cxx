@@ -362,6 +362,13 @@ void ResetClippingRangeToVisible(vtkRenderer* renderer, double aspect)
     return false;
   };
   double box[6] = { DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX, DBL_MAX, -DBL_MAX };
+  // the nearest depth (along the view direction) of a cell wholly in front
+  // of the camera: the near plane must not pass it
+  vtkCamera* cam = renderer->GetActiveCamera();
+  double eye[3], dir[3];
+  cam->GetPosition(eye);
+  cam->GetDirectionOfProjection(dir);
+  double nearest = DBL_MAX;
   auto grow = [&](const double b[6]) {
     if (!(std::isfinite(b[0]) && std::isfinite(b[1]) && std::isfinite(b[2]) && std::isfinite(b[3]) &&
           std::isfinite(b[4]) && std::isfinite(b[5])) || b[0] > b[1] || outside(b))
@@ -372,6 +379,16 @@ void ResetClippingRangeToVisible(vtkRenderer* renderer, double aspect)
     {
       box[2 * a] = std::min(box[2 * a], b[2 * a]);
       box[2 * a + 1] = std::max(box[2 * a + 1], b[2 * a + 1]);
+    }
+    double d = DBL_MAX;
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const double x = b[corner & 1], y = b[2 + ((corner >> 1) & 1)], z = b[4 + (corner >> 2)];
+      d = std::min(d, (x - eye[0]) * dir[0] + (y - eye[1]) * dir[1] + (z - eye[2]) * dir[2]);
+    }
+    if (d > 0.0)
+    {
+      nearest = std::min(nearest, d);
     }
   };
   vtkPropCollection* props = renderer->GetViewProps();
@@ -404,6 +421,23 @@ void ResetClippingRangeToVisible(vtkRenderer* renderer, double aspect)
   if (box[0] <= box[1])
   {
     renderer->ResetCameraClippingRange(box);
+    // A cell in view that reaches far out (a broken mesh's sliver running to
+    // a vertex at 1e10) sets the far plane, and VTK keeps the near plane at
+    // its ratio of the far one (1/1000 here): the near plane passed every
+    // ordinary cell and the picture came out empty (stop 49). Where the near
+    // plane lies beyond the nearest cell wholly in front, it moves to that
+    // cell and the far plane to the ratio from it: the far-out parts are
+    // clipped, the scene is drawn. Ordinary scenes keep VTK's range (their
+    // near plane lies in front of every cell).
+    double range[2];
+    cam->GetClippingRange(range);
+    const double ratio = renderer->GetNearClippingPlaneTolerance() > 0.0 ? renderer->GetNearClippingPlaneTolerance()
+                                                                          : 1e-3;
+    if (nearest < DBL_MAX && range[0] > nearest)
+    {
+      const double n = 0.99 * nearest;
+      cam->SetClippingRange(n, std::min(range[1], n / ratio));
+    }
   }
   else
   {
