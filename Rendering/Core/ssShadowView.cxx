@@ -282,7 +282,22 @@ std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& recei
     v.v = FallbackUp(v.n);
     v.u = glm::normalize(glm::cross(v.v, v.n));
   }
-  const double zMin = 1e-6 * diag;
+  // the depth floor in front of the light, from the casters' and the visible
+  // receivers' size where those are known: a receiver reaching far out of
+  // view (a sliver to a vertex at 1e10) set it to 1e4 from the receivers'
+  // whole bounds, and every visible receiver lay behind it (stop 49)
+  double scale = diag;
+  if (fit && visible->Count() > 0)
+  {
+    Box seen = casters;
+    for (std::size_t i = 0; i < visible->Count(); ++i)
+    {
+      const float* p = visible->xyz.data() + 3 * i;
+      seen.Add(glm::dvec3(p[0], p[1], p[2]));
+    }
+    scale = std::min(diag, std::max(seen.Diagonal(), 1e-12));
+  }
+  const double zMin = 1e-6 * scale;
   Rect r;
   bool clamped = false;
   if (!FitPerspectiveExtent(v, receivers, zMin, kMaxTan, 0.05, r, clamped))
