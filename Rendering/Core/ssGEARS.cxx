@@ -818,8 +818,7 @@ std::string GearsStatsToJSON(const GearsStats& s)
     << ", \"relate\": " << s.msRelate << ", \"sort\": " << s.msSort << ", \"raster\": " << s.msRaster
     << ", \"total\": " << s.msTotal << "}, \"triangles\": " << s.triangles << ", \"samples\": " << s.samples
     << ", \"grid\": " << s.grid << ", \"gl_layers\": " << s.layers << ", \"gl_layers_retried\": " << s.layersRetried
-    << ", \"grid_cells\": " << s.gridCells
-    << ", \"non_empty_cells\": " << s.nonEmptyCells
+    << ", \"grid_cells\": " << s.gridCells << ", \"non_empty_cells\": " << s.nonEmptyCells
     << ", \"pairs\": " << s.pairs << ", \"triangles_per_cell\": {\"max\": " << s.trianglesPerCellMax
     << ", \"avg\": " << s.trianglesPerCellAvg << "}, \"samples_per_cell\": {\"max\": " << s.samplesPerCellMax
     << ", \"avg\": " << s.samplesPerCellAvg << "}, \"assignments\": {\"total\": " << s.assignmentsTotal

@@ -212,6 +212,7 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
     }
     nl = K.cluster(fc, first, end, s, of, out, w.list.data(), nl, tested);
   };
+  const glm::dvec3 castersCentre = ft.ToLight(glm::dvec3(0.0)); // (the solver's frame is centred on them)
   tbb::enumerable_thread_specific<CellScratch> scratch;
   const auto solveCells = [&](const tbb::blocked_range<std::size_t>& r) {
     CellScratch& w = scratch.local();
@@ -260,8 +261,8 @@ bool SolveCells(const CellJob& job, CellCounters& counters, GearsAssignment::Fac
       // size of its centre; where a few starts lie far out (a broken receiver's
       // sliver reaching 1e10) the box's centre would lie far from the scene,
       // and the triangles' float coordinates relative to it would lose every
-      // bit (V = 1 in shadow, gears.md "Receivers at huge distances")
-      const glm::dvec3 o = glm::clamp(ft.ToLight(glm::dvec3(0.0)), lo, hi);
+      // bit (V = 1 in shadow, gears.md "Receivers far out")
+      const glm::dvec3 o = glm::clamp(castersCentre, lo, hi);
       const float of[3] = { static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z) };
       std::size_t nl = 0, tested = 0;
       // --- inner occluders first (their clusters lead the cell's list): a

@@ -359,6 +359,15 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
     // (a second round without layers where their pairs do not fit)
     std::size_t NL = NC * faceLayers, samples = 0, numPairs = 0;
     std::vector<std::uint32_t> cellCount;
+    // this face once more without layers (fewer pairs), and the next solves
+    // of these triangles too; pass 1's time so far counts as its stage's
+    auto oneLayer = [&]() {
+      faceLayers = 1;
+      NL = NC;
+      I.LayersFit = false;
+      t0 = Clock::now();
+      st.msPrefixSum += Ms(t1, t0);
+    };
     for (;;)
     {
       I.Fill(I.Buf[BCellCnt], 4 * NL, 0u);
@@ -477,11 +486,7 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
         resetCounters();
         if (wrapped || 4.0 * estimate > 0.9 * double(maxBlock))
         {
-          faceLayers = 1;
-          NL = NC;
-          I.LayersFit = false;
-          t0 = Clock::now();
-          st.msPrefixSum += Ms(t1, t0);
+          oneLayer();
           continue;
         }
       }
@@ -494,15 +499,9 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
       const bool pairsWrapped = I.ReadUint(I.Buf[BRed], 57) != 0;
       if ((pairsWrapped || 4 * numPairs > maxBlock) && faceLayers > 1)
       {
-        // more pairs than one buffer holds (or than 32 bits count): this
-        // face once more without layers (fewer pairs), and the next solves
-        // of these triangles too
-        faceLayers = 1;
-        NL = NC;
-        I.LayersFit = false;
+        // more pairs than one buffer holds (or than 32 bits count)
+        oneLayer();
         ++st.layersRetried;
-        t0 = Clock::now();
-        st.msPrefixSum += Ms(t1, t0); // (the first pass 1 in its stage's time)
         continue;
       }
       if (pairsWrapped)
