@@ -18,6 +18,9 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
+#include "vtkActorCollection.h"
+#include "vtkOpenGLPolyDataMapper.h"
+#include "vtkOpenGLVertexBufferObject.h"
 #include "vtkPropCollection.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
@@ -340,6 +343,45 @@ vtkSmartPointer<vtkPolyData> Inline(const json& o, const Ctx& c)
 // counts when its bounds are not wholly outside one of the frustum's four
 // side planes; what lies outside the view cannot be drawn and does not set
 // the range. A volume, or an actor with a transform, counts by its bounds.
+// VTK's automatic shift moves a mapper's float coordinates to the centre of
+// its bounds. A mesh reaching from the view far out (a needle to a lost
+// vertex at 1e10) has that centre far from what is seen, whose vertices then
+// lie on a coarse grid: a strip from the scene to 1e10 vanished from the
+// picture, its bottom on a 512-unit grid (stop 50). Such a mapper shifts to
+// the camera's focal point instead: its centre lies more than 100 camera
+// distances from the focal point and its bounds come within 100 of it. The
+// others keep VTK's rule, so ordinary scenes are drawn as before.
+void ShiftFarReachingMappersToTheFocalPoint(vtkRenderer* renderer)
+{
+  vtkCamera* cam = renderer->GetActiveCamera();
+  const double reach = 100.0 * cam->GetDistance();
+  const double* fp = cam->GetFocalPoint();
+  vtkActorCollection* actors = renderer->GetActors();
+  vtkCollectionSimpleIterator it;
+  actors->InitTraversal(it);
+  while (vtkActor* actor = actors->GetNextActor(it))
+  {
+    auto* mapper = vtkOpenGLPolyDataMapper::SafeDownCast(actor->GetMapper());
+    const double* b = actor->GetBounds();
+    if (!mapper || !b || !(b[0] <= b[1]))
+    {
+      continue;
+    }
+    double centre = 0.0, nearest = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double c = 0.5 * (b[2 * a] + b[2 * a + 1]) - fp[a];
+      const double n = std::max({ b[2 * a] - fp[a], fp[a] - b[2 * a + 1], 0.0 });
+      centre += c * c;
+      nearest += n * n;
+    }
+    if (std::sqrt(centre) > reach && std::sqrt(nearest) < reach)
+    {
+      mapper->SetVBOShiftScaleMethod(vtkOpenGLVertexBufferObject::FOCAL_POINT_SHIFT_SCALE);
+    }
+  }
+}
+
 void ResetClippingRangeToVisible(vtkRenderer* renderer, double aspect)
 {
   double planes[24];
@@ -692,6 +734,7 @@ SceneInfo LoadScene(const std::string& path, vtkRenderer* renderer)
     renderer->ResetCamera();
   }
   ResetClippingRangeToVisible(renderer, static_cast<double>(info.width) / info.height);
+  ShiftFarReachingMappersToTheFocalPoint(renderer);
   return info;
 }
 

@@ -94,9 +94,13 @@ ASMLightViews MakeASMViews(const LightFrame& light, const Box& receivers, const 
     lv.facing = light.n;
     faces = 5;
   }
+  // the depth floor of the extents' fit from the casters' size where there
+  // are casters: from everything, a receiver sliver to a vertex at 1e10 set it
+  // to 1e4, and each face's extent shrank to the sliver's far end (stop 50)
   Box all = receivers;
   all.Add(casters);
-  const double zMin = 1e-6 * std::max(all.Diagonal(), 1e-12);
+  const double scale = casters.Empty() ? all.Diagonal() : std::min(all.Diagonal(), casters.Diagonal());
+  const double zMin = 1e-6 * std::max(scale, 1e-12);
   for (int f = 0; f < faces; ++f)
   {
     ShadowView v;

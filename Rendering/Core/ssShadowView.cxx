@@ -154,6 +154,25 @@ VisibleReceivers CollectVisibleReceivers(
   return r;
 }
 
+namespace
+{
+/// `r` widened about its centre to at least `width` on each axis.
+void AtLeastWide(Rect& r, const glm::dvec2& width)
+{
+  for (int axis = 0; axis < 2; ++axis)
+  {
+    double& lo = axis == 0 ? r.x0 : r.y0;
+    double& hi = axis == 0 ? r.x1 : r.y1;
+    const double need = width[axis] - (hi - lo);
+    if (need > 0.0)
+    {
+      lo -= 0.5 * need;
+      hi += 0.5 * need;
+    }
+  }
+}
+}
+
 bool FitPerspectiveExtentToPoints(const ShadowView& view, const VisibleReceivers& points, double zMin,
   double tMax, const glm::dvec2& halfSize, double nearest, double margin, Rect& out, bool& beyond)
 {
@@ -193,17 +212,7 @@ bool FitPerspectiveExtentToPoints(const ShadowView& view, const VisibleReceivers
   // receiver (ssShadowCommon.glsl, blockerSearch): the extent is at least 4
   // reaches wide, so a close-up of a small area under a large light does not
   // cut the search short.
-  for (int axis = 0; axis < 2; ++axis)
-  {
-    double& lo = axis == 0 ? r.x0 : r.y0;
-    double& hi = axis == 0 ? r.x1 : r.y1;
-    const double need = 4.0 * (axis == 0 ? maxReach.x : maxReach.y) - (hi - lo);
-    if (need > 0.0)
-    {
-      lo -= 0.5 * need;
-      hi += 0.5 * need;
-    }
-  }
+  AtLeastWide(r, 4.0 * maxReach);
   ClampExtent(r, tMax);
   MakeNonDegenerate(r);
   out = r;
@@ -243,6 +252,15 @@ std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& recei
   all.Add(casters);
   const double diag = std::max(all.Diagonal(), 1e-12);
   const bool fit = visible && visible->known;
+  Box seen; // the visible receivers' box (empty without them)
+  if (fit)
+  {
+    for (std::size_t i = 0; i < visible->Count(); ++i)
+    {
+      const float* p = visible->xyz.data() + 3 * i;
+      seen.Add(glm::dvec3(p[0], p[1], p[2]));
+    }
+  }
 
   if (light.type == LightType::Directional)
   {
@@ -251,13 +269,31 @@ std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& recei
     v.n = light.n;
     v.v = FallbackUp(light.n);
     v.u = glm::normalize(glm::cross(v.v, v.n));
-    v.origin = all.Center() - light.n * diag;
-    // Kernels reach at most diag * tan(angle/2) beyond a receiver.
-    const double pad = diag * std::tan(0.5 * light.angularDiameter);
-    // Fitted to the receivers' bounds only: cut to the visible receivers, the
-    // wide PCSS kernels of a large angular size outgrew the quarter of the
-    // map the search reads (ParaView's SoftShadowViewLights lost penumbra).
+    // Light-space depths are floats from the origin: it lies behind the
+    // casters and the visible receivers, at their size. From the receivers'
+    // whole bounds, a receiver sliver to a vertex at 1e10 put it 1e10 away,
+    // and the depths kept 1e3 a step (stop 50).
+    Box near = casters;
+    near.Add(seen.Empty() ? receivers : seen);
+    const double nearDiag = std::max(near.Diagonal(), 1e-12);
+    v.origin = near.Center() - light.n * nearDiag;
+    // Kernels reach at most nearDiag * tan(angle/2) beyond a receiver (a
+    // caster farther from a visible receiver shadows it by less than its size).
+    const double pad = nearDiag * std::tan(0.5 * light.angularDiameter);
+    // Fitted to the receivers' bounds, cut to the visible receivers' box
+    // widened by the reach of what can shadow them and at least 4 reaches
+    // wide: cut to the visible receivers alone, the wide PCSS kernels of a
+    // large angular size outgrew the quarter of the map the search reads
+    // (ParaView's SoftShadowViewLights lost penumbra); not cut, a receiver
+    // sliver running sideways to 1e10 spread the map over it (stop 50).
     v.extent = FitOrthographicExtent(v, receivers.Empty() ? all : receivers, 0.02, pad);
+    if (!seen.Empty())
+    {
+      Rect p = FitOrthographicExtent(v, seen, 0.02, pad);
+      AtLeastWide(p, glm::dvec2(4.0 * pad));
+      v.extent = IntersectExtent(v.extent, p);
+      info.fitted = true;
+    }
     views.push_back(v);
     return views;
   }
@@ -287,15 +323,11 @@ std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& recei
   // view (a sliver to a vertex at 1e10) set it to 1e4 from the receivers'
   // whole bounds, and every visible receiver lay behind it (stop 49)
   double scale = diag;
-  if (fit && visible->Count() > 0)
+  if (!seen.Empty())
   {
-    Box seen = casters;
-    for (std::size_t i = 0; i < visible->Count(); ++i)
-    {
-      const float* p = visible->xyz.data() + 3 * i;
-      seen.Add(glm::dvec3(p[0], p[1], p[2]));
-    }
-    scale = std::min(diag, std::max(seen.Diagonal(), 1e-12));
+    Box near = casters;
+    near.Add(seen);
+    scale = std::min(diag, std::max(near.Diagonal(), 1e-12));
   }
   const double zMin = 1e-6 * scale;
   Rect r;

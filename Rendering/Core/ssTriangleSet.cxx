@@ -11,6 +11,29 @@ float TriangleOpacity(const std::vector<float>& opacity, std::size_t t)
   return (t < opacity.size()) ? std::clamp(opacity[t], 0.0f, 1.0f) : 1.0f;
 }
 
+namespace
+{
+/// A triangle far longer than both B's diagonal and its own width (twice its
+/// area over its longest edge): a sliver to a lost vertex (stop 50: one at
+/// 1e10, touching the scene, made the bulk 1e10 wide; the float origin moved
+/// 5e9 away, so every caster lost its shape, and the start offset grew to
+/// 1e5, past the light: V = 0 everywhere). Its float rounding near the scene
+/// comes from its vertices there (a far vertex weighs in with its barycentric
+/// weight), so leaving it out costs it nothing. A ground plane is as wide as
+/// it is long and stays in.
+bool Needle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double diag, double qDiag)
+{
+  constexpr double kRatio = 1e3;
+  if (!(diag > kRatio * qDiag))
+  {
+    return false;
+  }
+  const double longest = std::max({ glm::length(b - a), glm::length(c - b), glm::length(a - c) });
+  const double width = glm::length(glm::cross(b - a, c - a)) / std::max(longest, 1e-300);
+  return diag > kRatio * width;
+}
+}
+
 TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector<char>& keep)
 {
   const std::size_t nt = v.size() / 3;
@@ -61,7 +84,8 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     alo = glm::min(alo, tlo);
     ahi = glm::max(ahi, thi);
     const glm::dvec3 gap = glm::max(glm::max(qlo - thi, tlo - qhi), glm::dvec3(0.0));
-    if (glm::length(gap) <= 4.0 * std::max(qDiag, glm::length(thi - tlo)))
+    const double diag = glm::length(thi - tlo);
+    if (glm::length(gap) <= 4.0 * std::max(qDiag, diag) && !Needle(v[3 * t], v[3 * t + 1], v[3 * t + 2], diag, qDiag))
     {
       blo = glm::min(blo, tlo);
       bhi = glm::max(bhi, thi);
@@ -72,6 +96,8 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     blo = alo; // no triangle near B (not seen): all of them
     bhi = ahi;
   }
+  r.lo = blo;
+  r.hi = bhi;
   r.center = 0.5 * (blo + bhi);
   r.scale = std::max(glm::length(bhi - blo), 1e-30);
   return r;

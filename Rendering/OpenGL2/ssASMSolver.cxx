@@ -378,14 +378,15 @@ ASMSolver::LightState* ASMSolver::Prepare(SolverFrame& frame, const ShadowLight&
 bool ASMSolver::BuildLight(SolverFrame& frame, LightState& ls, const LightFrame& absolute, std::string& error)
 {
   const CasterSet& casters = *frame.Casters;
-  ls.Views = MakeASMViews(absolute, casters.Receivers, casters.Bounds);
+  // fitted to the casters' bulk, without a needle to a lost vertex (stop 50)
+  ls.Views = MakeASMViews(absolute, casters.Receivers, casters.BulkBounds);
   ls.Clusters = ClusterCounts{};
   const int n = static_cast<int>(ls.Views.views.size());
   const int C = this->Settings.cells;
   ls.CellRanges.assign(static_cast<std::size_t>(n), {});
   ls.DepthScale.assign(static_cast<std::size_t>(n), 1.0);
   Box all = casters.Receivers;
-  all.Add(casters.Bounds);
+  all.Add(casters.BulkBounds);
   for (int v = 0; v < n; ++v)
   {
     const ShadowView& view = ls.Views.views[static_cast<std::size_t>(v)];
@@ -408,11 +409,23 @@ bool ASMSolver::BuildLight(SolverFrame& frame, LightState& ls, const LightFrame&
       return false;
     }
     ls.TreeViews.push_back(id);
-    // the light-space depth range of everything (fixed-point depths, §4.2)
-    double zMax = 0.0;
+    // the light-space depth range of everything (fixed-point depths, §4.2),
+    // at most 4 times the casters' bulk's: a receiver beyond clamps to the
+    // largest depth, still behind every caster. From everything, a receiver
+    // sliver to a vertex at 1e10 left 2.3 units a step, and the scene's
+    // shadows were gone (stop 50).
+    double zMax = 0.0, zCasters = 0.0;
     for (int c = 0; c < 8; ++c)
     {
       zMax = std::max(zMax, view.ToLightSpace(all.Corner(c)).z);
+      if (!casters.BulkBounds.Empty())
+      {
+        zCasters = std::max(zCasters, view.ToLightSpace(casters.BulkBounds.Corner(c)).z);
+      }
+    }
+    if (zCasters > 0.0)
+    {
+      zMax = std::min(zMax, 4.0 * zCasters);
     }
     ls.DepthScale[static_cast<std::size_t>(v)] = 1.0 / std::max(zMax * 1.01, 1e-30);
     // §4.3: "we use frustum culling for each cell in the topmost level of the

@@ -365,6 +365,12 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
   const TriangleBulk bulk = this->Bounds.Empty() ? TriangleBulk{} : BulkOfTriangles(tris);
   this->Origin = bulk.center;
   this->BulkScale = bulk.scale;
+  this->BulkBounds = Box{};
+  if (!this->Bounds.Empty())
+  {
+    this->BulkBounds.Add(bulk.lo);
+    this->BulkBounds.Add(bulk.hi);
+  }
   this->Triangles.resize(tris.size() * 3);
   for (std::size_t i = 0; i < tris.size(); ++i)
   {

@@ -75,6 +75,9 @@ public:
   glm::dvec3 Origin{ 0.0 };     ///< world; the centre of the casters' bulk (ssTriangleSet.h BulkOfTriangles)
   double BulkScale = 0.0;       ///< the diagonal of that bulk (0: no casters)
   Box Bounds;                   ///< absolute
+  /// absolute; the bulk's bounds (BulkOfTriangles: without stray triangles
+  /// and needles to a lost vertex), what the light views are fitted to
+  Box BulkBounds;
   bool Translucent = false;     ///< some caster has opacity < 1 or an alpha texture
   Box TranslucentBounds;        ///< absolute bounds of those casters' triangles
   std::string TranslucentWhy;   ///< what makes them translucent ("opacity < 1", "an RGBA texture")

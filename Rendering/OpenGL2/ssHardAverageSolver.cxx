@@ -102,7 +102,7 @@ void HardAverageSolver::Compute(SolverFrame& frame, const ShadowLight& l)
   const ShadowMaps& maps = *frame.Maps;
   const int W = frame.State->Width, H = frame.State->Height, S = maps.GetArray().Size;
   const Box receivers = RelativeBox(casterSet.Receivers, frame.State->Origin);
-  const Box casters = RelativeBox(casterSet.Bounds, frame.State->Origin);
+  const Box casters = RelativeBox(casterSet.BulkBounds, frame.State->Origin);
   const glm::dvec3 casterOffset = casterSet.Origin - frame.State->Origin;
   ostate->PushFramebufferBindings();
   fbo->Bind();

@@ -101,7 +101,7 @@ void TranslucentSolver::BeginFrame(SolverFrame& frame, const std::vector<const S
   this->Volumes.Update(casters, frame.Reporter);
   // views fitted to the receivers and to every caster, volumes included
   const glm::dvec3& origin = frame.State->Origin;
-  Box all = casters.Bounds;
+  Box all = casters.BulkBounds;
   all.Add(this->Volumes.Bounds());
   const Box receivers = RelativeBox(casters.Receivers, origin);
   const Box castersBox = RelativeBox(all, origin);

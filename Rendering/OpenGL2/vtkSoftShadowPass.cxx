@@ -452,8 +452,9 @@ void vtkSoftShadowPass::SolveVisibility(const vtkRenderState* s)
   }
 
   // --- whole-view shadow maps, one shared array: views fitted to the
-  // receivers (relative coordinates), the size the lights agree on
-  const ss::Box casters = ss::RelativeBox(in.Casters.Bounds, in.Frame.Origin);
+  // receivers (relative coordinates), the size the lights agree on; the
+  // casters' bulk, without a needle to a lost vertex at 1e10 (stop 50)
+  const ss::Box casters = ss::RelativeBox(in.Casters.BulkBounds, in.Frame.Origin);
   int totalViews = 0, numShadowLights = 0;
   std::vector<int> asked;
   for (auto& l : in.Frame.Lights)

@@ -408,14 +408,32 @@ add_test(NAME cli.render.stray_triangle
 set_tests_properties(cli.render.stray_triangle PROPERTIES LABELS "cli" TIMEOUT 300)
 # A receiver sliver in view reaching 1e10 (below the plane, hidden by it):
 # before stop 49 its bounds set the far plane and the near plane followed to
-# 1/1000 of it, and the picture was empty under every method. Now every
-# method but ASM renders the same frame (ASM's views still take the
-# receivers' whole bounds: stability.md, not fixed).
+# 1/1000 of it, and the picture was empty under every method; until stop 50
+# ASM lost its shadows (its views' depth floor and fixed-point depth range
+# from the receivers' whole bounds).
 add_test(NAME cli.render.far_sliver_in_view
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
     "${_ss_data}/GoodScenes/stray_reference.json" "${_ss_data}/GoodScenes/far_sliver_in_view.json"
-    "${_ss_out}/far_sliver_in_view" "hard,pcf,pcss,pvsm,hardavg,gears,reference")
+    "${_ss_out}/far_sliver_in_view" "hard,pcf,pcss,pvsm,hardavg,asm,vpcss,avsm,gears,reference")
 set_tests_properties(cli.render.far_sliver_in_view PROPERTIES LABELS "cli" TIMEOUT 300)
+# Two casting needles from under the plane to 1e10 (one down, one sideways;
+# hidden by the plane): before stop 50 they belonged to the casters' bulk by
+# their size, so the float origin went 5e9 out and the start offset to 1e5:
+# GEARS and the reference V = 0 everywhere, the map methods without shadows.
+add_test(NAME cli.render.far_needles_casting
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
+    "${_ss_data}/GoodScenes/stray_reference.json" "${_ss_data}/GoodScenes/far_needles_casting.json"
+    "${_ss_out}/far_needles_casting" "hard,pcf,pcss,pvsm,hardavg,asm,vpcss,avsm,gears,reference")
+set_tests_properties(cli.render.far_needles_casting PROPERTIES LABELS "cli" TIMEOUT 300)
+# A casting strip in view from the plane to 1e4 or to 1e10 (past the light,
+# out of the frame's top): the same frame. Before stop 50, at 1e10 VTK's
+# automatic shift of the strip's coordinates to its bounds' centre (5e9) left
+# its bottom on a 512-unit grid, so the strip vanished from the picture.
+add_test(NAME cli.render.needle_to_sky
+  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
+    "${_ss_data}/GoodScenes/needle_to_sky_near.json" "${_ss_data}/GoodScenes/needle_to_sky_far.json"
+    "${_ss_out}/needle_to_sky" "hard,pcf,pcss,pvsm,hardavg,asm,vpcss,avsm,gears,reference")
+set_tests_properties(cli.render.needle_to_sky PROPERTIES LABELS "cli" TIMEOUT 300)
 add_test(NAME cli.bake.stray_triangle_without
   COMMAND ${_ss_cli} bake "${_ss_data}/GoodScenes/stray_reference.json" --object 1 --output "${_ss_out}/bake_stray_ref.vtp")
 add_test(NAME cli.bake.stray_triangle_with

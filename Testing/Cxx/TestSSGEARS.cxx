@@ -5,6 +5,7 @@
 #include "ssGEARS.h"
 #include "ssGearsTestScenes.h"
 #include "ssReference.h"
+#include "ssTriangleSet.h"
 
 #include <gtest/gtest.h>
 
@@ -476,14 +477,27 @@ TEST(GEARS, AStrayFarTriangleChangesNoShadow)
     o.k = k;
     return r.Solve(light, glm::dvec3(0.0), s.pos.data(), s.nrm.data(), n, o);
   };
-  for (double far : { 1e3, 1e5, 1e6 })
+  // a small triangle far away, and (stop 50) a needle from under the ground
+  // to a vertex far away: it touches the scene, so its bounds counted in the
+  // bulk; at 1e10 the float origin went 5e9 out and the start offset grew
+  // past the light (V = 0 everywhere)
+  const std::pair<double, bool> strays[] = { { 1e3, false }, { 1e5, false }, { 1e6, false }, { 1e3, true },
+    { 1e6, true }, { 1e10, true } };
+  for (const auto& [far, needle] : strays)
   {
     std::vector<glm::dvec3> stray = s.tris;
     // below the ground and off to the side: it can shadow none of the pixels
     const glm::dvec3 c = far * glm::normalize(glm::dvec3(1.0, 0.7, -1.0));
-    for (const glm::dvec3& d : { glm::dvec3(0, 0, 0), glm::dvec3(0.01, 0, 0), glm::dvec3(0, 0.01, 0) })
+    if (needle)
     {
-      stray.push_back(c + d);
+      stray.insert(stray.end(), { glm::dvec3(0.1, 0.0, -0.01), glm::dvec3(0.11, 0.0, -0.01), c });
+    }
+    else
+    {
+      for (const glm::dvec3& d : { glm::dvec3(0, 0, 0), glm::dvec3(0.01, 0, 0), glm::dvec3(0, 0.01, 0) })
+      {
+        stray.push_back(c + d);
+      }
     }
     for (const LightFrame& light : lights)
     {
@@ -502,13 +516,39 @@ TEST(GEARS, AStrayFarTriangleChangesNoShadow)
         }
         const int kk = light.type == LightType::Point ? 1 : k;
         const std::string what = std::string(gears ? "GEARS" : "reference") + ", light type " +
-          std::to_string(int(light.type)) + ", stray triangle at " + std::to_string(far);
+          std::to_string(int(light.type)) + (needle ? ", needle to " : ", stray triangle at ") + std::to_string(far);
         EXPECT_GT(shadowed, n / 5) << what; // the scene really shadows itself
         EXPECT_GE(equal, 0.999 * n) << what;
         EXPECT_LE(maxDiff, 2.0 / (kk * kk) + 1e-6) << what;
       }
     }
   }
+}
+
+// The bulk (ssTriangleSet.h) leaves out a needle to a lost vertex, however
+// far, and keeps a ground plane 1e4 times the scene's size, which is as wide
+// as it is long (its vertices' rounding near the scene needs the offset).
+TEST(GEARS, TheBulkLeavesOutNeedlesAndKeepsGroundPlanes)
+{
+  const std::vector<glm::dvec3> sphere = sstest::BumpySphere(glm::dvec3(0.0, 0.0, 0.5), 0.5, 3);
+  for (double far : { 1e4, 1e10, 1e30 })
+  {
+    std::vector<glm::dvec3> t = sphere;
+    t.insert(t.end(), { glm::dvec3(0.0, 0.0, 0.0), glm::dvec3(0.01, 0.0, 0.0), glm::dvec3(0.3, -0.2, -far) });
+    const TriangleBulk b = BulkOfTriangles(t);
+    EXPECT_LT(glm::length(b.center - glm::dvec3(0.0, 0.0, 0.5)), 0.05) << "needle to " << far;
+    EXPECT_LT(b.scale, 2.0) << "needle to " << far;
+    EXPECT_GT(b.scale, 1.0) << "needle to " << far;
+    const TriangleSelection sel = SelectTriangles(t, {}, false);
+    EXPECT_LT(sel.scale, 2.0) << "needle to " << far;
+  }
+  std::vector<glm::dvec3> t = sphere;
+  const double g = 5e3;
+  t.insert(t.end(), { glm::dvec3(-g, -g, 0), glm::dvec3(g, -g, 0), glm::dvec3(g, g, 0), glm::dvec3(-g, -g, 0),
+                      glm::dvec3(g, g, 0), glm::dvec3(-g, g, 0) });
+  const TriangleBulk b = BulkOfTriangles(t);
+  EXPECT_GT(b.scale, 1.4e4);
+  EXPECT_LT(glm::length(b.center - glm::dvec3(0.0, 0.0, 0.5)), 1.0);
 }
 
 // A few receivers far out (a broken receiver mesh: a sliver's G-buffer

@@ -187,21 +187,49 @@ TEST(ShadowView, FittedExtentHoldsVisibleReceiversAndWhatShadowsThem)
   EXPECT_LE(v.extent.x1, box.x1);
 }
 
-TEST(ShadowView, DirectionalExtentStaysFittedToTheBounds)
+TEST(ShadowView, DirectionalExtentIsCutToTheVisibleReceiversAndTheirReach)
 {
-  // cut to the visible receivers, the wide kernels of a large angular size
-  // outgrew the quarter of the map the PCSS search reads
-  Box receivers;
-  receivers.Add(glm::dvec3(-50, -50, 0));
-  receivers.Add(glm::dvec3(50, 50, 1));
-  const LightFrame l = MakeDirectionalLightFrame({ 0.2, 0.1, -1 }, 0.01);
+  // Cut to the visible receivers alone, the wide kernels of a large angular
+  // size outgrew the quarter of the map the PCSS search reads; not cut, a
+  // receiver sliver running sideways to 1e10 spread the map over it (stop 50).
+  // The extent holds each visible point's reach (casters within the box
+  // shadow it from at most reach away) and is at least 4 reaches wide.
+  const double angle = 0.2;
+  Box casters;
+  casters.Add(glm::dvec3(-50, -50, 0));
+  casters.Add(glm::dvec3(50, 50, 1));
+  const LightFrame l = MakeDirectionalLightFrame({ 0.2, 0.1, -1 }, angle);
   const VisibleReceivers pts = GroundPoints(2.0, 0.5);
-  LightViewInfo info;
-  const auto fitted = MakeLightViews(l, receivers, receivers, info, &pts);
-  EXPECT_FALSE(info.fitted);
-  const auto whole = MakeLightViews(l, receivers, receivers, info);
-  ASSERT_EQ(fitted.size(), 1u);
-  EXPECT_DOUBLE_EQ(fitted[0].extent.Area(), whole[0].extent.Area());
+  for (double sliver : { 0.0, 1e10 })
+  {
+    Box receivers = casters;
+    if (sliver > 0.0)
+    {
+      receivers.Add(glm::dvec3(sliver, 0.0, 0.0));
+    }
+    LightViewInfo info;
+    const auto whole = MakeLightViews(l, receivers, casters, info);
+    EXPECT_FALSE(info.fitted);
+    const auto fitted = MakeLightViews(l, receivers, casters, info, &pts);
+    EXPECT_TRUE(info.fitted);
+    ASSERT_EQ(fitted.size(), 1u);
+    const ShadowView& v = fitted[0];
+    EXPECT_LT(v.extent.Area(), 0.5 * whole[0].extent.Area()) << "sliver " << sliver;
+    const double reach = casters.Diagonal() * std::tan(0.5 * angle);
+    EXPECT_GE(v.extent.x1 - v.extent.x0, 4.0 * reach) << "sliver " << sliver;
+    EXPECT_GE(v.extent.y1 - v.extent.y0, 4.0 * reach) << "sliver " << sliver;
+    EXPECT_LT(v.extent.x1 - v.extent.x0, 8.0 * reach) << "sliver " << sliver;
+    for (std::size_t i = 0; i < pts.Count(); ++i)
+    {
+      const float* p = pts.xyz.data() + 3 * i;
+      const glm::dvec2 X = v.Project(v.ToLightSpace(glm::dvec3(p[0], p[1], p[2])));
+      EXPECT_TRUE(X.x - reach >= v.extent.x0 && X.x + reach <= v.extent.x1 && X.y - reach >= v.extent.y0 &&
+        X.y + reach <= v.extent.y1)
+        << "point " << i << ", sliver " << sliver;
+    }
+    // light-space depths are floats: the origin lies at the scene's size
+    EXPECT_LT(glm::length(v.origin), 10.0 * casters.Diagonal()) << "sliver " << sliver;
+  }
 }
 
 TEST(ShadowView, FittedExtentIsFourReachesWide)
