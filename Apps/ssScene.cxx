@@ -335,14 +335,6 @@ vtkSmartPointer<vtkPolyData> Inline(const json& o, const Ctx& c)
   return pd;
 }
 
-// The camera's clipping range from the cells it can see, not from every
-// prop's bounds. VTK's ResetCameraClippingRange() spans all bounds and keeps
-// the near plane at least 1/1000 of the far one: one stray triangle 1e5
-// units away (a lost vertex, an exporter's marker) put the near plane
-// hundreds of units out and the picture came out empty (issue 17). A cell
-// counts when its bounds are not wholly outside one of the frustum's four
-// side planes; what lies outside the view cannot be drawn and does not set
-// the range. A volume, or an actor with a transform, counts by its bounds.
 // VTK's automatic shift moves a mapper's float coordinates to the centre of
 // its bounds. A mesh reaching from the view far out (a needle to a lost
 // vertex at 1e10) has that centre far from what is seen, whose vertices then
@@ -382,6 +374,14 @@ void ShiftFarReachingMappersToTheFocalPoint(vtkRenderer* renderer)
   }
 }
 
+// The camera's clipping range from the cells it can see, not from every
+// prop's bounds. VTK's ResetCameraClippingRange() spans all bounds and keeps
+// the near plane at least 1/1000 of the far one: one stray triangle 1e5
+// units away (a lost vertex, an exporter's marker) put the near plane
+// hundreds of units out and the picture came out empty (issue 17). A cell
+// counts when its bounds are not wholly outside one of the frustum's four
+// side planes; what lies outside the view cannot be drawn and does not set
+// the range. A volume, or an actor with a transform, counts by its bounds.
 void ResetClippingRangeToVisible(vtkRenderer* renderer, double aspect)
 {
   double planes[24];
