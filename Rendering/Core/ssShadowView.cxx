@@ -322,11 +322,13 @@ std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& recei
   // receivers' size where those are known: a receiver reaching far out of
   // view (a sliver to a vertex at 1e10) set it to 1e4 from the receivers'
   // whole bounds, and every visible receiver lay behind it (stop 49)
+  // Without visible receivers (a tiled frame: ParaView's SaveScreenshot
+  // larger than the view), from the casters' (stop 50).
   double scale = diag;
-  if (!seen.Empty())
+  Box near = casters;
+  near.Add(seen);
+  if (!near.Empty())
   {
-    Box near = casters;
-    near.Add(seen);
     scale = std::min(diag, std::max(near.Diagonal(), 1e-12));
   }
   const double zMin = 1e-6 * scale;

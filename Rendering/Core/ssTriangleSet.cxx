@@ -14,23 +14,38 @@ float TriangleOpacity(const std::vector<float>& opacity, std::size_t t)
 namespace
 {
 /// A triangle far longer than both B's diagonal and its own width (twice its
-/// area over its longest edge): a sliver to a lost vertex (stop 50: one at
-/// 1e10, touching the scene, made the bulk 1e10 wide; the float origin moved
-/// 5e9 away, so every caster lost its shape, and the start offset grew to
-/// 1e5, past the light: V = 0 everywhere). Its float rounding near the scene
-/// comes from its vertices there (a far vertex weighs in with its barycentric
-/// weight), so leaving it out costs it nothing. A ground plane is as wide as
-/// it is long and stays in.
-bool Needle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double diag, double qDiag)
+/// area over its longest edge), with a vertex near B: a sliver from the scene
+/// to a lost vertex (stop 50: one at 1e10 made the bulk 1e10 wide; the float
+/// origin moved 5e9 away, so every caster lost its shape, and the start offset
+/// grew to 1e5, past the light: V = 0 everywhere). Its float rounding near the
+/// scene comes from its vertices there (a far vertex weighs in with its
+/// barycentric weight), so leaving it out costs it nothing. A ground plane is
+/// as wide as it is long, and a long thin triangle passing by the scene with
+/// both ends far away is rounded near the scene by its far vertices' grid:
+/// both stay in.
+bool Needle(const glm::dvec3* t, double diag, const glm::dvec3& qlo, const glm::dvec3& qhi, double qDiag)
 {
   constexpr double kRatio = 1e3;
   if (!(diag > kRatio * qDiag))
   {
     return false;
   }
+  const glm::dvec3 &a = t[0], &b = t[1], &c = t[2];
   const double longest = std::max({ glm::length(b - a), glm::length(c - b), glm::length(a - c) });
   const double width = glm::length(glm::cross(b - a, c - a)) / std::max(longest, 1e-300);
-  return diag > kRatio * width;
+  if (!(diag > kRatio * width))
+  {
+    return false;
+  }
+  for (int j = 0; j < 3; ++j)
+  {
+    const glm::dvec3 gap = glm::max(glm::max(qlo - t[j], t[j] - qhi), glm::dvec3(0.0));
+    if (glm::length(gap) <= 4.0 * std::max(qDiag, width))
+    {
+      return true;
+    }
+  }
+  return false;
 }
 }
 
@@ -85,7 +100,7 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     ahi = glm::max(ahi, thi);
     const glm::dvec3 gap = glm::max(glm::max(qlo - thi, tlo - qhi), glm::dvec3(0.0));
     const double diag = glm::length(thi - tlo);
-    if (glm::length(gap) <= 4.0 * std::max(qDiag, diag) && !Needle(v[3 * t], v[3 * t + 1], v[3 * t + 2], diag, qDiag))
+    if (glm::length(gap) <= 4.0 * std::max(qDiag, diag) && !Needle(&v[3 * t], diag, qlo, qhi, qDiag))
     {
       blo = glm::min(blo, tlo);
       bhi = glm::max(bhi, thi);

@@ -176,6 +176,27 @@ bool vtkSoftShadowPass::GetASMRefining()
   return solver && solver->IsRefining();
 }
 
+bool vtkSoftShadowPass::ComputeCasterBulkBounds(vtkRenderer* ren, double bounds[6])
+{
+  if (!ren || !bounds)
+  {
+    return false;
+  }
+  vtkInternals& in = *this->Internals;
+  in.Casters.Update(ren, this);
+  const ss::Box& b = in.Casters.BulkBounds;
+  if (b.Empty())
+  {
+    return false;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    bounds[2 * a] = b.min[a];
+    bounds[2 * a + 1] = b.max[a];
+  }
+  return true;
+}
+
 const char* vtkSoftShadowPass::GetLastGearsBackend()
 {
   auto* gears = dynamic_cast<ss::TriangleSolver*>(this->Internals->SolverFor(ss::Method::GEARS));

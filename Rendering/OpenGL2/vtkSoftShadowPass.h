@@ -274,6 +274,15 @@ public:
    * frame yet).
    */
   const char* GetLastGearsBackend();
+
+  /**
+   * The bounds of the casters' bulk among `ren`'s props, in world coordinates
+   * (ss::BulkOfTriangles: without stray triangles far away or needles to a
+   * lost vertex), gathered now (the next frame reuses the caster set). What a
+   * view can size and place its lights by where a broken mesh reaches 1e10.
+   * False without casters.
+   */
+  bool ComputeCasterBulkBounds(vtkRenderer* ren, double bounds[6]);
   /**
    * Whether the last frame's ASM lights are still being refined (the view
    * is not final yet; render again to refine further). False for other methods.

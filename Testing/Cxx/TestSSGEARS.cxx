@@ -527,7 +527,8 @@ TEST(GEARS, AStrayFarTriangleChangesNoShadow)
 
 // The bulk (ssTriangleSet.h) leaves out a needle to a lost vertex, however
 // far, and keeps a ground plane 1e4 times the scene's size, which is as wide
-// as it is long (its vertices' rounding near the scene needs the offset).
+// as it is long, and a thin triangle passing by with both ends far away (their
+// vertices' rounding near the scene needs the offset).
 TEST(GEARS, TheBulkLeavesOutNeedlesAndKeepsGroundPlanes)
 {
   const std::vector<glm::dvec3> sphere = sstest::BumpySphere(glm::dvec3(0.0, 0.0, 0.5), 0.5, 3);
@@ -542,6 +543,12 @@ TEST(GEARS, TheBulkLeavesOutNeedlesAndKeepsGroundPlanes)
     const TriangleSelection sel = SelectTriangles(t, {}, false);
     EXPECT_LT(sel.scale, 2.0) << "needle to " << far;
   }
+  // a long thin triangle passing by the scene with both ends far away: its
+  // far vertices' rounding reaches the scene, so it stays in and scales the
+  // start offset
+  std::vector<glm::dvec3> by = sphere;
+  by.insert(by.end(), { glm::dvec3(-1e4, 0.0, 0.3), glm::dvec3(1e4, 0.0, 0.3), glm::dvec3(1e4, 0.01, 0.3) });
+  EXPECT_GT(BulkOfTriangles(by).scale, 1.9e4);
   std::vector<glm::dvec3> t = sphere;
   const double g = 5e3;
   t.insert(t.end(), { glm::dvec3(-g, -g, 0), glm::dvec3(g, -g, 0), glm::dvec3(g, g, 0), glm::dvec3(-g, -g, 0),

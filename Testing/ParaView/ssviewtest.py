@@ -60,6 +60,11 @@ def shot(view, tempdir, name):
     """Renders `view` to tempdir/name and returns the image (rows, cols, 3) as floats."""
     png = os.path.join(tempdir, name)
     SaveScreenshot(png, view, ImageResolution=SIZE)
+    return read_png(png)
+
+
+def read_png(png):
+    """A PNG as floats (rows, cols, 3)."""
     r = vtkPNGReader()
     r.SetFileName(png)
     r.Update()

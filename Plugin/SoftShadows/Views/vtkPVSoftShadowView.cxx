@@ -31,6 +31,8 @@
 #include "vtkTextProperty.h"
 #include "vtkVolumeRepresentation.h"
 
+#include "ssClippingRange.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -272,6 +274,22 @@ bool Flag(vtkInformation* info, vtkInformationIntegerKey* key)
 }
 }
 
+void vtkPVSoftShadowView::ResetCameraClippingRange()
+{
+  this->Superclass::ResetCameraClippingRange();
+  vtkRenderer* ren = this->GetRenderer();
+  if (!ren || this->GetLockBounds())
+  {
+    return;
+  }
+  const double aspect = ren->GetTiledAspectRatio();
+  if (ss::NearPlanePassesAVisibleProp(ren, aspect))
+  {
+    ss::ResetClippingRangeToVisible(ren, aspect);
+  }
+  ss::ShiftFarReachingMappersToTheFocalPoint(ren);
+}
+
 void vtkPVSoftShadowView::ApplyRepresentationFlags(vtkPVDataRepresentation* rep)
 {
   vtkInformation* info = rep ? rep->GetInformation() : nullptr;
@@ -320,6 +338,19 @@ void vtkPVSoftShadowView::AboutToRenderOnLocalProcess(bool interactive)
     double b[6];
     ren->ComputeVisiblePropBounds(b);
     box.SetBounds(b);
+  }
+  // ... unless the data reaches more than 100 times farther than the
+  // casters' bulk (a mesh with a needle to a lost vertex at 1e10): then the
+  // bulk's. From the whole bounds the shadow light stood 1.5e10 away, 1e9
+  // wide, and the shadow-map methods drew no shadow (stop 50).
+  double bulk[6];
+  if (box.IsValid() && this->ShadowPass && this->ShadowPass->ComputeCasterBulkBounds(ren, bulk))
+  {
+    vtkBoundingBox casters(bulk);
+    if (box.GetDiagonalLength() > 100.0 * std::max(casters.GetDiagonalLength(), 1e-300))
+    {
+      box = casters;
+    }
   }
   double diagonal = 1.0;
   if (box.IsValid())

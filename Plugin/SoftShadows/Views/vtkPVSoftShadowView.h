@@ -127,6 +127,15 @@ public:
   /** Stops the render in progress (vtkRenderWindow::SetAbortRender); the frame shows no shadows. */
   void AbortRender();
 
+  /**
+   * ParaView's clipping range (every render), then, where its near plane lies
+   * beyond a visible prop wholly in front of the camera, the range from the
+   * cells in view (ss::ResetClippingRangeToVisible): a stray triangle far out
+   * of view, or a mesh in view reaching 1e10, emptied the picture (stop 50).
+   * A mesh reaching from the view far out is drawn shifted to the focal point.
+   */
+  void ResetCameraClippingRange() override;
+
   ///@{
   /**
    * Around code that lets Qt handle events in the middle of this view's
