@@ -364,21 +364,26 @@ add_test(NAME cli.render.float_overflow_vertex
   COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_float_overflow.py" ${_ss_cli}
     "${_ss_data}/GoodScenes/float_overflow.json" "${_ss_out}/float_overflow")
 set_tests_properties(cli.render.float_overflow_vertex PROPERTIES LABELS "cli" TIMEOUT 120)
+# Pairs of scenes that must render the same frame (check_same_frames.py):
+# cli.render.NAME compares SCENE_A with SCENE_B under METHODS (a comma list;
+# all ten when not given).
+function (ss_same_frames_test name scene_a scene_b)
+  set(methods "hard,pcf,pcss,pvsm,hardavg,asm,vpcss,avsm,gears,reference")
+  if (ARGC GREATER 3)
+    set(methods "${ARGV3}")
+  endif ()
+  add_test(NAME cli.render.${name}
+    COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
+      "${_ss_data}/GoodScenes/${scene_a}" "${_ss_data}/GoodScenes/${scene_b}" "${_ss_out}/${name}" "${methods}")
+  set_tests_properties(cli.render.${name} PROPERTIES LABELS "cli" TIMEOUT 300)
+endfunction ()
 # A scene 2e6 units from the origin renders as the same scene at the origin
 # (the primitives' points are double).
-add_test(NAME cli.render.far_from_origin
-  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
-    "${_ss_data}/GoodScenes/far_origin_reference.json" "${_ss_data}/GoodScenes/far_from_origin.json"
-    "${_ss_out}/far_from_origin")
-set_tests_properties(cli.render.far_from_origin PROPERTIES LABELS "cli" TIMEOUT 300)
+ss_same_frames_test(far_from_origin far_origin_reference.json far_from_origin.json "hard,pcss,pvsm,gears,reference")
 # The same scene in units 1e12 times larger renders the same frame (stop 45:
 # the G-buffer's facet normal overflowed float there, came out 0, and ASM's
 # picture was black; the reference, in Embree's units, lost shadow at 1e14).
-add_test(NAME cli.render.scale_1e12
-  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
-    "${_ss_data}/GoodScenes/scale_1.json" "${_ss_data}/GoodScenes/scale_1e12.json"
-    "${_ss_out}/scale_1e12" hard,pcss,asm,gears,reference)
-set_tests_properties(cli.render.scale_1e12 PROPERTIES LABELS "cli" TIMEOUT 300)
+ss_same_frames_test(scale_1e12 scale_1.json scale_1e12.json "hard,pcss,asm,gears,reference")
 # --output takes the picture of the last measured frame and changes nothing
 # that --visibility reports (before, one more render gave both).
 add_test(NAME cli.render.output_same_frame
@@ -401,39 +406,23 @@ set_tests_properties(cli.render.large_maps PROPERTIES LABELS "cli" TIMEOUT 300)
 # One stray triangle 4e5 units away, out of view, changes nothing in the
 # frame under any method (the clipping range, the float origin, the start
 # offset and the search depth come from what is seen and the casters' bulk).
-add_test(NAME cli.render.stray_triangle
-  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
-    "${_ss_data}/GoodScenes/stray_reference.json" "${_ss_data}/GoodScenes/stray_triangle.json"
-    "${_ss_out}/stray_triangle" "hard,pcf,pcss,pvsm,hardavg,asm,vpcss,avsm,gears,reference")
-set_tests_properties(cli.render.stray_triangle PROPERTIES LABELS "cli" TIMEOUT 300)
+ss_same_frames_test(stray_triangle stray_reference.json stray_triangle.json)
 # A receiver sliver in view reaching 1e10 (below the plane, hidden by it):
 # before stop 49 its bounds set the far plane and the near plane followed to
 # 1/1000 of it, and the picture was empty under every method; until stop 50
 # ASM lost its shadows (its views' depth floor and fixed-point depth range
 # from the receivers' whole bounds).
-add_test(NAME cli.render.far_sliver_in_view
-  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
-    "${_ss_data}/GoodScenes/stray_reference.json" "${_ss_data}/GoodScenes/far_sliver_in_view.json"
-    "${_ss_out}/far_sliver_in_view" "hard,pcf,pcss,pvsm,hardavg,asm,vpcss,avsm,gears,reference")
-set_tests_properties(cli.render.far_sliver_in_view PROPERTIES LABELS "cli" TIMEOUT 300)
+ss_same_frames_test(far_sliver_in_view stray_reference.json far_sliver_in_view.json)
 # Two casting needles from under the plane to 1e10 (one down, one sideways;
 # hidden by the plane): before stop 50 they belonged to the casters' bulk by
 # their size, so the float origin went 5e9 out and the start offset to 1e5:
 # GEARS and the reference V = 0 everywhere, the map methods without shadows.
-add_test(NAME cli.render.far_needles_casting
-  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
-    "${_ss_data}/GoodScenes/stray_reference.json" "${_ss_data}/GoodScenes/far_needles_casting.json"
-    "${_ss_out}/far_needles_casting" "hard,pcf,pcss,pvsm,hardavg,asm,vpcss,avsm,gears,reference")
-set_tests_properties(cli.render.far_needles_casting PROPERTIES LABELS "cli" TIMEOUT 300)
+ss_same_frames_test(far_needles_casting stray_reference.json far_needles_casting.json)
 # A casting strip in view from the plane to 1e4 or to 1e10 (past the light,
 # out of the frame's top): the same frame. Before stop 50, at 1e10 VTK's
 # automatic shift of the strip's coordinates to its bounds' centre (5e9) left
 # its bottom on a 512-unit grid, so the strip vanished from the picture.
-add_test(NAME cli.render.needle_to_sky
-  COMMAND /usr/bin/python3 "${PROJECT_SOURCE_DIR}/Testing/check_same_frames.py" ${_ss_cli}
-    "${_ss_data}/GoodScenes/needle_to_sky_near.json" "${_ss_data}/GoodScenes/needle_to_sky_far.json"
-    "${_ss_out}/needle_to_sky" "hard,pcf,pcss,pvsm,hardavg,asm,vpcss,avsm,gears,reference")
-set_tests_properties(cli.render.needle_to_sky PROPERTIES LABELS "cli" TIMEOUT 300)
+ss_same_frames_test(needle_to_sky needle_to_sky_near.json needle_to_sky_far.json)
 add_test(NAME cli.bake.stray_triangle_without
   COMMAND ${_ss_cli} bake "${_ss_data}/GoodScenes/stray_reference.json" --object 1 --output "${_ss_out}/bake_stray_ref.vtp")
 add_test(NAME cli.bake.stray_triangle_with
