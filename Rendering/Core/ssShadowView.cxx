@@ -277,8 +277,8 @@ std::vector<ShadowView> MakeLightViews(const LightFrame& light, const Box& recei
     near.Add(seen.Empty() ? receivers : seen);
     const double nearDiag = std::max(near.Diagonal(), 1e-12);
     v.origin = near.Center() - light.n * nearDiag;
-    // Kernels reach at most nearDiag * tan(angle/2) beyond a receiver (a
-    // caster farther from a visible receiver shadows it by less than its size).
+    // Kernels reach at most nearDiag * tan(angle/2) beyond a visible
+    // receiver: every caster of the bulk lies within nearDiag of it.
     const double pad = nearDiag * std::tan(0.5 * light.angularDiameter);
     // Fitted to the receivers' bounds, cut to the visible receivers' box
     // widened by the reach of what can shadow them and at least 4 reaches
