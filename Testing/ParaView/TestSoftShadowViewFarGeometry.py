@@ -8,6 +8,12 @@ time, and each frame must equal the frame without it (mean grey difference
   under the shadow-map methods), and the casters' float origin went 5e9 out;
 - a small stray triangle 4e5 away, out of view (issue 17): ParaView's near
   plane moved hundreds of units out, and the picture came out empty.
+Then the scene as one mesh (the plane and a floating cube in place of the
+sphere, and a sliver behind the camera, so that its bounds hold the camera),
+with and without the needle in it (stop 51). The view's check looked at the
+props' bounds, which say nothing when they hold the camera, and its walk over
+the cells took ParaView's actors (which have a user transform) by their
+bounds: the picture came out empty.
 It also saves the needle's frame at twice the view's size (2 x 2 tiles) and
 compares it with the tiled frame without the needle.
 
@@ -66,6 +72,55 @@ for name, text in meshes.items():
         c.check(shots[True].shape[0] == big[1] and diff < 0.5,
                 "needle, tiled screenshot %dx%d: equals the one without it (mean diff %.3f)" % (big[0], big[1], diff))
     Delete(src)
+
+
+def scene_mesh(needle):
+    """The plane, a cube floating where the sphere was, a sliver behind the
+    camera (6.5 long: part of the casters' bulk, so that the view's light
+    stands where it does without the needle) and (if `needle`) the needle, as
+    one OFF mesh."""
+    v = [(-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0)]
+    f = [(0, 1, 2), (0, 2, 3)]
+    base = len(v)
+    v += [(x, y, z) for z in (0.8, 1.6) for (x, y) in ((-0.4, -0.4), (0.4, -0.4), (0.4, 0.4), (-0.4, 0.4))]
+    for a, b, cc, d in ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)):
+        f += [(base + a, base + b, base + cc), (base + a, base + cc, base + d)]
+    n = len(v)
+    v += [(0, -8, 6), (0.01, -8, 6), (0, -8, -0.5)]
+    f.append((n, n + 1, n + 2))
+    if needle:
+        n = len(v)
+        v += [(0, 0, -0.01), (0.01, 0, -0.01), (0.3, -0.2, -1e10)]
+        f.append((n, n + 1, n + 2))
+    return "OFF\n%d %d 0\n" % (len(v), len(f)) + "".join("%r %r %r\n" % p for p in v) + "".join(
+        "3 %d %d %d\n" % t for t in f)
+
+
+Hide(sphere, view)
+Hide(plane, view)
+shots = {}
+for needle in (False, True):
+    path = os.path.join(tempdir, "FarGeometry_scene_mesh%s.off" % ("_needle" if needle else ""))
+    with open(path, "w") as f:
+        f.write(scene_mesh(needle))
+    src = OpenDataFile(path)
+    d = Show(src, view)
+    d.DiffuseColor = [0.85, 0.85, 0.85]
+    for method in ("pcss", "gears"):
+        view.Method = method
+        t.camera(view)
+        shots[(needle, method)] = t.shot(view, tempdir, "FarGeometry_scene_mesh_%s_%s.png" % (
+            method, "with" if needle else "without"))
+    Delete(src)
+for method in ("pcss", "gears"):
+    a, b = shots[(False, method)], shots[(True, method)]
+    diff = float(np.abs(a - b).mean())
+    under, far = t.region(b, (0.44, 0.56, 0.38, 0.46)), t.region(b, t.FAR)  # (the cube's shadow)
+    print("scene mesh, %s: mean |diff| %.3f, under %.1f far %.1f" % (method, diff, under, far))
+    c.check(diff < 0.5, "scene mesh around the camera, %s: the frame equals the one without the needle "
+            "(mean diff %.3f)" % (method, diff))
+    c.check(under < 0.8 * far, "scene mesh around the camera, %s: the shadow under the cube (under %.1f, far %.1f)" % (
+        method, under, far))
 Delete(view)
 del view
 sys.exit(1 if c.failures else 0)

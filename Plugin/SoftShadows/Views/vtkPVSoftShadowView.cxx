@@ -283,7 +283,7 @@ void vtkPVSoftShadowView::ResetCameraClippingRange()
     return;
   }
   const double aspect = ren->GetTiledAspectRatio();
-  if (ss::NearPlanePassesAVisibleProp(ren, aspect))
+  if (ss::NearPlaneMayPassVisibleCells(ren, aspect))
   {
     ss::ResetClippingRangeToVisible(ren, aspect);
   }
@@ -324,6 +324,13 @@ void vtkPVSoftShadowView::AboutToRenderOnLocalProcess(bool interactive)
 {
   this->Superclass::AboutToRenderOnLocalProcess(interactive);
   vtkRenderer* ren = this->GetRenderer();
+  // ParaView resets the clipping range at the start of Render(), before the
+  // representations hand their data to the mappers: a mesh shown since the
+  // last render was not among the cells the range was fitted to, and a broken
+  // one (a lost vertex far out) left its first frame empty, the picture a
+  // SaveScreenshot after Show() takes (stop 51). So again, with this frame's
+  // data.
+  this->ResetCameraClippingRange();
 
   // per object: the representations' Cast / Receive Shadows
   for (int i = 0; i < this->GetNumberOfRepresentations(); ++i)

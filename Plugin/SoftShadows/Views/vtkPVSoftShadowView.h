@@ -128,11 +128,15 @@ public:
   void AbortRender();
 
   /**
-   * ParaView's clipping range (every render), then, where its near plane lies
-   * beyond a visible prop wholly in front of the camera, the range from the
-   * cells in view (ss::ResetClippingRangeToVisible): a stray triangle far out
-   * of view, or a mesh in view reaching 1e10, emptied the picture (stop 50).
-   * A mesh reaching from the view far out is drawn shifted to the focal point.
+   * ParaView's clipping range (every render), then, where its near plane may
+   * pass visible cells (ss::NearPlaneMayPassVisibleCells: beyond a visible
+   * prop wholly in front of the camera, or beyond the focal point while the
+   * camera is among a prop's bounds), the range from the cells in view
+   * (ss::ResetClippingRangeToVisible): a stray triangle far out of view, or a
+   * mesh in view reaching 1e10, emptied the picture (stops 50, 51). It runs
+   * again just before the frame is drawn, when the representations have
+   * handed this frame's data to the mappers. A mesh reaching from the view
+   * far out is drawn shifted to the focal point.
    */
   void ResetCameraClippingRange() override;
 
