@@ -2,6 +2,7 @@
 
 #include "ssEffectPlanner.h"
 #include "ssTriangleSet.h"
+#include "ssVisibleBlocks.h"
 
 #include "vtkSoftShadowPass.h"
 
@@ -13,8 +14,8 @@
 #include "vtkAssemblyPath.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataDisplayAttributes.h"
+#include "vtkCompositePolyDataMapper2.h"
 #include "vtkMapper.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
@@ -202,24 +203,17 @@ void ForEachActor(vtkRenderer* ren, F&& f)
   vtkSoftShadowPass::ForEachVisibleActor(ren, f);
 }
 
+// The polydata a mapper draws: its input, or the input's visible blocks
+// (ss::ForEachVisibleLeaf: a block hidden in ParaView casts nothing).
 template <typename F>
-void ForEachPolyData(vtkDataObject* data, F&& f)
+void ForEachPolyData(vtkMapper* mapper, F&& f)
 {
-  if (auto* pd = vtkPolyData::SafeDownCast(data))
-  {
-    f(pd);
-  }
-  else if (auto* cd = vtkCompositeDataSet::SafeDownCast(data))
-  {
-    auto it = vtk::TakeSmartPointer(cd->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  ss::ForEachVisibleLeaf(mapper, mapper->GetInputDataObject(0, 0), [&](vtkDataSet* ds) {
+    if (auto* pd = vtkPolyData::SafeDownCast(ds))
     {
-      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-      {
-        f(leaf);
-      }
+      f(pd);
     }
-  }
+  });
 }
 }
 
@@ -251,6 +245,12 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
     mapper->Update();
     vtkDataObject* data = mapper->GetInputDataObject(0, 0);
     vtkMTimeType look = std::max(mapper->GetMTime(), actor->GetProperty()->GetMTime());
+    if (auto* composite = vtkCompositePolyDataMapper2::SafeDownCast(mapper))
+    {
+      // (block visibility: ForEachPolyData)
+      vtkCompositeDataDisplayAttributes* cda = composite->GetCompositeDataDisplayAttributes();
+      look = std::max(look, cda ? cda->GetMTime() : 0);
+    }
     if (vtkTexture* tex = actor->GetTexture())
     {
       look = std::max({ look, tex->GetMTime(), tex->GetInput() ? tex->GetInput()->GetMTime() : 0 });
@@ -295,7 +295,7 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
       }
     }
     const std::size_t first = tris.size();
-    ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0), [&](vtkPolyData* pd) {
+    ForEachPolyData(actor->GetMapper(), [&](vtkPolyData* pd) {
       const std::size_t before = tris.size() / 3, skippedBefore = skipped;
       AppendPolyData(pd, m, look, tris, attr, skipped);
       if (HasClusterTable(pd))
