@@ -65,10 +65,13 @@ std::uint64_t MatrixHash(vtkMatrix4x4* m)
 // shadow (paraview.md), rather than the solid shadow of the surface it shows
 // only the points or edges of. An actor whose opacity is not a number is not
 // drawn, so it casts nothing either.
+// (an opacity of 0 draws nothing, and casts nothing in any method: until stop
+// 51 the map methods, which take translucent casters as opaque, drew an
+// invisible object's full shadow while GEARS drew none)
 bool CastsAsSurface(vtkActor* actor)
 {
   return vtkSoftShadowPass::GetCastsShadows(actor) && actor->GetProperty()->GetRepresentation() == VTK_SURFACE &&
-    std::isfinite(actor->GetProperty()->GetOpacity());
+    std::isfinite(actor->GetProperty()->GetOpacity()) && actor->GetProperty()->GetOpacity() > 0.0;
 }
 
 bool Finite3(const double p[3])

@@ -10,7 +10,8 @@ in the panel (issue 24).
 - Plan and Stats are updated after every render without asking, and the
   optional plan annotation draws text in the view.
 - Blocks hidden with block visibility (BlockSelectors) cast no shadow (stop
-  51: a hidden roof still darkened the ground).
+  51: a hidden roof still darkened the ground), nor does an object of
+  opacity 0 (the map methods drew its full shadow).
 """
 import json
 import os
@@ -238,6 +239,19 @@ for method in ("pcss", "gears"):
 view.Method = "pcss"
 Delete(group)
 Delete(roof)
+
+# --- an object of opacity 0 is not drawn and casts no shadow, in every method
+# (stop 51: the map methods drew its full shadow, GEARS none)
+Show(sphere, view)
+for method in ("pcss", "hard", "pvsm", "gears"):
+    view.Method = method
+    dsphere.Opacity = 0.0
+    t.camera(view)
+    img = t.shot(view, tempdir, "ObjectsOpacity0_%s.png" % method)
+    under, far = t.region(img, t.UNDER), t.region(img, t.FAR)
+    c.check(abs(under - far) < 3.0, "opacity 0, %s: no shadow (under %.1f, far %.1f)" % (method, under, far))
+    dsphere.Opacity = 1.0
+view.Method = "pcss"
 
 Delete(view)
 del view
