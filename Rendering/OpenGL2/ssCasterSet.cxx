@@ -79,6 +79,33 @@ bool Finite3(const double p[3])
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
+// The world bounds (matrix m) of the finite points of what `mapper` draws;
+// false when there are none.
+bool FiniteBounds(vtkMapper* mapper, vtkMatrix4x4* m, double b[6])
+{
+  vtkMath::UninitializeBounds(b);
+  bool any = false;
+  ss::ForEachVisibleLeaf(mapper, mapper->GetInputDataObject(0, 0), [&](vtkDataSet* ds) {
+    double p[4] = { 0.0, 0.0, 0.0, 1.0 }, w[4];
+    for (vtkIdType i = 0; i < ds->GetNumberOfPoints(); ++i)
+    {
+      ds->GetPoint(i, p);
+      m->MultiplyPoint(p, w);
+      if (!Finite3(w))
+      {
+        continue;
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        b[2 * a] = any ? std::min(b[2 * a], w[a]) : w[a];
+        b[2 * a + 1] = any ? std::max(b[2 * a + 1], w[a]) : w[a];
+      }
+      any = true;
+    }
+  });
+  return any;
+}
+
 // What a caster's triangles carry besides their positions.
 struct Appearance
 {
@@ -236,6 +263,16 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
       actor->GetBounds(b);
       if (vtkMath::AreBoundsInitialized(b) && Finite3(b) && Finite3(b + 3))
       {
+        this->Receivers.Add(glm::dvec3(b[0], b[2], b[4]));
+        this->Receivers.Add(glm::dvec3(b[1], b[3], b[5]));
+        ++this->ReceiverProps;
+      }
+      else if (mapper && FiniteBounds(mapper, m, b))
+      {
+        // a vertex at +-inf makes VTK's bounds infinite (NaN ones it skips):
+        // the finite points' bounds instead. Until stop 51 such a mesh was no
+        // receiver at all, and the frame had no shadows (the plan said "no
+        // shadow receivers").
         this->Receivers.Add(glm::dvec3(b[0], b[2], b[4]));
         this->Receivers.Add(glm::dvec3(b[1], b[3], b[5]));
         ++this->ReceiverProps;
