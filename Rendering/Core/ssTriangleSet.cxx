@@ -14,33 +14,26 @@ float TriangleOpacity(const std::vector<float>& opacity, std::size_t t)
 namespace
 {
 /// A triangle far longer than both B's diagonal and its own width (twice its
-/// area over its longest edge), with a vertex near B: a sliver from the scene
-/// to a lost vertex (stop 50: one at 1e10 made the bulk 1e10 wide; the float
-/// origin moved 5e9 away, so every caster lost its shape, and the start offset
-/// grew to 1e5, past the light: V = 0 everywhere). Its float rounding near the
-/// scene comes from its vertices there (a far vertex weighs in with its
-/// barycentric weight), so leaving it out costs it nothing. A ground plane is
-/// as wide as it is long, and a long thin triangle passing by the scene with
-/// both ends far away is rounded near the scene by its far vertices' grid:
-/// both stay in.
-bool Needle(const glm::dvec3* t, double diag, const glm::dvec3& qlo, const glm::dvec3& qhi, double qDiag)
+/// area over its longest edge): the shape of a sliver from the scene to a
+/// lost vertex (stop 50: one at 1e10 made the bulk 1e10 wide; the float
+/// origin moved 5e9 away, so every caster lost its shape, and the start
+/// offset grew to 1e5, past the light: V = 0 everywhere). `width` is set.
+bool LongAndThin(const glm::dvec3* t, double diag, double qDiag, double& width)
 {
   constexpr double kRatio = 1e3;
-  if (!(diag > kRatio * qDiag))
-  {
-    return false;
-  }
   const glm::dvec3 &a = t[0], &b = t[1], &c = t[2];
   const double longest = std::max({ glm::length(b - a), glm::length(c - b), glm::length(a - c) });
-  const double width = glm::length(glm::cross(b - a, c - a)) / std::max(longest, 1e-300);
-  if (!(diag > kRatio * width))
-  {
-    return false;
-  }
+  width = glm::length(glm::cross(b - a, c - a)) / std::max(longest, 1e-300);
+  return diag > kRatio * qDiag && diag > kRatio * width;
+}
+
+/// Whether a vertex of t lies within `reach` of box [lo, hi].
+bool VertexNear(const glm::dvec3* t, const glm::dvec3& lo, const glm::dvec3& hi, double reach)
+{
   for (int j = 0; j < 3; ++j)
   {
-    const glm::dvec3 gap = glm::max(glm::max(qlo - t[j], t[j] - qhi), glm::dvec3(0.0));
-    if (glm::length(gap) <= 4.0 * std::max(qDiag, width))
+    const glm::dvec3 gap = glm::max(glm::max(lo - t[j], t[j] - hi), glm::dvec3(0.0));
+    if (glm::length(gap) <= reach)
     {
       return true;
     }
@@ -86,8 +79,10 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     qhi[a] = *q3;
   }
   const double qDiag = glm::length(qhi - qlo);
+  // 1. the triangles near B but those shaped like needles: the core C
   glm::dvec3 blo(std::numeric_limits<double>::max()), bhi(-std::numeric_limits<double>::max());
   glm::dvec3 alo = blo, ahi = bhi;
+  std::vector<std::pair<std::size_t, double>> thin; // (triangle, width) near B, shaped like a needle
   for (std::size_t t = 0; t < nt; ++t)
   {
     if (!kept(t))
@@ -100,10 +95,38 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     ahi = glm::max(ahi, thi);
     const glm::dvec3 gap = glm::max(glm::max(qlo - thi, tlo - qhi), glm::dvec3(0.0));
     const double diag = glm::length(thi - tlo);
-    if (glm::length(gap) <= 4.0 * std::max(qDiag, diag) && !Needle(&v[3 * t], diag, qlo, qhi, qDiag))
+    double width = 0.0;
+    if (!(glm::length(gap) <= 4.0 * std::max(qDiag, diag)))
     {
-      blo = glm::min(blo, tlo);
-      bhi = glm::max(bhi, thi);
+      continue;
+    }
+    if (LongAndThin(&v[3 * t], diag, qDiag, width))
+    {
+      thin.emplace_back(t, width);
+      continue;
+    }
+    blo = glm::min(blo, tlo);
+    bhi = glm::max(bhi, thi);
+  }
+  // 2. a needle: such a triangle with a vertex near C (within C's diagonal),
+  // or near B where C is empty. It is left out: its float rounding near the
+  // scene comes from its vertices there (a far vertex weighs in with its
+  // barycentric weight). A long thin triangle passing by the scene with both
+  // ends far away is rounded near the scene on its far vertices' grid, so it
+  // stays in. (Until stop 51 only a vertex within 4 of B's diagonals counted:
+  // a lost vertex on a triangle at the edge of a floor, beyond that, made
+  // the bulk 1e10 wide again.)
+  const glm::dvec3 clo = blo, chi = bhi;
+  const bool core = clo.x <= chi.x;
+  for (const auto& [t, width] : thin)
+  {
+    const double reach = 4.0 * std::max(qDiag, width);
+    const bool needle = core ? VertexNear(&v[3 * t], clo, chi, std::max(glm::length(chi - clo), reach))
+                             : VertexNear(&v[3 * t], qlo, qhi, reach);
+    if (!needle)
+    {
+      blo = glm::min(blo, glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]));
+      bhi = glm::max(bhi, glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]));
     }
   }
   if (!(blo.x <= bhi.x))

@@ -21,8 +21,9 @@ namespace ss
 /// lies at least 4 of its diagonals from it, so its vertices' magnitudes are
 /// within 1.25 x the distance of any of its points from `center`. Nor does
 /// a needle: a triangle more than 1000 times longer than both that box's
-/// diagonal and its own width, with a vertex near the box (a sliver from the
-/// scene to a lost vertex); its rounding near the scene comes from its
+/// diagonal and its own width, with a vertex within the diagonal of the rest
+/// of the bulk (a sliver from the scene to a lost vertex, from anywhere in
+/// the scene since stop 51); its rounding near the scene comes from its
 /// vertices there.
 struct TriangleBulk
 {

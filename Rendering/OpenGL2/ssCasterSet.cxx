@@ -2,6 +2,7 @@
 
 #include "ssEffectPlanner.h"
 #include "ssTriangleSet.h"
+#include "ssVisibleBlocks.h"
 
 #include "vtkSoftShadowPass.h"
 
@@ -13,8 +14,8 @@
 #include "vtkAssemblyPath.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataDisplayAttributes.h"
+#include "vtkCompositePolyDataMapper2.h"
 #include "vtkMapper.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
@@ -64,15 +65,45 @@ std::uint64_t MatrixHash(vtkMatrix4x4* m)
 // shadow (paraview.md), rather than the solid shadow of the surface it shows
 // only the points or edges of. An actor whose opacity is not a number is not
 // drawn, so it casts nothing either.
+// (an opacity of 0 draws nothing, and casts nothing in any method: until stop
+// 51 the map methods, which take translucent casters as opaque, drew an
+// invisible object's full shadow while GEARS drew none)
 bool CastsAsSurface(vtkActor* actor)
 {
   return vtkSoftShadowPass::GetCastsShadows(actor) && actor->GetProperty()->GetRepresentation() == VTK_SURFACE &&
-    std::isfinite(actor->GetProperty()->GetOpacity());
+    std::isfinite(actor->GetProperty()->GetOpacity()) && actor->GetProperty()->GetOpacity() > 0.0;
 }
 
 bool Finite3(const double p[3])
 {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+// The world bounds (matrix m) of the finite points of what `mapper` draws;
+// false when there are none.
+bool FiniteBounds(vtkMapper* mapper, vtkMatrix4x4* m, double b[6])
+{
+  vtkMath::UninitializeBounds(b);
+  bool any = false;
+  ss::ForEachVisibleLeaf(mapper, mapper->GetInputDataObject(0, 0), [&](vtkDataSet* ds) {
+    double p[4] = { 0.0, 0.0, 0.0, 1.0 }, w[4];
+    for (vtkIdType i = 0; i < ds->GetNumberOfPoints(); ++i)
+    {
+      ds->GetPoint(i, p);
+      m->MultiplyPoint(p, w);
+      if (!Finite3(w))
+      {
+        continue;
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        b[2 * a] = any ? std::min(b[2 * a], w[a]) : w[a];
+        b[2 * a + 1] = any ? std::max(b[2 * a + 1], w[a]) : w[a];
+      }
+      any = true;
+    }
+  });
+  return any;
 }
 
 // What a caster's triangles carry besides their positions.
@@ -202,24 +233,17 @@ void ForEachActor(vtkRenderer* ren, F&& f)
   vtkSoftShadowPass::ForEachVisibleActor(ren, f);
 }
 
+// The polydata a mapper draws: its input, or the input's visible blocks
+// (ss::ForEachVisibleLeaf: a block hidden in ParaView casts nothing).
 template <typename F>
-void ForEachPolyData(vtkDataObject* data, F&& f)
+void ForEachPolyData(vtkMapper* mapper, F&& f)
 {
-  if (auto* pd = vtkPolyData::SafeDownCast(data))
-  {
-    f(pd);
-  }
-  else if (auto* cd = vtkCompositeDataSet::SafeDownCast(data))
-  {
-    auto it = vtk::TakeSmartPointer(cd->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  ss::ForEachVisibleLeaf(mapper, mapper->GetInputDataObject(0, 0), [&](vtkDataSet* ds) {
+    if (auto* pd = vtkPolyData::SafeDownCast(ds))
     {
-      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-      {
-        f(leaf);
-      }
+      f(pd);
     }
-  }
+  });
 }
 }
 
@@ -243,6 +267,16 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
         this->Receivers.Add(glm::dvec3(b[1], b[3], b[5]));
         ++this->ReceiverProps;
       }
+      else if (mapper && FiniteBounds(mapper, m, b))
+      {
+        // a vertex at +-inf makes VTK's bounds infinite (NaN ones it skips):
+        // the finite points' bounds instead. Until stop 51 such a mesh was no
+        // receiver at all, and the frame had no shadows (the plan said "no
+        // shadow receivers").
+        this->Receivers.Add(glm::dvec3(b[0], b[2], b[4]));
+        this->Receivers.Add(glm::dvec3(b[1], b[3], b[5]));
+        ++this->ReceiverProps;
+      }
     }
     if (!CastsAsSurface(actor))
     {
@@ -251,6 +285,12 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
     mapper->Update();
     vtkDataObject* data = mapper->GetInputDataObject(0, 0);
     vtkMTimeType look = std::max(mapper->GetMTime(), actor->GetProperty()->GetMTime());
+    if (auto* composite = vtkCompositePolyDataMapper2::SafeDownCast(mapper))
+    {
+      // (block visibility: ForEachPolyData)
+      vtkCompositeDataDisplayAttributes* cda = composite->GetCompositeDataDisplayAttributes();
+      look = std::max(look, cda ? cda->GetMTime() : 0);
+    }
     if (vtkTexture* tex = actor->GetTexture())
     {
       look = std::max({ look, tex->GetMTime(), tex->GetInput() ? tex->GetInput()->GetMTime() : 0 });
@@ -295,7 +335,7 @@ void CasterSet::Update(vtkRenderer* ren, vtkObject* reporter)
       }
     }
     const std::size_t first = tris.size();
-    ForEachPolyData(actor->GetMapper()->GetInputDataObject(0, 0), [&](vtkPolyData* pd) {
+    ForEachPolyData(actor->GetMapper(), [&](vtkPolyData* pd) {
       const std::size_t before = tris.size() / 3, skippedBefore = skipped;
       AppendPolyData(pd, m, look, tris, attr, skipped);
       if (HasClusterTable(pd))

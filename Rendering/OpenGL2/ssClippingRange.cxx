@@ -1,10 +1,9 @@
 #include "ssClippingRange.h"
+#include "ssVisibleBlocks.h"
 
 #include "vtkActor.h"
 #include "vtkActorCollection.h"
 #include "vtkCamera.h"
-#include "vtkDataObjectTree.h"
-#include "vtkDataObjectTreeIterator.h"
 #include "vtkDataSet.h"
 #include "vtkMapper.h"
 #include "vtkMatrix4x4.h"
@@ -337,24 +336,10 @@ void ResetClippingRangeToVisible(vtkRenderer* renderer, double aspect)
     vtkActor* actor = vtkActor::SafeDownCast(prop);
     vtkDataObject* input =
       (actor && actor->GetMapper()) ? actor->GetMapper()->GetInputDataObject(0, 0) : nullptr;
-    std::vector<vtkDataSet*> pieces; // a polydata, or a composite's leaves (ParaView's representations)
-    if (auto* ds = vtkDataSet::SafeDownCast(input))
+    std::vector<vtkDataSet*> pieces; // a dataset, or a composite's visible leaves (ParaView's representations)
+    if (input)
     {
-      pieces.push_back(ds);
-    }
-    else if (auto* tree = vtkDataObjectTree::SafeDownCast(input))
-    {
-      vtkSmartPointer<vtkDataObjectTreeIterator> leaves;
-      leaves.TakeReference(tree->NewTreeIterator());
-      leaves->VisitOnlyLeavesOn();
-      leaves->SkipEmptyNodesOn();
-      for (leaves->InitTraversal(); !leaves->IsDoneWithTraversal(); leaves->GoToNextItem())
-      {
-        if (auto* leaf = vtkDataSet::SafeDownCast(leaves->GetCurrentDataObject()))
-        {
-          pieces.push_back(leaf);
-        }
-      }
+      ForEachVisibleLeaf(actor->GetMapper(), input, [&pieces](vtkDataSet* ds) { pieces.push_back(ds); });
     }
     if (pieces.empty())
     {

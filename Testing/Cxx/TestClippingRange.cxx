@@ -109,7 +109,8 @@ void EveryCellRange(vtkRenderer* ren, vtkPolyData* pd, double aspect, double out
     for (int corner = 0; corner < 8; ++corner)
     {
       const double p[3] = { b[corner & 1], b[2 + ((corner >> 1) & 1)], b[4 + (corner >> 2)] };
-      d = std::min(d, dir[0] * p[0] + dir[1] * p[1] + dir[2] * p[2] - (dir[0] * eye[0] + dir[1] * eye[1] + dir[2] * eye[2]));
+      const double de = dir[0] * eye[0] + dir[1] * eye[1] + dir[2] * eye[2];
+      d = std::min(d, dir[0] * p[0] + dir[1] * p[1] + dir[2] * p[2] - de);
     }
     for (int q = 0; q < 4 && usable; ++q)
     {

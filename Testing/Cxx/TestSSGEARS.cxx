@@ -543,6 +543,33 @@ TEST(GEARS, TheBulkLeavesOutNeedlesAndKeepsGroundPlanes)
     const TriangleSelection sel = SelectTriangles(t, {}, false);
     EXPECT_LT(sel.scale, 2.0) << "needle to " << far;
   }
+  // a needle from the edge of the scene (stop 51, a bad-input sweep): a floor
+  // and a cube, the lost vertex on a triangle at the floor's corner, in
+  // several directions and from 1e4 to 1e30. The needle rule asked for a
+  // vertex within 4 diagonals of the centroids' interquartile box (the cube
+  // here), and the corner lies beyond: the bulk took the needle, and the
+  // ParaView view's light went 1e10 away (the shadows vanished).
+  for (const glm::dvec3& dir : { glm::dvec3(0, 0, -1), glm::dvec3(0, 0, 1), glm::dvec3(0.7071, 0.7071, 0) })
+  {
+    for (double far : { 1e4, 1e10, 1e30 })
+    {
+      std::vector<glm::dvec3> t = { { -4, -4, 0 }, { 4, -4, 0 }, { 4, 4, 0 }, // the floor
+        { -4, -4, 0 }, { 4, 4, 0 }, { -4, 4, 0 } };
+      const glm::dvec3 c[8] = { { -0.4, -0.4, 0.8 }, { 0.4, -0.4, 0.8 }, { 0.4, 0.4, 0.8 }, { -0.4, 0.4, 0.8 },
+        { -0.4, -0.4, 1.6 }, { 0.4, -0.4, 1.6 }, { 0.4, 0.4, 1.6 }, { -0.4, 0.4, 1.6 } };
+      const int q[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 }, { 1, 2, 6, 5 }, { 2, 3, 7, 6 },
+        { 3, 0, 4, 7 } };
+      for (const auto& f : q)
+      {
+        t.insert(t.end(), { c[f[0]], c[f[1]], c[f[2]], c[f[0]], c[f[2]], c[f[3]] });
+      }
+      t.insert(t.end(), { glm::dvec3(3.9, 4, 0), glm::dvec3(4, 4, 0), glm::dvec3(4, 4, 0) + far * dir });
+      const TriangleBulk b = BulkOfTriangles(t);
+      EXPECT_LT(b.scale, 12.0) << "needle from the corner to " << far << " along " << dir.x << " " << dir.y << " "
+                               << dir.z;
+      EXPECT_LT(glm::length(b.center - glm::dvec3(0.0, 0.0, 0.8)), 1.0) << "needle from the corner to " << far;
+    }
+  }
   // a long thin triangle passing by the scene with both ends far away: its
   // far vertices' rounding reaches the scene, so it stays in and scales the
   // start offset

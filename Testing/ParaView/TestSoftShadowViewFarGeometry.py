@@ -77,8 +77,9 @@ for name, text in meshes.items():
 def scene_mesh(needle):
     """The plane, a cube floating where the sphere was, a sliver behind the
     camera (6.5 long: part of the casters' bulk, so that the view's light
-    stands where it does without the needle) and (if `needle`) the needle, as
-    one OFF mesh."""
+    stands where it does without the needle) and the needle `needle` (None,
+    "centre" or "corner": from under the cube, or from the plane's corner,
+    which the casters' bulk took until stop 51's sweep), as one OFF mesh."""
     v = [(-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0)]
     f = [(0, 1, 2), (0, 2, 3)]
     base = len(v)
@@ -90,7 +91,8 @@ def scene_mesh(needle):
     f.append((n, n + 1, n + 2))
     if needle:
         n = len(v)
-        v += [(0, 0, -0.01), (0.01, 0, -0.01), (0.3, -0.2, -1e10)]
+        v += {"centre": [(0, 0, -0.01), (0.01, 0, -0.01), (0.3, -0.2, -1e10)],
+              "corner": [(3.9, 4, 0), (4, 4, 0), (4, 4, -1e10)]}[needle]
         f.append((n, n + 1, n + 2))
     return "OFF\n%d %d 0\n" % (len(v), len(f)) + "".join("%r %r %r\n" % p for p in v) + "".join(
         "3 %d %d %d\n" % t for t in f)
@@ -99,8 +101,8 @@ def scene_mesh(needle):
 Hide(sphere, view)
 Hide(plane, view)
 shots = {}
-for needle in (False, True):
-    path = os.path.join(tempdir, "FarGeometry_scene_mesh%s.off" % ("_needle" if needle else ""))
+for needle in (None, "centre", "corner"):
+    path = os.path.join(tempdir, "FarGeometry_scene_mesh_%s.off" % needle)
     with open(path, "w") as f:
         f.write(scene_mesh(needle))
     src = OpenDataFile(path)
@@ -109,18 +111,66 @@ for needle in (False, True):
     for method in ("pcss", "gears"):
         view.Method = method
         t.camera(view)
-        shots[(needle, method)] = t.shot(view, tempdir, "FarGeometry_scene_mesh_%s_%s.png" % (
-            method, "with" if needle else "without"))
+        shots[(needle, method)] = t.shot(view, tempdir, "FarGeometry_scene_mesh_%s_%s.png" % (method, needle))
     Delete(src)
+for needle in ("centre", "corner"):
+    for method in ("pcss", "gears"):
+        a, b = shots[(None, method)], shots[(needle, method)]
+        diff = float(np.abs(a - b).mean())
+        under, far = t.region(b, (0.44, 0.56, 0.38, 0.46)), t.region(b, t.FAR)  # (the cube's shadow)
+        print("scene mesh, needle from the %s, %s: mean |diff| %.3f, under %.1f far %.1f" % (
+            needle, method, diff, under, far))
+        c.check(diff < 0.5, "scene mesh around the camera, needle from the %s, %s: the frame equals the one "
+                "without it (mean diff %.3f)" % (needle, method, diff))
+        c.check(under < 0.8 * far, "scene mesh around the camera, needle from the %s, %s: the shadow under the "
+                "cube (under %.1f, far %.1f)" % (needle, method, under, far))
+# the scene mesh with a vertex at +inf (a ProgrammableSource: the OFF reader
+# refuses the file). VTK's bounds of the mesh are then infinite, and until
+# stop 51 it was no receiver at all: no shadow, the plan saying "no shadow
+# receivers". Now its finite points' bounds count.
+inf_path = os.path.join(tempdir, "FarGeometry_scene_mesh_inf.off")
+with open(inf_path, "w") as f:
+    text = scene_mesh(None)
+    head, rest = text.split("\n", 2)[1], text.split("\n", 2)[2]
+    nv, nf = (int(x) for x in head.split()[:2])
+    lines = rest.splitlines()
+    verts = lines[:nv] + ["0 0 -0.01", "0.5 0 -0.01", "inf 0 -0.01"]
+    faces = lines[nv:nv + nf] + ["3 %d %d %d" % (nv, nv + 1, nv + 2)]
+    f.write("\n".join(verts) + "\n#\n" + "\n".join(faces) + "\n")
+src = ProgrammableSource(OutputDataSetType="vtkPolyData")
+src.Script = """
+import vtk
+verts, faces = open(%r).read().split("#")
+pts = vtk.vtkPoints()
+pts.SetDataTypeToDouble()
+for line in verts.split("\\n"):
+    if line.strip():
+        pts.InsertNextPoint(*[float(x) for x in line.split()])
+cells = vtk.vtkCellArray()
+for line in faces.split("\\n"):
+    if line.strip():
+        ids = [int(x) for x in line.split()[1:]]
+        cells.InsertNextCell(len(ids))
+        for i in ids:
+            cells.InsertCellPoint(i)
+out = self.GetPolyDataOutput()
+out.SetPoints(pts)
+out.SetPolys(cells)
+""" % inf_path
+d = Show(src, view)
+d.DiffuseColor = [0.85, 0.85, 0.85]
 for method in ("pcss", "gears"):
-    a, b = shots[(False, method)], shots[(True, method)]
-    diff = float(np.abs(a - b).mean())
-    under, far = t.region(b, (0.44, 0.56, 0.38, 0.46)), t.region(b, t.FAR)  # (the cube's shadow)
-    print("scene mesh, %s: mean |diff| %.3f, under %.1f far %.1f" % (method, diff, under, far))
-    c.check(diff < 0.5, "scene mesh around the camera, %s: the frame equals the one without the needle "
-            "(mean diff %.3f)" % (method, diff))
-    c.check(under < 0.8 * far, "scene mesh around the camera, %s: the shadow under the cube (under %.1f, far %.1f)" % (
-        method, under, far))
+    view.Method = method
+    for frame in (1, 2):
+        t.camera(view)
+        img = t.shot(view, tempdir, "FarGeometry_scene_mesh_inf_%s_%d.png" % (method, frame))
+        under, far = t.region(img, (0.44, 0.56, 0.38, 0.46)), t.region(img, t.FAR)
+        print("scene mesh with a vertex at inf, %s, frame %d: under %.1f far %.1f, against no defect %.3f" % (
+            method, frame, under, far, float(np.abs(img - shots[(None, method)]).mean())))
+        c.check(under < 0.8 * far, "scene mesh with a vertex at inf, %s, frame %d: the shadow under the cube "
+                "(under %.1f, far %.1f)" % (method, frame, under, far))
+Delete(src)
+
 Delete(view)
 del view
 sys.exit(1 if c.failures else 0)

@@ -9,6 +9,9 @@ in the panel (issue 24).
 - The labels read as words ("PVSM Quality", not "P VSMQuality").
 - Plan and Stats are updated after every render without asking, and the
   optional plan annotation draws text in the view.
+- Blocks hidden with block visibility (BlockSelectors) cast no shadow (stop
+  51: a hidden roof still darkened the ground), nor does an object of
+  opacity 0 (the map methods drew its full shadow).
 """
 import json
 import os
@@ -198,6 +201,57 @@ c.check(changed > 0.2, "Show Plan Annotation draws text on a dark box in the cor
         % (100 * changed))
 summary = t.shadow_pass(view).GetPlanSummary()
 c.check(summary.startswith("pcss"), "the annotation's text: %s" % summary)
+
+# --- block visibility: the sphere and a roof over the scene as one multiblock;
+# with the roof's block hidden, the frame is the frame of the sphere alone
+t.camera(view)
+alone = t.shot(view, tempdir, "ObjectsBlocksSphereAlone.png")
+roof = Plane(Origin=[-3, -3, 3], Point1=[3, -3, 3], Point2=[-3, 3, 3])
+group = GroupDatasets(Input=[sphere, roof])
+Hide(sphere, view)
+dgroup = Show(group, view)
+dgroup.DiffuseColor = [0.85, 0.85, 0.85]
+Render(view)
+mb = servermanager.Fetch(group)
+names = ["/Root/" + mb.GetMetaData(i).Get(mb.NAME()) for i in range(mb.GetNumberOfBlocks())]
+for method in ("pcss", "gears"):
+    view.Method = method
+    dgroup.BlockSelectors = names
+    t.camera(view)
+    both = t.shot(view, tempdir, "ObjectsBlocksBoth_%s.png" % method)
+    dgroup.BlockSelectors = names[:1]
+    t.camera(view)
+    hidden = t.shot(view, tempdir, "ObjectsBlocksRoofHidden_%s.png" % method)
+    Hide(group, view)
+    Show(sphere, view)
+    t.camera(view)
+    alone = t.shot(view, tempdir, "ObjectsBlocksSphereAlone_%s.png" % method)
+    Hide(sphere, view)
+    Show(group, view)
+    far_both, far_hidden, far_alone = (t.region(x, t.FAR) for x in (both, hidden, alone))
+    diff = float(abs(hidden - alone).mean())
+    print("blocks, %s: far ground %.1f (roof shown) %.1f (roof hidden) %.1f (sphere alone); hidden vs alone %.3f" % (
+        method, far_both, far_hidden, far_alone, diff))
+    c.check(far_both < far_alone - 20, "blocks, %s: the roof's block shown shadows the ground (%.1f against %.1f)" % (
+        method, far_both, far_alone))
+    c.check(diff < 1.0, "blocks, %s: with the roof's block hidden the frame is the sphere's alone (mean diff %.3f)" % (
+        method, diff))
+view.Method = "pcss"
+Delete(group)
+Delete(roof)
+
+# --- an object of opacity 0 is not drawn and casts no shadow, in every method
+# (stop 51: the map methods drew its full shadow, GEARS none)
+Show(sphere, view)
+for method in ("pcss", "hard", "pvsm", "gears"):
+    view.Method = method
+    dsphere.Opacity = 0.0
+    t.camera(view)
+    img = t.shot(view, tempdir, "ObjectsOpacity0_%s.png" % method)
+    under, far = t.region(img, t.UNDER), t.region(img, t.FAR)
+    c.check(abs(under - far) < 3.0, "opacity 0, %s: no shadow (under %.1f, far %.1f)" % (method, under, far))
+    dsphere.Opacity = 1.0
+view.Method = "pcss"
 
 Delete(view)
 del view
