@@ -13,6 +13,7 @@
 #include "vtkSoftShadowPass.h"
 
 #include "ssCasterSet.h"
+#include "ssClippingRange.h"
 #include "ssFrameBudget.h"
 #include "ssFrameState.h"
 #include "ssGBuffer.h"
@@ -177,6 +178,24 @@ bool GetFlag(vtkProp* prop, vtkInformationIntegerKey* key)
   }
   return true;
 }
+}
+
+void vtkSoftShadowPass::ResetClippingRangeToVisibleCells(vtkRenderer* renderer)
+{
+  if (renderer && renderer->GetActiveCamera())
+  {
+    // (a renderer without a window has no aspect: 1 then)
+    const double aspect = renderer->GetVTKWindow() ? renderer->GetTiledAspectRatio() : 1.0;
+    ss::ResetClippingRangeToVisible(renderer, std::isfinite(aspect) && aspect > 0.0 ? aspect : 1.0);
+  }
+}
+
+void vtkSoftShadowPass::ShiftFarReachingMappersToTheFocalPoint(vtkRenderer* renderer)
+{
+  if (renderer && renderer->GetActiveCamera())
+  {
+    ss::ShiftFarReachingMappersToTheFocalPoint(renderer);
+  }
 }
 
 void vtkSoftShadowPass::SetCastsShadows(vtkProp* prop, bool casts)

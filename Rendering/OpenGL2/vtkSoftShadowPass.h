@@ -406,6 +406,28 @@ public:
   bool GetLastFrameAborted();
 
   ///@{
+  /**
+   * For applications (C++ and Python) whose data may hold broken geometry
+   * reaching far out, such as a lost vertex at 1e10. VTK's
+   * ResetCameraClippingRange() spans every prop's bounds and keeps the near
+   * plane at 1/1000 of the far one, so such a vertex puts the near plane past
+   * the scene and the picture comes out empty.
+   * ResetClippingRangeToVisibleCells sets the active camera's range from the
+   * cells in view instead, and moves the near plane to the nearest cell where
+   * it passed it (ssClippingRange.h; the CLI and ParaView's Soft Shadow View
+   * do this). Call it after the camera moves; it walks the cells, in runs
+   * cached while the data is unchanged.
+   * ShiftFarReachingMappersToTheFocalPoint draws a mesh whose bounds' centre
+   * lies more than 100 camera distances from the focal point, while its
+   * bounds come within 100, with float coordinates shifted to the focal
+   * point: VTK's shift to its bounds' centre puts its near part on a coarse
+   * grid (a strip from the scene to 1e10 vanished).
+   */
+  static void ResetClippingRangeToVisibleCells(vtkRenderer* renderer);
+  static void ShiftFarReachingMappersToTheFocalPoint(vtkRenderer* renderer);
+  ///@}
+
+  ///@{
   /** Per-prop flags (stored in vtkProp::GetPropertyKeys); both default to true. */
   static void SetCastsShadows(vtkProp* prop, bool casts);
   static bool GetCastsShadows(vtkProp* prop);
