@@ -278,7 +278,7 @@ void vtkPVSoftShadowView::ResetCameraClippingRange()
 {
   this->Superclass::ResetCameraClippingRange();
   vtkRenderer* ren = this->GetRenderer();
-  if (!ren || this->GetLockBounds())
+  if (!ren || this->GetLockBounds() || this->DeferCellWalk)
   {
     return;
   }
@@ -288,6 +288,16 @@ void vtkPVSoftShadowView::ResetCameraClippingRange()
     ss::ResetClippingRangeToVisible(ren, aspect);
   }
   ss::ShiftFarReachingMappersToTheFocalPoint(ren);
+}
+
+void vtkPVSoftShadowView::Render(bool interactive, bool skip_rendering)
+{
+  // (the walk over the cells at the start of Render() read the mappers'
+  // previous data and was done again before drawing: on the 5M assembly
+  // with a lost vertex, twice 40 ms a frame)
+  this->DeferCellWalk = true;
+  this->Superclass::Render(interactive, skip_rendering);
+  this->DeferCellWalk = false;
 }
 
 void vtkPVSoftShadowView::ApplyRepresentationFlags(vtkPVDataRepresentation* rep)
@@ -329,7 +339,8 @@ void vtkPVSoftShadowView::AboutToRenderOnLocalProcess(bool interactive)
   // last render was not among the cells the range was fitted to, and a broken
   // one (a lost vertex far out) left its first frame empty, the picture a
   // SaveScreenshot after Show() takes (stop 51). So again, with this frame's
-  // data.
+  // data; the call at the start of Render() kept ParaView's range (Render).
+  this->DeferCellWalk = false;
   this->ResetCameraClippingRange();
 
   // per object: the representations' Cast / Receive Shadows

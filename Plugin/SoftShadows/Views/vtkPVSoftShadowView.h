@@ -174,6 +174,12 @@ protected:
   ~vtkPVSoftShadowView() override;
 
   void AboutToRenderOnLocalProcess(bool interactive) override;
+  /**
+   * ParaView's Render(): ResetCameraClippingRange at its start, before the
+   * representations hand the mappers this frame's data, keeps ParaView's
+   * range; the cells are walked once, in AboutToRenderOnLocalProcess.
+   */
+  void Render(bool interactive, bool skip_rendering) override;
 
   void PlaceShadowLight(const double center[3], double diagonal);
   void UpdateLights(double diagonal);
@@ -193,6 +199,7 @@ protected:
   vtkNew<vtkTextActor> PlanAnnotation;
   vtkNew<vtkAlgorithm> ProgressReporter; ///< what ParaView's progress handler observes
   bool ProgressRegistered = false;
+  bool DeferCellWalk = false; ///< between the start of Render() and AboutToRenderOnLocalProcess
   vtkWeakPointer<vtkLight> KeyLight; ///< the light kit's key light
   std::string Stats; // backs GetStatsJSON's pointer
   std::string Plan;  // backs GetPlanDescription's pointer
