@@ -6,7 +6,8 @@ checks each path gives the result it should (issue 16's audit):
 - a GPU whose GL_MAX_TEXTURE_SIZE is 1024: a 4096 shadow map request is
   capped at 1024 with a note in the stats (not an allocation failure), V
   identical to asking for 1024; PVSM's tiles stay within the limit;
-- an OpenGL 3.2 context: the map methods run, GEARS's GL backend falls back
+- an OpenGL 3.2 context: the map methods run (PVSM with the GPU's map too),
+  GEARS's GL backend falls back
   to the CPU with the reason in the stats, V identical to the 4.5 context;
 - a small SSBO limit: GEARS's GL backend falls back with the reason, and so
   do the translucent receivers' fragment lists (the same picture);
@@ -94,6 +95,17 @@ for m in ("pcss", "pvsm"):
     a, _ = render(f"gl32_{m}", m, gl32)
     b, _ = render(f"gl45_{m}", m)
     identical(f"{m} on GL 3.2 vs 4.5", a, b)
+# PVSM's conservative map as a GPU machine draws it (the geometry shader;
+# llvmpipe picks the CPU raster), on GL 3.2 and 4.5
+a, sa = render("gl32_pvsm_gpu_map", "pvsm", gl32, ["pvsm_map_raster=gpu"])
+b, sb = render("gl45_pvsm_gpu_map", "pvsm", None, ["pvsm_map_raster=gpu"])
+identical("pvsm with the GPU's map on GL 3.2 vs 4.5", a, b)
+for tag, st, want in (("GL 3.2", sa, "gpu"), ("GL 4.5", sb, "gpu")):
+    if st:
+        check(st["pass"]["pvsm"]["map_raster"] == want, f"pvsm_map_raster=gpu on {tag}: the map is the GPU's")
+_, sc = render("gl45_pvsm_auto_map", "pvsm")
+if sc:
+    check(sc["pass"]["pvsm"]["map_raster"] == "cpu", "pvsm_map_raster=auto on llvmpipe: the map is the CPU's")
 b, sb = render("cpu_gears", "gears", None, ["gears_backend=cpu"])
 
 

@@ -118,6 +118,20 @@ bool ShadowMaps::EndDrawing(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObje
   return ok;
 }
 
+void ShadowMaps::WriteLayer(vtkOpenGLRenderWindow* win, int layer, const std::vector<float>& depth) const
+{
+  const int S = this->Array.Size;
+  std::vector<float> rg(2 * depth.size());
+  for (std::size_t k = 0; k < depth.size(); ++k)
+  {
+    rg[2 * k] = rg[2 * k + 1] = depth[k];
+  }
+  const int unit = this->Array.Bind(win);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, layer, S, S, 1, GL_RG, GL_FLOAT, rg.data());
+  TextureArray::Unbind(win, unit);
+}
+
 bool ShadowMaps::Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int layer, float* out) const
 {
   return fbo && this->Array.Read(win, fbo, layer, out);
