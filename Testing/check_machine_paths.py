@@ -103,9 +103,14 @@ identical("pvsm with the GPU's map on GL 3.2 vs 4.5", a, b)
 for tag, st, want in (("GL 3.2", sa, "gpu"), ("GL 4.5", sb, "gpu")):
     if st:
         check(st["pass"]["pvsm"]["map_raster"] == want, f"pvsm_map_raster=gpu on {tag}: the map is the GPU's")
-_, sc = render("gl45_pvsm_auto_map", "pvsm")
+# auto on llvmpipe: the CPU when the casters have at least S^2 / 8 triangles
+# (the demo's 5,218 against a 64^2 map), else the geometry shader (1024^2)
+_, sc = render("gl45_pvsm_auto_map64", "pvsm", None, ["pvsm_low_resolution=64"])
 if sc:
-    check(sc["pass"]["pvsm"]["map_raster"] == "cpu", "pvsm_map_raster=auto on llvmpipe: the map is the CPU's")
+    check(sc["pass"]["pvsm"]["map_raster"] == "cpu", "pvsm_map_raster=auto, 64^2 map: the map is the CPU's")
+_, sc = render("gl45_pvsm_auto_map1024", "pvsm", None, ["pvsm_low_resolution=1024"])
+if sc:
+    check(sc["pass"]["pvsm"]["map_raster"] == "gpu", "pvsm_map_raster=auto, 1024^2 map: the map is the GPU's")
 b, sb = render("cpu_gears", "gears", None, ["gears_backend=cpu"])
 
 

@@ -92,7 +92,10 @@ struct Raster
     const double s = area >= 0.0 ? 1.0 : -1.0;
     std::array<glm::dvec2, 3> n;
     std::array<double, 3> c;
-    bool ok = std::abs(area) > 1e-12 * std::max(1.0, glm::dot(hi - lo, hi - lo));
+    // degenerate when its area vanishes in double (the shader's 1e-12 is for
+    // float: with it, a sliver reaching 1e13 away became its whole grown box
+    // at its nearest depth, and a far light's map lost the shadows)
+    bool ok = std::abs(area) > 1e-24 * std::max(1.0, glm::dot(hi - lo, hi - lo));
     for (int i = 0; i < 3; ++i)
     {
       const glm::dvec2 e = v[(i + 1) % 3] - v[i];
@@ -133,8 +136,14 @@ struct Raster
     }
   }
 
-  void Draw(const std::array<glm::dvec3, 3>& L) const
+  void Draw(const std::array<glm::dvec3, 3>& in) const
   {
+    // the corner nearest the light first (same orientation): the plane and
+    // the barycentrics are taken from it, so a corner 1e13 away (a needle)
+    // does not cancel them out in double
+    const double r0 = glm::dot(in[0], in[0]), r1 = glm::dot(in[1], in[1]), r2 = glm::dot(in[2], in[2]);
+    const int k = (r0 <= r1 && r0 <= r2) ? 0 : (r1 <= r2 ? 1 : 2);
+    const std::array<glm::dvec3, 3> L{ in[k], in[(k + 1) % 3], in[(k + 2) % 3] };
     const double zmin = std::min(L[0].z, std::min(L[1].z, L[2].z));
     const double zmax = std::max(L[0].z, std::max(L[1].z, L[2].z));
     if (this->view.orthographic || zmin > 0.0)
@@ -147,65 +156,82 @@ struct Raster
       return; // wholly behind a one-sided perspective view
     }
     // crosses the light plane: drawn as is, as the GPU's clipper leaves it
-    // (clipped at z = 0). Enlarged, its sliver at the plane would be a
-    // degenerate box at depth ~0 over the whole map (a scene with a needle
-    // reaching behind the light lost its shadows so,
-    // cli.render.far_needles_casting); and the projected, clipped corners
-    // are too far out (1/z) for barycentric depths. So: the texels of the
-    // clipped part's projected bounding box (1e-9 z_max from the plane, a
-    // texel wider), each by its ray through the triangle, exactly.
-    const double eps = 1e-9 * zmax;
-    glm::dvec2 lo(1e300), hi(-1e300);
-    for (int i = 0; i < 3; ++i)
+    // (clipped at z = 0): each texel whose ray from the light's centre meets
+    // the triangle in front of the light holds the depth where it does.
+    // (Clipped near the plane and enlarged, its sliver there became a box at
+    // depth ~0 over the whole map: a needle reaching behind the light lost
+    // the scene its shadows, cli.render.far_needles_casting.)
+    const glm::dvec3 N = glm::cross(L[1] - L[0], L[2] - L[0]); // L[0] is the nearest corner
+    const double nl = glm::dot(N, L[0]);
+    // the plane's distance from the light's centre against the nearest
+    // corner's (the far corners of a needle 1e13 long are rounded by 1e6,
+    // but tilt the plane by their distance's fraction of that only)
+    const double nearest = std::min({ glm::length(L[0]), glm::length(L[1]), glm::length(L[2]) });
+    if (!(std::abs(nl) > 1e-6 * glm::length(N) * nearest))
     {
-      const glm::dvec3& P = L[i];
-      const glm::dvec3& Q = L[(i + 1) % 3];
-      std::array<glm::dvec3, 2> add;
-      int m = 0;
-      if (P.z >= eps)
-      {
-        add[m++] = P;
-      }
-      if ((P.z >= eps) != (Q.z >= eps))
-      {
-        add[m++] = P + (Q - P) * ((eps - P.z) / (Q.z - P.z));
-      }
-      for (int k = 0; k < m; ++k)
-      {
-        const glm::dvec2 v = this->Ndc(add[k]);
-        lo = glm::min(lo, v);
-        hi = glm::max(hi, v);
-      }
-    }
-    const auto texel = [&](double ndc) { return (ndc + 1.0) * 0.5 * this->S; };
-    const double fx0 = std::max(0.0, std::floor(texel(lo.x)) - 1.0), fx1 = std::min(this->S - 1.0, std::ceil(texel(hi.x)));
-    const double fy0 = std::max(0.0, std::floor(texel(lo.y)) - 1.0), fy1 = std::min(this->S - 1.0, std::ceil(texel(hi.y)));
-    if (!(fx0 <= fx1 && fy0 <= fy1))
-    {
+      // its plane holds the light's centre (to the float coordinates'
+      // rounding): seen edge-on, a line, as on the GPU. Else the rounding's
+      // sign would put half the map at depth ~0.
       return;
     }
-    const glm::dvec3 N = glm::cross(L[1] - L[0], L[2] - L[0]);
-    const glm::dvec3 E0 = glm::cross(L[0], L[1]), E1 = glm::cross(L[1], L[2]), E2 = glm::cross(L[2], L[0]);
+    // The covered texels of a row are an interval: r = (X, Y, 1) meets the
+    // triangle iff the three r.E_i share a sign, in front iff N.r has nl's
+    // sign, each linear in X.
+    const std::array<glm::dvec3, 3> E{ glm::cross(L[0], L[1]), glm::cross(L[1], L[2]), glm::cross(L[2], L[0]) };
     const Rect& e = this->view.extent;
+    const double tw = (e.x1 - e.x0) / this->S, th = (e.y1 - e.y0) / this->S;
     const float zLow = static_cast<float>(std::max(zmin, 0.0)), zHigh = static_cast<float>(zmax);
-    for (int j = static_cast<int>(fy0); j <= static_cast<int>(fy1); ++j)
+    const double front = nl > 0.0 ? 1.0 : -1.0;
+    for (int j = 0; j < this->S; ++j)
     {
-      for (int i = static_cast<int>(fx0); i <= static_cast<int>(fx1); ++i)
+      const double Y = e.y0 + (j + 0.5) * th;
+      for (const double side : { 1.0, -1.0 })
       {
-        // the ray from the light's centre through the texel centre
-        const glm::dvec3 r(e.x0 + (i + 0.5) * (e.x1 - e.x0) / this->S, e.y0 + (j + 0.5) * (e.y1 - e.y0) / this->S, 1.0);
-        const double d0 = glm::dot(r, E0), d1 = glm::dot(r, E1), d2 = glm::dot(r, E2);
-        if (!((d0 >= 0.0 && d1 >= 0.0 && d2 >= 0.0) || (d0 <= 0.0 && d1 <= 0.0 && d2 <= 0.0)))
+        // X in [lo, hi] where side * (E_i.x X + E_i.y Y + E_i.z) >= 0 and front * (N.x X + N.y Y + N.z) > 0
+        double lo = e.x0, hi = e.x1;
+        const auto limit = [&](const glm::dvec3& c, double sign) {
+          const double a = sign * c.x, b = sign * (c.y * Y + c.z);
+          if (a > 0.0)
+          {
+            lo = std::max(lo, -b / a);
+          }
+          else if (a < 0.0)
+          {
+            hi = std::min(hi, -b / a);
+          }
+          else if (b < 0.0)
+          {
+            hi = lo - 1.0; // never
+          }
+        };
+        for (const auto& c : E)
         {
-          continue; // the line misses the triangle
+          limit(c, side);
         }
-        const double t = glm::dot(N, L[0]) / glm::dot(N, r);
-        if (!(t > 0.0) || !std::isfinite(t))
+        limit(N, front);
+        if (!(lo <= hi))
         {
-          continue; // behind the light (or the triangle is edge-on to the ray)
+          continue;
         }
-        AtomicMin(this->map[static_cast<std::size_t>(j) * this->S + i],
-          std::min(std::max(static_cast<float>(t), zLow), zHigh));
+        // one texel wider on each side: the exact test below decides
+        const int i0 = std::max(0, static_cast<int>(std::floor((lo - e.x0) / tw - 0.5)) - 1);
+        const int i1 = std::min(this->S - 1, static_cast<int>(std::ceil((hi - e.x0) / tw - 0.5)) + 1);
+        for (int i = i0; i <= i1; ++i)
+        {
+          const glm::dvec3 r(e.x0 + (i + 0.5) * tw, Y, 1.0);
+          const double d0 = side * glm::dot(r, E[0]), d1 = side * glm::dot(r, E[1]), d2 = side * glm::dot(r, E[2]);
+          if (d0 < 0.0 || d1 < 0.0 || d2 < 0.0)
+          {
+            continue; // the line misses the triangle
+          }
+          const double t = nl / glm::dot(N, r);
+          if (!(t > 0.0) || !std::isfinite(t))
+          {
+            continue; // behind the light (or edge-on to the ray)
+          }
+          AtomicMin(this->map[static_cast<std::size_t>(j) * this->S + i],
+            std::min(std::max(static_cast<float>(t), zLow), zHigh));
+        }
       }
     }
   }
@@ -220,10 +246,12 @@ void ConservativeMinDepthMap(const float* triangles, std::size_t count,
   std::vector<std::atomic<std::uint32_t>> map(texels);
   std::uint32_t emptyBits;
   std::memcpy(&emptyBits, &Empty, sizeof emptyBits);
-  for (auto& m : map)
-  {
-    m.store(emptyBits, std::memory_order_relaxed);
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, texels, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t k = r.begin(); k != r.end(); ++k)
+    {
+      map[k].store(emptyBits, std::memory_order_relaxed);
+    }
+  });
   std::vector<std::pair<std::size_t, std::size_t>> all;
   if (!ranges)
   {
@@ -238,7 +266,7 @@ void ConservativeMinDepthMap(const float* triangles, std::size_t count,
     {
       continue;
     }
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(range.first, end, 2048),
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(range.first, end, 1024),
       [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t t = r.begin(); t != r.end(); ++t)
         {
@@ -258,10 +286,12 @@ void ConservativeMinDepthMap(const float* triangles, std::size_t count,
         }
       });
   }
-  for (std::size_t k = 0; k < texels; ++k)
-  {
-    const std::uint32_t bits = map[k].load(std::memory_order_relaxed);
-    std::memcpy(out + k, &bits, sizeof bits);
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, texels, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t k = r.begin(); k != r.end(); ++k)
+    {
+      const std::uint32_t bits = map[k].load(std::memory_order_relaxed);
+      std::memcpy(out + k, &bits, sizeof bits);
+    }
+  });
 }
 }

@@ -94,7 +94,8 @@ const OptionList& PVSMSolver::DeclaredOptions()
       "only over those pixels, and skip a tile no pixel reaches"),
     EnumOption("pvsm_map_raster", "PVSMMapRaster", "PVSM Map Raster", { "auto", "gpu", "cpu" }, 0,
       "pvsm: who rasterises the conservative low-resolution map: the GPU (a geometry shader) or the CPU "
-      "(the same texels, multithreaded, uploaded); auto: the CPU on software GL such as llvmpipe"),
+      "(the same texels, multithreaded, uploaded); auto: the CPU on software GL such as llvmpipe when the map "
+      "has at least a triangle for 8 of its texels"),
   };
   return options;
 }
@@ -199,32 +200,9 @@ vtkShaderProgram* PVSMSolver::ReadyConservativeProgram(SolverFrame& frame)
   return this->ConservativeProgram;
 }
 
-// §5.2 step 2: the low-resolution map of each view is rasterised
-// conservatively, so that the blocker search of step 3 misses no thin caster.
-void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
+// The triangle ranges of each view's map (empty: every triangle in every view).
+std::vector<TriangleRanges> PVSMSolver::MapRanges(SolverFrame& frame, const ShadowLight& light)
 {
-  if (light.Views.empty())
-  {
-    return;
-  }
-  // software GL runs the geometry shader slowly: the CPU rasterises the
-  // same texels faster there (ssConservativeMap.h)
-  const bool onCPU = this->Opt.MapRaster == 2 || (this->Opt.MapRaster == 0 && QueryGLLimits().softwareRenderer);
-  this->MapOnCPU = onCPU;
-  vtkShaderProgram* p = onCPU ? nullptr : this->ReadyConservativeProgram(frame);
-  vtkOpenGLVertexArrayObject* vao = this->ConservativeVAO;
-  if (!onCPU && !p)
-  {
-    vtkErrorWithObjectMacro(frame.Reporter, "Could not build the conservative rasterisation program.");
-    p = frame.Casters->UseProgram(frame.Window);
-    vao = frame.Casters->GetVertexArray();
-  }
-  else if (p)
-  {
-    const float S = static_cast<float>(frame.Maps->GetArray().Size);
-    const float vp[2] = { S, S };
-    p->SetUniform2f("viewportSize", vp);
-  }
   // Only what a visible receiver's blocker search reads matters (step 3):
   // the clusters that may reach those texels of each view
   // (ss::BlockerSearchWindows), so the map has the same texels there, and
@@ -285,6 +263,46 @@ void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
       // the pad (1e-3 of the window) covers the GPU's float projection, as for tiles
       ranges.push_back(VisibleTriangleRanges(casters.Clusters, light.Views[vi], offset, w, 1e-3, &this->MapClusters));
     }
+  }
+  return ranges;
+}
+
+// §5.2 step 2: the low-resolution map of each view is rasterised
+// conservatively, so that the blocker search of step 3 misses no thin caster.
+void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
+{
+  if (light.Views.empty())
+  {
+    return;
+  }
+  const CasterSet& casters = *frame.Casters;
+  std::vector<TriangleRanges> ranges = this->MapRanges(frame, light);
+  // Software GL runs the geometry shader slowly: with many triangles for the
+  // map's texels (small ones) the CPU rasterises the same texels faster
+  // there; with few large triangles or a large map llvmpipe's rasteriser is
+  // faster (ssConservativeMap.h; the sweep in pvsm.md). Decided on the whole
+  // caster set, not on what the map culling keeps, so that the choice (and
+  // V to the last bit) does not change as the camera moves.
+  bool onCPU = this->Opt.MapRaster == 2;
+  if (this->Opt.MapRaster == 0 && QueryGLLimits().softwareRenderer)
+  {
+    const double S = frame.Maps->GetArray().Size;
+    onCPU = static_cast<double>(casters.NumberOfTriangles()) >= S * S / 8.0;
+  }
+  this->MapOnCPU = onCPU;
+  vtkShaderProgram* p = onCPU ? nullptr : this->ReadyConservativeProgram(frame);
+  vtkOpenGLVertexArrayObject* vao = this->ConservativeVAO;
+  if (!onCPU && !p)
+  {
+    vtkErrorWithObjectMacro(frame.Reporter, "Could not build the conservative rasterisation program.");
+    p = frame.Casters->UseProgram(frame.Window);
+    vao = frame.Casters->GetVertexArray();
+  }
+  else if (p)
+  {
+    const float S = static_cast<float>(frame.Maps->GetArray().Size);
+    const float vp[2] = { S, S };
+    p->SetUniform2f("viewportSize", vp);
   }
   if (!onCPU)
   {

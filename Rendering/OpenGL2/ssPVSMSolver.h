@@ -73,6 +73,7 @@ public:
 
 private:
   vtkShaderProgram* ReadyConservativeProgram(SolverFrame& frame);
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> MapRanges(SolverFrame& frame, const ShadowLight& light);
 
   Options Opt;
   // per frame

@@ -288,7 +288,8 @@ TEST(ConservativeMap, TheLightPlaneClipsAndNothingBehindIsDrawn)
     }
   }
   // a needle from z = 1 to behind the light, 1e10 sideways (cli.render.far_needles_casting):
-  // its sliver at the light plane is not a box at depth ~0 over the map
+  // its sliver at the light plane is not a box at depth ~0 over the map; it
+  // is a thin line at the depths where the rays meet it (Y = 0.5 / z <= 0.9)
   const std::vector<float> needle{ 0.0f, 0.5f, 1.0f, 0.0f, 0.51f, 1.0f, 1e10f, 0.5f, -1e9f };
   int needleTexels = 0;
   for (float z : Map(needle, v, S))
@@ -296,16 +297,52 @@ TEST(ConservativeMap, TheLightPlaneClipsAndNothingBehindIsDrawn)
     if (z < Empty)
     {
       ++needleTexels;
-      EXPECT_GE(z, 0.9f);
+      EXPECT_GE(z, 0.5f);
     }
   }
   EXPECT_GT(needleTexels, 0);
-  EXPECT_LT(needleTexels, S);
+  EXPECT_LT(needleTexels, 3 * S);
+  // a triangle whose plane holds the light's centre is seen edge-on: nothing
+  // (as on the GPU), however its corners' rounding tilts it
+  const std::vector<float> through{ -0.7f, -0.3f, -0.5f, 1.3f, -0.3f, 0.5f, 0.3f, 1.2f, 0.0f };
+  for (float z : Map(through, v, S))
+  {
+    ASSERT_EQ(z, Empty);
+  }
   const std::vector<float> behind{ -0.2f, 0.0f, -1.0f, 0.3f, 0.1f, -2.0f, -0.1f, 0.4f, -0.5f };
   for (float z : Map(behind, v, S))
   {
     ASSERT_EQ(z, Empty);
   }
+}
+
+// a sliver reaching 1e13 away, tilted so its depth range is huge (a far
+// light's view of a needle): the texels near its base hold its plane's depth
+// there, not its nearest depth over the whole box (the plane and the
+// barycentrics come from the corner nearest the light, not the far one)
+TEST(ConservativeMap, NeedleReachingFarKeepsItsPlaneNearItsBase)
+{
+  const ShadowView v = View(true);
+  const int S = 64;
+  const std::vector<float> needle{ 1e13f, 0.0f, 6e11f, 0.0f, 0.2f, 1.0f, 0.0f, -0.2f, 1.0f };
+  const std::vector<float> m = Map(needle, v, S);
+  int near = 0;
+  for (int j = 0; j < S; ++j)
+  {
+    for (int i = 0; i < S; ++i)
+    {
+      const Square q = TexelSquare(v, S, i, j);
+      const double x = 0.5 * (q.x0 + q.x1), y = 0.5 * (q.y0 + q.y1);
+      // on the needle near its base: |y| < 0.2 (1 - x / 1e13), 0 < x < 1
+      if (x > 0.0 && x < 1.0 && std::abs(y) < 0.15)
+      {
+        ++near;
+        // its plane: z = 1 + 0.06 x (+ 10, the view's origin)
+        EXPECT_NEAR(m[j * S + i], 11.0 + 0.06 * x, 1e-3) << i << "," << j;
+      }
+    }
+  }
+  EXPECT_GT(near, 20);
 }
 
 // NaN and infinite vertices are skipped; ranges pick triangles; an empty
