@@ -57,10 +57,8 @@ struct Raster
   }
 
   // One triangle in front of the light plane (every z > 0 when perspective):
-  // ssConservativeGS.glsl's arithmetic, in double, per texel centre. Not
-  // `enlarge`d: the texels whose centre it holds, as the GPU draws the
-  // triangles its clipper cut at the light plane (nothing when degenerate).
-  void Triangle(const std::array<glm::dvec3, 3>& L, double zmin, double zmax, bool enlarge) const
+  // ssConservativeGS.glsl's arithmetic, in double, per texel centre.
+  void Triangle(const std::array<glm::dvec3, 3>& L, double zmin, double zmax) const
   {
     const bool ortho = this->view.orthographic;
     std::array<glm::dvec2, 3> v;
@@ -77,7 +75,7 @@ struct Raster
     {
       return;
     }
-    const double hp = enlarge ? 1.0 / this->S : 0.0; // half a texel in NDC
+    const double hp = 1.0 / this->S; // half a texel in NDC
     // texels whose centre (2 (i + 0.5) / S - 1) lies in [lo - hp, hi + hp]
     const auto first = [&](double l) { return std::max(0.0, std::ceil((l - hp + 1.0) * 0.5 * this->S - 0.5)); };
     const auto last = [&](double h) { return std::min(this->S - 1.0, std::floor((h + hp + 1.0) * 0.5 * this->S - 0.5)); };
@@ -105,10 +103,6 @@ struct Raster
     for (int i = 0; i < 3; ++i)
     {
       ok = ok && std::abs(Cross(n[(i + 2) % 3], n[i])) > 1e-20; // the enlarged corners exist
-    }
-    if (!ok && !enlarge)
-    {
-      return;
     }
     const float zLow = static_cast<float>(zmin);
     for (int j = j0; j <= j1; ++j)
@@ -148,7 +142,7 @@ struct Raster
     const double zmax = std::max(L[0].z, std::max(L[1].z, L[2].z));
     if (this->view.orthographic || zmin > 0.0)
     {
-      this->Triangle(L, zmin, zmax, true);
+      this->Triangle(L, zmin, zmax);
       return;
     }
     if (!(zmax > 0.0))
