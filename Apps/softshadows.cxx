@@ -80,7 +80,7 @@ std::string Usage()
          "  softshadows bench --filters --mesh M [--points N] [--runs R] [--samples K] [--out DIR]\n"
          "        (caster preparation per million triangles, baking an N-point surface; --smoke: tiny)\n"
          "  softshadows bench --culling --mesh M [--frames N] [--out DIR] [--only pvsm|gears]\n"
-         "        [--camera overview|close-up] [--dolly F] [--cycles N]\n"
+         "        [--camera overview|close-up] [--dolly F] [--cycles N] [--map-raster auto|gpu|cpu]\n"
          "        (PVSM and GEARS with and without the prepared caster set's culling; --smoke: tiny)\n"
          "  softshadows bake SCENE.json --object I --output baked.vtp [--samples K]\n"
          "        [--method gears|reference]   (visible fraction of each light per point, CPU)\n"

@@ -62,7 +62,7 @@ struct Variant
 int BenchCulling(const std::vector<std::string>& args)
 {
   bool smoke = false;
-  std::string mesh, out = ".", only, camera;
+  std::string mesh, out = ".", only, camera, mapRaster;
   int frames = 3, cycles = 1, closeUp = 4; // the close-up's dolly factor
   for (std::size_t i = 0; i < args.size(); ++i)
   {
@@ -101,6 +101,14 @@ int BenchCulling(const std::vector<std::string>& args)
       if (camera != "overview" && camera != "close-up")
       {
         throw UsageError("bench --culling: --camera takes overview or close-up, not '" + camera + "'");
+      }
+    }
+    else if (a == "--map-raster")
+    {
+      mapRaster = FlagValue(args, i);
+      if (mapRaster != "auto" && mapRaster != "gpu" && mapRaster != "cpu")
+      {
+        throw UsageError("bench --culling: --map-raster takes auto, gpu or cpu, not '" + mapRaster + "'");
       }
     }
     else if (a == "--only")
@@ -203,7 +211,7 @@ int BenchCulling(const std::vector<std::string>& args)
   vtkSoftShadowLight::SetAreaSize(light, 2, 2);
   ren->AddLight(light);
 
-  const std::vector<Variant> variants = {
+  std::vector<Variant> variants = {
     { "pvsm, no culling", "pvsm", false, { "pvsm_tile_culling=0", "pvsm_map_culling=0", "pvsm_tile_regions=0" } },
     { "pvsm, Morton clusters", "pvsm", false, {} },
     { "pvsm, prepared clusters, tiles only", "pvsm", true, { "pvsm_map_culling=0", "pvsm_tile_regions=0" } },
@@ -213,6 +221,18 @@ int BenchCulling(const std::vector<std::string>& args)
     { "gears, plain", "gears", false, {} },
     { "gears, prepared (closed pieces)", "gears", true, {} },
   };
+  if (!mapRaster.empty())
+  {
+    // PVSM's conservative map drawn by the GPU or the CPU (pvsm_map_raster) in every PVSM row
+    for (Variant& v : variants)
+    {
+      if (std::string(v.method) == "pvsm")
+      {
+        v.options.push_back("pvsm_map_raster=" + mapRaster);
+      }
+    }
+    report["map_raster"] = mapRaster;
+  }
   std::ostringstream md;
   md << "| camera | configuration | frame ms (median) | solver stage ms | shadow_maps ms | drawn / culled clusters "
         "(tiles) | drawn / culled clusters (low-resolution map) | tile triangles | GEARS pairs | dropped triangles "

@@ -6,7 +6,8 @@ checks each path gives the result it should (issue 16's audit):
 - a GPU whose GL_MAX_TEXTURE_SIZE is 1024: a 4096 shadow map request is
   capped at 1024 with a note in the stats (not an allocation failure), V
   identical to asking for 1024; PVSM's tiles stay within the limit;
-- an OpenGL 3.2 context: the map methods run, GEARS's GL backend falls back
+- an OpenGL 3.2 context: the map methods run (PVSM with the GPU's map too),
+  GEARS's GL backend falls back
   to the CPU with the reason in the stats, V identical to the 4.5 context;
 - a small SSBO limit: GEARS's GL backend falls back with the reason, and so
   do the translucent receivers' fragment lists (the same picture);
@@ -94,6 +95,22 @@ for m in ("pcss", "pvsm"):
     a, _ = render(f"gl32_{m}", m, gl32)
     b, _ = render(f"gl45_{m}", m)
     identical(f"{m} on GL 3.2 vs 4.5", a, b)
+# PVSM's conservative map as a GPU machine draws it (the geometry shader;
+# llvmpipe picks the CPU raster), on GL 3.2 and 4.5
+a, sa = render("gl32_pvsm_gpu_map", "pvsm", gl32, ["pvsm_map_raster=gpu"])
+b, sb = render("gl45_pvsm_gpu_map", "pvsm", None, ["pvsm_map_raster=gpu"])
+identical("pvsm with the GPU's map on GL 3.2 vs 4.5", a, b)
+for tag, st, want in (("GL 3.2", sa, "gpu"), ("GL 4.5", sb, "gpu")):
+    if st:
+        check(st["pass"]["pvsm"]["map_raster"] == want, f"pvsm_map_raster=gpu on {tag}: the map is the GPU's")
+# auto on llvmpipe: the CPU when the casters have at least S^2 / 8 triangles
+# (the demo's 5,218 against a 64^2 map), else the geometry shader (1024^2)
+_, sc = render("gl45_pvsm_auto_map64", "pvsm", None, ["pvsm_low_resolution=64"])
+if sc:
+    check(sc["pass"]["pvsm"]["map_raster"] == "cpu", "pvsm_map_raster=auto, 64^2 map: the map is the CPU's")
+_, sc = render("gl45_pvsm_auto_map1024", "pvsm", None, ["pvsm_low_resolution=1024"])
+if sc:
+    check(sc["pass"]["pvsm"]["map_raster"] == "gpu", "pvsm_map_raster=auto, 1024^2 map: the map is the GPU's")
 b, sb = render("cpu_gears", "gears", None, ["gears_backend=cpu"])
 
 

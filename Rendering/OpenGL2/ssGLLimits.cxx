@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <string>
 
 namespace ss
 {
@@ -50,6 +51,15 @@ GLLimits QueryGLLimits()
     L.maxComputeSSBOBlocks = v > 0 ? v : 0;
   }
   L.maxSSBOBytes = b > 0 ? static_cast<std::int64_t>(b) : 0;
+  const GLubyte* renderer = glGetString(GL_RENDERER);
+  if (renderer)
+  {
+    const std::string r = reinterpret_cast<const char*>(renderer);
+    for (const char* name : { "llvmpipe", "softpipe", "SWR", "Software" })
+    {
+      L.softwareRenderer = L.softwareRenderer || r.find(name) != std::string::npos;
+    }
+  }
   while (glGetError() != GL_NO_ERROR)
   {
   }

@@ -20,6 +20,9 @@ struct GLLimits
   int maxSSBOBindings = 0;       ///< GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS (GL 4.3 guarantees 8; llvmpipe 80)
   int maxComputeSSBOBlocks = 0;  ///< GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS (GL 4.3 guarantees 8; llvmpipe 16)
   bool lowered = false;          ///< an environment override lowered one of them
+  /// GL_RENDERER names a CPU rasteriser (llvmpipe, softpipe, SWR, "Software"):
+  /// the pass then does some GPU-shaped work on the CPU instead (pvsm_map_raster)
+  bool softwareRenderer = false;
 };
 
 /// Limits of the current context (call with the context current).

@@ -4,6 +4,7 @@
 
 #include "ssBlockerSearchWindow.h"
 #include "ssCasterSet.h"
+#include "ssConservativeMap.h"
 #include "ssFrameState.h"
 #include "ssFullScreenQuad.h"
 #include "ssGBuffer.h"
@@ -91,6 +92,10 @@ const OptionList& PVSMSolver::DeclaredOptions()
     BoolOption("pvsm_tile_regions", "PVSMTileRegions", "PVSM Tile Regions", true,
       "pvsm: clear, draw and reduce each tile only where the pixels whose kernel reaches it read it, filter "
       "only over those pixels, and skip a tile no pixel reaches"),
+    EnumOption("pvsm_map_raster", "PVSMMapRaster", "PVSM Map Raster", { "auto", "gpu", "cpu" }, 0,
+      "pvsm: who rasterises the conservative low-resolution map: the GPU (a geometry shader) or the CPU "
+      "(the same texels, multithreaded, uploaded); auto: the CPU on software GL such as llvmpipe when the map "
+      "has at least a triangle for 8 of its texels"),
   };
   return options;
 }
@@ -106,6 +111,7 @@ void PVSMSolver::Configure(vtkSoftShadowPass* pass)
   this->Opt.TileCulling = opt("pvsm_tile_culling") != 0;
   this->Opt.MapCulling = opt("pvsm_map_culling") != 0;
   this->Opt.TileRegions = opt("pvsm_tile_regions") != 0;
+  this->Opt.MapRaster = opt("pvsm_map_raster");
   this->Opt.BlockerSearchSamples = opt("blocker_samples");
   this->Opt.FilterMaxQuads = opt("filter_max_quads");
   this->Opt.ConstantBias = pass->GetConstantBias();
@@ -194,28 +200,9 @@ vtkShaderProgram* PVSMSolver::ReadyConservativeProgram(SolverFrame& frame)
   return this->ConservativeProgram;
 }
 
-// §5.2 step 2: the low-resolution map of each view is rasterised
-// conservatively, so that the blocker search of step 3 misses no thin caster.
-void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
+// The triangle ranges of each view's map (empty: every triangle in every view).
+std::vector<TriangleRanges> PVSMSolver::MapRanges(SolverFrame& frame, const ShadowLight& light)
 {
-  if (light.Views.empty())
-  {
-    return;
-  }
-  vtkShaderProgram* p = this->ReadyConservativeProgram(frame);
-  vtkOpenGLVertexArrayObject* vao = this->ConservativeVAO;
-  if (!p)
-  {
-    vtkErrorWithObjectMacro(frame.Reporter, "Could not build the conservative rasterisation program.");
-    p = frame.Casters->UseProgram(frame.Window);
-    vao = frame.Casters->GetVertexArray();
-  }
-  else
-  {
-    const float S = static_cast<float>(frame.Maps->GetArray().Size);
-    const float vp[2] = { S, S };
-    p->SetUniform2f("viewportSize", vp);
-  }
   // Only what a visible receiver's blocker search reads matters (step 3):
   // the clusters that may reach those texels of each view
   // (ss::BlockerSearchWindows), so the map has the same texels there, and
@@ -277,7 +264,60 @@ void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
       ranges.push_back(VisibleTriangleRanges(casters.Clusters, light.Views[vi], offset, w, 1e-3, &this->MapClusters));
     }
   }
-  frame.Maps->DrawViews(frame, light, p, vao, ranges.empty() ? nullptr : &ranges);
+  return ranges;
+}
+
+// §5.2 step 2: the low-resolution map of each view is rasterised
+// conservatively, so that the blocker search of step 3 misses no thin caster.
+void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
+{
+  if (light.Views.empty())
+  {
+    return;
+  }
+  const CasterSet& casters = *frame.Casters;
+  std::vector<TriangleRanges> ranges = this->MapRanges(frame, light);
+  // Software GL runs the geometry shader slowly: with many triangles for the
+  // map's texels (small ones) the CPU rasterises the same texels faster
+  // there; with few large triangles or a large map llvmpipe's rasteriser is
+  // faster (ssConservativeMap.h; the sweep in pvsm.md). Decided on the whole
+  // caster set, not on what the map culling keeps, so that the choice (and
+  // V to the last bit) does not change as the camera moves.
+  bool onCPU = this->Opt.MapRaster == 2;
+  if (this->Opt.MapRaster == 0 && QueryGLLimits().softwareRenderer)
+  {
+    const double S = frame.Maps->GetArray().Size;
+    onCPU = static_cast<double>(casters.NumberOfTriangles()) >= S * S / 8.0;
+  }
+  this->MapOnCPU = onCPU;
+  vtkShaderProgram* p = onCPU ? nullptr : this->ReadyConservativeProgram(frame);
+  vtkOpenGLVertexArrayObject* vao = this->ConservativeVAO;
+  if (!onCPU && !p)
+  {
+    vtkErrorWithObjectMacro(frame.Reporter, "Could not build the conservative rasterisation program.");
+    p = frame.Casters->UseProgram(frame.Window);
+    vao = frame.Casters->GetVertexArray();
+  }
+  else if (p)
+  {
+    const float S = static_cast<float>(frame.Maps->GetArray().Size);
+    const float vp[2] = { S, S };
+    p->SetUniform2f("viewportSize", vp);
+  }
+  if (!onCPU)
+  {
+    frame.Maps->DrawViews(frame, light, p, vao, ranges.empty() ? nullptr : &ranges);
+    return;
+  }
+  const int S = frame.Maps->GetArray().Size;
+  std::vector<float> depth(static_cast<std::size_t>(S) * S);
+  const glm::dvec3 offset = casters.Origin - frame.State->Origin;
+  for (std::size_t vi = 0; vi < light.Views.size(); ++vi)
+  {
+    ConservativeMinDepthMap(casters.Triangles.data(), casters.NumberOfTriangles(),
+      ranges.empty() ? nullptr : &ranges[vi], offset, light.Views[vi], S, depth.data());
+    frame.Maps->WriteLayer(frame.Window, light.FirstLayer + static_cast<int>(vi), depth);
+  }
 }
 
 void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)
@@ -708,7 +748,7 @@ std::string PVSMSolver::GetStatsJSON() const
   o.precision(17);
   o << "{\"lights\": " << this->Lights << ", \"low_resolution\": " << this->Opt.LowResolution
     << ", \"grid\": " << this->Opt.GridSize << ", \"max_tile\": " << this->Opt.MaxTileResolution
-    << ", \"max_tile_used\": " << this->TileUsed
+    << ", \"max_tile_used\": " << this->TileUsed << ", \"map_raster\": \"" << (this->MapOnCPU ? "cpu" : "gpu") << "\""
     << ", \"tile_clusters\": " << (this->LastClustersJSON.empty() ? "null" : this->LastClustersJSON)
     << ", \"map_clusters\": " << (this->LastMapClustersJSON.empty() ? "null" : this->LastMapClustersJSON)
     << ", \"stats\": " << PVSMStatsToJSON(this->LastStats) << "}";

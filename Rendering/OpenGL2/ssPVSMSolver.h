@@ -42,6 +42,7 @@ public:
     bool TileCulling = false;
     bool MapCulling = false; ///< pvsm_map_culling: the conservative map draws only what the blocker search reads
     bool TileRegions = false; ///< pvsm_tile_regions: each tile drawn and filtered only where its pixels read it
+    int MapRaster = 0; ///< pvsm_map_raster: 0 auto (the CPU on software GL), 1 the GPU, 2 the CPU
     int BlockerSearchSamples = 0;
     int FilterMaxQuads = 0;
     double ConstantBias = 0.0;
@@ -72,6 +73,7 @@ public:
 
 private:
   vtkShaderProgram* ReadyConservativeProgram(SolverFrame& frame);
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> MapRanges(SolverFrame& frame, const ShadowLight& light);
 
   Options Opt;
   // per frame
@@ -99,6 +101,7 @@ private:
   vtkShaderProgram* GridProgram = nullptr;
   vtkSmartPointer<vtkOpenGLVertexArrayObject> ConservativeVAO;
   unsigned long ConservativeVAOUploads = 0;
+  bool MapOnCPU = false; ///< the last frame's conservative map came from ss::ConservativeMinDepthMap
   vtkSmartPointer<vtkOpenGLVertexArrayObject> EmptyVAO;
   std::unique_ptr<vtkOpenGLQuadHelper> KernelQuad, FilterQuad, ResolveQuad, ReduceQuad;
 };

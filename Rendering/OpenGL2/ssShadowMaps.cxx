@@ -118,6 +118,31 @@ bool ShadowMaps::EndDrawing(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObje
   return ok;
 }
 
+void ShadowMaps::WriteLayer(vtkOpenGLRenderWindow* win, int layer, const std::vector<float>& depth) const
+{
+  const int S = this->Array.Size;
+  if (S <= 0 || depth.size() != static_cast<std::size_t>(S) * S)
+  {
+    return;
+  }
+  // in bands of rows: the interleaved copy stays small (8 MB) at any size
+  const int band = std::max(1, (1 << 20) / S);
+  std::vector<float> rg(2 * static_cast<std::size_t>(S) * std::min(band, S));
+  const int unit = this->Array.Bind(win);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  for (int y0 = 0; y0 < S; y0 += band)
+  {
+    const int rows = std::min(band, S - y0);
+    const float* d = depth.data() + static_cast<std::size_t>(y0) * S;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(rows) * S; ++k)
+    {
+      rg[2 * k] = rg[2 * k + 1] = d[k];
+    }
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, y0, layer, S, rows, 1, GL_RG, GL_FLOAT, rg.data());
+  }
+  TextureArray::Unbind(win, unit);
+}
+
 bool ShadowMaps::Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int layer, float* out) const
 {
   return fbo && this->Array.Read(win, fbo, layer, out);

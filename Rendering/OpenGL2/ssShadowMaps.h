@@ -69,6 +69,10 @@ public:
   void Attach(vtkOpenGLFramebufferObject* fbo, int layer) const { this->Array.Attach(fbo, 0, layer); }
   /// Level 0 of `layer`: size^2 (min, max) pairs, row 0 at the bottom.
   bool Read(vtkOpenGLRenderWindow* win, vtkOpenGLFramebufferObject* fbo, int layer, float* out) const;
+  /// Writes level 0 of `layer` from Size x Size depths (rows from the
+  /// bottom), as drawn maps hold them: (depth, depth) per texel. Between
+  /// BeginDrawing and EndDrawing, instead of drawing that layer.
+  void WriteLayer(vtkOpenGLRenderWindow* win, int layer, const std::vector<float>& depth) const;
   /// Why the maps are smaller than asked (the GL limit), or empty.
   const std::string& GetSizeNote() const { return this->SizeNote; }
   /// A frame without maps: no note.

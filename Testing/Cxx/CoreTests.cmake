@@ -22,6 +22,7 @@ add_executable(TestSoftShadowsCore
   TestSSCasterClusters.cxx
   TestSSClusterBounds.cxx
   TestSSBlockerSearchWindow.cxx
+  TestSSConservativeMap.cxx
   TestSSPVSMTileReads.cxx
   TestSSAVSM.cxx
   TestSSVPCSS.cxx

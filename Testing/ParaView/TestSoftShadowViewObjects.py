@@ -148,6 +148,15 @@ for d, axis in (([1e-300, 0, 0], 0), ([0, 1e300, 1e300], None)):
     else:
         ok = abs(rel[0]) < 1e-6 * rel[1] and rel[1] > 0 and abs(rel[1] - rel[2]) < 1e-6 * rel[1]
     c.check(ok, "ShadowLightDirection %s places the light along it (offset %s)" % (d, rel))
+# the largest doubles name the diagonal as [1, 1, 1] does: the same light
+# (stop 51's sweep saw other lighting, in another placement; checked in stop 52)
+placed = []
+for d in ([1, 1, 1], [1e308] * 3):
+    view.ShadowLightDirection = d
+    Render(view)
+    view.UpdatePropertyInformation()
+    placed.append(list(view.ShadowLightPosition))
+c.check(placed[0] == placed[1], "ShadowLightDirection [1e308]*3 places the light as [1, 1, 1] (%s, %s)" % tuple(placed))
 view.ShadowLightDirection = [0, 0, 1]
 view.ShadowLightPlacement = "Follow Camera"
 light = AddLight(view=view)

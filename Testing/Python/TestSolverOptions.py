@@ -57,7 +57,7 @@ check(P.FindSolverOption("no_such_key") == -1, "an unknown key is not found")
 
 # --- the pass: generic API and the deprecated forwarders, both ways. Options
 # declared after issue 19 have no forwarder (architecture.md, "Its options"):
-NO_FORWARDERS = {"pvsm_map_culling", "pvsm_tile_regions"}
+NO_FORWARDERS = {"pvsm_map_culling", "pvsm_tile_regions", "pvsm_map_raster"}
 p = P()
 for o in options:
     k, prop = o["key"], o["prop"]
