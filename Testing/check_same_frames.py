@@ -10,7 +10,8 @@
   (before, the picture was empty; with the camera fixed, V was 0 almost
   everywhere under gears and reference, and PCSS lost penumbrae).
 
-usage: check_same_frames.py SOFTSHADOWS SCENE_A SCENE_B OUTDIR [METHOD,...]"""
+usage: check_same_frames.py SOFTSHADOWS SCENE_A SCENE_B OUTDIR [METHOD,...]
+A METHOD may carry solver options: pvsm@pvsm_map_raster=cpu (@key=value each)."""
 import json
 import os
 import subprocess
@@ -27,9 +28,12 @@ for method in methods:
     rendered = True
     for tag, scene in (("origin", near), ("far", far)):
         pfm[tag] = os.path.join(out, "%s_%s.pfm" % (tag, method))
-        run = subprocess.run([exe, "render", scene, "--method", method, "--visibility", pfm[tag],
-                              "--output", os.path.join(out, "%s_%s.png" % (tag, method))],
-                             env=env, capture_output=True, text=True)
+        name, *options = method.split("@")
+        cmd = [exe, "render", scene, "--method", name, "--visibility", pfm[tag],
+               "--output", os.path.join(out, "%s_%s.png" % (tag, method))]
+        for o in options:
+            cmd += ["--option", o]
+        run = subprocess.run(cmd, env=env, capture_output=True, text=True)
         if run.returncode != 0:
             failures.append("%s %s: exit code %d: %s" % (method, tag, run.returncode, run.stderr))
             rendered = False

@@ -423,6 +423,19 @@ ss_same_frames_test(far_needles_casting stray_reference.json far_needles_casting
 # automatic shift of the strip's coordinates to its bounds' centre (5e9) left
 # its bottom on a 512-unit grid, so the strip vanished from the picture.
 ss_same_frames_test(needle_to_sky needle_to_sky_near.json needle_to_sky_far.json)
+# The same four pairs with PVSM's conservative map forced onto the CPU
+# (pvsm_map_raster=cpu; auto gives these small scenes the geometry shader).
+# The first CPU map lost the needles' scene its shadows (a needle behind the
+# light drawn as a box at depth ~0).
+foreach (pair IN ITEMS "stray_triangle;stray_reference.json;stray_triangle.json"
+    "far_sliver_in_view;stray_reference.json;far_sliver_in_view.json"
+    "far_needles_casting;stray_reference.json;far_needles_casting.json"
+    "needle_to_sky;needle_to_sky_near.json;needle_to_sky_far.json")
+  list(GET pair 0 _ss_pair_name)
+  list(GET pair 1 _ss_pair_a)
+  list(GET pair 2 _ss_pair_b)
+  ss_same_frames_test(${_ss_pair_name}_cpu_map ${_ss_pair_a} ${_ss_pair_b} "pvsm@pvsm_map_raster=cpu")
+endforeach ()
 add_test(NAME cli.bake.stray_triangle_without
   COMMAND ${_ss_cli} bake "${_ss_data}/GoodScenes/stray_reference.json" --object 1 --output "${_ss_out}/bake_stray_ref.vtp")
 add_test(NAME cli.bake.stray_triangle_with
