@@ -290,34 +290,34 @@ void PVSMSolver::DrawShadowMaps(SolverFrame& frame, const ShadowLight& light)
     onCPU = static_cast<double>(casters.NumberOfTriangles()) >= S * S / 8.0;
   }
   this->MapOnCPU = onCPU;
-  vtkShaderProgram* p = onCPU ? nullptr : this->ReadyConservativeProgram(frame);
+  if (onCPU)
+  {
+    const int S = frame.Maps->GetArray().Size;
+    std::vector<float> depth(static_cast<std::size_t>(S) * S);
+    const glm::dvec3 offset = casters.Origin - frame.State->Origin;
+    for (std::size_t vi = 0; vi < light.Views.size(); ++vi)
+    {
+      ConservativeMinDepthMap(casters.Triangles.data(), casters.NumberOfTriangles(),
+        ranges.empty() ? nullptr : &ranges[vi], offset, light.Views[vi], S, depth.data());
+      frame.Maps->WriteLayer(frame.Window, light.FirstLayer + static_cast<int>(vi), depth);
+    }
+    return;
+  }
+  vtkShaderProgram* p = this->ReadyConservativeProgram(frame);
   vtkOpenGLVertexArrayObject* vao = this->ConservativeVAO;
-  if (!onCPU && !p)
+  if (!p)
   {
     vtkErrorWithObjectMacro(frame.Reporter, "Could not build the conservative rasterisation program.");
     p = frame.Casters->UseProgram(frame.Window);
     vao = frame.Casters->GetVertexArray();
   }
-  else if (p)
+  else
   {
     const float S = static_cast<float>(frame.Maps->GetArray().Size);
     const float vp[2] = { S, S };
     p->SetUniform2f("viewportSize", vp);
   }
-  if (!onCPU)
-  {
-    frame.Maps->DrawViews(frame, light, p, vao, ranges.empty() ? nullptr : &ranges);
-    return;
-  }
-  const int S = frame.Maps->GetArray().Size;
-  std::vector<float> depth(static_cast<std::size_t>(S) * S);
-  const glm::dvec3 offset = casters.Origin - frame.State->Origin;
-  for (std::size_t vi = 0; vi < light.Views.size(); ++vi)
-  {
-    ConservativeMinDepthMap(casters.Triangles.data(), casters.NumberOfTriangles(),
-      ranges.empty() ? nullptr : &ranges[vi], offset, light.Views[vi], S, depth.data());
-    frame.Maps->WriteLayer(frame.Window, light.FirstLayer + static_cast<int>(vi), depth);
-  }
+  frame.Maps->DrawViews(frame, light, p, vao, ranges.empty() ? nullptr : &ranges);
 }
 
 void PVSMSolver::Compute(SolverFrame& frame, const ShadowLight& l)

@@ -10,6 +10,7 @@
 #define ssPVSMSolver_h
 
 #include "ssCasterClusters.h"
+#include "ssCasterSet.h" // TriangleRanges
 #include "ssPVSM.h"
 #include "ssTextureArray.h"
 #include "ssVisibilitySolver.h"
@@ -73,7 +74,7 @@ public:
 
 private:
   vtkShaderProgram* ReadyConservativeProgram(SolverFrame& frame);
-  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> MapRanges(SolverFrame& frame, const ShadowLight& light);
+  std::vector<TriangleRanges> MapRanges(SolverFrame& frame, const ShadowLight& light);
 
   Options Opt;
   // per frame
