@@ -362,7 +362,7 @@ std::vector<float> MinimalEmbreeLoop(const GearsFrame& f, int k, double& ms, dou
         V[i] = 0.0f;
         continue;
       }
-      const double eps = ss::StartOffset(p - sel.center, sel.scale);
+      const double eps = ss::StartOffset(p - sel.center, sel.scale, ss::DistanceToLight(L, p - L.center));
       const glm::dvec3 S = p + N * eps;
       const glm::dvec3 So = S - sel.center;
       int visible = 0;

@@ -78,7 +78,7 @@ nlohmann::json SilhouetteProbe(const GearsFrame& f, const ss::GearsSolver& gears
       continue;
     }
     const glm::dvec3 P = f.origin + glm::dvec3(f.pos[3 * i], f.pos[3 * i + 1], f.pos[3 * i + 2]);
-    const glm::dvec3 S = gears.RayStart(P, glm::dvec3(f.nrm[3 * i], f.nrm[3 * i + 1], f.nrm[3 * i + 2]));
+    const glm::dvec3 S = gears.RayStart(f.light, P, glm::dvec3(f.nrm[3 * i], f.nrm[3 * i + 1], f.nrm[3 * i + 2]));
     auto it = cellBox.emplace(std::make_pair(as.pixelFace[i], as.pixelCell[i]), std::make_pair(S, S)).first;
     it->second.first = glm::min(it->second.first, S);
     it->second.second = glm::max(it->second.second, S);
@@ -96,7 +96,7 @@ nlohmann::json SilhouetteProbe(const GearsFrame& f, const ss::GearsSolver& gears
     }
     const glm::dvec3 P = f.origin + glm::dvec3(f.pos[3 * i], f.pos[3 * i + 1], f.pos[3 * i + 2]);
     const glm::dvec3 N(f.nrm[3 * i], f.nrm[3 * i + 1], f.nrm[3 * i + 2]);
-    const glm::dvec3 S = gears.RayStart(P, N);
+    const glm::dvec3 S = gears.RayStart(f.light, P, N);
     const double eps = glm::length(S - P) / std::max(glm::length(N), 1e-300);
     const auto& face = as.faces[as.pixelFace[i]];
     const std::int32_t g = as.pixelGroup[i];

@@ -392,12 +392,12 @@ std::size_t GearsSolver::InputIndex(std::size_t t) const
   return P->D.input.at(t);
 }
 
-glm::dvec3 GearsSolver::RayStart(const glm::dvec3& p, const glm::dvec3& normal) const
+glm::dvec3 GearsSolver::RayStart(const LightFrame& light, const glm::dvec3& p, const glm::dvec3& normal) const
 {
   glm::dvec3 N = normal;
   const double l = glm::length(N);
   N = (l > 0.0 && std::isfinite(l)) ? N / l : glm::dvec3(0.0);
-  return p + N * StartOffset(p - P->D.center, P->D.scale);
+  return p + N * StartOffset(p - P->D.center, P->D.scale, DistanceToLight(light, p - light.center));
 }
 
 std::array<glm::dvec3, 3> GearsSolver::Triangle(std::size_t t) const
@@ -522,7 +522,7 @@ std::vector<float> GearsSolver::Solve(const LightFrame& light, const glm::dvec3&
         }
         continue;
       }
-      eps[i] = StartOffset(p, I.D.scale); // p is relative to the centre
+      eps[i] = StartOffset(p, I.D.scale, DistanceToLight(L, p - L.center)); // p, L relative to the centre
       start[i] = p + N * eps[i];
       normal[i] = N;
       if (L.type == LightType::Point)

@@ -314,9 +314,9 @@ public:
     const float* normals, std::size_t n, const GearsOptions& options, GearsStats* stats = nullptr,
     std::vector<GearsMask>* masks = nullptr, GearsAssignment* assignment = nullptr) const;
 
-  /// The start point of pixel rays (world): surface point pushed along the
-  /// normal by the scene-scaled offset the reference uses.
-  glm::dvec3 RayStart(const glm::dvec3& p, const glm::dvec3& normal) const;
+  /// The start point of pixel rays (world) under `light` (world): surface
+  /// point pushed along the normal by the offset the reference uses.
+  glm::dvec3 RayStart(const LightFrame& light, const glm::dvec3& p, const glm::dvec3& normal) const;
   /// Triangle t's world vertices (after SetTriangles' filtering).
   std::array<glm::dvec3, 3> Triangle(std::size_t t) const;
   /// The triangles as stored (for the GL backend, which uploads them).

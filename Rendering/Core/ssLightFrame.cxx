@@ -135,6 +135,18 @@ LightFrame MakeDirectionalLightFrame(const glm::dvec3& direction, double angular
   return f;
 }
 
+double DistanceToLight(const LightFrame& light, const glm::dvec3& fromCenter)
+{
+  if (light.type == LightType::Directional)
+  {
+    return std::numeric_limits<double>::infinity();
+  }
+  const double du = std::max(std::abs(glm::dot(fromCenter, light.u)) - 0.5 * light.width, 0.0);
+  const double dv = std::max(std::abs(glm::dot(fromCenter, light.v)) - 0.5 * light.height, 0.0);
+  const double dn = glm::dot(fromCenter, light.n);
+  return std::sqrt(du * du + dv * dv + dn * dn);
+}
+
 glm::dvec3 RegularLightSample(const LightFrame& light, int i, int j, int k)
 {
   if (k < 1)

@@ -32,6 +32,10 @@ LightFrame MakePointLightFrame(const glm::dvec3& position);
 LightFrame MakeDirectionalLightFrame(const glm::dvec3& direction, double angularDiameterRadians);
 /// The world axis least aligned with n, made orthogonal to n.
 glm::dvec3 FallbackUp(const glm::dvec3& n);
+/// The distance from a point to the light, given as `fromCenter` = point -
+/// light.center: to its rectangle (a point light: its centre); infinity for a
+/// directional light. Caps the ray start offsets (ssTriangleSet.h StartOffset).
+double DistanceToLight(const LightFrame& light, const glm::dvec3& fromCenter);
 /// Centre of cell (i, j) of a regular k x k grid on a rect light.
 glm::dvec3 RegularLightSample(const LightFrame& light, int i, int j, int k);
 

@@ -373,8 +373,9 @@ std::vector<float> ReferenceSolver::Solve(const LightFrame& light, const glm::dv
         continue;
       }
       // Push the start off the surface by the offset GEARS uses, scaled to
-      // the casters and to the distance from their centre (ssTriangleSet.h).
-      const double eps = StartOffset(p - P->Center, P->Scale);
+      // the casters and to the distance from their centre, at most 1e-3 of
+      // the distance to the light (ssTriangleSet.h).
+      const double eps = StartOffset(p - P->Center, P->Scale, DistanceToLight(light, p - light.center));
       const glm::dvec3 startWorld = p + N * eps;
       const glm::dvec3 start = (startWorld - P->Center) / P->Unit; // (Embree's units)
       const float sx = static_cast<float>(start.x), sy = static_cast<float>(start.y), sz = static_cast<float>(start.z);

@@ -27,6 +27,12 @@ bool LongAndThin(const glm::dvec3* t, double diag, double qDiag, double& width)
   return diag > kRatio * qDiag && diag > kRatio * width;
 }
 
+/// The gap between boxes [alo, ahi] and [blo, bhi] (0 when they overlap).
+double BoxGap(const glm::dvec3& alo, const glm::dvec3& ahi, const glm::dvec3& blo, const glm::dvec3& bhi)
+{
+  return glm::length(glm::max(glm::max(blo - ahi, alo - bhi), glm::dvec3(0.0)));
+}
+
 /// Whether a vertex of t lies within `reach` of box [lo, hi].
 bool VertexNear(const glm::dvec3* t, const glm::dvec3& lo, const glm::dvec3& hi, double reach)
 {
@@ -108,14 +114,39 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     blo = glm::min(blo, tlo);
     bhi = glm::max(bhi, thi);
   }
-  // 2. a needle: such a triangle with a vertex near C (within C's diagonal),
-  // or near B where C is empty. It is left out: its float rounding near the
-  // scene comes from its vertices there (a far vertex weighs in with its
-  // barycentric weight). A long thin triangle passing by the scene with both
-  // ends far away is rounded near the scene on its far vertices' grid, so it
-  // stays in. (Until stop 51 only a vertex within 4 of B's diagonals counted:
-  // a lost vertex on a triangle at the edge of a floor, beyond that, made
-  // the bulk 1e10 wide again.)
+  // No core: every triangle near B is shaped like a needle (a lone sliver to
+  // a lost vertex, a fan of them). The core is then where they are narrow:
+  // the bounds of their shortest edges. (B, the centroids' box, lies out
+  // along the needles, a third of the way to their far vertices: a lone
+  // sliver to 1e6 was no needle of B, the bulk took it whole, and the start
+  // offset grew to 14 units, past the light: V = 0 everywhere.)
+  if (!(blo.x <= bhi.x))
+  {
+    for (const auto& tw : thin)
+    {
+      const glm::dvec3* t = &v[3 * tw.first];
+      int e = 0; // the shortest edge: t[e], t[(e + 1) % 3]
+      for (int j = 1; j < 3; ++j)
+      {
+        if (glm::length(t[(j + 1) % 3] - t[j]) < glm::length(t[(e + 1) % 3] - t[e]))
+        {
+          e = j;
+        }
+      }
+      blo = glm::min(blo, glm::min(t[e], t[(e + 1) % 3]));
+      bhi = glm::max(bhi, glm::max(t[e], t[(e + 1) % 3]));
+    }
+  }
+  // 2. a needle: such a triangle with a vertex near C (within C's diagonal).
+  // It is left out: its float rounding near the scene comes from its
+  // vertices there (a far vertex weighs in with its barycentric weight). A
+  // long thin triangle passing by the scene with both ends far away is
+  // rounded near the scene on its far vertices' grid, so it stays in; one
+  // that does not come near C at all is a stray like any far triangle (it
+  // was near B by its own length: a sliver from 1e6 to 2e6 made the bulk
+  // 3e6 wide and every shadow of the scene V = 0). (Until stop 51 only a
+  // vertex within 4 of B's diagonals counted: a lost vertex on a triangle at
+  // the edge of a floor, beyond that, made the bulk 1e10 wide again.)
   const glm::dvec3 clo = blo, chi = bhi;
   const bool core = clo.x <= chi.x;
   for (const auto& [t, width] : thin)
@@ -123,7 +154,11 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     const double reach = 4.0 * std::max(qDiag, width);
     const bool needle = core ? VertexNear(&v[3 * t], clo, chi, std::max(glm::length(chi - clo), reach))
                              : VertexNear(&v[3 * t], qlo, qhi, reach);
-    if (!needle)
+    const glm::dvec3 tlo = glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+    const glm::dvec3 thi = glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+    const bool passesBy = core ? BoxGap(tlo, thi, clo, chi) <= std::max(glm::length(chi - clo), reach)
+                               : BoxGap(tlo, thi, qlo, qhi) <= reach;
+    if (!needle && passesBy)
     {
       blo = glm::min(blo, glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]));
       bhi = glm::max(bhi, glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]));

@@ -24,7 +24,11 @@ namespace ss
 /// diagonal and its own width, with a vertex within the diagonal of the rest
 /// of the bulk (a sliver from the scene to a lost vertex, from anywhere in
 /// the scene since stop 51); its rounding near the scene comes from its
-/// vertices there.
+/// vertices there. Where every triangle near the box is such a needle (a
+/// lone sliver), the rest of the bulk is where they are narrow: their
+/// shortest edges. A thin triangle that is no needle stays in only when its
+/// bounds come that near the rest of the bulk (passing by the scene, its far
+/// vertices' rounding reaches it); else it is a stray.
 struct TriangleBulk
 {
   glm::dvec3 lo{ 0.0 }, hi{ 0.0 }; ///< the bulk's bounds (0 when no triangles)
@@ -66,10 +70,16 @@ float TriangleOpacity(const std::vector<float>& opacity, std::size_t t);
 /// Well above the float rounding of the casters' coordinates around p
 /// (about 1e-7 of their magnitude), and 0 when there are no casters (nothing
 /// to leave behind; an absolute floor would move micro-scale receivers past
-/// the light).
-inline double StartOffset(const glm::dvec3& fromCenter, double scale)
+/// the light). At most 1e-3 of `lightDistance` (ssLightFrame.h
+/// DistanceToLight): an offset that is not small against the segment tested
+/// skips its casters or carries the start past the light. (A lone caster 1e6
+/// away from a scene under a light 2 units up made the offset 14 units: every
+/// start above the light, V = 0 on every pixel, reference and GEARS alike.)
+/// Where the cap falls below the float rounding around p, no float solver
+/// resolves that segment anyway.
+inline double StartOffset(const glm::dvec3& fromCenter, double scale, double lightDistance)
 {
-  return scale > 0.0 ? 1e-5 * glm::max(scale, glm::length(fromCenter)) : 0.0;
+  return scale > 0.0 ? glm::min(1e-5 * glm::max(scale, glm::length(fromCenter)), 1e-3 * lightDistance) : 0.0;
 }
 }
 

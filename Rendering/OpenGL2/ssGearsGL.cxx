@@ -287,6 +287,9 @@ bool GearsGL::Solve(const GearsSolver& solver, const LightFrame& light, const gl
   I.U3("uLc", L.center);
   I.U3("uLn", L.n);
   I.Ud("uScale", D.scale);
+  I.U3("uLu", L.u);
+  I.U3("uLv", L.v);
+  I.U2d("uLhalf", 0.5 * L.width, 0.5 * L.height);
   I.U("uType", type);
   I.Uu("uFullRow", fullRow);
   I.Items(n);

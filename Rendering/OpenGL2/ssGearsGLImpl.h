@@ -245,6 +245,7 @@ struct GearsGL::Impl
   void Uu(const char* n, std::uint32_t v) { glUniform1ui(Loc(n), v); }
   void Ud(const char* n, double v) { glUniform1d(Loc(n), v); }
   void U3(const char* n, const glm::dvec3& v) { glUniform3d(Loc(n), v.x, v.y, v.z); }
+  void U2d(const char* n, double x, double y) { glUniform2d(Loc(n), x, y); }
 
   // groups work groups, split over x and y (at most 65535 per axis)
   void Dispatch(std::size_t groups)

@@ -418,6 +418,13 @@ ss_same_frames_test(far_sliver_in_view stray_reference.json far_sliver_in_view.j
 # their size, so the float origin went 5e9 out and the start offset to 1e5:
 # GEARS and the reference V = 0 everywhere, the map methods without shadows.
 ss_same_frames_test(far_needles_casting stray_reference.json far_needles_casting.json)
+# A thin caster far out (1e6 to 2e6) beside the scene: the same frame (and
+# GEARS' GL backend too). Before stop 53 it counted in the casters' bulk (near
+# it by its own length), the start offset grew to 28 units, past the light:
+# GEARS and the reference V = 0 on every pixel (Core:
+# Reference.ASliverToAFarVertexChangesNoShadowNearTheScene).
+ss_same_frames_test(far_sliver_apart stray_reference.json far_sliver_apart.json
+  "hard,pcss,pvsm,asm,vpcss,gears,gears@gears_backend=gl,reference")
 # A casting strip in view from the plane to 1e4 or to 1e10 (past the light,
 # out of the frame's top): the same frame. Before stop 50, at 1e10 VTK's
 # automatic shift of the strip's coordinates to its bounds' centre (5e9) left

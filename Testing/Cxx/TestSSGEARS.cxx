@@ -91,7 +91,7 @@ TEST(GEARS, AssignmentIsConservative)
         {
           const glm::dvec3 P = offset + glm::dvec3(s.pos[3 * p], s.pos[3 * p + 1], s.pos[3 * p + 2]);
           const glm::dvec3 N(s.nrm[3 * p], s.nrm[3 * p + 1], s.nrm[3 * p + 2]);
-          const glm::dvec3 S = g.RayStart(P, N);
+          const glm::dvec3 S = g.RayStart(light, P, N);
           // the pixel's list: its sample group's (a subset of its cell's)
           std::vector<char> inList(g.NumberOfTriangles(), 0), inCell(g.NumberOfTriangles(), 0);
           if (as.pixelFace[p] >= 0)
@@ -204,7 +204,7 @@ TEST(GEARS, PointLightIsPixelExactHardShadow)
     {
       const glm::dvec3 P(s.pos[3 * p], s.pos[3 * p + 1], s.pos[3 * p + 2]);
       const glm::dvec3 N(s.nrm[3 * p], s.nrm[3 * p + 1], s.nrm[3 * p + 2]);
-      const glm::dvec3 S = g.RayStart(P, N);
+      const glm::dvec3 S = g.RayStart(light, P, N);
       // exact ray cast: one segment from the sample to the light, all triangles
       bool blocked = glm::dot(light.center - S, N) < 0.0;
       for (std::size_t t = 0; t < g.NumberOfTriangles() && !blocked; ++t)

@@ -54,7 +54,7 @@ BruteForce Brute(const GearsSolver& g, const LightFrame& light, const glm::dvec3
   {
     const glm::dvec3 P = origin + glm::dvec3(s.pos[3 * p], s.pos[3 * p + 1], s.pos[3 * p + 2]);
     const glm::dvec3 N(s.nrm[3 * p], s.nrm[3 * p + 1], s.nrm[3 * p + 2]);
-    const glm::dvec3 S = g.RayStart(P, N);
+    const glm::dvec3 S = g.RayStart(light, P, N);
     const GearsMask below = b.masks[p];
     for (std::size_t t = 0; t < g.NumberOfTriangles(); ++t)
     {
@@ -559,7 +559,7 @@ TEST(GEARSCulling, InnerOccluderRuleChangesNoBit)
     for (std::size_t p = 0; p < n; p += 4)
     {
       const glm::dvec3 P = offset + glm::dvec3(s.pos[3 * p], s.pos[3 * p + 1], s.pos[3 * p + 2]);
-      const glm::dvec3 S = g.RayStart(P, glm::dvec3(0, 0, 1));
+      const glm::dvec3 S = g.RayStart(light, P, glm::dvec3(0, 0, 1));
       GearsMask m = off[p];
       for (std::size_t t = 0; t < g.NumberOfTriangles(); ++t)
       {

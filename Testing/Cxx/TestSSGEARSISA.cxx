@@ -133,7 +133,7 @@ TEST(GEARSISA, EveryInstructionSetGivesTheBaselinesMasksListsAndCounts)
           {
             const glm::dvec3 P = offset + glm::dvec3(s.pos[3 * p], s.pos[3 * p + 1], s.pos[3 * p + 2]);
             const glm::dvec3 N(s.nrm[3 * p], s.nrm[3 * p + 1], s.nrm[3 * p + 2]);
-            const glm::dvec3 S = g.RayStart(P, N);
+            const glm::dvec3 S = g.RayStart(lights[li], P, N);
             GearsMask m = below[p];
             for (std::size_t t = 0; t < g.NumberOfTriangles(); ++t)
             {

@@ -2,6 +2,7 @@
 // segment tests (also far from the world origin), degenerate input, and
 // transmittance of translucent casters.
 #include "ssAnalytic.h"
+#include "ssGEARS.h"
 #include "ssGearsTestScenes.h"
 #include "ssReference.h"
 
@@ -179,5 +180,139 @@ TEST(Reference, ScaleInvariantFrom1eMinus12To1e15)
       differ += std::abs(V[i] - base[i]) > 1.5f / 64 ? 1 : 0; // (a sample grazing an edge may flip)
     }
     EXPECT_LE(differ, 3);
+  }
+}
+
+namespace
+{
+// Whether segment a -> b crosses triangle (v0, v1, v2) strictly inside it
+// (Moller-Trumbore in double).
+bool SegmentHits(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3* v)
+{
+  const glm::dvec3 d = b - a, e1 = v[1] - v[0], e2 = v[2] - v[0];
+  const glm::dvec3 pv = glm::cross(d, e2);
+  const double det = glm::dot(e1, pv);
+  if (det == 0.0)
+  {
+    return false;
+  }
+  const glm::dvec3 tv = a - v[0];
+  const double u = glm::dot(tv, pv) / det;
+  const glm::dvec3 qv = glm::cross(tv, e1);
+  const double w = glm::dot(d, qv) / det, t = glm::dot(e2, qv) / det;
+  return u > 0.0 && w > 0.0 && u + w < 1.0 && t > 1e-9 && t < 1.0 - 1e-9;
+}
+
+// The same k x k regular light samples as the reference, exact segment tests.
+double SampledVisibility(const LightFrame& l, const std::vector<glm::dvec3>& tris, const glm::dvec3& p, int k)
+{
+  int seen = 0;
+  for (int j = 0; j < k; ++j)
+  {
+    for (int i = 0; i < k; ++i)
+    {
+      const glm::dvec3 s = RegularLightSample(l, i, j, k);
+      bool hit = false;
+      for (std::size_t t = 0; t < tris.size() / 3 && !hit; ++t)
+      {
+        hit = SegmentHits(p, s, &tris[3 * t]);
+      }
+      seen += hit ? 0 : 1;
+    }
+  }
+  return static_cast<double>(seen) / (k * k);
+}
+}
+
+// A sliver to a far vertex must change no shadow near the scene. The bad-input
+// sweep's scene: a floor (a receiver, no caster) under a small light 2 units
+// up, one caster, a sliver 0.4 wide from above the light's height down
+// through the floor to (far, 0, -far). It was no needle (the bulk's rule asked
+// for a vertex near the centroids' box, a third of the way out to 1e6), so
+// the casters' bulk was the sliver's whole bounds: start offset 1e-5 x 1.4e6
+// = 14 units, every start past the light, V = 0 on every pixel (GEARS too);
+// at 1e5 (offset 1.4) the shadow of the sliver's lower part was lost. A
+// sliver from 1e6 to 2e6 beside a unit-sized scene joined its bulk "by its
+// own length" (gap < 4 of its diagonals) and blackened the demo scene; a lone
+// small caster 1e6 away gave an offset of 14 by the distance term.
+TEST(Reference, ASliverToAFarVertexChangesNoShadowNearTheScene)
+{
+  const LightFrame l = MakeRectLightFrame({ 0.3, 0.2, 2.0 }, { 0, 0, -1 }, { 0, 1, 0 }, { 0.2, 0.2 });
+  std::vector<float> pos, nrm;
+  for (int j = 0; j < 41; ++j)
+  {
+    for (int i = 0; i < 41; ++i)
+    {
+      pos.insert(pos.end(), { float(-4.0 + 0.2 * i), float(-4.0 + 0.2 * j), 0.0f });
+      nrm.insert(nrm.end(), { 0.f, 0.f, 1.f });
+    }
+  }
+  const std::size_t n = pos.size() / 3;
+  ReferenceOptions opt;
+  opt.k = 8;
+  auto solve = [&](const std::vector<glm::dvec3>& tris) {
+    ReferenceSolver r;
+    r.SetTriangles(tris, {});
+    return r.Solve(l, glm::dvec3(0.0), pos.data(), nrm.data(), n, opt);
+  };
+  // GEARS has the same start offset (StartOffset), and had the same black floor
+  auto solveGears = [&](const std::vector<glm::dvec3>& tris) {
+    GearsSolver g;
+    g.SetTriangles(tris, {});
+    GearsOptions go;
+    go.k = opt.k;
+    return g.Solve(l, glm::dvec3(0.0), pos.data(), nrm.data(), n, go);
+  };
+  // 1. the sliver alone against exact tests of the same samples. (Embree's
+  // float edge tests with a vertex at 1e6 are good to ~1e-7 of its distance,
+  // 0.1 units: there only the mean error is asserted.)
+  for (double far : { 1e3, 1e4, 1e5, 1e6 })
+  {
+    const std::vector<glm::dvec3> sliver = { { -0.5, -0.2, 2.1 }, { -0.5, 0.2, 2.1 }, { far, 0.0, -far } };
+    const std::vector<float> V = solve(sliver), G = solveGears(sliver);
+    std::size_t shadowed = 0, wrong = 0, gearsWrong = 0;
+    double error = 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const double expect = SampledVisibility(l, sliver, glm::dvec3(pos[3 * i], pos[3 * i + 1], 0.0), opt.k);
+      shadowed += expect < 1.0;
+      wrong += std::abs(V[i] - expect) > 1.5 / (opt.k * opt.k);
+      gearsWrong += std::abs(G[i] - expect) > 1.5 / (opt.k * opt.k);
+      error += std::abs(V[i] - expect) / n;
+    }
+    // GEARS tests the segments exactly (double), so at every distance
+    EXPECT_LE(gearsWrong, n / 100) << "GEARS, sliver to " << far;
+    EXPECT_GT(shadowed, n / 20) << "sliver to " << far; // it really shadows the floor
+    if (far < 1e6)
+    {
+      EXPECT_LE(wrong, n / 100) << "sliver to " << far;
+    }
+    EXPECT_LE(error, 0.02) << "sliver to " << far;
+  }
+  // 2. a scene with a far sliver beside it: the same V as without it; and
+  // the far sliver alone (nothing between the floor and the light): V = 1
+  const std::vector<glm::dvec3> sphere = sstest::BumpySphere(glm::dvec3(0.3, 0.2, 1.0), 0.3, 3);
+  const std::vector<float> V0 = solve(sphere), G0 = solveGears(sphere);
+  for (double far : { 1e5, 1e6, 1e10 })
+  {
+    const std::vector<glm::dvec3> stray = { { far, -0.2, -far }, { far, 0.2, -far }, { 2 * far, 0.0, -2 * far } };
+    std::vector<glm::dvec3> both = sphere;
+    both.insert(both.end(), stray.begin(), stray.end());
+    const std::vector<float> V1 = solve(both), V2 = solve(stray);
+    const std::vector<float> G1 = solveGears(both), G2 = solveGears(stray);
+    std::size_t differ = 0, shadowed = 0, dark = 0, gearsDiffer = 0, gearsDark = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      differ += std::abs(V1[i] - V0[i]) > 1e-6;
+      shadowed += V0[i] < 1.0f;
+      dark += V2[i] != 1.0f;
+      gearsDiffer += std::abs(G1[i] - G0[i]) > 1e-6;
+      gearsDark += G2[i] != 1.0f;
+    }
+    EXPECT_GT(shadowed, 20u);
+    EXPECT_EQ(differ, 0u) << "sliver from " << far;
+    EXPECT_EQ(dark, 0u) << "lone sliver from " << far;
+    EXPECT_EQ(gearsDiffer, 0u) << "GEARS, sliver from " << far;
+    EXPECT_EQ(gearsDark, 0u) << "GEARS, lone sliver from " << far;
   }
 }

@@ -38,6 +38,8 @@ void SharedFlush()
 // AABB of the starts and the farthest depth, rounded outwards.
 uniform dvec3 uRel, uLn;   // frame origin - caster centre; light normal
 uniform double uScale;      // the casters' bulk diagonal: StartOffset (ssTriangleSet.h)
+uniform dvec3 uLu, uLv;     // the light's axes and half size: DistanceToLight (ssLightFrame.h)
+uniform dvec2 uLhalf;
 uniform int uType;          // 0 rect, 1 directional, 2 point
 uniform uint uFullRow;
 void main()
@@ -66,6 +68,16 @@ void main()
       else
       {
         precise double eps = uScale > 0.0 ? 1e-5LF * max(uScale, sqrt(Dot(p, p))) : 0.0LF;
+        if (uType != 1)
+        {
+          // at most 1e-3 of the distance to the light (StartOffset)
+          precise dvec3 f = Sub(p, uLc);
+          precise double du = max(abs(Dot(f, uLu)) - uLhalf.x, 0.0LF);
+          precise double dv = max(abs(Dot(f, uLv)) - uLhalf.y, 0.0LF);
+          precise double dn = Dot(f, uLn);
+          precise double dl = sqrt(du * du + dv * dv + dn * dn);
+          eps = uScale > 0.0 ? min(eps, 1e-3LF * dl) : eps;
+        }
         precise dvec3 S = p + N * eps;
         int face = 0;
         dvec3 n = uLn;
