@@ -71,6 +71,9 @@ public:
   void SetTriangles(const std::vector<glm::dvec3>& vertices, const std::vector<float>& opacity);
   std::size_t NumberOfTriangles() const;
   std::size_t SkippedTriangles() const;
+  /// Triangles given to Embree: the kept ones, a far-reaching one in pieces
+  /// (stability.md, "A thin caster far from the scene").
+  std::size_t EmbreeTriangles() const;
 
   /// Volumes that attenuate the rays (world coordinates): a ray that no
   /// opaque triangle blocks passes exp(-optical depth) of each (exact for a

@@ -84,7 +84,27 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     std::nth_element(axis.begin(), q3, axis.end());
     qhi[a] = *q3;
   }
-  const double qDiag = glm::length(qhi - qlo);
+  double qDiag = glm::length(qhi - qlo);
+  if (n < 8)
+  {
+    // a few triangles have no interquartile box to speak of: with a floor
+    // quad and a sliver to 1e6 it spanned the sliver's centroid, so the
+    // sliver was no needle and the bulk 1e6 wide (Embree's unit and every
+    // start offset with it). The median triangle's diagonal stands in, where
+    // smaller (one triangle: the box is its centroid, 0).
+    std::vector<double> diags;
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      if (kept(t))
+      {
+        const glm::dvec3 tlo = glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+        const glm::dvec3 thi = glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+        diags.push_back(glm::length(thi - tlo));
+      }
+    }
+    std::nth_element(diags.begin(), diags.begin() + static_cast<std::ptrdiff_t>(n / 2), diags.end());
+    qDiag = std::min(qDiag, diags[n / 2]);
+  }
   // 1. the triangles near B but those shaped like needles: the core C
   glm::dvec3 blo(std::numeric_limits<double>::max()), bhi(-std::numeric_limits<double>::max());
   glm::dvec3 alo = blo, ahi = bhi;
