@@ -6,6 +6,7 @@
 #include <CGAL/min_quadrilateral_2.h>
 #include <CGAL/optimal_bounding_box.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iterator>
 
@@ -21,6 +22,23 @@ bool Finite(const glm::dvec3& v)
 {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
+
+// A power of two that brings the points' largest coordinate to [1, 2): CGAL
+// squares and multiplies coordinates, and from about 1e117 the OBB search's
+// constructions overflowed to infinity, whose exact re-evaluation made GMP
+// raise SIGFPE (mpq_set_d of inf), killing the process (pvpython with it).
+// Scaling by a power of two is exact, so the axes (which do not depend on the
+// scale) come out as without it. The plane boxes' hull and rectangle get it
+// too.
+double UnitScale(const std::vector<glm::dvec3>& points)
+{
+  double m = 0.0;
+  for (const auto& q : points)
+  {
+    m = std::max({ m, std::abs(q.x), std::abs(q.y), std::abs(q.z) });
+  }
+  return (m > 0.0 && std::isfinite(m)) ? std::ldexp(1.0, -std::ilogb(m)) : 1.0;
+}
 }
 
 std::array<glm::dvec3, 3> OptimalBoxAxes(const std::vector<glm::dvec3>& points)
@@ -30,11 +48,12 @@ std::array<glm::dvec3, 3> OptimalBoxAxes(const std::vector<glm::dvec3>& points)
   {
     return axes;
   }
+  const double s = UnitScale(points);
   std::vector<K::Point_3> p;
   p.reserve(points.size());
   for (const auto& q : points)
   {
-    p.emplace_back(q.x, q.y, q.z);
+    p.emplace_back(s * q.x, s * q.y, s * q.z);
   }
   K::Aff_transformation_3 rotation;
   CGAL::oriented_bounding_box(p, rotation, CGAL::parameters::random_seed(1).use_convex_hull(true));
@@ -55,11 +74,12 @@ std::array<glm::dvec3, 3> PlaneBoxAxes(const std::vector<glm::dvec3>& points, co
   glm::dvec3 n = normal;
   if (!Finite(n) || !(glm::length(n) > 0.0))
   {
+    const double s = UnitScale(points);
     std::vector<K::Point_3> p;
     p.reserve(points.size());
     for (const auto& q : points)
     {
-      p.emplace_back(q.x, q.y, q.z);
+      p.emplace_back(s * q.x, s * q.y, s * q.z);
     }
     K::Plane_3 plane;
     K::Point_3 centroid;
@@ -78,9 +98,10 @@ std::array<glm::dvec3, 3> PlaneBoxAxes(const std::vector<glm::dvec3>& points, co
   const glm::dvec3 e2 = glm::cross(n, e1);
   std::vector<K::Point_2> flat, hull;
   flat.reserve(points.size());
+  const double s = UnitScale(points);
   for (const auto& q : points)
   {
-    flat.emplace_back(glm::dot(q, e1), glm::dot(q, e2));
+    flat.emplace_back(s * glm::dot(q, e1), s * glm::dot(q, e2));
   }
   CGAL::convex_hull_2(flat.begin(), flat.end(), std::back_inserter(hull));
   if (hull.size() < 3)

@@ -225,8 +225,13 @@ int vtkLightVisibilityFilter::RequestData(
   // solvers' squares of such coordinates leave the float and then the double
   // range, and the shadow silently vanished (GEARS from 1e37, both solvers
   // from 1e155). A sun is a directional light.
-  for (const BakeLight& b : lights)
+  // A rect light's side beyond 1e30 is shadowed as one of 1e30, the same
+  // shadow, as the render pass does (ss::ClampRectLightSize): from about
+  // 1e155 the reference's sample distances overflowed when squared, its rays
+  // had no direction and hit nothing (V = 1 where GEARS gives 0.48).
+  for (BakeLight& b : lights)
   {
+    ss::ClampRectLightSize(b.frame);
     const glm::dvec3& c = b.frame.center;
     if (b.frame.type != ss::LightType::Directional &&
       !(std::abs(c.x) <= 1e30 && std::abs(c.y) <= 1e30 && std::abs(c.z) <= 1e30))

@@ -106,6 +106,14 @@ int vtkShadowCasterPreparation::RequestData(
     vtkErrorMacro("vtkShadowCasterPreparation needs a vtkPolyData input.");
     return 0;
   }
+  // (vtkSetClampMacro lets NaN through: it welded nothing and wrote a NaN
+  // WeldToleranceAbsolute into the output's field data)
+  if (!(this->WeldTolerance >= 0.0 && this->WeldTolerance <= 0.01))
+  {
+    vtkErrorMacro("WeldTolerance: must be a fraction of the bounds' diagonal in [0, 0.01] (got "
+      << this->WeldTolerance << ").");
+    return 0;
+  }
   this->Report.clear();
   this->ReportJSON = "{}";
   ReportData report;

@@ -292,6 +292,49 @@ TEST(LightVisibilityFilter, OpacityAndBadInput)
 // value came out NaN; and the input's triangles at the 1e39 point (the input
 // casts shadows) were kept as casters, inf in float, which hid the light
 // from every point.
+// A tilted rect light of any size bakes as one of 1e30 (ss::ClampRectLightSize,
+// as the render pass does): the same shadow. Before stop 53 the reference's
+// sample distances overflowed when squared from a side of about 1.5e155, its
+// rays had no direction and hit nothing: V = 1 where GEARS gives 0.48.
+TEST(LightVisibilityFilter, AHugeRectLightBakesAsOneOf1e30)
+{
+  Scene s = MakeScene(12);
+  for (const int method : { vtkLightVisibilityFilter::METHOD_GEARS, vtkLightVisibilityFilter::METHOD_REFERENCE })
+  {
+    SCOPED_TRACE(method);
+    auto bake = [&](double side) {
+      vtkNew<vtkLightVisibilityFilter> f;
+      f->SetInputData(s.plane);
+      f->SetCasterData(s.casters);
+      f->SetMethod(method);
+      f->SetSamples(4);
+      f->SetLightCenter(0.0, 0.0, 3.0);
+      f->SetLightNormal(0.5, 0.0, -1.0);
+      f->SetLightUp(0.0, 1.0, 0.0);
+      f->SetLightSize(side, side);
+      f->Update();
+      vtkDataArray* v = f->GetOutput()->GetPointData()->GetArray("LightVisibility_0");
+      std::vector<double> out;
+      for (vtkIdType i = 0; v && i < v->GetNumberOfTuples(); ++i)
+      {
+        out.push_back(v->GetComponent(i, 0));
+      }
+      return out;
+    };
+    const std::vector<double> a = bake(1e30), b = bake(1e160);
+    ASSERT_EQ(a.size(), static_cast<std::size_t>(s.plane->GetNumberOfPoints()));
+    ASSERT_EQ(b.size(), a.size());
+    std::size_t shaded = 0, differ = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+    {
+      shaded += a[i] < 0.99 ? 1 : 0;
+      differ += std::abs(a[i] - b[i]) > 1e-6 ? 1 : 0;
+    }
+    EXPECT_GT(shaded, a.size() / 10); // the caster shadows a half space's light
+    EXPECT_EQ(differ, 0u);
+  }
+}
+
 TEST(LightVisibilityFilter, AnInfinitePointSpoilsOnlyItself)
 {
   for (const int method : { vtkLightVisibilityFilter::METHOD_GEARS, vtkLightVisibilityFilter::METHOD_REFERENCE })

@@ -5,12 +5,14 @@
 
 #include "ssClusterBounds.h"
 #include "ssClusterTable.h"
+#include "ssOrientedBoxes.h"
 #include "ssWeld.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
+#include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkNew.h"
@@ -151,6 +153,15 @@ public:
   static ProgressRecorder* New() { return new ProgressRecorder; }
   void Execute(vtkObject*, unsigned long, void* data) override { values.push_back(*static_cast<double*>(data)); }
   std::vector<double> values;
+};
+
+// Records the error messages a filter reports.
+class ErrorRecorder : public vtkCommand
+{
+public:
+  static ErrorRecorder* New() { return new ErrorRecorder; }
+  void Execute(vtkObject*, unsigned long, void* data) override { text += static_cast<const char*>(data); }
+  std::string text;
 };
 
 // The cube with the T-junctions of Cube(2, 3) and, on its bottom, the edge
@@ -519,6 +530,48 @@ TEST(ShadowCasterPreparation, OrientedBoxesAreTight)
   }
 }
 
+// Far out, the same boxes (scaled). Before stop 53, CGAL's optimal box on
+// coordinates from about 1e117 overflowed to inf and GMP raised SIGFPE: the
+// process died (pvpython with it). The axes are computed on the points
+// scaled by a power of two, exactly the same ones.
+TEST(ShadowCasterPreparation, OrientedBoxesAtAnyScale)
+{
+  const double big = std::ldexp(1.0, 400); // 2.6e120
+  std::vector<glm::dvec3> points, scaled;
+  for (int i = 0; i < 40; ++i)
+  {
+    const glm::dvec3 p(std::cos(0.7 * i) * (1.0 + 0.1 * i), std::sin(1.3 * i), 0.2 * std::cos(2.9 * i) + 0.05 * i);
+    points.push_back(p);
+    scaled.push_back(big * p);
+  }
+  const auto a = ssf::OptimalBoxAxes(points), b = ssf::OptimalBoxAxes(scaled);
+  const auto c = ssf::PlaneBoxAxes(points, glm::dvec3(0.0)), d = ssf::PlaneBoxAxes(scaled, glm::dvec3(0.0));
+  for (int r = 0; r < 3; ++r)
+  {
+    EXPECT_EQ(a[r], b[r]) << "optimal, axis " << r;
+    EXPECT_EQ(c[r], d[r]) << "plane, axis " << r;
+  }
+  // the filter on a sphere 1e130 out and 1e130 wide, with optimal boxes
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);
+  sphere->SetCenter(1e130, -1e130, 0.0);
+  sphere->SetRadius(1e130);
+  sphere->Update();
+  vtkNew<vtkShadowCasterPreparation> f;
+  f->SetOrientedBoxes(vtkShadowCasterPreparation::BOXES_OPTIMAL);
+  vtkSmartPointer<vtkPolyData> out = Prepare(sphere->GetOutput(), f);
+  EXPECT_GT(out->GetNumberOfCells(), 0);
+  vtkDataArray* obb = out->GetFieldData()->GetArray("ClusterOBB");
+  ASSERT_NE(obb, nullptr);
+  for (vtkIdType i = 0; i < obb->GetNumberOfTuples(); ++i)
+  {
+    for (int k = 0; k < 15; ++k)
+    {
+      EXPECT_TRUE(std::isfinite(obb->GetComponent(i, k))) << "cluster " << i;
+    }
+  }
+}
+
 // The output does not depend on the number of threads.
 TEST(ShadowCasterPreparation, SameOutputOnOneThreadAndMany)
 {
@@ -563,6 +616,26 @@ TEST(ShadowCasterPreparation, SameOutputOnOneThreadAndMany)
         << name;
     }
   }
+}
+
+// vtkSetClampMacro lets NaN through: a NaN weld tolerance welded nothing and
+// wrote NaN into the output's field data (Python, C++; ParaView's domain and
+// the CLI refuse it). Now the filter fails with an error naming the key.
+TEST(ShadowCasterPreparation, NaNWeldToleranceIsAnError)
+{
+  vtkNew<vtkSphereSource> sphere;
+  vtkNew<vtkShadowCasterPreparation> f;
+  f->SetInputConnection(sphere->GetOutputPort());
+  f->SetWeldTolerance(std::nan(""));
+  vtkNew<ErrorRecorder> errors;
+  f->AddObserver(vtkCommand::ErrorEvent, errors);
+  f->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+  f->Update();
+  EXPECT_NE(errors->text.find("WeldTolerance"), std::string::npos) << errors->text;
+  vtkPolyData* out = f->GetOutput();
+  EXPECT_EQ(out->GetNumberOfCells(), 0);
+  vtkDataArray* w = out->GetFieldData()->GetArray("WeldToleranceAbsolute");
+  EXPECT_TRUE(w == nullptr || std::isfinite(w->GetComponent(0, 0)));
 }
 
 TEST(ShadowCasterPreparation, EmptyAndDegenerateInput)
