@@ -27,6 +27,13 @@ bool LongAndThin(const glm::dvec3* t, double diag, double qDiag, double& width)
   return diag > kRatio * qDiag && diag > kRatio * width;
 }
 
+/// The bounds of triangle t of `v` (3 vertices a triangle).
+void TriangleBounds(const std::vector<glm::dvec3>& v, std::size_t t, glm::dvec3& lo, glm::dvec3& hi)
+{
+  lo = glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+  hi = glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+}
+
 /// The gap between boxes [alo, ahi] and [blo, bhi] (0 when they overlap).
 double BoxGap(const glm::dvec3& alo, const glm::dvec3& ahi, const glm::dvec3& blo, const glm::dvec3& bhi)
 {
@@ -97,8 +104,8 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     {
       if (kept(t))
       {
-        const glm::dvec3 tlo = glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
-        const glm::dvec3 thi = glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+        glm::dvec3 tlo, thi;
+        TriangleBounds(v, t, tlo, thi);
         diags.push_back(glm::length(thi - tlo));
       }
     }
@@ -115,8 +122,8 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     {
       continue;
     }
-    const glm::dvec3 tlo = glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
-    const glm::dvec3 thi = glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+    glm::dvec3 tlo, thi;
+    TriangleBounds(v, t, tlo, thi);
     alo = glm::min(alo, tlo);
     ahi = glm::max(ahi, thi);
     const glm::dvec3 gap = glm::max(glm::max(qlo - thi, tlo - qhi), glm::dvec3(0.0));
@@ -174,14 +181,14 @@ TriangleBulk BulkOfTriangles(const std::vector<glm::dvec3>& v, const std::vector
     const double reach = 4.0 * std::max(qDiag, width);
     const bool needle = core ? VertexNear(&v[3 * t], clo, chi, std::max(glm::length(chi - clo), reach))
                              : VertexNear(&v[3 * t], qlo, qhi, reach);
-    const glm::dvec3 tlo = glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
-    const glm::dvec3 thi = glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]);
+    glm::dvec3 tlo, thi;
+    TriangleBounds(v, t, tlo, thi);
     const bool passesBy = core ? BoxGap(tlo, thi, clo, chi) <= std::max(glm::length(chi - clo), reach)
                                : BoxGap(tlo, thi, qlo, qhi) <= reach;
     if (!needle && passesBy)
     {
-      blo = glm::min(blo, glm::min(glm::min(v[3 * t], v[3 * t + 1]), v[3 * t + 2]));
-      bhi = glm::max(bhi, glm::max(glm::max(v[3 * t], v[3 * t + 1]), v[3 * t + 2]));
+      blo = glm::min(blo, tlo);
+      bhi = glm::max(bhi, thi);
     }
   }
   if (!(blo.x <= bhi.x))

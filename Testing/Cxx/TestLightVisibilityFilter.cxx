@@ -86,6 +86,18 @@ public:
   std::string text;
 };
 
+// LightVisibility_0 of a bake (empty when it has none).
+std::vector<double> BakedValues(vtkPolyData* out)
+{
+  vtkDataArray* v = out->GetPointData()->GetArray("LightVisibility_0");
+  std::vector<double> values;
+  for (vtkIdType i = 0; v && i < v->GetNumberOfTuples(); ++i)
+  {
+    values.push_back(v->GetComponent(i, 0));
+  }
+  return values;
+}
+
 struct Errors
 {
   double maeExact = 0, maxExact = 0, maeSampled = 0, maxSampled = 0;
@@ -313,13 +325,7 @@ TEST(LightVisibilityFilter, AHugeRectLightBakesAsOneOf1e30)
       f->SetLightUp(0.0, 1.0, 0.0);
       f->SetLightSize(side, side);
       f->Update();
-      vtkDataArray* v = f->GetOutput()->GetPointData()->GetArray("LightVisibility_0");
-      std::vector<double> out;
-      for (vtkIdType i = 0; v && i < v->GetNumberOfTuples(); ++i)
-      {
-        out.push_back(v->GetComponent(i, 0));
-      }
-      return out;
+      return BakedValues(f->GetOutput());
     };
     const std::vector<double> a = bake(1e30), b = bake(1e160);
     ASSERT_EQ(a.size(), static_cast<std::size_t>(s.plane->GetNumberOfPoints()));
@@ -352,13 +358,7 @@ TEST(LightVisibilityFilter, AnInfinitePointSpoilsOnlyItself)
       f->SetLightUp(s.light.v.x, s.light.v.y, s.light.v.z);
       f->SetLightSize(1.6, 1.0);
       f->Update();
-      vtkDataArray* v = f->GetOutput()->GetPointData()->GetArray("LightVisibility_0");
-      std::vector<double> out;
-      for (vtkIdType i = 0; v && i < v->GetNumberOfTuples(); ++i)
-      {
-        out.push_back(v->GetComponent(i, 0));
-      }
-      return out;
+      return BakedValues(f->GetOutput());
     };
     const std::vector<double> clean = bake(s.plane);
     vtkNew<vtkPolyData> spoiled;
