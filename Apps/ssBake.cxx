@@ -2,6 +2,7 @@
 #include "ssBake.h"
 
 #include "ssBench.h"
+#include "ssImageIO.h"
 #include "ssScene.h"
 
 #include "vtkActor.h"
@@ -109,18 +110,6 @@ void CheckOutputPath(const std::string& path, const char* flag, const std::vecto
   }
 }
 
-// After a failed write: no half-written file is left behind (a full disk
-// left the first 16 KiB of a .vtp). Only a regular file is removed (a link
-// to /dev/full, say, stays).
-void RemovePartial(const std::string& path)
-{
-  std::error_code ec;
-  if (std::filesystem::is_regular_file(path, ec))
-  {
-    std::filesystem::remove(path, ec);
-  }
-}
-
 void Write(vtkPolyData* pd, const std::string& path)
 {
   vtkNew<vtkXMLPolyDataWriter> w;
@@ -136,7 +125,7 @@ void Write(vtkPolyData* pd, const std::string& path)
     const std::string why = code == vtkErrorCode::OutOfDiskSpaceError ? std::string("No space left on device")
       : code != vtkErrorCode::NoError ? std::string(vtkErrorCode::GetStringFromErrorCode(code))
                                       : errors->Message.substr(0, errors->Message.find('\n'));
-    RemovePartial(path);
+    ssapp::RemovePartial(path);
     throw std::runtime_error("cannot write '" + path + "'" + (why.empty() ? "" : ": " + why));
   }
 }
@@ -452,7 +441,7 @@ int Prepare(const std::vector<std::string>& args)
     if (!r)
     {
       const int err = errno;
-      RemovePartial(reportPath);
+      ssapp::RemovePartial(reportPath);
       throw std::runtime_error("cannot write '" + reportPath + "': " + std::strerror(err));
     }
   }

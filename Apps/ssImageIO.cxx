@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 
 namespace ssapp
@@ -39,9 +40,19 @@ bool WriteFileBytes(const std::string& path, const void* data, std::size_t size,
   if (!ok)
   {
     message = "cannot write '" + path + "': " + (err ? std::strerror(err) : "write failed");
+    RemovePartial(path);
     return false;
   }
   return true;
+}
+
+void RemovePartial(const std::string& path)
+{
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec))
+  {
+    std::filesystem::remove(path, ec);
+  }
 }
 
 bool WriteTextFile(const std::string& path, const std::string& text, std::string& message)

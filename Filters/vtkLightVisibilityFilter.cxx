@@ -245,6 +245,14 @@ int vtkLightVisibilityFilter::RequestData(
   }
   if (n == 0)
   {
+    // no points: the arrays, empty, so that a pipeline colouring or
+    // thresholding by them finds them (stop 53: they were missing)
+    for (const BakeLight& l : lights)
+    {
+      vtkNew<vtkFloatArray> v;
+      v->SetName(("LightVisibility_" + std::to_string(l.index)).c_str());
+      output->GetPointData()->AddArray(v);
+    }
     return 1;
   }
 

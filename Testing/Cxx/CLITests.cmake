@@ -324,21 +324,29 @@ ss_cli_error(bench_filters_no_mesh "bench --filters: missing --mesh" ${_ss_cli} 
 
 # A broken mesh (a NaN vertex, a collapsed triangle): the report counts them.
 # A write that fails part-way (a full disk; here a file-size limit) leaves no
-# half-written file behind, for prepare and bake alike (before stop 53 the
-# first 4-16 KiB of a .vtp stayed, next to an exit code 2).
-foreach (cmd IN ITEMS prepare bake)
-  if (cmd STREQUAL "prepare")
+# half-written file behind, for prepare, bake and render's pictures alike
+# (before stop 53 the first 4-16 KiB of a .vtp or .png stayed, next to an
+# exit code 2).
+foreach (cmd IN ITEMS prepare bake render)
+  if (cmd STREQUAL "render")
+    set(_ss_args "render \"$2\" --method hard --output \"$1\"")
+    set(_ss_in "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json")
+  elseif (cmd STREQUAL "prepare")
     set(_ss_args "prepare \"$2\" --output \"$1\"")
     set(_ss_in "${PROJECT_SOURCE_DIR}/Data/Meshes/torus.off")
   else ()
     set(_ss_args "bake \"$2\" --object 1 --samples 2 --output \"$1\"")
     set(_ss_in "${PROJECT_SOURCE_DIR}/Data/Scenes/demo.json")
   endif ()
+  set(_ss_ext vtp)
+  if (cmd STREQUAL "render")
+    set(_ss_ext png)
+  endif ()
   add_test(NAME cli.error.${cmd}_no_partial_file
     COMMAND sh -c "trap '' XFSZ; ulimit -f 4; rm -f \"$1\"; \"$0\" ${_ss_args}; rc=$?; test $rc -eq 2 && test ! -e \"$1\" && echo exit-2-no-file"
-      ${_ss_cli} "${_ss_out}/partial_${cmd}.vtp" "${_ss_in}")
+      ${_ss_cli} "${_ss_out}/partial_${cmd}.${_ss_ext}" "${_ss_in}")
   set_tests_properties(cli.error.${cmd}_no_partial_file PROPERTIES LABELS "cli" TIMEOUT 120
-    PASS_REGULAR_EXPRESSION "cannot write '.*partial_${cmd}\\.vtp'.*exit-2-no-file")
+    PASS_REGULAR_EXPRESSION "cannot write '.*partial_${cmd}\\.${_ss_ext}'.*exit-2-no-file")
 endforeach ()
 add_test(NAME cli.prepare.broken_mesh
   COMMAND ${_ss_cli} prepare "${_good}/nan_and_degenerate.ply" --output "${_ss_out}/cli_prepared.vtp"

@@ -341,6 +341,19 @@ TEST(LightVisibilityFilter, AHugeRectLightBakesAsOneOf1e30)
   }
 }
 
+// An input without points (a threshold that kept nothing) gets the arrays,
+// empty, so that colouring or thresholding by them downstream finds them.
+TEST(LightVisibilityFilter, AnEmptyInputGetsEmptyArrays)
+{
+  vtkNew<vtkPolyData> empty;
+  vtkNew<vtkLightVisibilityFilter> f;
+  f->SetInputData(empty);
+  f->Update();
+  vtkDataArray* v = f->GetOutput()->GetPointData()->GetArray("LightVisibility_0");
+  ASSERT_NE(v, nullptr);
+  EXPECT_EQ(v->GetNumberOfTuples(), 0);
+}
+
 TEST(LightVisibilityFilter, AnInfinitePointSpoilsOnlyItself)
 {
   for (const int method : { vtkLightVisibilityFilter::METHOD_GEARS, vtkLightVisibilityFilter::METHOD_REFERENCE })
