@@ -153,8 +153,9 @@ MeshCheck CheckOFF(const char* data, std::size_t size)
   if (need > s.Remaining())
   {
     return Fail("the header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
-      " faces (at least " + std::to_string(need) + " bytes) but only " + std::to_string(s.Remaining()) +
-      " bytes follow it");
+      " faces (at least " + std::to_string(need) + " bytes with 3 indices a face) but only " +
+      std::to_string(s.Remaining()) + " bytes follow it: the file is cut short, or its faces have fewer than 3 "
+      "vertices");
   }
   std::string_view extra;
   if (!s.RestOfLineBlank(extra))

@@ -505,10 +505,14 @@ MeshCheck CheckPLY(const char* data, std::size_t size)
   }
   if (need > remaining)
   {
+    // (the count assumes 3 indices a face: a file of shorter faces, which
+    // the reader would drop, fails it too; stop 53's sweep found the message
+    // blaming a cut for them)
     return Fail("the header declares " + std::to_string(elems[0].Count) + " vertices and " +
       std::to_string(elems[1].Count) + " faces (at least " + std::to_string(need) + " bytes of " +
-      (layout == Layout::Ascii ? "ASCII" : "binary") + " data) but only " + std::to_string(remaining) +
-      " bytes follow the header");
+      (layout == Layout::Ascii ? "ASCII" : "binary") + " data with 3 indices a face) but only " +
+      std::to_string(remaining) + " bytes follow the header: the file is cut short, or its faces have fewer "
+      "than 3 vertices");
   }
 
   MeshCheck r;

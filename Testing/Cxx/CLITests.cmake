@@ -320,6 +320,15 @@ add_test(NAME cli.error.prepare_welded_away
     ${_ss_cli} "${_ss_out}/welded_away.vtp" "${_gen}/welded_away.off")
 set_tests_properties(cli.error.prepare_welded_away PROPERTIES LABELS "cli" TIMEOUT 60
   PASS_REGULAR_EXPRESSION "softshadows: error: prepare: .*welded_away\\.off: no triangle is left of 2 \\(2 collapsed by the weld.*exit-2-no-file")
+# Faces of 1-2 vertices in PLY and OFF: the error says they may be why the
+# data is shorter than the header asks (it blamed a cut alone before stop 53).
+file(WRITE "${_gen}/short_faces.ply" "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n2 0 1\n1 0\n")
+file(WRITE "${_gen}/short_faces.off" "OFF\n3 3 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n2 0 1\n1 0\n")
+foreach (_ext ply off)
+  string(TOUPPER ${_ext} _fmt)
+  ss_cli_error(prepare_short_faces_${_ext} "short_faces\\.${_ext}: .*${_fmt}: the header declares 3 vertices and 3 faces .* the file is cut short, or its faces have fewer than 3 vertices"
+    ${_ss_cli} prepare "${_gen}/short_faces.${_ext}" --output "${_ss_out}/x.vtp")
+endforeach ()
 ss_cli_error(bench_filters_no_mesh "bench --filters: missing --mesh" ${_ss_cli} bench --filters)
 
 # A broken mesh (a NaN vertex, a collapsed triangle): the report counts them.
