@@ -71,10 +71,10 @@ std::array<glm::dvec3, 3> PlaneBoxAxes(const std::vector<glm::dvec3>& points, co
   {
     return kWorld;
   }
+  const double s = UnitScale(points);
   glm::dvec3 n = normal;
   if (!Finite(n) || !(glm::length(n) > 0.0))
   {
-    const double s = UnitScale(points);
     std::vector<K::Point_3> p;
     p.reserve(points.size());
     for (const auto& q : points)
@@ -98,7 +98,6 @@ std::array<glm::dvec3, 3> PlaneBoxAxes(const std::vector<glm::dvec3>& points, co
   const glm::dvec3 e2 = glm::cross(n, e1);
   std::vector<K::Point_2> flat, hull;
   flat.reserve(points.size());
-  const double s = UnitScale(points);
   for (const auto& q : points)
   {
     flat.emplace_back(s * glm::dot(q, e1), s * glm::dot(q, e2));

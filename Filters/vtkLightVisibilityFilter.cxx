@@ -41,6 +41,12 @@ struct BakeLight
   ss::LightFrame frame;
 };
 
+// The point array of light `index`: LightVisibility_0, LightVisibility_1, ...
+std::string VisibilityArrayName(int index)
+{
+  return "LightVisibility_" + std::to_string(index);
+}
+
 // The frame of a vtkLight as vtkSoftShadowPass builds it (world coordinates).
 bool FrameOf(vtkLight* light, ss::LightFrame& frame, std::string& why)
 {
@@ -250,7 +256,7 @@ int vtkLightVisibilityFilter::RequestData(
     for (const BakeLight& l : lights)
     {
       vtkNew<vtkFloatArray> v;
-      v->SetName(("LightVisibility_" + std::to_string(l.index)).c_str());
+      v->SetName(VisibilityArrayName(l.index).c_str());
       output->GetPointData()->AddArray(v);
     }
     return 1;
@@ -367,7 +373,7 @@ int vtkLightVisibilityFilter::RequestData(
   for (const BakeLight& l : lights)
   {
     vtkNew<vtkFloatArray> v;
-    v->SetName(("LightVisibility_" + std::to_string(l.index)).c_str());
+    v->SetName(VisibilityArrayName(l.index).c_str());
     v->SetNumberOfTuples(n);
     for (std::size_t c = 0; c < chunks.Clusters(); ++c)
     {

@@ -282,8 +282,12 @@ void ReferenceSolver::SetTriangles(const std::vector<glm::dvec3>& v, const std::
     std::vector<std::pair<std::size_t, std::size_t>> needles; // (triangle, the end of its pieces in `cut`)
     for (std::size_t t = 0; t < nt; ++t)
     {
+      if (!keep[t])
+      {
+        continue;
+      }
       const Triangle c = { v[3 * t] - P->Center, v[3 * t + 1] - P->Center, v[3 * t + 2] - P->Center };
-      const int shortest = keep[t] ? NeedleShortEdge(c, P->Scale) : -1;
+      const int shortest = NeedleShortEdge(c, P->Scale);
       if (shortest >= 0)
       {
         AppendPieces(c, shortest, P->Scale, cut);
